@@ -1,0 +1,81 @@
+//! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
+//! generated fields (`tests/fixtures/random-fields` by default), printed as a table.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::Context;
+use serde_json::Value;
+
+use crate::planner::planners::registry;
+use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams};
+
+struct Row {
+    holes: usize,
+    times_ms: Vec<f64>,
+    lengths_m: Vec<f64>,
+    efficiency: Vec<f64>,
+    coverage: Vec<f64>,
+}
+
+fn quantile(v: &mut [f64], q: f64) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let idx = ((v.len() - 1) as f64 * q).round() as usize;
+    v[idx]
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+/// Line spacing for a field: a twentieth of the square root of its area, 5 to 60 m (about 20
+/// lines across a square field), so that fields of 1 to 200 ha get comparable plans.
+pub fn bench_spacing(area_m2: f64) -> f64 {
+    (area_m2.sqrt() / 20.0).clamp(5.0, 60.0)
+}
+
+/// Runs the benchmark and returns the table as text.
+pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::Result<String> {
+    let index: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("index.json")).context("reading index.json")?)?;
+    let entries = index.as_array().context("index.json is a list")?;
+    let mut out = String::new();
+    out.push_str(&format!("fields: {} from {}; {repeats} runs each; spacing = sqrt(area)/20 within 5..60 m; holes as no-fly zones\n\n", entries.len(), dir.display()));
+    for p in registry().iter().filter(|p| planner_filter.is_none_or(|f| f == p.id())) {
+        let mut rows: Vec<Row> = (0..=15).map(|holes| Row { holes, times_ms: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![] }).collect();
+        for e in entries {
+            let file = e["file"].as_str().context("file")?;
+            let holes = e["holes"].as_u64().context("holes")? as usize;
+            let m: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(file))?)?;
+            let area_m2 = e["area_m2"].as_f64().context("area_m2")?;
+            let params = PlanParams { planner: p.id().into(), line_spacing_m: Some(bench_spacing(area_m2)), ..PlanParams::default() };
+            let mission = MissionGeometry { area: &m["area"], no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null()), home: None };
+            for _ in 0..repeats {
+                let t = Instant::now();
+                let plan = planner::plan(&mission, &params, &FieldLimits::default(), &|_| true).map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
+                let row = &mut rows[holes.min(15)];
+                row.times_ms.push(t.elapsed().as_secs_f64() * 1000.0);
+                row.lengths_m.push(plan.stats.length_m);
+                row.efficiency.push(plan.stats.efficiency);
+                row.coverage.push(plan.stats.coverage_ratio);
+            }
+        }
+        out.push_str(&format!("planner {}\n", p.id()));
+        out.push_str("| holes | fields | median ms | p95 ms | mean length m | mean efficiency | min coverage |\n");
+        out.push_str("|------:|-------:|----------:|-------:|--------------:|----------------:|-------------:|\n");
+        for r in rows.iter_mut().filter(|r| !r.times_ms.is_empty()) {
+            let n = r.times_ms.len() / repeats.max(1);
+            let median = quantile(&mut r.times_ms, 0.5);
+            let p95 = quantile(&mut r.times_ms, 0.95);
+            out.push_str(&format!(
+                "| {:>5} | {:>6} | {:>9.2} | {:>6.2} | {:>13.0} | {:>15.3} | {:>12.4} |\n",
+                r.holes, n, median, p95, mean(&r.lengths_m), mean(&r.efficiency),
+                r.coverage.iter().copied().fold(f64::INFINITY, f64::min)
+            ));
+        }
+        out.push('\n');
+    }
+    Ok(out)
+}

@@ -1,0 +1,42 @@
+//! Server configuration, from flags or `COVERPLAN_*` environment variables.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use crate::planner::FieldLimits;
+
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub addr: SocketAddr,
+    pub database_url: String,
+    pub workers: usize,
+    pub static_dir: PathBuf,
+    pub max_body_bytes: usize,
+    pub limits: FieldLimits,
+    /// How long running plans may take to finish at shutdown before they are requeued.
+    pub shutdown_grace: Duration,
+    /// Test knob: hold each claimed job this long before planning.
+    pub job_start_delay: Duration,
+}
+
+impl Config {
+    /// Defaults for a server on `addr` with the database at `database_url`.
+    pub fn new(addr: SocketAddr, database_url: impl Into<String>) -> Self {
+        Config {
+            addr,
+            database_url: database_url.into(),
+            workers: std::thread::available_parallelism().map(|n| n.get()).unwrap_or(2),
+            static_dir: PathBuf::from("static"),
+            max_body_bytes: 5 * 1024 * 1024,
+            limits: FieldLimits::default(),
+            shutdown_grace: Duration::from_secs(30),
+            job_start_delay: Duration::ZERO,
+        }
+    }
+}
+
+/// `coverplan.db` in the working directory becomes `sqlite://coverplan.db`.
+pub fn database_url(value: &str) -> String {
+    if value.starts_with("sqlite:") { value.to_owned() } else { format!("sqlite://{value}") }
+}

@@ -1,0 +1,151 @@
+//! One error type for every route, answered as RFC 9457 problem details. Internal errors are
+//! logged and answered without their details.
+
+use axum::extract::{FromRequest, Request};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use utoipa::ToSchema;
+
+use crate::planner::InputError;
+
+/// RFC 9457 problem details.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct Problem {
+    /// A URI reference naming the kind of problem, `/problems/{code}`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    pub title: String,
+    pub status: u16,
+    pub detail: String,
+    /// Machine-readable code, also the last part of `type`.
+    pub code: String,
+    /// JSON pointer to the member of the request that is wrong, where one is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pointer: Option<String>,
+}
+
+#[derive(Debug)]
+pub enum ApiError {
+    /// 4xx with a code, a detail and maybe a pointer.
+    Client { status: StatusCode, code: &'static str, detail: String, pointer: Option<String> },
+    Internal(String),
+}
+
+impl ApiError {
+    pub fn not_found(what: &str, id: &str) -> Self {
+        ApiError::Client { status: StatusCode::NOT_FOUND, code: "not_found", detail: format!("no {what} with id `{id}`"), pointer: None }
+    }
+
+    pub fn conflict(code: &'static str, detail: impl Into<String>) -> Self {
+        ApiError::Client { status: StatusCode::CONFLICT, code, detail: detail.into(), pointer: None }
+    }
+
+    pub fn invalid(code: &'static str, pointer: &str, detail: impl Into<String>) -> Self {
+        ApiError::Client { status: StatusCode::UNPROCESSABLE_ENTITY, code, detail: detail.into(), pointer: Some(pointer.into()) }
+    }
+}
+
+impl From<InputError> for ApiError {
+    fn from(e: InputError) -> Self {
+        ApiError::Client { status: StatusCode::UNPROCESSABLE_ENTITY, code: e.code, detail: e.detail, pointer: Some(e.pointer) }
+    }
+}
+
+impl From<sqlx::Error> for ApiError {
+    fn from(e: sqlx::Error) -> Self {
+        ApiError::Internal(format!("database: {e}"))
+    }
+}
+
+fn title(status: StatusCode) -> String {
+    status.canonical_reason().unwrap_or("Error").to_owned()
+}
+
+pub fn problem_response(status: StatusCode, code: &str, detail: String, pointer: Option<String>) -> Response {
+    let body = Problem { kind: format!("/problems/{code}"), title: title(status), status: status.as_u16(), detail, code: code.to_owned(), pointer };
+    let mut resp = (status, axum::Json(body)).into_response();
+    resp.headers_mut().insert(header::CONTENT_TYPE, header::HeaderValue::from_static("application/problem+json"));
+    resp
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        match self {
+            ApiError::Client { status, code, detail, pointer } => problem_response(status, code, detail, pointer),
+            ApiError::Internal(message) => {
+                tracing::error!(%message, "internal error");
+                problem_response(
+                    StatusCode::INTERNAL_SERVER_ERROR,
+                    "internal",
+                    "the server could not complete the request; it has been logged".into(),
+                    None,
+                )
+            }
+        }
+    }
+}
+
+/// A JSON body whose every refusal is a problem: 415 for another media type, 413 over the
+/// size limit, 400 for malformed JSON, 422 (with a pointer) for a body of the wrong shape.
+pub struct ApiJson<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
+    type Rejection = ApiError;
+
+    async fn from_request(req: Request, state: &S) -> Result<Self, Self::Rejection> {
+        let is_json = req
+            .headers()
+            .get(header::CONTENT_TYPE)
+            .and_then(|v| v.to_str().ok())
+            .map(|v| v.starts_with("application/json") || v.contains("+json"))
+            .unwrap_or(false);
+        if !is_json {
+            return Err(ApiError::Client {
+                status: StatusCode::UNSUPPORTED_MEDIA_TYPE,
+                code: "unsupported_media_type",
+                detail: "send the body as JSON with `Content-Type: application/json`".into(),
+                pointer: None,
+            });
+        }
+        let bytes = axum::body::Bytes::from_request(req, state).await.map_err(|e| {
+            let status = e.status();
+            if status == StatusCode::PAYLOAD_TOO_LARGE {
+                ApiError::Client { status, code: "body_too_large", detail: "the request body is larger than the server accepts".into(), pointer: None }
+            } else {
+                ApiError::Client { status: StatusCode::BAD_REQUEST, code: "unreadable_body", detail: e.body_text(), pointer: None }
+            }
+        })?;
+        let malformed = |e: serde_json::Error| ApiError::Client {
+            status: StatusCode::BAD_REQUEST,
+            code: "malformed_json",
+            detail: format!("the body is not valid JSON: {e}"),
+            pointer: None,
+        };
+        let mut de = serde_json::Deserializer::from_slice(&bytes);
+        let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let pointer = json_pointer(e.path());
+            let inner = e.into_inner();
+            if inner.is_syntax() || inner.is_eof() || inner.is_io() {
+                malformed(inner)
+            } else {
+                ApiError::Client { status: StatusCode::UNPROCESSABLE_ENTITY, code: "invalid_body", detail: inner.to_string(), pointer: Some(pointer) }
+            }
+        })?;
+        de.end().map_err(malformed)?;
+        Ok(ApiJson(value))
+    }
+}
+
+fn json_pointer(path: &serde_path_to_error::Path) -> String {
+    use serde_path_to_error::Segment;
+    path.iter()
+        .filter_map(|s| match s {
+            Segment::Seq { index } => Some(index.to_string()),
+            Segment::Map { key } => Some(key.replace('~', "~0").replace('/', "~1")),
+            Segment::Enum { variant } => Some(variant.clone()),
+            Segment::Unknown => None,
+        })
+        .fold(String::new(), |acc, s| format!("{acc}/{s}"))
+}

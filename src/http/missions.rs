@@ -1,0 +1,104 @@
+//! `/api/v1/missions`: the fields to cover.
+
+use axum::Json;
+use axum::extract::{Path, Query, State};
+use axum::http::StatusCode;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use utoipa::{IntoParams, ToSchema};
+
+use super::AppState;
+use super::error::{ApiError, ApiJson, Problem};
+use crate::planner::{self, MissionGeometry};
+use crate::store::missions::{self, Mission, NewMission};
+
+#[derive(Debug, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MissionRequest {
+    pub name: String,
+    /// GeoJSON Polygon, MultiPolygon, Feature or FeatureCollection of those, WGS84 [lon, lat].
+    /// Inner rings are holes: parts not to cover.
+    #[schema(value_type = Object)]
+    pub area: Value,
+    /// GeoJSON of areas never to be entered.
+    #[serde(default)]
+    #[schema(value_type = Option<Object>)]
+    pub no_fly_zones: Option<Value>,
+    /// [longitude, latitude] of the take-off and landing point.
+    #[serde(default)]
+    pub home: Option<[f64; 2]>,
+}
+
+impl MissionRequest {
+    /// Validates everything the planner will need, so that a stored mission can be planned.
+    fn validate(self, state: &AppState) -> Result<NewMission, ApiError> {
+        let name = self.name.trim().to_owned();
+        if name.is_empty() || name.chars().count() > 200 {
+            return Err(ApiError::invalid("invalid_name", "/name", "the name must have 1 to 200 characters"));
+        }
+        let geometry = MissionGeometry { area: &self.area, no_fly_zones: self.no_fly_zones.as_ref(), home: self.home };
+        planner::validate_mission(&geometry, &state.config.limits)?;
+        Ok(NewMission { name, area: self.area, no_fly_zones: self.no_fly_zones.filter(|v| !v.is_null()), home: self.home })
+    }
+}
+
+#[derive(Debug, Deserialize, IntoParams)]
+pub struct Page {
+    /// 1 to 100 (default 20)
+    pub limit: Option<i64>,
+    /// default 0
+    pub offset: Option<i64>,
+}
+
+#[derive(Debug, Serialize, ToSchema)]
+pub struct MissionPage {
+    pub items: Vec<Mission>,
+    pub total: i64,
+    pub limit: i64,
+    pub offset: i64,
+}
+
+#[utoipa::path(post, path = "/api/v1/missions", tag = "missions", request_body = MissionRequest,
+    responses((status = 201, body = Mission), (status = 422, body = Problem, content_type = "application/problem+json"),
+              (status = 400, body = Problem), (status = 413, body = Problem)))]
+pub async fn create(State(state): State<AppState>, ApiJson(req): ApiJson<MissionRequest>) -> Result<(StatusCode, Json<Mission>), ApiError> {
+    let new = req.validate(&state)?;
+    Ok((StatusCode::CREATED, Json(missions::create(&state.db, &new).await?)))
+}
+
+#[utoipa::path(get, path = "/api/v1/missions", tag = "missions", params(Page),
+    responses((status = 200, body = MissionPage), (status = 422, body = Problem)))]
+pub async fn list(State(state): State<AppState>, Query(page): Query<Page>) -> Result<Json<MissionPage>, ApiError> {
+    let limit = page.limit.unwrap_or(20);
+    let offset = page.offset.unwrap_or(0);
+    if !(1..=100).contains(&limit) {
+        return Err(ApiError::invalid("parameter_out_of_range", "limit", "limit must be between 1 and 100"));
+    }
+    if offset < 0 {
+        return Err(ApiError::invalid("parameter_out_of_range", "offset", "offset must not be negative"));
+    }
+    let (items, total) = missions::list(&state.db, limit, offset).await?;
+    Ok(Json(MissionPage { items, total, limit, offset }))
+}
+
+#[utoipa::path(get, path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
+    responses((status = 200, body = Mission), (status = 404, body = Problem)))]
+pub async fn get(State(state): State<AppState>, Path(id): Path<String>) -> Result<Json<Mission>, ApiError> {
+    missions::get(&state.db, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
+}
+
+#[utoipa::path(put, path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)), request_body = MissionRequest,
+    responses((status = 200, body = Mission), (status = 404, body = Problem), (status = 422, body = Problem)))]
+pub async fn update(State(state): State<AppState>, Path(id): Path<String>, ApiJson(req): ApiJson<MissionRequest>) -> Result<Json<Mission>, ApiError> {
+    let new = req.validate(&state)?;
+    missions::update(&state.db, &id, &new).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
+}
+
+#[utoipa::path(delete, path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
+    responses((status = 204, description = "deleted, with its plans"), (status = 404, body = Problem)))]
+pub async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> Result<StatusCode, ApiError> {
+    for plan in crate::store::plans::list_for_mission(&state.db, &id).await? {
+        state.jobs.cancel(&plan.id);
+    }
+    if missions::delete(&state.db, &id).await? { Ok(StatusCode::NO_CONTENT) } else { Err(ApiError::not_found("mission", &id)) }
+}

@@ -1,0 +1,188 @@
+//! The `coverplan` command: the server, offline planning, the OpenAPI document, a health check.
+
+use std::io::{IsTerminal, Read, Write};
+use std::net::{SocketAddr, TcpStream};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use serde_json::Value;
+
+use coverplan::config::{Config, database_url};
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanParams};
+
+#[derive(Parser)]
+#[command(name = "coverplan", version, about = "Coverage path planning for drones and farm vehicles")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the HTTP server (API, map page, Swagger UI at /docs).
+    Serve(ServeArgs),
+    /// Plan a mission file offline and write the trajectory as GeoJSON.
+    Plan {
+        /// Mission JSON: {"name", "area", "no_fly_zones"?, "home"?}
+        #[arg(long)]
+        mission: PathBuf,
+        /// Plan parameters JSON, as POSTed to /api/v1/missions/{id}/plans (default: {"line_spacing_m": 20})
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// Output file (default: standard output)
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Time the planners on the generated fields and print a table.
+    Bench {
+        /// Folder with index.json and the field files.
+        #[arg(long, default_value = "tests/fixtures/random-fields")]
+        data: PathBuf,
+        /// Only this planner.
+        #[arg(long)]
+        planner: Option<String>,
+        /// Runs per field.
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+    },
+    /// Print the OpenAPI document.
+    Openapi,
+    /// Exit 0 when the local server answers /healthz (for container health checks).
+    Healthcheck {
+        #[arg(long, env = "COVERPLAN_ADDR", default_value = "127.0.0.1:8080")]
+        addr: SocketAddr,
+    },
+}
+
+#[derive(clap::Args)]
+struct ServeArgs {
+    #[arg(long, env = "COVERPLAN_ADDR", default_value = "127.0.0.1:8080")]
+    addr: SocketAddr,
+    /// SQLite file or URL; created if missing.
+    #[arg(long, env = "COVERPLAN_DATABASE_URL", default_value = "coverplan.db")]
+    database_url: String,
+    /// Planning workers (default: the number of CPUs).
+    #[arg(long, env = "COVERPLAN_WORKERS")]
+    workers: Option<usize>,
+    /// Folder of the map page.
+    #[arg(long, env = "COVERPLAN_STATIC_DIR", default_value = "static")]
+    static_dir: PathBuf,
+    /// Largest field accepted, in hectares.
+    #[arg(long, env = "COVERPLAN_MAX_AREA_HA", default_value_t = 10_000.0)]
+    max_area_ha: f64,
+    /// Most vertices accepted in one mission.
+    #[arg(long, env = "COVERPLAN_MAX_VERTICES", default_value_t = 20_000)]
+    max_vertices: usize,
+    /// Largest request body, in bytes.
+    #[arg(long, env = "COVERPLAN_MAX_BODY_BYTES", default_value_t = 5 * 1024 * 1024)]
+    max_body_bytes: usize,
+    /// Seconds running plans get to finish at shutdown before they are requeued.
+    #[arg(long, env = "COVERPLAN_SHUTDOWN_GRACE_S", default_value_t = 30)]
+    shutdown_grace_s: u64,
+    /// Test knob: hold each job this many milliseconds before planning.
+    #[arg(long, env = "COVERPLAN_JOB_START_DELAY_MS", default_value_t = 0, hide = true)]
+    job_start_delay_ms: u64,
+}
+
+fn main() -> ExitCode {
+    tracing_subscriber::fmt()
+        .with_env_filter(tracing_subscriber::EnvFilter::try_from_env("COVERPLAN_LOG").unwrap_or_else(|_| "info".into()))
+        .with_writer(std::io::stderr)
+        .init();
+    let result = match Cli::parse().command {
+        Command::Serve(args) => serve(args),
+        Command::Plan { mission, params, out } => plan(&mission, params.as_deref(), out.as_deref()),
+        Command::Bench { data, planner, repeats } => {
+            coverplan::bench::run(&data, planner.as_deref(), repeats).map(|table| print!("{table}"))
+        }
+        Command::Openapi => {
+            print!("{}", coverplan::http::openapi::document());
+            Ok(())
+        }
+        Command::Healthcheck { addr } => healthcheck(addr),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("coverplan: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn serve(args: ServeArgs) -> anyhow::Result<()> {
+    let mut config = Config::new(args.addr, database_url(&args.database_url));
+    if let Some(w) = args.workers {
+        anyhow::ensure!(w >= 1, "COVERPLAN_WORKERS must be at least 1");
+        config.workers = w;
+    }
+    config.static_dir = args.static_dir;
+    config.max_body_bytes = args.max_body_bytes;
+    config.limits = FieldLimits { max_area_ha: args.max_area_ha, max_vertices: args.max_vertices, ..FieldLimits::default() };
+    config.shutdown_grace = Duration::from_secs(args.shutdown_grace_s);
+    config.job_start_delay = Duration::from_millis(args.job_start_delay_ms);
+    tokio::runtime::Runtime::new()?.block_on(coverplan::server::run(config, coverplan::server::shutdown_signal()))
+}
+
+fn read_json(path: &std::path::Path) -> anyhow::Result<Value> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    serde_json::from_str(&text).with_context(|| format!("{} is not valid JSON", path.display()))
+}
+
+fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, out: Option<&std::path::Path>) -> anyhow::Result<()> {
+    let mission = read_json(mission_path)?;
+    let params: PlanParams = match params_path {
+        Some(p) => serde_json::from_value(read_json(p)?).with_context(|| format!("{}: not valid plan parameters", p.display()))?,
+        None => PlanParams { line_spacing_m: Some(20.0), ..PlanParams::default() },
+    };
+    let home = mission.get("home").filter(|h| !h.is_null()).map(|h| serde_json::from_value::<[f64; 2]>(h.clone())).transpose().context("home must be [lon, lat]")?;
+    let geometry = MissionGeometry {
+        area: mission.get("area").context("the mission has no `area`")?,
+        no_fly_zones: mission.get("no_fly_zones").filter(|v| !v.is_null()),
+        home,
+    };
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(100);
+        b.set_style(indicatif::ProgressStyle::with_template("{spinner} planning [{bar:40}] {pos}%").expect("template"));
+        b
+    });
+    let progress = |f: f64| {
+        if let Some(b) = &bar {
+            b.set_position((f * 100.0) as u64);
+        }
+        true
+    };
+    let output = planner::plan(&geometry, &params, &FieldLimits::default(), &progress);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let output = output.map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut collection = serde_json::to_value(&output.trajectory)?;
+    collection["properties"] = serde_json::to_value(&output.stats)?;
+    let text = serde_json::to_string_pretty(&collection)? + "\n";
+    match out {
+        Some(path) => std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?,
+        None => std::io::stdout().write_all(text.as_bytes())?,
+    }
+    let s = &output.stats;
+    eprintln!(
+        "{:.0} m, {:.0} s, {:.0} kJ, coverage {:.2} %, {} turns, {:.1} ms",
+        s.length_m, s.duration_s, s.energy_j / 1000.0, s.coverage_ratio * 100.0, s.turns, s.planning_time_ms
+    );
+    Ok(())
+}
+
+/// A plain HTTP/1.0 request, so that the health check needs no client library.
+fn healthcheck(addr: SocketAddr) -> anyhow::Result<()> {
+    let mut stream = TcpStream::connect_timeout(&addr, Duration::from_secs(3)).with_context(|| format!("nothing answers on {addr}"))?;
+    stream.set_read_timeout(Some(Duration::from_secs(3)))?;
+    stream.write_all(b"GET /healthz HTTP/1.0\r\nHost: localhost\r\n\r\n")?;
+    let mut response = String::new();
+    stream.read_to_string(&mut response)?;
+    let status_line = response.lines().next().unwrap_or_default();
+    anyhow::ensure!(status_line.split_whitespace().nth(1) == Some("200"), "unhealthy: {status_line}");
+    Ok(())
+}

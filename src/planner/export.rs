@@ -1,0 +1,66 @@
+//! Export stage: the flight path as an RFC 7946 FeatureCollection in flight order.
+
+use geo::Coord;
+use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, Position};
+use serde_json::json;
+
+use super::energy::PieceEstimate;
+use super::frame::LocalFrame;
+use super::path::FlightPath;
+
+fn round(v: f64, decimals: i32) -> f64 {
+    let f = 10f64.powi(decimals);
+    (v * f).round() / f
+}
+
+fn position(frame: &LocalFrame, c: Coord, altitude_m: Option<f64>) -> Position {
+    let [lon, lat] = frame.to_wgs84(c);
+    let (lon, lat) = (round(lon, 7), round(lat, 7));
+    match altitude_m {
+        Some(z) => Position::from([lon, lat, round(z, 2)]),
+        None => Position::from([lon, lat]),
+    }
+}
+
+fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
+    let properties: JsonObject = match properties {
+        serde_json::Value::Object(o) => o,
+        _ => JsonObject::new(),
+    };
+    Feature { geometry: Some(Geometry::new(value)), properties: Some(properties), ..Default::default() }
+}
+
+pub fn feature_collection(
+    frame: &LocalFrame,
+    path: &FlightPath,
+    estimates: &[PieceEstimate],
+    altitude_m: Option<f64>,
+    photos: Option<&[Coord]>,
+) -> FeatureCollection {
+    let mut features: Vec<Feature> = path
+        .pieces
+        .iter()
+        .zip(estimates)
+        .enumerate()
+        .map(|(seq, (piece, e))| {
+            let coords = piece.points.iter().map(|&c| position(frame, c, altitude_m)).collect();
+            let mut props = json!({
+                "seq": seq,
+                "kind": piece.kind,
+                "length_m": round(piece.length(), 2),
+                "duration_s": round(e.duration_s, 2),
+                "energy_j": round(e.energy_j, 2),
+                "speed_mps": round(e.speed_mps, 2),
+            });
+            if let Some(z) = altitude_m {
+                props["altitude_m"] = json!(round(z, 2));
+            }
+            feature(GeometryValue::LineString { coordinates: coords }, props)
+        })
+        .collect();
+    if let Some(photos) = photos {
+        let coords = photos.iter().map(|&c| position(frame, c, altitude_m)).collect();
+        features.push(feature(GeometryValue::MultiPoint { coordinates: coords }, json!({"kind": "photos", "count": photos.len()})));
+    }
+    FeatureCollection { bbox: None, features, foreign_members: None }
+}

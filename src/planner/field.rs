@@ -1,0 +1,468 @@
+//! Field stage: parse the mission's GeoJSON, validate it, and normalise it into the local frame.
+//!
+//! Every refusal names the offending member with a JSON pointer into the mission document.
+
+use geo::{Area, BooleanOps, Contains, Coord, LineString, MultiPolygon, Polygon, Validation, Winding};
+use geojson::{GeoJson, GeometryValue};
+use serde_json::Value;
+
+use super::error::InputError;
+use super::frame::LocalFrame;
+
+/// Limits that protect the service from absurd or oversized missions.
+#[derive(Debug, Clone, Copy)]
+pub struct FieldLimits {
+    pub max_area_ha: f64,
+    pub max_vertices: usize,
+    pub max_radius_km: f64,
+    pub min_area_m2: f64,
+}
+
+impl Default for FieldLimits {
+    fn default() -> Self {
+        Self { max_area_ha: 10_000.0, max_vertices: 20_000, max_radius_km: 50.0, min_area_m2: 10.0 }
+    }
+}
+
+/// The geometry of a mission as sent by a client (WGS84, GeoJSON).
+#[derive(Debug, Clone)]
+pub struct MissionGeometry<'a> {
+    pub area: &'a Value,
+    pub no_fly_zones: Option<&'a Value>,
+    pub home: Option<[f64; 2]>,
+}
+
+/// A validated field in its local frame: polygons with holes, no-fly zones, home.
+#[derive(Debug, Clone)]
+pub struct Field {
+    pub frame: LocalFrame,
+    /// Exteriors counter-clockwise, holes clockwise; one polygon per field of the mission.
+    pub area: MultiPolygon,
+    /// No-fly zones as given (not buffered).
+    pub no_fly_zones: MultiPolygon,
+    pub home: Option<Coord>,
+}
+
+/// A ring as parsed, with where it came from.
+struct RawRing {
+    pointer: String,
+    positions: Vec<[f64; 2]>,
+}
+
+struct RawPolygon {
+    pointer: String,
+    rings: Vec<RawRing>,
+}
+
+impl Field {
+    pub fn parse(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> Result<Field, InputError> {
+        let area = parse_polygons(mission.area, "/area")?;
+        if area.is_empty() {
+            return Err(InputError::new("empty_area", "/area", "the area holds no polygon"));
+        }
+        let nfz = match mission.no_fly_zones {
+            None | Some(Value::Null) => Vec::new(),
+            Some(v) => parse_polygons(v, "/no_fly_zones")?,
+        };
+        if let Some(h) = mission.home {
+            check_position(&h, "/home")?;
+        }
+        let vertices: usize = area.iter().chain(&nfz).flat_map(|p| &p.rings).map(|r| r.positions.len()).sum();
+        if vertices > limits.max_vertices {
+            return Err(InputError::new(
+                "too_many_vertices",
+                "/area",
+                format!("the mission has {vertices} vertices; the limit is {}", limits.max_vertices),
+            ));
+        }
+        let all_points = area
+            .iter()
+            .chain(&nfz)
+            .flat_map(|p| &p.rings)
+            .flat_map(|r| r.positions.iter().copied())
+            .chain(mission.home);
+        let frame = LocalFrame::centred_on(all_points);
+        let to_local = |raw: &RawPolygon| local_polygon(&frame, raw, limits);
+        let area_polys = area.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
+        let nfz_polys = nfz.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
+
+        let area_mp = MultiPolygon(area_polys);
+        for (i, a) in area_mp.0.iter().enumerate() {
+            for b in &area_mp.0[i + 1..] {
+                if a.intersection(b).unsigned_area() > 1e-6 * a.unsigned_area().max(1.0) {
+                    return Err(InputError::new(
+                        "overlapping_fields",
+                        area[i].pointer.clone(),
+                        "this field overlaps another field of the same mission",
+                    ));
+                }
+            }
+        }
+        let total = area_mp.unsigned_area();
+        if total < limits.min_area_m2 {
+            return Err(InputError::new(
+                "area_too_small",
+                "/area",
+                format!("the area to cover is {total:.1} m²; at least {} m² is needed", limits.min_area_m2),
+            ));
+        }
+        if total > limits.max_area_ha * 10_000.0 {
+            return Err(InputError::new(
+                "area_too_large",
+                "/area",
+                format!("the area is {:.0} ha; the limit is {} ha", total / 10_000.0, limits.max_area_ha),
+            ));
+        }
+        let home = mission.home.map(|h| frame.to_local(h[0], h[1]));
+        let nfz_mp = MultiPolygon(nfz_polys);
+        if let Some(h) = home {
+            if nfz_mp.contains(&h) {
+                return Err(InputError::new("home_in_no_fly_zone", "/home", "the home point lies inside a no-fly zone"));
+            }
+        }
+        Ok(Field { frame, area: area_mp, no_fly_zones: nfz_mp, home })
+    }
+}
+
+/// Polygon, MultiPolygon, Feature or FeatureCollection of those, as raw rings.
+fn parse_polygons(value: &Value, pointer: &str) -> Result<Vec<RawPolygon>, InputError> {
+    if value.get("crs").is_some() {
+        return Err(InputError::new(
+            "crs_not_supported",
+            format!("{pointer}/crs"),
+            "a `crs` member is not allowed (RFC 7946): send WGS84 longitude/latitude",
+        ));
+    }
+    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| {
+        InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}"))
+    })?;
+    let mut out = Vec::new();
+    match geojson {
+        GeoJson::Geometry(g) => push_geometry(&g.value, pointer, &mut out)?,
+        GeoJson::Feature(f) => push_feature(&f, pointer, &mut out)?,
+        GeoJson::FeatureCollection(fc) => {
+            for (i, f) in fc.features.iter().enumerate() {
+                push_feature(f, &format!("{pointer}/features/{i}"), &mut out)?;
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn push_feature(f: &geojson::Feature, pointer: &str, out: &mut Vec<RawPolygon>) -> Result<(), InputError> {
+    match &f.geometry {
+        Some(g) => push_geometry(&g.value, &format!("{pointer}/geometry"), out),
+        None => Err(InputError::new("missing_geometry", pointer, "this feature has no geometry")),
+    }
+}
+
+fn push_geometry(g: &GeometryValue, pointer: &str, out: &mut Vec<RawPolygon>) -> Result<(), InputError> {
+    match g {
+        GeometryValue::Polygon { coordinates } => {
+            out.push(raw_polygon(coordinates, &format!("{pointer}/coordinates"))?);
+        }
+        GeometryValue::MultiPolygon { coordinates } => {
+            for (i, p) in coordinates.iter().enumerate() {
+                out.push(raw_polygon(p, &format!("{pointer}/coordinates/{i}"))?);
+            }
+        }
+        other => {
+            return Err(InputError::new(
+                "unsupported_geometry",
+                pointer,
+                format!("expected a Polygon or MultiPolygon, found a {}", other.type_name()),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn raw_polygon(rings: &[Vec<geojson::Position>], pointer: &str) -> Result<RawPolygon, InputError> {
+    if rings.is_empty() {
+        return Err(InputError::new("empty_polygon", pointer, "a polygon needs an exterior ring"));
+    }
+    let rings = rings
+        .iter()
+        .enumerate()
+        .map(|(r, ring)| {
+            let rp = format!("{pointer}/{r}");
+            let positions = ring
+                .iter()
+                .enumerate()
+                .map(|(k, pos)| {
+                    let pp = format!("{rp}/{k}");
+                    let s = pos.as_slice();
+                    if s.len() < 2 {
+                        return Err(InputError::new("invalid_position", pp, "a position needs a longitude and a latitude"));
+                    }
+                    let p = [s[0], s[1]];
+                    check_position(&p, &pp)?;
+                    Ok(p)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            check_ring(&positions, &rp)?;
+            Ok(RawRing { pointer: rp, positions })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(RawPolygon { pointer: pointer.to_owned(), rings })
+}
+
+fn check_position(p: &[f64; 2], pointer: &str) -> Result<(), InputError> {
+    let [lon, lat] = *p;
+    if !lon.is_finite() || !lat.is_finite() {
+        return Err(InputError::new("invalid_position", pointer, "coordinates must be finite numbers"));
+    }
+    if lat.abs() > 90.0 {
+        let (code, hint) = if lon.abs() <= 90.0 {
+            ("coordinates_look_swapped", "; positions are [longitude, latitude]: these look swapped")
+        } else {
+            ("coordinate_out_of_range", "")
+        };
+        return Err(InputError::new(code, pointer, format!("latitude {lat} is outside [-90, 90]{hint}")));
+    }
+    if lon.abs() > 180.0 {
+        return Err(InputError::new(
+            "coordinate_out_of_range",
+            pointer,
+            format!("longitude {lon} is outside [-180, 180]"),
+        ));
+    }
+    Ok(())
+}
+
+fn check_ring(positions: &[[f64; 2]], pointer: &str) -> Result<(), InputError> {
+    if positions.len() < 4 {
+        return Err(InputError::new(
+            "ring_too_short",
+            pointer,
+            format!("a ring needs at least 4 positions (3 distinct, then the first again); this one has {}", positions.len()),
+        ));
+    }
+    if positions.first() != positions.last() {
+        return Err(InputError::new("ring_not_closed", pointer, "the ring is not closed: its last position must repeat the first"));
+    }
+    // all positions on one line in longitude/latitude: zero area (in the local frame such a
+    // ring would become a sliver of a few square metres)
+    let a = positions[0];
+    let far = positions.iter().copied().max_by(|p, q| {
+        let d = |r: &[f64; 2]| (r[0] - a[0]).hypot(r[1] - a[1]);
+        d(p).total_cmp(&d(q))
+    });
+    let on_one_line = far.is_none_or(|b| {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len = dx.hypot(dy);
+        positions.iter().all(|p| ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() <= 1e-9 * len * len)
+    });
+    if on_one_line {
+        return Err(InputError::new("degenerate_ring", pointer, "the ring has zero area: its positions lie on one line"));
+    }
+    Ok(())
+}
+
+/// Converts to the local frame, removes repeated and collinear vertices, orients the rings
+/// (exterior CCW, holes CW) and validates the result.
+fn local_polygon(frame: &LocalFrame, raw: &RawPolygon, limits: &FieldLimits) -> Result<Polygon, InputError> {
+    let max_r = limits.max_radius_km * 1000.0;
+    let mut rings = Vec::with_capacity(raw.rings.len());
+    for ring in &raw.rings {
+        let mut coords = Vec::with_capacity(ring.positions.len());
+        for (k, p) in ring.positions.iter().enumerate() {
+            let c = frame.to_local(p[0], p[1]);
+            if c.x.hypot(c.y) > max_r {
+                return Err(InputError::new(
+                    "mission_too_wide",
+                    format!("{}/{k}", ring.pointer),
+                    format!("this position is more than {} km from the mission's centre", limits.max_radius_km),
+                ));
+            }
+            coords.push(c);
+        }
+        let cleaned = clean_ring(coords);
+        if cleaned.len() < 3 {
+            return Err(InputError::new("degenerate_ring", ring.pointer.clone(), "the ring has fewer than 3 distinct, non-collinear vertices (zero area)"));
+        }
+        rings.push(cleaned);
+    }
+    let mut rings = rings.into_iter();
+    let exterior = LineString::from(rings.next().expect("at least one ring"));
+    let holes: Vec<LineString> = rings.map(LineString::from).collect();
+    let mut polygon = Polygon::new(exterior, holes);
+    polygon.exterior_mut(|e| e.make_ccw_winding());
+    polygon.interiors_mut(|hs| hs.iter_mut().for_each(|h| h.make_cw_winding()));
+    validate(&polygon, raw, frame)?;
+    Ok(polygon)
+}
+
+fn validate(polygon: &Polygon, raw: &RawPolygon, frame: &LocalFrame) -> Result<(), InputError> {
+    use geo::algorithm::validation::{InvalidPolygon, RingRole};
+    let Err(problems) = polygon.check_validation() else { return Ok(()) };
+    let ring_pointer = |role: &RingRole| match role {
+        RingRole::Exterior => format!("{}/0", raw.pointer),
+        RingRole::Interior(i) => format!("{}/{}", raw.pointer, i + 1),
+    };
+    let first = problems;
+    let (code, pointer, detail) = match &first {
+        InvalidPolygon::SelfIntersection(role) => {
+            let ring = ring_of(polygon, &role);
+            let at = self_intersection(ring)
+                .map(|c| {
+                    let ll = frame.to_wgs84(c);
+                    format!(" near [{:.7}, {:.7}]", ll[0], ll[1])
+                })
+                .unwrap_or_default();
+            ("self_intersection", ring_pointer(&role), format!("the ring crosses itself{at}"))
+        }
+        InvalidPolygon::InteriorRingNotContainedInExteriorRing(role) => {
+            ("hole_outside_shell", ring_pointer(&role), "this hole is not inside its polygon's exterior ring".to_owned())
+        }
+        InvalidPolygon::IntersectingRingsOnALine(a, _) | InvalidPolygon::IntersectingRingsOnAnArea(a, _) => {
+            ("rings_intersect", ring_pointer(&a), format!("rings of this polygon cross or overlap: {first}"))
+        }
+        InvalidPolygon::TooFewPointsInRing(role) | InvalidPolygon::NonFiniteCoord(role, _) => {
+            ("degenerate_ring", ring_pointer(&role), first.to_string())
+        }
+    };
+    Err(InputError::new(code, pointer, detail))
+}
+
+fn ring_of<'a>(polygon: &'a Polygon, role: &geo::algorithm::validation::RingRole) -> &'a LineString {
+    match role {
+        geo::algorithm::validation::RingRole::Exterior => polygon.exterior(),
+        geo::algorithm::validation::RingRole::Interior(i) => &polygon.interiors()[*i],
+    }
+}
+
+/// Where a ring crosses itself (first pair of non-adjacent edges that intersect).
+fn self_intersection(ring: &LineString) -> Option<Coord> {
+    use geo::algorithm::line_intersection::{LineIntersection, line_intersection};
+    let lines: Vec<geo::Line> = ring.lines().collect();
+    let n = lines.len();
+    for i in 0..n {
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue;
+            }
+            match line_intersection(lines[i], lines[j]) {
+                Some(LineIntersection::SinglePoint { intersection, .. }) => return Some(intersection),
+                Some(LineIntersection::Collinear { intersection }) => return Some(intersection.start),
+                None => {}
+            }
+        }
+    }
+    None
+}
+
+/// Drops the closing vertex, repeated vertices (< 1 mm apart), spikes and collinear vertices
+/// (decomposition spec §3, steps 2–3). Each pass is linear; passes repeat only while a
+/// removal makes a new vertex redundant.
+fn clean_ring(mut pts: Vec<Coord>) -> Vec<Coord> {
+    pts.pop(); // closing vertex
+    let close = |a: Coord, b: Coord| (a.x - b.x).hypot(a.y - b.y) < 1e-3;
+    let mut out: Vec<Coord> = Vec::with_capacity(pts.len());
+    for p in pts {
+        if !out.last().is_some_and(|&l| close(l, p)) {
+            out.push(p);
+        }
+    }
+    while out.len() > 1 && close(out[0], out[out.len() - 1]) {
+        out.pop();
+    }
+    loop {
+        let n = out.len();
+        if n < 3 {
+            return out;
+        }
+        let redundant: Vec<bool> = (0..n).map(|i| is_redundant(out[(i + n - 1) % n], out[i], out[(i + 1) % n])).collect();
+        if !redundant.contains(&true) {
+            return out;
+        }
+        // never drop two neighbours in one pass: the test of each assumed the other stays
+        let mut next = Vec::with_capacity(n);
+        let mut dropped_previous = false;
+        for i in 0..n {
+            if redundant[i] && !dropped_previous && !(i == n - 1 && redundant[0]) {
+                dropped_previous = true;
+            } else {
+                dropped_previous = false;
+                next.push(out[i]);
+            }
+        }
+        out = next;
+    }
+}
+
+/// A vertex on the straight line through its neighbours (either way: straight or spike).
+fn is_redundant(p: Coord, v: Coord, q: Coord) -> bool {
+    let (a, b) = (v - p, q - v);
+    let cross = a.x * b.y - a.y * b.x;
+    cross.abs() <= 1e-9 * a.x.hypot(a.y) * b.x.hypot(b.y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::Winding;
+    use serde_json::json;
+
+    fn parse(area: Value) -> Result<Field, InputError> {
+        Field::parse(&MissionGeometry { area: &area, no_fly_zones: None, home: None }, &FieldLimits::default())
+    }
+
+    fn square(lon: f64, lat: f64, d: f64) -> Value {
+        json!([[lon, lat], [lon + d, lat], [lon + d, lat + d], [lon, lat + d], [lon, lat]])
+    }
+
+    #[test]
+    fn accepts_a_polygon_with_a_hole_in_either_winding() {
+        let f = parse(json!({"type": "Polygon", "coordinates": [square(5.0, 52.0, 0.01), square(5.004, 52.004, 0.001)]})).unwrap();
+        let p = &f.area.0[0];
+        assert!(p.exterior().is_ccw());
+        assert!(p.interiors()[0].is_cw());
+        let area = f.area.unsigned_area();
+        assert!(area > 700_000.0 && area < 800_000.0, "{area}");
+    }
+
+    #[test]
+    fn reports_where_the_coordinate_is_wrong() {
+        let e = parse(json!({"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.1, 95.0], [5.1, 52.1], [5.0, 52.0]]]})).unwrap_err();
+        assert_eq!(e.pointer, "/area/coordinates/0/1");
+        assert_eq!(e.code, "coordinates_look_swapped");
+        let e = parse(json!({"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[5.0, 52.0], [185.0, 52.0], [5.1, 52.1], [5.0, 52.0]]]}})).unwrap_err();
+        assert_eq!(e.pointer, "/area/geometry/coordinates/0/1");
+        assert_eq!(e.code, "coordinate_out_of_range");
+    }
+
+    #[test]
+    fn refuses_bowties_unclosed_rings_and_holes_outside() {
+        let bowtie = json!({"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.01, 52.01], [5.01, 52.0], [5.0, 52.01], [5.0, 52.0]]]});
+        let e = parse(bowtie).unwrap_err();
+        assert_eq!(e.code, "self_intersection");
+        assert!(e.detail.contains("near [5.0050000"), "{}", e.detail);
+        let open = json!({"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.01, 52.0], [5.01, 52.01], [5.0, 52.01]]]});
+        assert_eq!(parse(open).unwrap_err().code, "ring_not_closed");
+        let outside = json!({"type": "Polygon", "coordinates": [square(5.0, 52.0, 0.01), square(5.02, 52.0, 0.001)]});
+        let e = parse(outside).unwrap_err();
+        assert_eq!((e.code, e.pointer.as_str()), ("hole_outside_shell", "/area/coordinates/1"));
+    }
+
+    #[test]
+    fn refuses_zero_area_and_oversized_fields() {
+        let spike = json!({"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.01, 52.0], [5.0, 52.0], [5.0, 52.0]]]});
+        assert_eq!(parse(spike).unwrap_err().code, "degenerate_ring");
+        let line = json!({"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.01, 52.0], [5.02, 52.0], [5.0, 52.0]]]});
+        assert_eq!(parse(line).unwrap_err().code, "degenerate_ring");
+        let tiny = json!({"type": "Polygon", "coordinates": [square(5.0, 52.0, 0.00001)]});
+        assert_eq!(parse(tiny).unwrap_err().code, "area_too_small");
+        let huge = json!({"type": "Polygon", "coordinates": [square(5.0, 52.0, 0.5)]});
+        assert_eq!(parse(huge).unwrap_err().code, "area_too_large");
+        let point = json!({"type": "Point", "coordinates": [5.0, 52.0]});
+        assert_eq!(parse(point).unwrap_err().code, "unsupported_geometry");
+    }
+
+    #[test]
+    fn removes_collinear_repeated_and_spike_vertices() {
+        let c = |x, y| Coord { x, y };
+        let ring = vec![c(0.0, 0.0), c(5.0, 0.0), c(10.0, 0.0), c(10.0, 0.0), c(10.0, 10.0), c(10.0, 15.0), c(10.0, 12.0), c(0.0, 10.0), c(0.0, 0.0)];
+        assert_eq!(clean_ring(ring), vec![c(0.0, 0.0), c(10.0, 0.0), c(10.0, 12.0), c(0.0, 10.0)]);
+    }
+}

@@ -1,0 +1,130 @@
+//! Metrics stage: one measure of every plan, whichever planner made it (metrics spec §1–§4).
+
+use geo::{Area, BooleanOps, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon};
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use super::energy::PieceEstimate;
+use super::path::{FlightPath, PieceKind};
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+pub struct Stats {
+    pub length_m: f64,
+    pub sweep_length_m: f64,
+    pub turn_length_m: f64,
+    pub transit_length_m: f64,
+    pub duration_s: f64,
+    pub energy_j: f64,
+    /// Share of the area to cover (field − holes − no-fly zones with their margin) under the swaths.
+    pub coverage_ratio: f64,
+    pub area_to_cover_m2: f64,
+    /// Number of turns between sweep lines.
+    pub turns: usize,
+    /// Metres of the path inside a no-fly zone (must be 0).
+    pub nfz_intrusion_m: f64,
+    pub sweep_lines: usize,
+    pub cells: usize,
+    pub photos: usize,
+    pub line_spacing_m: f64,
+    /// Compass bearing of the sweep lines.
+    pub sweep_heading_deg: f64,
+    /// Area divided by spacing: the sweep length no plan can beat.
+    pub lower_bound_m: f64,
+    /// `lower_bound_m / length_m`.
+    pub efficiency: f64,
+    pub planning_time_ms: f64,
+}
+
+/// The swath of a sweep piece as a polygon.
+fn swath(points: &[Coord], half: f64) -> Option<Polygon> {
+    let (a, b) = (points[0], *points.last()?);
+    let d = b - a;
+    let len = d.x.hypot(d.y);
+    if len == 0.0 || half <= 0.0 {
+        return None;
+    }
+    let n = Coord { x: -d.y / len * half, y: d.x / len * half };
+    Some(Polygon::new(LineString::from(vec![a - n, b - n, b + n, a + n, a - n]), vec![]))
+}
+
+/// The area of `region` under the swaths of `path`, in m².
+pub fn covered_area(path: &FlightPath, region: &MultiPolygon) -> f64 {
+    let strips: Vec<Polygon> = path
+        .pieces
+        .iter()
+        .filter(|p| p.kind == PieceKind::Sweep)
+        .filter_map(|p| swath(&p.points, p.half_swath_m))
+        .collect();
+    if strips.is_empty() {
+        return 0.0;
+    }
+    let union = geo::unary_union(&strips);
+    region.intersection(&union).unsigned_area()
+}
+
+/// Metres of `path` inside `zones`.
+pub fn length_inside(path: &FlightPath, zones: &MultiPolygon) -> f64 {
+    if zones.0.is_empty() {
+        return 0.0;
+    }
+    let lines = MultiLineString(path.pieces.iter().map(|p| LineString::from(p.points.clone())).collect());
+    zones.clip(&lines, false).0.iter().map(|l| Euclidean.length(l)).sum()
+}
+
+pub struct MeasureInput<'a> {
+    pub path: &'a FlightPath,
+    pub estimates: &'a [PieceEstimate],
+    pub region: &'a MultiPolygon,
+    pub no_fly_zones: &'a MultiPolygon,
+    pub spacing: f64,
+    pub sweep_heading_deg: f64,
+    pub cells: usize,
+    pub photos: usize,
+}
+
+pub fn measure(m: &MeasureInput<'_>) -> Stats {
+    let by_kind = |k: PieceKind| m.path.pieces.iter().filter(|p| p.kind == k).map(|p| p.length()).sum::<f64>();
+    let length_m = m.path.length();
+    let area = m.region.unsigned_area();
+    let lower_bound_m = area / m.spacing;
+    Stats {
+        length_m,
+        sweep_length_m: by_kind(PieceKind::Sweep),
+        turn_length_m: by_kind(PieceKind::Turn),
+        transit_length_m: by_kind(PieceKind::Transit),
+        duration_s: m.estimates.iter().map(|e| e.duration_s).sum(),
+        energy_j: m.estimates.iter().map(|e| e.energy_j).sum(),
+        coverage_ratio: if area > 0.0 { (covered_area(m.path, m.region) / area).min(1.0) } else { 0.0 },
+        area_to_cover_m2: area,
+        turns: m.path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).count(),
+        nfz_intrusion_m: length_inside(m.path, m.no_fly_zones),
+        sweep_lines: m.path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).count(),
+        cells: m.cells,
+        photos: m.photos,
+        line_spacing_m: m.spacing,
+        sweep_heading_deg: m.sweep_heading_deg,
+        lower_bound_m,
+        efficiency: if length_m > 0.0 { lower_bound_m / length_m } else { 0.0 },
+        planning_time_ms: 0.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::polygon;
+
+    #[test]
+    fn coverage_and_intrusion_are_measured_on_the_geometry() {
+        let c = |x, y| Coord { x, y };
+        let region = MultiPolygon(vec![polygon![(x: 0., y: 0.), (x: 100., y: 0.), (x: 100., y: 20.), (x: 0., y: 20.)]]);
+        let mut path = FlightPath::default();
+        path.push(PieceKind::Sweep, vec![c(0.0, 5.0), c(100.0, 5.0)], 5.0);
+        assert!((covered_area(&path, &region) - 1000.0).abs() < 1e-6);
+        path.push(PieceKind::Turn, vec![c(100.0, 5.0), c(100.0, 15.0)], 0.0);
+        path.push(PieceKind::Sweep, vec![c(100.0, 15.0), c(50.0, 15.0)], 5.0);
+        assert!((covered_area(&path, &region) - 1500.0).abs() < 1e-6);
+        let zone = MultiPolygon(vec![polygon![(x: 40., y: 0.), (x: 60., y: 0.), (x: 60., y: 10.), (x: 40., y: 10.)]]);
+        assert!((length_inside(&path, &zone) - 20.0).abs() < 1e-9);
+    }
+}

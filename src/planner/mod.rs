@@ -1,0 +1,164 @@
+//! The planner: geometry in, plan out. Pure: no I/O, no async runtime, no database.
+//!
+//! Stages, one module each: [`frame`] (WGS84 ⇄ local metres) → [`field`] (validate,
+//! normalise) → [`decompose`] → [`sweep`] → turn and [`route`] → [`energy`] → [`metrics`] →
+//! [`export`]. [`planners`] composes them; its registry lists every planner offered.
+
+pub mod camera;
+pub mod decompose;
+pub mod energy;
+pub mod error;
+pub mod export;
+pub mod field;
+pub mod frame;
+pub mod metrics;
+pub mod params;
+pub mod path;
+pub mod planners;
+pub mod route;
+pub mod sweep;
+pub mod vehicle;
+
+use std::time::Instant;
+
+use geo::{Area, BooleanOps, Buffer, Contains, Coord, MultiPolygon};
+use geo::algorithm::buffer::{BufferStyle, LineJoin};
+
+pub use error::{InputError, PlanError};
+pub use field::{FieldLimits, MissionGeometry};
+pub use metrics::Stats;
+pub use params::PlanParams;
+pub use planners::Progress;
+
+use energy::{EnergyModel, constant_power::ConstantPower};
+use field::Field;
+use path::{FlightPath, PieceKind, polyline_length};
+use planners::Problem;
+use route::visibility::TransitPlanner;
+
+/// A finished plan.
+#[derive(Debug, Clone)]
+pub struct PlanOutput {
+    pub stats: Stats,
+    pub trajectory: geojson::FeatureCollection,
+}
+
+/// Longest sweep the service plans in one job (area / spacing), in km.
+pub const MAX_SWEEP_KM: f64 = 2_000.0;
+
+/// Grows the zones by `d` metres with mitred corners (no more vertices than the input).
+fn grow(zones: &MultiPolygon, d: f64) -> MultiPolygon {
+    if zones.0.is_empty() {
+        return MultiPolygon(vec![]);
+    }
+    zones.buffer_with_style(BufferStyle::new(d).line_join(LineJoin::Miter(2.0)))
+}
+
+/// Checks a mission without planning it: the same validation as [`plan`] applies first.
+pub fn validate_mission(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> Result<(), InputError> {
+    Field::parse(mission, limits).map(|_| ())
+}
+
+/// Everything a planner needs, validated and in the local frame.
+struct Prepared {
+    resolved: params::Resolved,
+    planner: &'static dyn planners::Planner,
+    field: Field,
+    region: MultiPolygon,
+    keep_out: MultiPolygon,
+    walls: MultiPolygon,
+    start: Option<Coord>,
+    end: Option<Coord>,
+}
+
+fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLimits) -> Result<Prepared, InputError> {
+    let resolved = params.resolve()?;
+    let planner = planners::find(&params.planner).ok_or_else(|| unknown_planner(&params.planner))?;
+    let field = Field::parse(mission, limits)?;
+    let sweep_km = field.area.unsigned_area() / resolved.line_spacing_m / 1000.0;
+    if sweep_km > MAX_SWEEP_KM {
+        return Err(InputError::new(
+            "plan_too_long",
+            "/line_spacing_m",
+            format!("this spacing needs about {sweep_km:.0} km of sweep lines; the limit is {MAX_SWEEP_KM} km"),
+        ));
+    }
+    let keep_out = grow(&field.no_fly_zones, resolved.nfz_margin_m);
+    let walls = grow(&field.no_fly_zones, resolved.nfz_margin_m / 2.0);
+    let region = if keep_out.0.is_empty() { field.area.clone() } else { field.area.difference(&keep_out) };
+    if region.unsigned_area() < 1.0 {
+        return Err(InputError::new("nothing_to_cover", "/no_fly_zones", "the no-fly zones and their margin cover the whole field"));
+    }
+    let local = |p: [f64; 2], pointer: &str| -> Result<Coord, InputError> {
+        let c = field.frame.to_local(p[0], p[1]);
+        if walls.contains(&c) {
+            return Err(InputError::new("point_in_no_fly_zone", pointer, "this point lies inside a no-fly zone or its margin"));
+        }
+        Ok(c)
+    };
+    let start = resolved.start.map(|p| local(p, "/start/position")).transpose()?.or(field.home);
+    let end = resolved.end.map(|p| local(p, "/end/position")).transpose()?.or(field.home);
+    Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end })
+}
+
+/// Checks a plan request without planning: what [`plan`] would refuse as input, this refuses.
+pub fn check_plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLimits) -> Result<(), InputError> {
+    prepare(mission, params, limits).map(|_| ())
+}
+
+/// Plans `mission` with `params`. `progress` is called between stages and may cancel.
+pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLimits, progress: &dyn Progress) -> Result<PlanOutput, PlanError> {
+    let started = Instant::now();
+    let Prepared { resolved, planner, field, region, keep_out, walls, start, end } = prepare(mission, params, limits)?;
+    if !progress.report(0.1) {
+        return Err(PlanError::Cancelled);
+    }
+    let transit = TransitPlanner::new(&keep_out, &walls);
+    let problem = Problem {
+        region: &region,
+        keep_out: &keep_out,
+        transit: &transit,
+        spacing: resolved.line_spacing_m,
+        sweep_angle: resolved.sweep_angle,
+        start,
+        end,
+        vehicle: &resolved.vehicle,
+    };
+    let planned = planner.plan(&problem, progress)?;
+    let estimates = ConstantPower { vehicle: &resolved.vehicle }.estimate(&planned.path);
+    let photos = resolved.camera.map(|c| photo_positions(&planned.path, c.photo_spacing_m));
+    let mut stats = metrics::measure(&metrics::MeasureInput {
+        path: &planned.path,
+        estimates: &estimates,
+        region: &region,
+        no_fly_zones: &field.no_fly_zones,
+        spacing: resolved.line_spacing_m,
+        sweep_heading_deg: params::math_to_bearing(planned.sweep_angle) % 180.0,
+        cells: planned.cells,
+        photos: photos.as_ref().map_or(0, Vec::len),
+    });
+    let trajectory = export::feature_collection(&field.frame, &planned.path, &estimates, resolved.altitude_m, photos.as_deref());
+    stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
+    progress.report(1.0);
+    Ok(PlanOutput { stats, trajectory })
+}
+
+pub fn unknown_planner(id: &str) -> InputError {
+    let known: Vec<&str> = planners::registry().iter().map(|p| p.id()).collect();
+    InputError::new("unknown_planner", "/planner", format!("no planner named `{id}`; known: {}", known.join(", ")))
+}
+
+/// Photo positions on every sweep, evenly spaced no farther apart than `spacing`, ends included.
+fn photo_positions(path: &FlightPath, spacing: f64) -> Vec<Coord> {
+    let mut out = Vec::new();
+    for p in path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep) {
+        let (a, b) = (p.start(), p.end());
+        let len = polyline_length(&p.points);
+        let n = (len / spacing).ceil().max(1.0) as usize;
+        out.extend((0..=n).map(|k| {
+            let t = k as f64 / n as f64;
+            Coord { x: a.x + (b.x - a.x) * t, y: a.y + (b.y - a.y) * t }
+        }));
+    }
+    out
+}

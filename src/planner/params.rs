@@ -1,0 +1,168 @@
+//! Plan parameters as clients send them, and their validated form.
+
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+use super::camera::{Camera, CameraPlan};
+use super::error::InputError;
+use super::vehicle::{Vehicle, VehicleParams, check_range};
+
+/// A position with a heading, as a compass bearing (degrees clockwise from north).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PoseParam {
+    /// [longitude, latitude]
+    pub position: [f64; 2],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading_deg: Option<f64>,
+}
+
+/// Parameters of a plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PlanParams {
+    /// Planner id, as listed by `GET /api/v1/planners`.
+    #[serde(default = "default_planner")]
+    pub planner: String,
+    /// Distance between sweep lines; required unless a camera is given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_spacing_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<Camera>,
+    /// Flight altitude above ground; with a camera, or instead `gsd_cm`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub altitude_m: Option<f64>,
+    /// Wanted ground sample distance, in cm per pixel (camera only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gsd_cm: Option<f64>,
+    /// Overlap of neighbouring lines' images, 0 to 0.95 (default 0.7).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side_overlap: Option<f64>,
+    /// Overlap of consecutive images along a line, 0 to 0.95 (default 0.8).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub front_overlap: Option<f64>,
+    /// Compass bearing of the sweep lines; absent: the planner chooses.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading_deg: Option<f64>,
+    #[serde(default)]
+    pub vehicle: VehicleParams,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<PoseParam>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end: Option<PoseParam>,
+    /// Clearance kept from no-fly zones, 1 to 500 m (default 10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nfz_margin_m: Option<f64>,
+}
+
+fn default_planner() -> String {
+    "boustrophedon".into()
+}
+
+impl Default for PlanParams {
+    fn default() -> Self {
+        serde_json::from_str("{}").expect("defaults")
+    }
+}
+
+/// Validated parameters, in planner units.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    pub line_spacing_m: f64,
+    pub camera: Option<CameraPlan>,
+    pub altitude_m: Option<f64>,
+    /// Sweep direction as a math angle (radians counter-clockwise from east, mod π).
+    pub sweep_angle: Option<f64>,
+    pub vehicle: Vehicle,
+    pub start: Option<[f64; 2]>,
+    pub end: Option<[f64; 2]>,
+    pub nfz_margin_m: f64,
+}
+
+/// Compass bearing (clockwise from north, degrees) to a math angle (counter-clockwise from
+/// east, radians).
+pub fn bearing_to_math(bearing_deg: f64) -> f64 {
+    (90.0 - bearing_deg).to_radians()
+}
+
+/// Math angle to compass bearing in [0, 360).
+pub fn math_to_bearing(angle: f64) -> f64 {
+    (90.0 - angle.to_degrees()).rem_euclid(360.0)
+}
+
+impl PlanParams {
+    pub fn resolve(&self) -> Result<Resolved, InputError> {
+        let vehicle = self.vehicle.resolve()?;
+        let overlap = |v: Option<f64>, default: f64, pointer: &str| -> Result<f64, InputError> {
+            let v = v.unwrap_or(default);
+            check_range(v, 0.0, 0.95, pointer, "")?;
+            Ok(v)
+        };
+        let side = overlap(self.side_overlap, 0.7, "/side_overlap")?;
+        let front = overlap(self.front_overlap, 0.8, "/front_overlap")?;
+        let camera = match &self.camera {
+            Some(c) => Some(c.plan(self.altitude_m, self.gsd_cm, side, front)?),
+            None => None,
+        };
+        let line_spacing_m = match (self.line_spacing_m, &camera) {
+            (Some(s), _) => s,
+            (None, Some(c)) => c.line_spacing_m,
+            (None, None) => {
+                return Err(InputError::new("spacing_missing", "/line_spacing_m", "give line_spacing_m, or a camera to derive it from"));
+            }
+        };
+        check_range(line_spacing_m, 0.5, 2_000.0, "/line_spacing_m", "m")?;
+        let altitude_m = camera.map(|c| c.altitude_m).or(self.altitude_m);
+        if let Some(a) = altitude_m {
+            check_range(a, 1.0, 5_000.0, "/altitude_m", "m")?;
+        }
+        if let Some(h) = self.heading_deg {
+            check_range(h, -360.0, 360.0, "/heading_deg", "°")?;
+        }
+        let pose = |p: &Option<PoseParam>, name: &str| -> Result<Option<[f64; 2]>, InputError> {
+            let Some(p) = p else { return Ok(None) };
+            let [lon, lat] = p.position;
+            check_range(lon, -180.0, 180.0, &format!("/{name}/position/0"), "°")?;
+            check_range(lat, -90.0, 90.0, &format!("/{name}/position/1"), "°")?;
+            if let Some(h) = p.heading_deg {
+                check_range(h, -360.0, 360.0, &format!("/{name}/heading_deg"), "°")?;
+            }
+            Ok(Some(p.position))
+        };
+        let nfz_margin_m = self.nfz_margin_m.unwrap_or(10.0);
+        check_range(nfz_margin_m, 1.0, 500.0, "/nfz_margin_m", "m")?;
+        Ok(Resolved {
+            line_spacing_m,
+            camera,
+            altitude_m,
+            sweep_angle: self.heading_deg.map(bearing_to_math),
+            vehicle,
+            start: pose(&self.start, "start")?,
+            end: pose(&self.end, "end")?,
+            nfz_margin_m,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bearings_and_math_angles() {
+        assert!((bearing_to_math(0.0) - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        assert!((bearing_to_math(90.0)).abs() < 1e-12);
+        assert!((math_to_bearing(std::f64::consts::PI) - 270.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn refuses_absurd_values_with_their_place() {
+        let p: PlanParams = serde_json::from_str(r#"{"line_spacing_m": -3}"#).unwrap();
+        assert_eq!(p.resolve().unwrap_err().pointer, "/line_spacing_m");
+        let p: PlanParams = serde_json::from_str(r#"{"line_spacing_m": 20, "vehicle": {"cruise_speed_mps": 1e9}}"#).unwrap();
+        assert_eq!(p.resolve().unwrap_err().pointer, "/vehicle/cruise_speed_mps");
+        let p: PlanParams = serde_json::from_str(r#"{}"#).unwrap();
+        assert_eq!(p.resolve().unwrap_err().code, "spacing_missing");
+        assert!(serde_json::from_str::<PlanParams>(r#"{"vehicle": {"kind": "boat"}}"#).is_err());
+    }
+}

@@ -1,0 +1,73 @@
+//! The flown path: pieces of kind sweep, turn or transit, joined end to start.
+
+use geo::Coord;
+use serde::Serialize;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, utoipa::ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum PieceKind {
+    /// A coverage line, flown at survey altitude with the sensor on.
+    Sweep,
+    /// The connection between two lines of the same cell.
+    Turn,
+    /// Any other connection: from the start, between cells or fields, to the end.
+    Transit,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Piece {
+    pub kind: PieceKind,
+    pub points: Vec<Coord>,
+    /// Width covered on each side of a sweep (half the swath); 0 for other kinds.
+    pub half_swath_m: f64,
+}
+
+impl Piece {
+    pub fn length(&self) -> f64 {
+        polyline_length(&self.points)
+    }
+
+    pub fn start(&self) -> Coord {
+        self.points[0]
+    }
+
+    pub fn end(&self) -> Coord {
+        *self.points.last().expect("a piece has points")
+    }
+}
+
+pub fn polyline_length(points: &[Coord]) -> f64 {
+    points.windows(2).map(|w| distance(w[0], w[1])).sum()
+}
+
+pub fn distance(a: Coord, b: Coord) -> f64 {
+    (a.x - b.x).hypot(a.y - b.y)
+}
+
+/// A path in flight order. Consecutive pieces share their end points exactly.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FlightPath {
+    pub pieces: Vec<Piece>,
+}
+
+impl FlightPath {
+    /// Appends a piece; a connection of zero length is dropped.
+    pub fn push(&mut self, kind: PieceKind, points: Vec<Coord>, half_swath_m: f64) {
+        debug_assert!(points.len() >= 2);
+        if kind != PieceKind::Sweep && polyline_length(&points) == 0.0 {
+            return;
+        }
+        if let Some(last) = self.pieces.last() {
+            debug_assert_eq!(last.end(), points[0], "pieces must join exactly");
+        }
+        self.pieces.push(Piece { kind, points, half_swath_m });
+    }
+
+    pub fn end(&self) -> Option<Coord> {
+        self.pieces.last().map(Piece::end)
+    }
+
+    pub fn length(&self) -> f64 {
+        self.pieces.iter().map(Piece::length).sum()
+    }
+}

@@ -1,0 +1,102 @@
+//! Planners: each composes the stages into a complete method. Adding a planner means adding a
+//! file here and one line in [`registry`].
+
+pub mod boustrophedon;
+
+use geo::{Coord, MultiPolygon};
+use serde::Serialize;
+use utoipa::ToSchema;
+
+use super::error::PlanError;
+use super::path::{FlightPath, PieceKind};
+use super::route::visibility::TransitPlanner;
+use super::vehicle::Vehicle;
+
+/// What every planner receives, in the local frame.
+pub struct Problem<'a> {
+    /// Area to cover: the fields minus their holes (which may be overflown) and minus the
+    /// no-fly zones grown by the margin.
+    pub region: &'a MultiPolygon,
+    /// No-fly zones grown by the margin: sweep lines stop at their edge.
+    pub keep_out: &'a MultiPolygon,
+    pub transit: &'a TransitPlanner,
+    pub spacing: f64,
+    /// Fixed sweep direction (math radians), or `None` for the planner's own choice.
+    pub sweep_angle: Option<f64>,
+    pub start: Option<Coord>,
+    pub end: Option<Coord>,
+    pub vehicle: &'a Vehicle,
+}
+
+pub struct PlannedPath {
+    pub path: FlightPath,
+    /// Main sweep direction (math radians).
+    pub sweep_angle: f64,
+    pub cells: usize,
+}
+
+/// Reports progress in [0, 1]; answers `false` when the job should stop.
+pub trait Progress {
+    fn report(&self, fraction: f64) -> bool;
+}
+
+impl<F: Fn(f64) -> bool> Progress for F {
+    fn report(&self, fraction: f64) -> bool {
+        self(fraction)
+    }
+}
+
+pub trait Planner: Send + Sync {
+    fn id(&self) -> &'static str;
+    fn description(&self) -> &'static str;
+    fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError>;
+}
+
+/// Every planner the service offers.
+pub fn registry() -> &'static [&'static dyn Planner] {
+    &[&boustrophedon::BoustrophedonPlanner]
+}
+
+pub fn find(id: &str) -> Option<&'static dyn Planner> {
+    registry().iter().copied().find(|p| p.id() == id)
+}
+
+/// A parameter that planners accept, for `GET /api/v1/planners`.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct ParameterInfo {
+    pub name: &'static str,
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    pub description: &'static str,
+}
+
+/// The parameters shared by every planner.
+pub fn common_parameters() -> Vec<ParameterInfo> {
+    let p = |name, kind, description| ParameterInfo { name, kind, description };
+    vec![
+        p("line_spacing_m", "number", "distance between sweep lines, 0.5 to 2000 m (or give a camera)"),
+        p("camera", "object", "sensor_width_mm + focal_length_mm (or hfov_deg), image_width_px, image_height_px"),
+        p("altitude_m", "number", "flight altitude above ground (with a camera: or gsd_cm)"),
+        p("gsd_cm", "number", "wanted ground sample distance in cm/px; sets the altitude"),
+        p("side_overlap", "number", "overlap of neighbouring lines' images, 0 to 0.95 (default 0.7)"),
+        p("front_overlap", "number", "overlap of images along a line, 0 to 0.95 (default 0.8)"),
+        p("heading_deg", "number", "compass bearing of the sweep lines; absent: the planner chooses"),
+        p("vehicle", "object", "{profile} or {kind, cruise_speed_mps, turn_radius_m}"),
+        p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts (default: home)"),
+        p("end", "object", "{position: [lon, lat], heading_deg}: where the flight ends (default: home)"),
+        p("nfz_margin_m", "number", "clearance kept from no-fly zones, 1 to 500 m (default 10)"),
+    ]
+}
+
+/// Appends a connection from the end of `path` to `to`, around no-fly zones when needed.
+pub fn connect(path: &mut FlightPath, kind: PieceKind, from: Coord, to: Coord, transit: &TransitPlanner) -> Result<(), PlanError> {
+    let points = transit.path(from, to).ok_or_else(|| {
+        PlanError::Infeasible(format!(
+            "no path outside the no-fly zones joins ({:.1}, {:.1}) to ({:.1}, {:.1}) in the local frame",
+            from.x, from.y, to.x, to.y
+        ))
+    })?;
+    let kind = if points.len() > 2 { PieceKind::Transit } else { kind };
+    path.push(kind, points, 0.0);
+    Ok(())
+}

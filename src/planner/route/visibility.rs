@@ -1,0 +1,262 @@
+//! Shortest transits around no-fly zones on a visibility graph (decomposition spec §10.5).
+//!
+//! Nodes are the convex corners of the no-fly zones grown by the margin; a straight leg is
+//! allowed when it does not enter the zones grown by half the margin, so a path that runs
+//! along the grown outline keeps at least half the margin of clearance.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use geo::{Coord, LineString, MultiPolygon, Polygon, Rect};
+
+use crate::planner::path::distance;
+
+pub struct TransitPlanner {
+    /// Rings a leg may not enter, with their bounding boxes.
+    walls: Vec<(Rect, Vec<Coord>)>,
+    nodes: Vec<Coord>,
+    /// `visible[i]` lists the nodes seen from node i, with the distance.
+    visible: Vec<Vec<(usize, f64)>>,
+}
+
+impl TransitPlanner {
+    /// `corners`: the zones grown by the margin (their convex vertices become nodes);
+    /// `walls`: the zones a leg may not enter.
+    pub fn new(corners: &MultiPolygon, walls: &MultiPolygon) -> Self {
+        let walls: Vec<(Rect, Vec<Coord>)> = walls.iter().flat_map(rings).map(|r| (bbox(&r), r)).collect();
+        let mut nodes = Vec::new();
+        for poly in corners {
+            for ring in std::iter::once(poly.exterior()).chain(poly.interiors()) {
+                nodes.extend(convex_corners(ring));
+            }
+        }
+        let mut planner = TransitPlanner { walls, nodes: Vec::new(), visible: Vec::new() };
+        nodes.retain(|&n| !planner.inside_wall(n));
+        planner.nodes = nodes;
+        let n = planner.nodes.len();
+        let mut visible = vec![Vec::new(); n];
+        for i in 0..n {
+            for j in i + 1..n {
+                let (a, b) = (planner.nodes[i], planner.nodes[j]);
+                if planner.is_clear(a, b) {
+                    let d = distance(a, b);
+                    visible[i].push((j, d));
+                    visible[j].push((i, d));
+                }
+            }
+        }
+        planner.visible = visible;
+        planner
+    }
+
+    /// Shortest polyline from `a` to `b` that never enters a wall, or `None` when there is none.
+    pub fn path(&self, a: Coord, b: Coord) -> Option<Vec<Coord>> {
+        if self.is_clear(a, b) {
+            return Some(vec![a, b]);
+        }
+        // Dijkstra over nodes; index n = a, n + 1 = b
+        let n = self.nodes.len();
+        let from_a: Vec<(usize, f64)> = (0..n).filter(|&i| self.is_clear(a, self.nodes[i])).map(|i| (i, distance(a, self.nodes[i]))).collect();
+        let to_b: Vec<Option<f64>> = (0..n).map(|i| self.is_clear(self.nodes[i], b).then(|| distance(self.nodes[i], b))).collect();
+        let mut dist = vec![f64::INFINITY; n + 2];
+        let mut prev = vec![usize::MAX; n + 2];
+        let mut heap = BinaryHeap::new();
+        dist[n] = 0.0;
+        heap.push(State { cost: 0.0, node: n });
+        while let Some(State { cost, node }) = heap.pop() {
+            if node == n + 1 {
+                break;
+            }
+            if cost > dist[node] {
+                continue;
+            }
+            let edges: Box<dyn Iterator<Item = (usize, f64)>> = if node == n {
+                Box::new(from_a.iter().copied())
+            } else {
+                let to_goal = to_b[node].map(|d| (n + 1, d));
+                Box::new(self.visible[node].iter().copied().chain(to_goal))
+            };
+            for (next, w) in edges {
+                let c = cost + w;
+                if c < dist[next] {
+                    dist[next] = c;
+                    prev[next] = node;
+                    heap.push(State { cost: c, node: next });
+                }
+            }
+        }
+        if !dist[n + 1].is_finite() {
+            return None;
+        }
+        let mut out = vec![b];
+        let mut cur = prev[n + 1];
+        while cur != n {
+            out.push(self.nodes[cur]);
+            cur = prev[cur];
+        }
+        out.push(a);
+        out.reverse();
+        Some(out)
+    }
+
+    /// True when the segment `a`–`b` does not enter the interior of any wall.
+    pub fn is_clear(&self, a: Coord, b: Coord) -> bool {
+        let seg = Rect::new(a, b);
+        self.walls.iter().all(|(bb, ring)| !rects_overlap(bb, &seg) || !segment_enters(a, b, ring))
+    }
+
+    fn inside_wall(&self, p: Coord) -> bool {
+        self.walls.iter().any(|(_, r)| point_in_ring(p, r))
+    }
+}
+
+#[derive(PartialEq)]
+struct State {
+    cost: f64,
+    node: usize,
+}
+impl Eq for State {}
+impl Ord for State {
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.cost.total_cmp(&self.cost).then(o.node.cmp(&self.node))
+    }
+}
+impl PartialOrd for State {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+fn rings(p: &Polygon) -> Vec<Vec<Coord>> {
+    std::iter::once(p.exterior()).chain(p.interiors()).map(|r| r.0.clone()).collect()
+}
+
+fn bbox(r: &[Coord]) -> Rect {
+    let (mut lo, mut hi) = (r[0], r[0]);
+    for c in r {
+        lo = Coord { x: lo.x.min(c.x), y: lo.y.min(c.y) };
+        hi = Coord { x: hi.x.max(c.x), y: hi.y.max(c.y) };
+    }
+    Rect::new(lo, hi)
+}
+
+fn rects_overlap(a: &Rect, b: &Rect) -> bool {
+    a.min().x <= b.max().x && b.min().x <= a.max().x && a.min().y <= b.max().y && b.min().y <= a.max().y
+}
+
+/// Vertices where the polygon's interior angle is below 180° (seen from the free side, these
+/// are the corners a shortest path bends around). Works for exteriors (CCW) of obstacles.
+fn convex_corners(ring: &LineString) -> Vec<Coord> {
+    let pts = &ring.0[..ring.0.len().saturating_sub(1)];
+    let n = pts.len();
+    let ccw = signed_area(pts) > 0.0;
+    (0..n)
+        .filter(|&i| {
+            let (p, v, q) = (pts[(i + n - 1) % n], pts[i], pts[(i + 1) % n]);
+            let cross = (v.x - p.x) * (q.y - v.y) - (v.y - p.y) * (q.x - v.x);
+            if ccw { cross > 0.0 } else { cross < 0.0 }
+        })
+        .map(|i| pts[i])
+        .collect()
+}
+
+fn signed_area(pts: &[Coord]) -> f64 {
+    let n = pts.len();
+    (0..n).map(|i| pts[i].x * pts[(i + 1) % n].y - pts[(i + 1) % n].x * pts[i].y).sum::<f64>() / 2.0
+}
+
+fn cross(o: Coord, a: Coord, b: Coord) -> f64 {
+    (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)
+}
+
+/// Does the open segment a–b pass through the interior of the closed ring?
+fn segment_enters(a: Coord, b: Coord, ring: &[Coord]) -> bool {
+    // parameters along a–b where it meets the ring's boundary
+    let mut ts = vec![0.0, 1.0];
+    let d = b - a;
+    for w in ring.windows(2) {
+        let (p, q) = (w[0], w[1]);
+        let (d1, d2) = (cross(a, b, p), cross(a, b, q));
+        let (d3, d4) = (cross(p, q, a), cross(p, q, b));
+        if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+            return true; // proper crossing
+        }
+        let len2 = d.x * d.x + d.y * d.y;
+        if len2 == 0.0 {
+            continue;
+        }
+        for c in [p, q] {
+            if cross(a, b, c).abs() <= 1e-9 * len2.sqrt().max(1.0) {
+                let t = ((c.x - a.x) * d.x + (c.y - a.y) * d.y) / len2;
+                if t > 0.0 && t < 1.0 {
+                    ts.push(t);
+                }
+            }
+        }
+    }
+    ts.sort_by(f64::total_cmp);
+    ts.windows(2).any(|w| {
+        w[1] - w[0] > 1e-12 && {
+            let t = (w[0] + w[1]) / 2.0;
+            let m = Coord { x: a.x + d.x * t, y: a.y + d.y * t };
+            point_in_ring(m, ring) && !on_ring(m, ring)
+        }
+    })
+}
+
+/// Is `p` on the ring's boundary (within 1e-7 m)?
+fn on_ring(p: Coord, ring: &[Coord]) -> bool {
+    ring.windows(2).any(|w| {
+        let (a, b) = (w[0], w[1]);
+        let ab = b - a;
+        let len2 = ab.x * ab.x + ab.y * ab.y;
+        let t = if len2 > 0.0 { (((p.x - a.x) * ab.x + (p.y - a.y) * ab.y) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        let q = Coord { x: a.x + ab.x * t, y: a.y + ab.y * t };
+        (p.x - q.x).hypot(p.y - q.y) < 1e-7
+    })
+}
+
+/// Crossing-number test; points on the boundary may go either way.
+pub fn point_in_ring(p: Coord, ring: &[Coord]) -> bool {
+    let mut inside = false;
+    for w in ring.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::polygon;
+
+    fn square(x0: f64, y0: f64, s: f64) -> Polygon {
+        polygon![(x: x0, y: y0), (x: x0 + s, y: y0), (x: x0 + s, y: y0 + s), (x: x0, y: y0 + s)]
+    }
+
+    #[test]
+    fn goes_around_a_zone() {
+        let walls = MultiPolygon(vec![square(40.0, 40.0, 20.0)]);
+        let corners = MultiPolygon(vec![square(38.0, 38.0, 24.0)]);
+        let tp = TransitPlanner::new(&corners, &walls);
+        let a = Coord { x: 0.0, y: 50.0 };
+        let b = Coord { x: 100.0, y: 50.0 };
+        let p = tp.path(a, b).unwrap();
+        assert_eq!(p.len(), 4);
+        let len: f64 = p.windows(2).map(|w| distance(w[0], w[1])).sum();
+        let expected = 2.0 * (38.0f64.hypot(12.0)) + 24.0;
+        assert!((len - expected).abs() < 1e-9, "{len} vs {expected}");
+        assert!(p.windows(2).all(|w| tp.is_clear(w[0], w[1])));
+    }
+
+    #[test]
+    fn a_chord_through_a_zone_is_refused_and_an_edge_along_it_is_not() {
+        let ring = square(0.0, 0.0, 10.0).exterior().0.clone();
+        assert!(segment_enters(Coord { x: 0.0, y: 0.0 }, Coord { x: 10.0, y: 10.0 }, &ring));
+        assert!(!segment_enters(Coord { x: 0.0, y: 0.0 }, Coord { x: 10.0, y: 0.0 }, &ring));
+        assert!(!segment_enters(Coord { x: -5.0, y: 0.0 }, Coord { x: 15.0, y: 0.0 }, &ring));
+    }
+}

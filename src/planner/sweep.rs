@@ -1,0 +1,208 @@
+//! Sweep stage: parallel lines across a region, clipped to it and prolonged so that each
+//! line's whole swath reaches the boundary (decomposition spec §10.1, camera spec §5).
+
+use geo::{BooleanOps, BoundingRect, ConvexHull, Coord, MultiPolygon, Rect};
+
+/// One coverage segment in the sweep frame: the line `v = offset`, flown from `u = a` to `u = b`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SweepSegment {
+    pub line: usize,
+    pub offset: f64,
+    pub a: f64,
+    pub b: f64,
+}
+
+/// Lines at `angle` (math radians, counter-clockwise from east) spaced `spacing` metres.
+#[derive(Debug, Clone)]
+pub struct SweepPattern {
+    pub angle: f64,
+    pub spacing: f64,
+    /// Segments of each line, sorted by `a`.
+    pub lines: Vec<Vec<SweepSegment>>,
+}
+
+impl SweepPattern {
+    /// Local coordinates of a point `(u, v)` of the sweep frame.
+    pub fn to_local(&self, u: f64, v: f64) -> Coord {
+        let (s, c) = self.angle.sin_cos();
+        Coord { x: u * c - v * s, y: u * s + v * c }
+    }
+
+    pub fn segment_ends(&self, seg: &SweepSegment) -> (Coord, Coord) {
+        (self.to_local(seg.a, seg.offset), self.to_local(seg.b, seg.offset))
+    }
+}
+
+/// Rotates local coordinates into the sweep frame (lines become horizontal).
+pub fn to_sweep_frame(angle: f64, c: Coord) -> Coord {
+    let (s, co) = angle.sin_cos();
+    Coord { x: c.x * co + c.y * s, y: -c.x * s + c.y * co }
+}
+
+fn rotate(mp: &MultiPolygon, angle: f64) -> MultiPolygon {
+    use geo::MapCoords;
+    mp.map_coords(|c| to_sweep_frame(angle, c))
+}
+
+/// Extent of `region` across lines of direction `angle` (the width function).
+pub fn width_across(hull: &[Coord], angle: f64) -> f64 {
+    let (s, c) = angle.sin_cos();
+    let (lo, hi) = hull.iter().map(|p| -p.x * s + p.y * c).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    hi - lo
+}
+
+/// Number of lines of spacing `s` needed to span width `w`.
+pub fn line_count(w: f64, s: f64) -> usize {
+    ((w / s) - 1e-9).ceil().max(1.0) as usize
+}
+
+/// The direction that needs the fewest lines; ties go to the smaller width, then the smaller
+/// angle. Candidates: every hull edge direction and a 1° grid.
+pub fn fewest_lines_direction(region: &MultiPolygon, spacing: f64) -> f64 {
+    let hull: Vec<Coord> = region.convex_hull().exterior().0.clone();
+    let mut candidates: Vec<f64> = hull
+        .windows(2)
+        .map(|w| (w[1].y - w[0].y).atan2(w[1].x - w[0].x).rem_euclid(std::f64::consts::PI))
+        .collect();
+    candidates.extend((0..180).map(|d| (d as f64).to_radians()));
+    let key = |a: f64| {
+        let w = width_across(&hull, a);
+        (line_count(w, spacing), w)
+    };
+    candidates
+        .into_iter()
+        .map(|a| (key(a), a))
+        .min_by(|(ka, aa), (kb, ab)| ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then(aa.total_cmp(ab)))
+        .map(|(_, a)| a)
+        .unwrap_or(0.0)
+}
+
+/// Lines across `region`, each segment covering the connected part of the region within its
+/// swath band, minus the parts of the centre line inside `keep_out`.
+pub fn sweep(region: &MultiPolygon, keep_out: &MultiPolygon, angle: f64, spacing: f64) -> SweepPattern {
+    let rotated = rotate(region, angle);
+    let keep_out = rotate(keep_out, angle);
+    let Some(bbox) = rotated.bounding_rect() else {
+        return SweepPattern { angle, spacing, lines: Vec::new() };
+    };
+    let (lo, hi) = (bbox.min().y, bbox.max().y);
+    let n = line_count(hi - lo, spacing);
+    let first = lo + ((hi - lo) - (n - 1) as f64 * spacing) / 2.0;
+    let (x0, x1) = (bbox.min().x - 1.0, bbox.max().x + 1.0);
+    let lines = (0..n)
+        .map(|i| {
+            let offset = first + i as f64 * spacing;
+            let band = Rect::new(Coord { x: x0, y: offset - spacing / 2.0 }, Coord { x: x1, y: offset + spacing / 2.0 });
+            let parts = rotated.intersection(&band.to_polygon());
+            let mut extents: Vec<(f64, f64)> = parts
+                .iter()
+                .filter_map(|p| p.bounding_rect())
+                .map(|r| (r.min().x, r.max().x))
+                .collect();
+            extents.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let blocked = scanline_intervals(&keep_out, offset);
+            let mut segs: Vec<SweepSegment> = Vec::new();
+            for (a, b) in merge_overlapping(extents) {
+                for (a, b) in subtract_intervals((a, b), &blocked) {
+                    if b - a > 0.05 {
+                        segs.push(SweepSegment { line: i, offset, a, b });
+                    }
+                }
+            }
+            segs
+        })
+        .collect();
+    SweepPattern { angle, spacing, lines }
+}
+
+fn merge_overlapping(sorted: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for (a, b) in sorted {
+        match out.last_mut() {
+            Some(last) if a <= last.1 => last.1 = last.1.max(b),
+            _ => out.push((a, b)),
+        }
+    }
+    out
+}
+
+/// Intervals of the horizontal line `y` inside the polygons (even-odd over all rings; a
+/// vertex exactly on the line counts as above it).
+pub fn scanline_intervals(mp: &MultiPolygon, y: f64) -> Vec<(f64, f64)> {
+    let mut xs: Vec<f64> = Vec::new();
+    for poly in mp {
+        for ring in std::iter::once(poly.exterior()).chain(poly.interiors()) {
+            for l in ring.lines() {
+                let (p, q) = (l.start, l.end);
+                if (p.y > y) != (q.y > y) {
+                    xs.push(p.x + (y - p.y) * (q.x - p.x) / (q.y - p.y));
+                }
+            }
+        }
+    }
+    xs.sort_by(f64::total_cmp);
+    xs.chunks_exact(2).map(|c| (c[0], c[1])).collect()
+}
+
+/// `[a, b]` minus the sorted, disjoint `blocked` intervals.
+pub fn subtract_intervals((a, b): (f64, f64), blocked: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    let mut start = a;
+    for &(ba, bb) in blocked {
+        if bb <= start || ba >= b {
+            continue;
+        }
+        if ba > start {
+            out.push((start, ba));
+        }
+        start = start.max(bb);
+    }
+    if start < b {
+        out.push((start, b));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::polygon;
+
+    fn square_with_hole() -> MultiPolygon {
+        MultiPolygon(vec![polygon!(
+            exterior: [(x: 0., y: 0.), (x: 100., y: 0.), (x: 100., y: 100.), (x: 0., y: 100.)],
+            interiors: [[(x: 30., y: 30.), (x: 30., y: 70.), (x: 70., y: 70.), (x: 70., y: 30.)]],
+        )])
+    }
+
+    #[test]
+    fn lines_span_the_width_and_reach_the_boundary() {
+        let p = sweep(&square_with_hole(), &MultiPolygon(vec![]), 0.0, 10.0);
+        assert_eq!(p.lines.len(), 10);
+        assert!((p.lines[0][0].offset - 5.0).abs() < 1e-9);
+        assert!((p.lines[0][0].a - 0.0).abs() < 1e-6 && (p.lines[0][0].b - 100.0).abs() < 1e-6);
+        // lines through the hole are split in two, others are whole
+        assert_eq!(p.lines.iter().map(Vec::len).collect::<Vec<_>>(), vec![1, 1, 1, 2, 2, 2, 2, 1, 1, 1]);
+    }
+
+    #[test]
+    fn keep_out_cuts_the_centre_line() {
+        let ko = MultiPolygon(vec![polygon![(x: 40., y: -10.), (x: 60., y: -10.), (x: 60., y: 110.), (x: 40., y: 110.)]]);
+        let p = sweep(&square_with_hole(), &ko, 0.0, 10.0);
+        assert!(p.lines.iter().all(|l| l.len() == 2));
+        assert!((p.lines[0][0].b - 40.0).abs() < 1e-9 && (p.lines[0][1].a - 60.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn fewest_lines_follows_the_long_side() {
+        let r = MultiPolygon(vec![polygon![(x: 0., y: 0.), (x: 500., y: 200.), (x: 420., y: 400.), (x: -80., y: 200.)]]);
+        let a = fewest_lines_direction(&r, 20.0);
+        assert!((a - (200f64).atan2(500.0)).abs() < 1e-9, "{}", a.to_degrees());
+    }
+
+    #[test]
+    fn interval_subtraction() {
+        assert_eq!(subtract_intervals((0.0, 10.0), &[(2.0, 3.0), (5.0, 12.0)]), vec![(0.0, 2.0), (3.0, 5.0)]);
+        assert_eq!(subtract_intervals((0.0, 10.0), &[(-1.0, 11.0)]), vec![]);
+    }
+}

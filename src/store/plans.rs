@@ -1,0 +1,225 @@
+//! Plans: rows that are both the job queue and the results.
+
+use serde::Serialize;
+use serde_json::Value;
+use sqlx::Row;
+use sqlx::sqlite::SqliteRow;
+use utoipa::ToSchema;
+
+use super::{Db, begin_write, new_id};
+
+/// A job that was interrupted this many times is failed instead of requeued again.
+pub const MAX_ATTEMPTS: i64 = 3;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum PlanStatus {
+    Queued,
+    Running,
+    Succeeded,
+    Failed,
+    Cancelled,
+}
+
+impl PlanStatus {
+    fn parse(s: &str) -> PlanStatus {
+        match s {
+            "queued" => PlanStatus::Queued,
+            "running" => PlanStatus::Running,
+            "succeeded" => PlanStatus::Succeeded,
+            "failed" => PlanStatus::Failed,
+            _ => PlanStatus::Cancelled,
+        }
+    }
+
+    pub fn is_final(self) -> bool {
+        matches!(self, PlanStatus::Succeeded | PlanStatus::Failed | PlanStatus::Cancelled)
+    }
+}
+
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct Plan {
+    pub id: String,
+    pub mission_id: String,
+    pub status: PlanStatus,
+    /// 0 to 1
+    pub progress: f64,
+    /// The parameters as sent.
+    #[schema(value_type = Object)]
+    pub params: Value,
+    /// Figures of the finished plan (see the `Stats` schema).
+    #[schema(value_type = Option<crate::planner::Stats>)]
+    pub stats: Option<Value>,
+    /// Why the plan failed, in words.
+    pub error: Option<String>,
+    pub created_at: String,
+    pub started_at: Option<String>,
+    pub finished_at: Option<String>,
+}
+
+fn from_row(r: &SqliteRow) -> Result<Plan, sqlx::Error> {
+    let json = |text: Option<String>| -> Result<Option<Value>, sqlx::Error> {
+        text.map(|t| serde_json::from_str(&t).map_err(|e| sqlx::Error::Decode(Box::new(e)))).transpose()
+    };
+    let status: String = r.try_get("status")?;
+    Ok(Plan {
+        id: r.try_get("id")?,
+        mission_id: r.try_get("mission_id")?,
+        status: PlanStatus::parse(&status),
+        progress: r.try_get("progress")?,
+        params: json(r.try_get("params")?)?.unwrap_or(Value::Null),
+        stats: json(r.try_get("stats")?)?,
+        error: r.try_get("error")?,
+        created_at: r.try_get("created_at")?,
+        started_at: r.try_get("started_at")?,
+        finished_at: r.try_get("finished_at")?,
+    })
+}
+
+macro_rules! columns {
+    () => {
+        "id, mission_id, status, progress, params, stats, error, created_at, started_at, finished_at"
+    };
+}
+
+/// Queues a plan of `mission` (a snapshot of its geometry) with `params`.
+pub async fn create(db: &Db, mission_id: &str, params: &Value, mission: &Value) -> Result<Plan, sqlx::Error> {
+    let id = new_id();
+    let mut tx = begin_write(db).await?;
+    sqlx::query(concat!(
+        "INSERT INTO plans (id, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, 'queued', ", crate::sql_now!(), ")"
+    ))
+    .bind(&id)
+    .bind(mission_id)
+    .bind(params.to_string())
+    .bind(mission.to_string())
+    .execute(&mut *tx)
+    .await?;
+    tx.commit().await?;
+    Ok(get(db, &id).await?.expect("just inserted"))
+}
+
+pub async fn get(db: &Db, id: &str) -> Result<Option<Plan>, sqlx::Error> {
+    sqlx::query(concat!("SELECT ", columns!(), " FROM plans WHERE id = ?")).bind(id).fetch_optional(db).await?.map(|r| from_row(&r)).transpose()
+}
+
+pub async fn list_for_mission(db: &Db, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
+    let rows = sqlx::query(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? ORDER BY created_at DESC, id"))
+        .bind(mission_id)
+        .fetch_all(db)
+        .await?;
+    rows.iter().map(from_row).collect()
+}
+
+/// The stored trajectory (GeoJSON text) and the plan's status.
+pub async fn trajectory(db: &Db, id: &str) -> Result<Option<(PlanStatus, Option<String>)>, sqlx::Error> {
+    let row = sqlx::query("SELECT status, trajectory FROM plans WHERE id = ?").bind(id).fetch_optional(db).await?;
+    row.map(|r| Ok((PlanStatus::parse(&r.try_get::<String, _>("status")?), r.try_get("trajectory")?))).transpose()
+}
+
+/// A job taken off the queue.
+#[derive(Debug, Clone)]
+pub struct Job {
+    pub id: String,
+    pub params: Value,
+    pub mission: Value,
+}
+
+/// Atomically takes the oldest queued plan and marks it running.
+pub async fn claim_next(db: &Db) -> Result<Option<Job>, sqlx::Error> {
+    let mut tx = begin_write(db).await?;
+    let row = sqlx::query(concat!(
+        "UPDATE plans SET status = 'running', progress = 0, started_at = ", crate::sql_now!(), ", attempts = attempts + 1
+         WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, id LIMIT 1)
+         RETURNING id, params, mission"
+    ))
+    .fetch_optional(&mut *tx)
+    .await?;
+    tx.commit().await?;
+    row.map(|r| {
+        let parse = |col: &str| -> Result<Value, sqlx::Error> {
+            let text: String = r.try_get(col)?;
+            serde_json::from_str(&text).map_err(|e| sqlx::Error::Decode(Box::new(e)))
+        };
+        Ok(Job { id: r.try_get("id")?, params: parse("params")?, mission: parse("mission")? })
+    })
+    .transpose()
+}
+
+pub async fn set_progress(db: &Db, id: &str, progress: f64) -> Result<(), sqlx::Error> {
+    let mut tx = begin_write(db).await?;
+    sqlx::query("UPDATE plans SET progress = ? WHERE id = ? AND status = 'running'").bind(progress).bind(id).execute(&mut *tx).await?;
+    tx.commit().await
+}
+
+/// Stores a finished plan in one statement: stats, trajectory and status together or nothing.
+/// A plan cancelled meanwhile stays cancelled.
+pub async fn succeed(db: &Db, id: &str, stats: &Value, trajectory: &str) -> Result<(), sqlx::Error> {
+    let mut tx = begin_write(db).await?;
+    sqlx::query(concat!(
+        "UPDATE plans SET status = 'succeeded', progress = 1, stats = ?, trajectory = ?, finished_at = ", crate::sql_now!(), "
+         WHERE id = ? AND status = 'running'"
+    ))
+    .bind(stats.to_string())
+    .bind(trajectory)
+    .bind(id)
+    .execute(&mut *tx)
+    .await?;
+    tx.commit().await
+}
+
+pub async fn fail(db: &Db, id: &str, error: &str) -> Result<(), sqlx::Error> {
+    let mut tx = begin_write(db).await?;
+    sqlx::query(concat!("UPDATE plans SET status = 'failed', error = ?, finished_at = ", crate::sql_now!(), " WHERE id = ? AND status = 'running'"))
+        .bind(error)
+        .bind(id)
+        .execute(&mut *tx)
+        .await?;
+    tx.commit().await
+}
+
+/// Cancels a queued or running plan. Returns its status afterwards (`None`: no such plan).
+pub async fn cancel(db: &Db, id: &str) -> Result<Option<PlanStatus>, sqlx::Error> {
+    let mut tx = begin_write(db).await?;
+    sqlx::query(concat!(
+        "UPDATE plans SET status = 'cancelled', finished_at = ", crate::sql_now!(), " WHERE id = ? AND status IN ('queued', 'running')"
+    ))
+    .bind(id)
+    .execute(&mut *tx)
+    .await?;
+    let status: Option<String> = sqlx::query_scalar("SELECT status FROM plans WHERE id = ?").bind(id).fetch_optional(&mut *tx).await?;
+    tx.commit().await?;
+    Ok(status.map(|s| PlanStatus::parse(&s)))
+}
+
+/// Puts a running plan back in the queue (the worker stopped before finishing it).
+pub async fn requeue(db: &Db, id: &str) -> Result<(), sqlx::Error> {
+    let mut tx = begin_write(db).await?;
+    sqlx::query("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL WHERE id = ? AND status = 'running'")
+        .bind(id)
+        .execute(&mut *tx)
+        .await?;
+    tx.commit().await
+}
+
+/// At start-up: plans left running by a process that died go back to the queue, unless they
+/// were interrupted too often (then they fail, so that a plan that kills the process cannot
+/// loop forever). Returns (requeued, failed).
+pub async fn recover_interrupted(db: &Db) -> Result<(u64, u64), sqlx::Error> {
+    let mut tx = begin_write(db).await?;
+    let failed = sqlx::query(concat!(
+        "UPDATE plans SET status = 'failed', finished_at = ", crate::sql_now!(), ",
+            error = 'the server stopped during this plan ' || attempts || ' times; it was not retried again'
+         WHERE status = 'running' AND attempts >= ?"
+    ))
+    .bind(MAX_ATTEMPTS)
+    .execute(&mut *tx)
+    .await?
+    .rows_affected();
+    let requeued = sqlx::query("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL WHERE status = 'running'")
+        .execute(&mut *tx)
+        .await?
+        .rows_affected();
+    tx.commit().await?;
+    Ok((requeued, failed))
+}

@@ -1,0 +1,189 @@
+//! Properties of plans over every fixture field and over generated fields: no error, no
+//! panic, coverage, no metre inside a no-fly zone, sweeps near the field, valid GeoJSON,
+//! the same output for the same input.
+
+mod common;
+
+use coverplan::planner::frame::LocalFrame;
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanOutput, PlanParams};
+use geo::{Area, Buffer, Contains, Coord, LineString, MultiPolygon, Polygon, Point};
+use proptest::prelude::*;
+use serde_json::{Value, json};
+
+fn plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> PlanOutput {
+    let mission = MissionGeometry { area, no_fly_zones: nfz, home: None };
+    planner::plan(&mission, params, &FieldLimits::default(), &|_| true).unwrap_or_else(|e| panic!("planning failed: {e}"))
+}
+
+fn params(spacing: f64, heading: Option<f64>) -> PlanParams {
+    PlanParams { line_spacing_m: Some(spacing), heading_deg: heading, ..PlanParams::default() }
+}
+
+/// The properties every plan must have.
+fn check(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str) {
+    let out = plan(area, nfz, p);
+    let s = &out.stats;
+    let min_coverage = if nfz.is_some() { 0.98 } else { 0.99 };
+    assert!(s.coverage_ratio >= min_coverage, "{name}: coverage {}", s.coverage_ratio);
+    assert_eq!(s.nfz_intrusion_m, 0.0, "{name}: path enters a no-fly zone");
+    assert!(s.length_m > 0.0 && s.duration_s > 0.0 && s.energy_j > 0.0);
+    // valid GeoJSON, and identical on a second run
+    let text = serde_json::to_string(&out.trajectory).unwrap();
+    let parsed: geojson::GeoJson = text.parse().unwrap_or_else(|e| panic!("{name}: invalid GeoJSON: {e}"));
+    assert!(matches!(parsed, geojson::GeoJson::FeatureCollection(_)));
+    let again = plan(area, nfz, p);
+    assert_eq!(serde_json::to_string(&again.trajectory).unwrap(), text, "{name}: not deterministic");
+
+    // independent checks in a local frame of our own: sweeps stay within one spacing of the
+    // field, and no vertex of the path lies inside a no-fly zone
+    let ring_points = |v: &Value| -> Vec<[f64; 2]> {
+        let mut out = Vec::new();
+        collect_positions(v, &mut out);
+        out
+    };
+    let frame = LocalFrame::centred_on(ring_points(area));
+    let field = to_local_mp(&frame, area);
+    let near_field = field.buffer(p.line_spacing_m.unwrap() + 0.5);
+    let zones = nfz.map(|z| to_local_mp(&frame, z)).unwrap_or(MultiPolygon(vec![]));
+    for f in &out.trajectory.features {
+        let props = f.properties.as_ref().unwrap();
+        let geojson::GeometryValue::LineString { coordinates } = &f.geometry.as_ref().unwrap().value else { continue };
+        let pts: Vec<Coord> = coordinates.iter().map(|c| frame.to_local(c[0], c[1])).collect();
+        for w in pts.windows(2) {
+            for k in 0..=20 {
+                let t = k as f64 / 20.0;
+                let q = Point::new(w[0].x + (w[1].x - w[0].x) * t, w[0].y + (w[1].y - w[0].y) * t);
+                assert!(!zones.contains(&q), "{name}: a {} enters a no-fly zone at {q:?}", props["kind"]);
+                if props["kind"] == "sweep" {
+                    assert!(near_field.contains(&q), "{name}: a sweep leaves the field at {q:?}");
+                }
+            }
+        }
+    }
+}
+
+fn collect_positions(v: &Value, out: &mut Vec<[f64; 2]>) {
+    match v {
+        Value::Array(a) if a.len() >= 2 && a[0].is_number() => out.push([a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]),
+        Value::Array(a) => a.iter().for_each(|x| collect_positions(x, out)),
+        Value::Object(o) => o.get("coordinates").into_iter().for_each(|x| collect_positions(x, out)),
+        _ => {}
+    }
+}
+
+fn to_local_mp(frame: &LocalFrame, v: &Value) -> MultiPolygon {
+    let polys: Vec<Value> = match v["type"].as_str().unwrap() {
+        "Polygon" => vec![v["coordinates"].clone()],
+        _ => v["coordinates"].as_array().unwrap().clone(),
+    };
+    MultiPolygon(
+        polys
+            .iter()
+            .map(|rings| {
+                let mut rings = rings.as_array().unwrap().iter().map(|r| {
+                    LineString::from(r.as_array().unwrap().iter().map(|c| frame.to_local(c[0].as_f64().unwrap(), c[1].as_f64().unwrap())).collect::<Vec<_>>())
+                });
+                let ext = rings.next().unwrap();
+                Polygon::new(ext, rings.collect())
+            })
+            .collect(),
+    )
+}
+
+fn spacing_for(area_m2: f64) -> f64 {
+    (area_m2.sqrt() / 15.0).clamp(4.0, 60.0)
+}
+
+#[test]
+fn every_fixture_field_is_planned_correctly() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures");
+    let mut files: Vec<String> = Vec::new();
+    for sub in ["random-fields", "real-fields"] {
+        for e in std::fs::read_dir(format!("{dir}/{sub}")).unwrap() {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            if name.ends_with(".json") && name != "index.json" {
+                files.push(format!("{sub}/{name}"));
+            }
+        }
+    }
+    files.sort();
+    assert!(files.len() >= 69);
+    for f in &files {
+        let m = common::fixture(f);
+        let frame = LocalFrame::centred_on({
+            let mut pts = Vec::new();
+            collect_positions(&m["area"], &mut pts);
+            pts
+        });
+        let area = to_local_mp(&frame, &m["area"]).unsigned_area();
+        let spacing = spacing_for(area);
+        let nfz = m.get("no_fly_zones").filter(|v| !v.is_null());
+        // the holes as holes only (overflown), then as no-fly zones too
+        check(&m["area"], None, &params(spacing, None), f);
+        if nfz.is_some() {
+            check(&m["area"], nfz, &params(spacing, None), &format!("{f} with no-fly zones"));
+        }
+    }
+}
+
+#[test]
+fn real_fields_are_covered_to_99_percent_in_any_direction() {
+    for f in ["ee-field-3-holes", "nl-parcel-17ha", "nl-parcel-b", "us-field-two-cells", "us-field-two-cells-1"] {
+        let m = common::fixture(&format!("real-fields/{f}.json"));
+        for heading in [0.0, 33.0, 90.0, 147.0] {
+            let out = plan(&m["area"], None, &params(10.0, Some(heading)));
+            assert!(out.stats.coverage_ratio >= 0.99, "{f} at {heading}°: {}", out.stats.coverage_ratio);
+        }
+    }
+}
+
+/// A star-shaped field around (lon, lat) with square holes; see `field_strategy`.
+fn star_field(lon: f64, lat: f64, radius: f64, radii: &[f64], jitter: &[f64], holes: usize) -> (Value, Value) {
+    let frame = LocalFrame::new(lon, lat);
+    let n = radii.len();
+    let to_ll = |c: Coord| {
+        let p = frame.to_wgs84(c);
+        json!([p[0], p[1]])
+    };
+    let mut ring: Vec<Value> = (0..n)
+        .map(|i| {
+            let a = (i as f64 + 0.3 * jitter[i]) / n as f64 * std::f64::consts::TAU;
+            to_ll(Coord { x: radius * radii[i] * a.cos(), y: radius * radii[i] * a.sin() })
+        })
+        .collect();
+    ring.push(ring[0].clone());
+    let mut hole_rings = Vec::new();
+    for h in 0..holes {
+        let a = h as f64 / 4.0 * std::f64::consts::TAU + 0.4;
+        let (cx, cy, d) = (0.18 * radius * a.cos(), 0.18 * radius * a.sin(), 0.05 * radius);
+        let sq: Vec<Value> = [(-d, -d), (-d, d), (d, d), (d, -d), (-d, -d)].iter().map(|&(x, y)| to_ll(Coord { x: cx + x, y: cy + y })).collect();
+        hole_rings.push(sq);
+    }
+    let mut rings = vec![Value::Array(ring)];
+    rings.extend(hole_rings.iter().cloned().map(Value::Array));
+    let area = json!({"type": "Polygon", "coordinates": rings});
+    let nfz = json!({"type": "MultiPolygon", "coordinates": hole_rings.iter().map(|r| json!([r])).collect::<Vec<_>>()});
+    (area, nfz)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn generated_fields_are_planned_correctly(
+        lon in -179.0..179.0f64,
+        lat in -70.0..70.0f64,
+        radius in 150.0..1500.0f64,
+        shape in prop::collection::vec((0.6..1.0f64, -1.0..1.0f64), 5..14),
+        holes in 0usize..5,
+        lines in 5.0..30.0f64,
+        heading in prop::option::of(0.0..180.0f64),
+        holes_are_nfz in any::<bool>(),
+    ) {
+        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
+        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, holes);
+        let spacing = radius * 2.0 / lines;
+        let nfz = (holes_are_nfz && holes > 0).then_some(&nfz);
+        check(&area, nfz, &params(spacing, heading), &format!("star at {lon},{lat} r={radius}"));
+    }
+}

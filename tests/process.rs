@@ -1,0 +1,114 @@
+//! The `coverplan` binary as operators run it: killed mid-job, stopped with SIGTERM.
+
+mod common;
+
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use common::{fresh_db_path, mission_body};
+use serde_json::{Value, json};
+
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+}
+
+struct Server {
+    child: Child,
+    base: String,
+}
+
+fn start(db: &std::path::Path, port: u16, delay_ms: u64) -> Server {
+    let child = Command::new(env!("CARGO_BIN_EXE_coverplan"))
+        .arg("serve")
+        .env("COVERPLAN_ADDR", format!("127.0.0.1:{port}"))
+        .env("COVERPLAN_DATABASE_URL", db)
+        .env("COVERPLAN_WORKERS", "1")
+        .env("COVERPLAN_SHUTDOWN_GRACE_S", "1")
+        .env("COVERPLAN_JOB_START_DELAY_MS", delay_ms.to_string())
+        .env("COVERPLAN_LOG", "warn")
+        .stdout(Stdio::null())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    let server = Server { child, base: format!("http://127.0.0.1:{port}") };
+    for _ in 0..400 {
+        let ok = Command::new(env!("CARGO_BIN_EXE_coverplan"))
+            .args(["healthcheck", "--addr", &format!("127.0.0.1:{port}")])
+            .stderr(Stdio::null())
+            .status()
+            .unwrap()
+            .success();
+        if ok {
+            return server;
+        }
+        std::thread::sleep(Duration::from_millis(25));
+    }
+    panic!("the server did not start");
+}
+
+async fn status(client: &reqwest::Client, base: &str, plan: &str) -> String {
+    let p: Value = client.get(format!("{base}/api/v1/plans/{plan}")).send().await.unwrap().json().await.unwrap();
+    p["status"].as_str().unwrap().to_owned()
+}
+
+async fn wait_status(client: &reqwest::Client, base: &str, plan: &str, want: &str) {
+    for _ in 0..1200 {
+        if status(client, base, plan).await == want {
+            return;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    panic!("plan {plan} never became {want}");
+}
+
+async fn queue_plan(client: &reqwest::Client, base: &str) -> String {
+    let m: Value = client.post(format!("{base}/api/v1/missions")).json(&mission_body("real-fields/nl-parcel-b.json")).send().await.unwrap().json().await.unwrap();
+    let p: Value = client
+        .post(format!("{base}/api/v1/missions/{}/plans", m["id"].as_str().unwrap()))
+        .json(&json!({"line_spacing_m": 20}))
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    p["id"].as_str().unwrap().to_owned()
+}
+
+#[tokio::test]
+async fn a_job_running_when_the_process_is_killed_completes_after_restart() {
+    let db = fresh_db_path();
+    let port = free_port();
+    let client = reqwest::Client::new();
+    let mut server = start(&db, port, 60_000);
+    let plan = queue_plan(&client, &server.base).await;
+    wait_status(&client, &server.base, &plan, "running").await;
+    server.child.kill().unwrap(); // SIGKILL: no chance to clean up
+    server.child.wait().unwrap();
+
+    let mut server = start(&db, port, 0);
+    wait_status(&client, &server.base, &plan, "succeeded").await;
+    let r = client.get(format!("{}/api/v1/plans/{plan}/trajectory", server.base)).send().await.unwrap();
+    assert_eq!(r.status(), 200);
+    server.child.kill().unwrap();
+    server.child.wait().unwrap();
+}
+
+#[tokio::test]
+async fn sigterm_requeues_unfinished_work_and_exits_cleanly() {
+    let db = fresh_db_path();
+    let port = free_port();
+    let client = reqwest::Client::new();
+    let mut server = start(&db, port, 60_000);
+    let plan = queue_plan(&client, &server.base).await;
+    wait_status(&client, &server.base, &plan, "running").await;
+    let pid = server.child.id().to_string();
+    assert!(Command::new("kill").args(["-TERM", &pid]).status().unwrap().success());
+    let exit = tokio::task::spawn_blocking(move || server.child.wait().unwrap()).await.unwrap();
+    assert!(exit.success(), "exit status {exit:?}");
+
+    let mut server = start(&db, port, 0);
+    wait_status(&client, &server.base, &plan, "succeeded").await;
+    server.child.kill().unwrap();
+    server.child.wait().unwrap();
+}

@@ -87,6 +87,7 @@ async fn a_job_running_when_the_process_is_killed_completes_after_restart() {
     server.child.wait().unwrap();
 
     let mut server = start(&db, port, 0);
+    let client = reqwest::Client::new(); // the old one pools a connection to the dead process
     wait_status(&client, &server.base, &plan, "succeeded").await;
     let r = client.get(format!("{}/api/v1/plans/{plan}/trajectory", server.base)).send().await.unwrap();
     assert_eq!(r.status(), 200);
@@ -108,6 +109,7 @@ async fn sigterm_requeues_unfinished_work_and_exits_cleanly() {
     assert!(exit.success(), "exit status {exit:?}");
 
     let mut server = start(&db, port, 0);
+    let client = reqwest::Client::new(); // the old one pools a connection to the dead process
     wait_status(&client, &server.base, &plan, "succeeded").await;
     server.child.kill().unwrap();
     server.child.wait().unwrap();

@@ -68,7 +68,8 @@ pub fn length_inside(path: &FlightPath, zones: &MultiPolygon) -> f64 {
         return 0.0;
     }
     let lines = MultiLineString(path.pieces.iter().map(|p| LineString::from(p.points.clone())).collect());
-    zones.clip(&lines, false).0.iter().map(|l| Euclidean.length(l)).sum()
+    // + 0.0 turns an empty sum's -0.0 into 0.0
+    zones.clip(&lines, false).0.iter().map(|l| Euclidean.length(l)).sum::<f64>() + 0.0
 }
 
 pub struct MeasureInput<'a> {

@@ -19,6 +19,8 @@ pub struct SweepPattern {
     pub spacing: f64,
     /// Segments of each line, sorted by `a`.
     pub lines: Vec<Vec<SweepSegment>>,
+    /// Short extra segments over what the lines leave uncovered beside no-fly zones.
+    pub gap_fills: Vec<SweepSegment>,
 }
 
 impl SweepPattern {
@@ -83,7 +85,7 @@ pub fn sweep(region: &MultiPolygon, keep_out: &MultiPolygon, angle: f64, spacing
     let rotated = rotate(region, angle);
     let keep_out = rotate(keep_out, angle);
     let Some(bbox) = rotated.bounding_rect() else {
-        return SweepPattern { angle, spacing, lines: Vec::new() };
+        return SweepPattern { angle, spacing, lines: Vec::new(), gap_fills: Vec::new() };
     };
     let (lo, hi) = (bbox.min().y, bbox.max().y);
     let n = line_count(hi - lo, spacing);
@@ -100,19 +102,58 @@ pub fn sweep(region: &MultiPolygon, keep_out: &MultiPolygon, angle: f64, spacing
                 .map(|r| (r.min().x, r.max().x))
                 .collect();
             extents.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let blocked = scanline_intervals(&keep_out, offset);
-            let mut segs: Vec<SweepSegment> = Vec::new();
-            for (a, b) in merge_overlapping(extents) {
-                for (a, b) in subtract_intervals((a, b), &blocked) {
-                    if b - a > 0.05 {
-                        segs.push(SweepSegment { line: i, offset, a, b });
-                    }
-                }
-            }
-            segs
+            segments_on(i, offset, extents, &keep_out)
         })
+        .collect::<Vec<_>>();
+    let gap_fills = if keep_out.0.is_empty() { Vec::new() } else { gap_fills(&rotated, &keep_out, &lines, spacing, n) };
+    SweepPattern { angle, spacing, lines, gap_fills }
+}
+
+/// The parts of the line `v = offset` spanning `extents`, minus what lies in `keep_out`.
+fn segments_on(line: usize, offset: f64, mut extents: Vec<(f64, f64)>, keep_out: &MultiPolygon) -> Vec<SweepSegment> {
+    extents.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let blocked = scanline_intervals(keep_out, offset);
+    let mut segs = Vec::new();
+    for (a, b) in merge_overlapping(extents) {
+        for (a, b) in subtract_intervals((a, b), &blocked) {
+            if b - a > 0.05 {
+                segs.push(SweepSegment { line, offset, a, b });
+            }
+        }
+    }
+    segs
+}
+
+/// Where a no-fly zone cuts a line, the part of its band beside the zone is left uncovered;
+/// each such piece (1 m² or more) gets short lines of its own, centred on it.
+fn gap_fills(rotated: &MultiPolygon, keep_out: &MultiPolygon, lines: &[Vec<SweepSegment>], spacing: f64, first_index: usize) -> Vec<SweepSegment> {
+    use geo::{Area, LineString, Polygon};
+    let half = spacing / 2.0;
+    let strips: Vec<Polygon> = lines
+        .iter()
+        .flatten()
+        .map(|s| Rect::new(Coord { x: s.a, y: s.offset - half }, Coord { x: s.b, y: s.offset + half }).to_polygon())
         .collect();
-    SweepPattern { angle, spacing, lines }
+    let covered = geo::unary_union(&strips);
+    let uncovered = rotated.difference(&covered);
+    let mut out = Vec::new();
+    for piece in uncovered.iter().filter(|p| p.unsigned_area() >= 1.0) {
+        let Some(bb) = piece.bounding_rect() else { continue };
+        let k = line_count(bb.height(), spacing);
+        let step = bb.height() / k as f64;
+        for j in 0..k {
+            let offset = bb.min().y + step * (j as f64 + 0.5);
+            let band = Rect::new(Coord { x: bb.min().x - 1.0, y: offset - half }, Coord { x: bb.max().x + 1.0, y: offset + half });
+            let extents = MultiPolygon(vec![Polygon::new(LineString::from(piece.exterior().0.clone()), piece.interiors().to_vec())])
+                .intersection(&band.to_polygon())
+                .iter()
+                .filter_map(|p| p.bounding_rect())
+                .map(|r| (r.min().x, r.max().x))
+                .collect();
+            out.extend(segments_on(first_index + out.len(), offset, extents, keep_out));
+        }
+    }
+    out
 }
 
 fn merge_overlapping(sorted: Vec<(f64, f64)>) -> Vec<(f64, f64)> {

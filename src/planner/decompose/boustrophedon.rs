@@ -51,6 +51,7 @@ impl Decomposition for Boustrophedon {
             prev = line;
         }
         done.extend(open.into_iter().map(|(c, _)| c));
+        done.extend(pattern.gap_fills.iter().map(|s| Cell { segments: vec![*s] }));
         // deterministic order: by first line, then position along it
         done.sort_by(|x, y| {
             let (a, b) = (x.segments[0], y.segments[0]);

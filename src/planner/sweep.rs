@@ -96,12 +96,11 @@ pub fn sweep(region: &MultiPolygon, keep_out: &MultiPolygon, angle: f64, spacing
             let offset = first + i as f64 * spacing;
             let band = Rect::new(Coord { x: x0, y: offset - spacing / 2.0 }, Coord { x: x1, y: offset + spacing / 2.0 });
             let parts = rotated.intersection(&band.to_polygon());
-            let mut extents: Vec<(f64, f64)> = parts
+            let extents: Vec<(f64, f64)> = parts
                 .iter()
                 .filter_map(|p| p.bounding_rect())
                 .map(|r| (r.min().x, r.max().x))
                 .collect();
-            extents.sort_by(|a, b| a.0.total_cmp(&b.0));
             segments_on(i, offset, extents, &keep_out)
         })
         .collect::<Vec<_>>();
@@ -127,7 +126,7 @@ fn segments_on(line: usize, offset: f64, mut extents: Vec<(f64, f64)>, keep_out:
 /// Where a no-fly zone cuts a line, the part of its band beside the zone is left uncovered;
 /// each such piece (1 m² or more) gets short lines of its own, centred on it.
 fn gap_fills(rotated: &MultiPolygon, keep_out: &MultiPolygon, lines: &[Vec<SweepSegment>], spacing: f64, first_index: usize) -> Vec<SweepSegment> {
-    use geo::{Area, LineString, Polygon};
+    use geo::{Area, Polygon};
     let half = spacing / 2.0;
     let strips: Vec<Polygon> = lines
         .iter()
@@ -144,7 +143,7 @@ fn gap_fills(rotated: &MultiPolygon, keep_out: &MultiPolygon, lines: &[Vec<Sweep
         for j in 0..k {
             let offset = bb.min().y + step * (j as f64 + 0.5);
             let band = Rect::new(Coord { x: bb.min().x - 1.0, y: offset - half }, Coord { x: bb.max().x + 1.0, y: offset + half });
-            let extents = MultiPolygon(vec![Polygon::new(LineString::from(piece.exterior().0.clone()), piece.interiors().to_vec())])
+            let extents = piece
                 .intersection(&band.to_polygon())
                 .iter()
                 .filter_map(|p| p.bounding_rect())

@@ -16,6 +16,8 @@ struct Row {
     lengths_m: Vec<f64>,
     efficiency: Vec<f64>,
     coverage: Vec<f64>,
+    /// Length over the boustrophedon planner's on the same field.
+    vs_reference: Vec<f64>,
 }
 
 fn quantile(v: &mut [f64], q: f64) -> f64 {
@@ -43,8 +45,11 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
     let entries = index.as_array().context("index.json is a list")?;
     let mut out = String::new();
     out.push_str(&format!("fields: {} from {}; {repeats} runs each; spacing = sqrt(area)/20 within 5..60 m; holes as no-fly zones\n\n", entries.len(), dir.display()));
+    // lengths of the reference planner (the first one, `boustrophedon`) per field
+    let mut reference: std::collections::HashMap<String, f64> = std::collections::HashMap::new();
     for p in registry().iter().filter(|p| planner_filter.is_none_or(|f| f == p.id())) {
-        let mut rows: Vec<Row> = (0..=15).map(|holes| Row { holes, times_ms: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![] }).collect();
+        let mut rows: Vec<Row> =
+            (0..=15).map(|holes| Row { holes, times_ms: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![], vs_reference: vec![] }).collect();
         for e in entries {
             let file = e["file"].as_str().context("file")?;
             let holes = e["holes"].as_u64().context("holes")? as usize;
@@ -58,20 +63,28 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
                 let row = &mut rows[holes.min(15)];
                 row.times_ms.push(t.elapsed().as_secs_f64() * 1000.0);
                 row.lengths_m.push(plan.stats.length_m);
+                if p.id() == registry()[0].id() {
+                    reference.insert(file.to_string(), plan.stats.length_m);
+                }
+                if let Some(r) = reference.get(file) {
+                    row.vs_reference.push(plan.stats.length_m / r);
+                }
                 row.efficiency.push(plan.stats.efficiency);
                 row.coverage.push(plan.stats.coverage_ratio);
             }
         }
         out.push_str(&format!("planner {}\n", p.id()));
-        out.push_str("| holes | fields | median ms | p95 ms | mean length m | mean efficiency | min coverage |\n");
-        out.push_str("|------:|-------:|----------:|-------:|--------------:|----------------:|-------------:|\n");
+        out.push_str(&format!("| holes | fields | median ms | p95 ms | mean length m | length / {} | mean efficiency | min coverage |\n", registry()[0].id()));
+        out.push_str("|------:|-------:|----------:|-------:|--------------:|----------:|----------------:|-------------:|\n");
         for r in rows.iter_mut().filter(|r| !r.times_ms.is_empty()) {
             let n = r.times_ms.len() / repeats.max(1);
             let median = quantile(&mut r.times_ms, 0.5);
             let p95 = quantile(&mut r.times_ms, 0.95);
             out.push_str(&format!(
-                "| {:>5} | {:>6} | {:>9.2} | {:>6.2} | {:>13.0} | {:>15.3} | {:>12.4} |\n",
-                r.holes, n, median, p95, mean(&r.lengths_m), mean(&r.efficiency),
+                "| {:>5} | {:>6} | {:>9.2} | {:>6.2} | {:>13.0} | {:>9} | {:>15.3} | {:>12.4} |\n",
+                r.holes, n, median, p95, mean(&r.lengths_m),
+                if r.vs_reference.is_empty() { "-".to_string() } else { format!("{:.3}", mean(&r.vs_reference)) },
+                mean(&r.efficiency),
                 r.coverage.iter().copied().fold(f64::INFINITY, f64::min)
             ));
         }

@@ -7,6 +7,6 @@ pub mod bench;
 pub mod config;
 pub mod http;
 pub mod jobs;
-pub mod planner;
+pub use coverplan_planner as planner;
 pub mod server;
 pub mod store;

@@ -15,8 +15,17 @@ fn plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> PlanOutput {
     planner::plan(&mission, params, &FieldLimits::default(), &|_| true).unwrap_or_else(|e| panic!("planning failed: {e}"))
 }
 
-fn params(spacing: f64, heading: Option<f64>) -> PlanParams {
-    PlanParams { line_spacing_m: Some(spacing), heading_deg: heading, ..PlanParams::default() }
+const PLANNERS: [&str; 4] = ["boustrophedon", "naive", "eecd", "energy_aware"];
+
+fn params(planner: &str, spacing: f64, heading: Option<f64>) -> PlanParams {
+    PlanParams { planner: planner.into(), line_spacing_m: Some(spacing), heading_deg: heading, ..PlanParams::default() }
+}
+
+/// A plan with a 1-inch camera whose lines are about `spacing` apart (side overlap 70 %).
+fn camera_params(planner: &str, spacing: f64, heading: Option<f64>) -> PlanParams {
+    let camera = serde_json::from_value(json!({"preset": "dji_phantom4_pro"})).unwrap();
+    // this camera images 1.5 m across per metre of altitude
+    PlanParams { planner: planner.into(), camera: Some(camera), altitude_m: Some(spacing / 0.45), heading_deg: heading, ..PlanParams::default() }
 }
 
 /// The properties every plan must have.
@@ -25,6 +34,11 @@ fn check(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str) {
     let s = &out.stats;
     let min_coverage = if nfz.is_some() { 0.98 } else { 0.99 };
     assert!(s.coverage_ratio >= min_coverage, "{name}: coverage {}", s.coverage_ratio);
+    if let Some(photo) = s.photo_coverage_ratio {
+        assert!(photo >= min_coverage - 0.01, "{name}: photo coverage {photo}");
+    }
+    // efficiency may pass 1 when one line covers a narrow field, or a camera images wider than the spacing
+    assert!(s.overlap_ratio >= 0.0 && s.efficiency > 0.0, "{name}: {s:?}");
     assert_eq!(s.nfz_intrusion_m, 0.0, "{name}: path enters a no-fly zone");
     assert!(s.length_m > 0.0 && s.duration_s > 0.0 && s.energy_j > 0.0);
     // valid GeoJSON, and identical on a second run
@@ -43,7 +57,9 @@ fn check(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str) {
     };
     let frame = LocalFrame::centred_on(ring_points(area));
     let field = to_local_mp(&frame, area);
-    let near_field = field.buffer(p.line_spacing_m.unwrap() + 0.5);
+    // a camera's lines lie inside its footprint's half width of the edge
+    let reach = p.line_spacing_m.unwrap_or_else(|| p.altitude_m.unwrap() * 1.5 / 2.0);
+    let near_field = field.buffer(reach + 0.5);
     let zones = nfz.map(|z| to_local_mp(&frame, z)).unwrap_or(MultiPolygon(vec![]));
     for f in &out.trajectory.features {
         let props = f.properties.as_ref().unwrap();
@@ -118,10 +134,12 @@ fn every_fixture_field_is_planned_correctly() {
         let area = to_local_mp(&frame, &m["area"]).unsigned_area();
         let spacing = spacing_for(area);
         let nfz = m.get("no_fly_zones").filter(|v| !v.is_null());
-        // the holes as holes only (overflown), then as no-fly zones too
-        check(&m["area"], None, &params(spacing, None), f);
-        if nfz.is_some() {
-            check(&m["area"], nfz, &params(spacing, None), &format!("{f} with no-fly zones"));
+        // every planner, the holes as holes only (overflown), then as no-fly zones too
+        for planner in PLANNERS {
+            check(&m["area"], None, &params(planner, spacing, None), &format!("{f} by {planner}"));
+            if nfz.is_some() {
+                check(&m["area"], nfz, &params(planner, spacing, None), &format!("{f} with no-fly zones by {planner}"));
+            }
         }
     }
 }
@@ -131,8 +149,10 @@ fn real_fields_are_covered_to_99_percent_in_any_direction() {
     for f in ["ee-field-3-holes", "nl-parcel-17ha", "nl-parcel-b", "us-field-two-cells", "us-field-two-cells-1"] {
         let m = common::fixture(&format!("real-fields/{f}.json"));
         for heading in [0.0, 33.0, 90.0, 147.0] {
-            let out = plan(&m["area"], None, &params(10.0, Some(heading)));
-            assert!(out.stats.coverage_ratio >= 0.99, "{f} at {heading}°: {}", out.stats.coverage_ratio);
+            for planner in PLANNERS {
+                let out = plan(&m["area"], None, &params(planner, 10.0, Some(heading)));
+                assert!(out.stats.coverage_ratio >= 0.99, "{f} at {heading}° by {planner}: {}", out.stats.coverage_ratio);
+            }
         }
     }
 }
@@ -167,7 +187,7 @@ fn star_field(lon: f64, lat: f64, radius: f64, radii: &[f64], jitter: &[f64], ho
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
     #[test]
     fn generated_fields_are_planned_correctly(
@@ -179,11 +199,14 @@ proptest! {
         lines in 5.0..30.0f64,
         heading in prop::option::of(0.0..180.0f64),
         holes_are_nfz in any::<bool>(),
+        planner in prop::sample::select(PLANNERS.to_vec()),
+        with_camera in any::<bool>(),
     ) {
         let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
         let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, holes);
         let spacing = radius * 2.0 / lines;
         let nfz = (holes_are_nfz && holes > 0).then_some(&nfz);
-        check(&area, nfz, &params(spacing, heading), &format!("star at {lon},{lat} r={radius}"));
+        let p = if with_camera { camera_params(planner, spacing, heading) } else { params(planner, spacing, heading) };
+        check(&area, nfz, &p, &format!("star at {lon},{lat} r={radius} by {planner}"));
     }
 }

@@ -8,4 +8,4 @@ if ! command -v cargo >/dev/null; then
   exit 1
 fi
 
-cargo test --all-targets --no-fail-fast
+cargo test --workspace --all-targets --no-fail-fast

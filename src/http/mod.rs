@@ -37,6 +37,7 @@ pub fn router(state: AppState) -> Router {
         .route("/plans/{id}", get(plans::get).delete(plans::cancel))
         .route("/plans/{id}/trajectory", get(plans::trajectory))
         .route("/planners", get(planners::list))
+        .route("/cameras", get(planners::cameras))
         .fallback(|| async { error::ApiError::Client { status: StatusCode::NOT_FOUND, code: "no_route", detail: "no such API route".into(), pointer: None } });
     let static_dir = ServeDir::new(&state.config.static_dir);
     Router::new()

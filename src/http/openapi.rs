@@ -14,6 +14,7 @@ use super::{error, health, missions, planners, plans};
         missions::create, missions::list, missions::get, missions::update, missions::delete,
         plans::create, plans::list, plans::get, plans::trajectory, plans::cancel,
         planners::list,
+        planners::cameras,
     ),
     components(schemas(error::Problem, crate::planner::Stats, crate::planner::path::PieceKind)),
     tags((name = "missions"), (name = "plans"), (name = "planners"), (name = "health"))

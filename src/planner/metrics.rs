@@ -4,6 +4,7 @@ use geo::{Area, BooleanOps, Coord, Euclidean, Length, LineString, MultiLineStrin
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
+use super::camera::CameraPlan;
 use super::energy::PieceEstimate;
 use super::path::{FlightPath, PieceKind};
 
@@ -17,6 +18,12 @@ pub struct Stats {
     pub energy_j: f64,
     /// Share of the area to cover (field − holes − no-fly zones with their margin) under the swaths.
     pub coverage_ratio: f64,
+    /// Share of the area to cover inside at least one photo's footprint (with a camera).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub photo_coverage_ratio: Option<f64>,
+    /// Swath area flown more than once, as a share of the area swept: the summed swath areas
+    /// over the area of their union, minus 1 (0 = no overlap between lines).
+    pub overlap_ratio: f64,
     pub area_to_cover_m2: f64,
     /// Number of turns between sweep lines.
     pub turns: usize,
@@ -47,19 +54,42 @@ fn swath(points: &[Coord], half: f64) -> Option<Polygon> {
     Some(Polygon::new(LineString::from(vec![a - n, b - n, b + n, a + n, a - n]), vec![]))
 }
 
+/// A photo: where it is taken, and the direction of flight (math radians).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Photo {
+    pub at: Coord,
+    pub heading: f64,
+}
+
+pub fn photo_points(photos: &[Photo]) -> Vec<Coord> {
+    photos.iter().map(|p| p.at).collect()
+}
+
+/// The ground a photo images: `across` wide, `along` long, centred on it.
+fn photo_footprint(p: &Photo, across: f64, along: f64) -> Polygon {
+    let (s, c) = p.heading.sin_cos();
+    let u = Coord { x: c * along / 2.0, y: s * along / 2.0 };
+    let n = Coord { x: -s * across / 2.0, y: c * across / 2.0 };
+    let a = p.at;
+    Polygon::new(LineString::from(vec![a - u - n, a + u - n, a + u + n, a - u + n, a - u - n]), vec![])
+}
+
+fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
+    path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).filter_map(|p| swath(&p.points, p.half_swath_m)).collect()
+}
+
+/// The area of `region` inside the union of `shapes`, and the area of that union.
+fn covered_by(shapes: &[Polygon], region: &MultiPolygon) -> (f64, f64) {
+    if shapes.is_empty() {
+        return (0.0, 0.0);
+    }
+    let union = geo::unary_union(shapes);
+    (region.intersection(&union).unsigned_area(), union.unsigned_area())
+}
+
 /// The area of `region` under the swaths of `path`, in m².
 pub fn covered_area(path: &FlightPath, region: &MultiPolygon) -> f64 {
-    let strips: Vec<Polygon> = path
-        .pieces
-        .iter()
-        .filter(|p| p.kind == PieceKind::Sweep)
-        .filter_map(|p| swath(&p.points, p.half_swath_m))
-        .collect();
-    if strips.is_empty() {
-        return 0.0;
-    }
-    let union = geo::unary_union(&strips);
-    region.intersection(&union).unsigned_area()
+    covered_by(&sweep_strips(path), region).0
 }
 
 /// Metres of `path` inside `zones`.
@@ -80,7 +110,7 @@ pub struct MeasureInput<'a> {
     pub spacing: f64,
     pub sweep_heading_deg: f64,
     pub cells: usize,
-    pub photos: usize,
+    pub photos: Option<(&'a [Photo], CameraPlan)>,
 }
 
 pub fn measure(m: &MeasureInput<'_>) -> Stats {
@@ -88,6 +118,13 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
     let length_m = m.path.length();
     let area = m.region.unsigned_area();
     let lower_bound_m = area / m.spacing;
+    let strips = sweep_strips(m.path);
+    let (covered, swept) = covered_by(&strips, m.region);
+    let strip_sum: f64 = strips.iter().map(|s| s.unsigned_area()).sum();
+    let photo_coverage_ratio = m.photos.map(|(photos, cam)| {
+        let shots: Vec<Polygon> = photos.iter().map(|p| photo_footprint(p, cam.footprint_across_m, cam.footprint_along_m)).collect();
+        if area > 0.0 { (covered_by(&shots, m.region).0 / area).min(1.0) } else { 0.0 }
+    });
     Stats {
         length_m,
         sweep_length_m: by_kind(PieceKind::Sweep),
@@ -95,13 +132,15 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         transit_length_m: by_kind(PieceKind::Transit),
         duration_s: m.estimates.iter().map(|e| e.duration_s).sum(),
         energy_j: m.estimates.iter().map(|e| e.energy_j).sum(),
-        coverage_ratio: if area > 0.0 { (covered_area(m.path, m.region) / area).min(1.0) } else { 0.0 },
+        coverage_ratio: if area > 0.0 { (covered / area).min(1.0) } else { 0.0 },
+        photo_coverage_ratio,
+        overlap_ratio: if swept > 0.0 { (strip_sum / swept - 1.0).max(0.0) } else { 0.0 },
         area_to_cover_m2: area,
         turns: m.path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).count(),
         nfz_intrusion_m: length_inside(m.path, m.no_fly_zones),
         sweep_lines: m.path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).count(),
         cells: m.cells,
-        photos: m.photos,
+        photos: m.photos.map_or(0, |(p, _)| p.len()),
         line_spacing_m: m.spacing,
         sweep_heading_deg: m.sweep_heading_deg,
         lower_bound_m,

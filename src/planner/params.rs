@@ -5,6 +5,7 @@ use utoipa::ToSchema;
 
 use super::camera::{Camera, CameraPlan};
 use super::error::InputError;
+use super::sweep::LineLayout;
 use super::vehicle::{Vehicle, VehicleParams, check_range};
 
 /// A position with a heading, as a compass bearing (degrees clockwise from north).
@@ -44,6 +45,10 @@ pub struct PlanParams {
     /// Compass bearing of the sweep lines; absent: the planner chooses.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading_deg: Option<f64>,
+    /// Without `heading_deg`: `planner` (default) lets the planner apply its own rule;
+    /// `optimal` plans every direction (2° apart, refined to 0.5°) and keeps the shortest.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep_direction: Option<SweepDirection>,
     #[serde(default)]
     pub vehicle: VehicleParams,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -53,6 +58,14 @@ pub struct PlanParams {
     /// Clearance kept from no-fly zones, 1 to 500 m (default 10).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nfz_margin_m: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum SweepDirection {
+    #[default]
+    Planner,
+    Optimal,
 }
 
 fn default_planner() -> String {
@@ -70,6 +83,10 @@ impl Default for PlanParams {
 pub struct Resolved {
     pub line_spacing_m: f64,
     pub camera: Option<CameraPlan>,
+    /// How lines are laid across each cell: re-fitted to the camera's footprint when there is
+    /// a camera, centred otherwise.
+    pub layout: LineLayout,
+    pub optimal_direction: bool,
     pub altitude_m: Option<f64>,
     /// Sweep direction as a math angle (radians counter-clockwise from east, mod π).
     pub sweep_angle: Option<f64>,
@@ -119,6 +136,10 @@ impl PlanParams {
         if let Some(h) = self.heading_deg {
             check_range(h, -360.0, 360.0, "/heading_deg", "°")?;
         }
+        let optimal_direction = self.sweep_direction == Some(SweepDirection::Optimal);
+        if optimal_direction && self.heading_deg.is_some() {
+            return Err(InputError::new("direction_twice", "/sweep_direction", "heading_deg fixes the direction: leave out sweep_direction \"optimal\""));
+        }
         let pose = |p: &Option<PoseParam>, name: &str| -> Result<Option<[f64; 2]>, InputError> {
             let Some(p) = p else { return Ok(None) };
             let [lon, lat] = p.position;
@@ -134,6 +155,8 @@ impl PlanParams {
         Ok(Resolved {
             line_spacing_m,
             camera,
+            layout: LineLayout { spacing: line_spacing_m, footprint: camera.map(|c| c.footprint_across_m) },
+            optimal_direction,
             altitude_m,
             sweep_angle: self.heading_deg.map(bearing_to_math),
             vehicle,

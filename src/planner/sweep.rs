@@ -3,36 +3,86 @@
 
 use geo::{BooleanOps, BoundingRect, ConvexHull, Coord, MultiPolygon, Rect};
 
-/// One coverage segment in the sweep frame: the line `v = offset`, flown from `u = a` to `u = b`.
+// Spacing and band edges are in the sweep frame: u along the lines, v across them.
+
+/// One coverage segment in the sweep frame: the line `v = offset`, flown from `u = a` to `u = b`,
+/// imaging the band `lo ≤ v ≤ hi` between those ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SweepSegment {
     pub line: usize,
     pub offset: f64,
     pub a: f64,
     pub b: f64,
+    pub lo: f64,
+    pub hi: f64,
 }
 
-/// Lines at `angle` (math radians, counter-clockwise from east) spaced `spacing` metres.
+/// How lines are laid across a width (camera spec §4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LineLayout {
+    /// Largest distance between neighbouring lines.
+    pub spacing: f64,
+    /// Width imaged across the track. `Some`: as few lines as cover the width with the outer
+    /// footprints flush with its edges, spacing re-fitted (layout `footprint`). `None`: lines
+    /// `spacing` apart, centred on the width (layout `centered`).
+    pub footprint: Option<f64>,
+}
+
+impl LineLayout {
+    pub fn centered(spacing: f64) -> Self {
+        Self { spacing, footprint: None }
+    }
+
+    /// Number of lines across width `d`.
+    pub fn count(&self, d: f64) -> usize {
+        match self.footprint {
+            None => line_count(d, self.spacing),
+            Some(f) => (((d - (f - self.spacing)) / self.spacing) - 1e-9).ceil().max(1.0) as usize,
+        }
+    }
+
+    /// Each line across `[lo, hi]`: its offset and the band it images, `(offset, lo, hi)`.
+    pub fn lines(&self, lo: f64, hi: f64) -> Vec<(f64, f64, f64)> {
+        let n = self.count(hi - lo);
+        if n == 1 {
+            let mid = (lo + hi) / 2.0;
+            let half = self.spacing.max(hi - lo) / 2.0;
+            return vec![(mid, mid - half, mid + half)];
+        }
+        let (first, step) = match self.footprint {
+            None => (lo + ((hi - lo) - (n - 1) as f64 * self.spacing) / 2.0, self.spacing),
+            Some(f) => (lo + f / 2.0, ((hi - lo) - f) / (n - 1) as f64),
+        };
+        (0..n)
+            .map(|j| {
+                let o = first + j as f64 * step;
+                let band_lo = if j == 0 { lo.min(o - step / 2.0) } else { o - step / 2.0 };
+                let band_hi = if j == n - 1 { hi.max(o + step / 2.0) } else { o + step / 2.0 };
+                (o, band_lo, band_hi)
+            })
+            .collect()
+    }
+
+    /// Half the width a sweep images, for the coverage measure.
+    pub fn half_swath(&self) -> f64 {
+        self.footprint.unwrap_or(self.spacing) / 2.0
+    }
+}
+
+/// Lines at `angle` (math radians, counter-clockwise from east).
 #[derive(Debug, Clone)]
 pub struct SweepPattern {
     pub angle: f64,
-    pub spacing: f64,
     /// Segments of each line, sorted by `a`.
     pub lines: Vec<Vec<SweepSegment>>,
     /// Short extra segments over what the lines leave uncovered beside no-fly zones.
     pub gap_fills: Vec<SweepSegment>,
 }
 
-impl SweepPattern {
-    /// Local coordinates of a point `(u, v)` of the sweep frame.
-    pub fn to_local(&self, u: f64, v: f64) -> Coord {
-        let (s, c) = self.angle.sin_cos();
-        Coord { x: u * c - v * s, y: u * s + v * c }
-    }
-
-    pub fn segment_ends(&self, seg: &SweepSegment) -> (Coord, Coord) {
-        (self.to_local(seg.a, seg.offset), self.to_local(seg.b, seg.offset))
-    }
+/// Local coordinates of the point `(u, v)` of the sweep frame at `angle`.
+pub fn from_sweep_frame(angle: f64, u: f64, v: f64) -> Coord {
+    let (s, c) = angle.sin_cos();
+    Coord { x: u * c - v * s, y: u * s + v * c }
 }
 
 /// Rotates local coordinates into the sweep frame (lines become horizontal).
@@ -41,15 +91,15 @@ pub fn to_sweep_frame(angle: f64, c: Coord) -> Coord {
     Coord { x: c.x * co + c.y * s, y: -c.x * s + c.y * co }
 }
 
-fn rotate(mp: &MultiPolygon, angle: f64) -> MultiPolygon {
+pub fn rotate(mp: &MultiPolygon, angle: f64) -> MultiPolygon {
     use geo::MapCoords;
     mp.map_coords(|c| to_sweep_frame(angle, c))
 }
 
-/// Extent of `region` across lines of direction `angle` (the width function).
-pub fn width_across(hull: &[Coord], angle: f64) -> f64 {
+/// Extent of the points across lines of direction `angle` (the width function).
+pub fn width_across(points: &[Coord], angle: f64) -> f64 {
     let (s, c) = angle.sin_cos();
-    let (lo, hi) = hull.iter().map(|p| -p.x * s + p.y * c).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let (lo, hi) = points.iter().map(|p| -p.x * s + p.y * c).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
     hi - lo
 }
 
@@ -58,20 +108,26 @@ pub fn line_count(w: f64, s: f64) -> usize {
     ((w / s) - 1e-9).ceil().max(1.0) as usize
 }
 
-/// The direction that needs the fewest lines; ties go to the smaller width, then the smaller
-/// angle. Candidates: every hull edge direction and a 1° grid.
-pub fn fewest_lines_direction(region: &MultiPolygon, spacing: f64) -> f64 {
-    let hull: Vec<Coord> = region.convex_hull().exterior().0.clone();
+/// Directions of the hull's edges (mod π) and a 1° grid: where the width function's minima
+/// and the line counts' steps lie.
+pub fn candidate_directions(hull: &[Coord]) -> Vec<f64> {
     let mut candidates: Vec<f64> = hull
         .windows(2)
         .map(|w| (w[1].y - w[0].y).atan2(w[1].x - w[0].x).rem_euclid(std::f64::consts::PI))
         .collect();
     candidates.extend((0..180).map(|d| (d as f64).to_radians()));
+    candidates
+}
+
+/// The direction that needs the fewest lines; ties go to the smaller width, then the smaller
+/// angle.
+pub fn fewest_lines_direction(region: &MultiPolygon, layout: LineLayout) -> f64 {
+    let hull: Vec<Coord> = region.convex_hull().exterior().0.clone();
     let key = |a: f64| {
         let w = width_across(&hull, a);
-        (line_count(w, spacing), w)
+        (layout.count(w), w)
     };
-    candidates
+    candidate_directions(&hull)
         .into_iter()
         .map(|a| (key(a), a))
         .min_by(|(ka, aa), (kb, ab)| ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then(aa.total_cmp(ab)))
@@ -80,43 +136,43 @@ pub fn fewest_lines_direction(region: &MultiPolygon, spacing: f64) -> f64 {
 }
 
 /// Lines across `region`, each segment covering the connected part of the region within its
-/// swath band, minus the parts of the centre line inside `keep_out`.
-pub fn sweep(region: &MultiPolygon, keep_out: &MultiPolygon, angle: f64, spacing: f64) -> SweepPattern {
+/// band, minus the parts of the centre line inside `keep_out`.
+pub fn sweep(region: &MultiPolygon, keep_out: &MultiPolygon, angle: f64, layout: LineLayout) -> SweepPattern {
     let rotated = rotate(region, angle);
     let keep_out = rotate(keep_out, angle);
     let Some(bbox) = rotated.bounding_rect() else {
-        return SweepPattern { angle, spacing, lines: Vec::new(), gap_fills: Vec::new() };
+        return SweepPattern { angle, lines: Vec::new(), gap_fills: Vec::new() };
     };
-    let (lo, hi) = (bbox.min().y, bbox.max().y);
-    let n = line_count(hi - lo, spacing);
-    let first = lo + ((hi - lo) - (n - 1) as f64 * spacing) / 2.0;
     let (x0, x1) = (bbox.min().x - 1.0, bbox.max().x + 1.0);
-    let lines = (0..n)
-        .map(|i| {
-            let offset = first + i as f64 * spacing;
-            let band = Rect::new(Coord { x: x0, y: offset - spacing / 2.0 }, Coord { x: x1, y: offset + spacing / 2.0 });
-            let parts = rotated.intersection(&band.to_polygon());
-            let extents: Vec<(f64, f64)> = parts
+    let layout_lines = layout.lines(bbox.min().y, bbox.max().y);
+    let n = layout_lines.len();
+    let lines = layout_lines
+        .into_iter()
+        .enumerate()
+        .map(|(i, (offset, lo, hi))| {
+            let band = Rect::new(Coord { x: x0, y: lo }, Coord { x: x1, y: hi });
+            let extents: Vec<(f64, f64)> = rotated
+                .intersection(&band.to_polygon())
                 .iter()
                 .filter_map(|p| p.bounding_rect())
                 .map(|r| (r.min().x, r.max().x))
                 .collect();
-            segments_on(i, offset, extents, &keep_out)
+            segments_on(SweepSegment { line: i, offset, a: 0.0, b: 0.0, lo, hi }, extents, &keep_out)
         })
         .collect::<Vec<_>>();
-    let gap_fills = if keep_out.0.is_empty() { Vec::new() } else { gap_fills(&rotated, &keep_out, &lines, spacing, n) };
-    SweepPattern { angle, spacing, lines, gap_fills }
+    let gap_fills = if keep_out.0.is_empty() { Vec::new() } else { gap_fills(&rotated, &keep_out, &lines, layout.spacing, n) };
+    SweepPattern { angle, lines, gap_fills }
 }
 
-/// The parts of the line `v = offset` spanning `extents`, minus what lies in `keep_out`.
-fn segments_on(line: usize, offset: f64, mut extents: Vec<(f64, f64)>, keep_out: &MultiPolygon) -> Vec<SweepSegment> {
+/// The parts of the line of `line` spanning `extents`, minus what lies in `keep_out`.
+fn segments_on(line: SweepSegment, mut extents: Vec<(f64, f64)>, keep_out: &MultiPolygon) -> Vec<SweepSegment> {
     extents.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let blocked = scanline_intervals(keep_out, offset);
+    let blocked = scanline_intervals(keep_out, line.offset);
     let mut segs = Vec::new();
     for (a, b) in merge_overlapping(extents) {
         for (a, b) in subtract_intervals((a, b), &blocked) {
             if b - a > 0.05 {
-                segs.push(SweepSegment { line, offset, a, b });
+                segs.push(SweepSegment { a, b, ..line });
             }
         }
     }
@@ -131,7 +187,7 @@ fn gap_fills(rotated: &MultiPolygon, keep_out: &MultiPolygon, lines: &[Vec<Sweep
     let strips: Vec<Polygon> = lines
         .iter()
         .flatten()
-        .map(|s| Rect::new(Coord { x: s.a, y: s.offset - half }, Coord { x: s.b, y: s.offset + half }).to_polygon())
+        .map(|s| Rect::new(Coord { x: s.a, y: s.lo }, Coord { x: s.b, y: s.hi }).to_polygon())
         .collect();
     let covered = geo::unary_union(&strips);
     let uncovered = rotated.difference(&covered);
@@ -149,7 +205,8 @@ fn gap_fills(rotated: &MultiPolygon, keep_out: &MultiPolygon, lines: &[Vec<Sweep
                 .filter_map(|p| p.bounding_rect())
                 .map(|r| (r.min().x, r.max().x))
                 .collect();
-            out.extend(segments_on(first_index + out.len(), offset, extents, keep_out));
+            let line = SweepSegment { line: first_index + out.len(), offset, a: 0.0, b: 0.0, lo: offset - half, hi: offset + half };
+            out.extend(segments_on(line, extents, keep_out));
         }
     }
     out
@@ -217,7 +274,7 @@ mod tests {
 
     #[test]
     fn lines_span_the_width_and_reach_the_boundary() {
-        let p = sweep(&square_with_hole(), &MultiPolygon(vec![]), 0.0, 10.0);
+        let p = sweep(&square_with_hole(), &MultiPolygon(vec![]), 0.0, LineLayout::centered(10.0));
         assert_eq!(p.lines.len(), 10);
         assert!((p.lines[0][0].offset - 5.0).abs() < 1e-9);
         assert!((p.lines[0][0].a - 0.0).abs() < 1e-6 && (p.lines[0][0].b - 100.0).abs() < 1e-6);
@@ -228,7 +285,7 @@ mod tests {
     #[test]
     fn keep_out_cuts_the_centre_line() {
         let ko = MultiPolygon(vec![polygon![(x: 40., y: -10.), (x: 60., y: -10.), (x: 60., y: 110.), (x: 40., y: 110.)]]);
-        let p = sweep(&square_with_hole(), &ko, 0.0, 10.0);
+        let p = sweep(&square_with_hole(), &ko, 0.0, LineLayout::centered(10.0));
         assert!(p.lines.iter().all(|l| l.len() == 2));
         assert!((p.lines[0][0].b - 40.0).abs() < 1e-9 && (p.lines[0][1].a - 60.0).abs() < 1e-9);
     }
@@ -236,8 +293,27 @@ mod tests {
     #[test]
     fn fewest_lines_follows_the_long_side() {
         let r = MultiPolygon(vec![polygon![(x: 0., y: 0.), (x: 500., y: 200.), (x: 420., y: 400.), (x: -80., y: 200.)]]);
-        let a = fewest_lines_direction(&r, 20.0);
+        let a = fewest_lines_direction(&r, LineLayout::centered(20.0));
         assert!((a - (200f64).atan2(500.0)).abs() < 1e-9, "{}", a.to_degrees());
+    }
+
+    #[test]
+    fn footprint_layout_refits_the_lines() {
+        // camera spec §7 E2 and E3: line counts and re-fitted spacing across a cell
+        let e2 = LineLayout { spacing: 109.44 * 0.3, footprint: Some(109.44) };
+        assert_eq!(e2.count(500.0), 13);
+        let l = e2.lines(0.0, 500.0);
+        assert!((l[1].0 - l[0].0 - 32.5467).abs() < 1e-4);
+        assert!((l[0].0 - 109.44 / 2.0).abs() < 1e-9 && (l[12].0 - (500.0 - 109.44 / 2.0)).abs() < 1e-9);
+        assert_eq!((l[0].1, l[12].2), (0.0, 500.0));
+        let e3 = LineLayout { spacing: 107.99 * 0.8, footprint: Some(107.99) };
+        assert_eq!((e3.count(500.0), e3.count(450.0), e3.count(100.0)), (6, 5, 1));
+        let l = e3.lines(0.0, 500.0);
+        assert!((l[1].0 - l[0].0 - 78.402).abs() < 1e-3);
+        // bands tile the width
+        for w in l.windows(2) {
+            assert!((w[0].2 - w[1].1).abs() < 1e-9);
+        }
     }
 
     #[test]

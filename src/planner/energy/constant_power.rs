@@ -5,8 +5,8 @@
 //! not counted.
 
 use super::{EnergyModel, PieceEstimate, heading_change};
-use crate::planner::path::FlightPath;
-use crate::planner::vehicle::{Vehicle, VehicleKind};
+use crate::path::FlightPath;
+use crate::vehicle::{Vehicle, VehicleKind};
 
 pub struct ConstantPower<'a> {
     pub vehicle: &'a Vehicle,
@@ -53,8 +53,8 @@ impl EnergyModel for ConstantPower<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::planner::path::PieceKind;
-    use crate::planner::vehicle::builtin_profiles;
+    use crate::path::PieceKind;
+    use crate::vehicle::builtin_profiles;
     use geo::Coord;
 
     #[test]

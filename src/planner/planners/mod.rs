@@ -1,7 +1,7 @@
 //! Planners: each composes the stages into a complete method. Adding a planner means adding a
-//! file here and one line in [`registry`].
+//! file (or, for a decomposition planner, a `CellPlanner` value) and one line in [`registry`].
 
-pub mod boustrophedon;
+pub mod cell_planner;
 
 use geo::{Coord, MultiPolygon};
 use serde::Serialize;
@@ -10,7 +10,9 @@ use utoipa::ToSchema;
 use super::error::PlanError;
 use super::path::{FlightPath, PieceKind};
 use super::route::visibility::TransitPlanner;
+use super::sweep::LineLayout;
 use super::vehicle::Vehicle;
+use cell_planner::{BOUSTROPHEDON, EECD, ENERGY_AWARE, NAIVE};
 
 /// What every planner receives, in the local frame.
 pub struct Problem<'a> {
@@ -20,7 +22,7 @@ pub struct Problem<'a> {
     /// No-fly zones grown by the margin: sweep lines stop at their edge.
     pub keep_out: &'a MultiPolygon,
     pub transit: &'a TransitPlanner,
-    pub spacing: f64,
+    pub layout: LineLayout,
     /// Fixed sweep direction (math radians), or `None` for the planner's own choice.
     pub sweep_angle: Option<f64>,
     pub start: Option<Coord>,
@@ -49,12 +51,15 @@ impl<F: Fn(f64) -> bool> Progress for F {
 pub trait Planner: Send + Sync {
     fn id(&self) -> &'static str;
     fn description(&self) -> &'static str;
+    /// How the planner picks the sweep direction when the user fixes none.
+    fn direction_rule(&self) -> &'static str;
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError>;
 }
 
 /// Every planner the service offers.
 pub fn registry() -> &'static [&'static dyn Planner] {
-    &[&boustrophedon::BoustrophedonPlanner]
+    static REGISTRY: [&dyn Planner; 4] = [&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE];
+    &REGISTRY
 }
 
 pub fn find(id: &str) -> Option<&'static dyn Planner> {
@@ -75,12 +80,13 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
     let p = |name, kind, description| ParameterInfo { name, kind, description };
     vec![
         p("line_spacing_m", "number", "distance between sweep lines, 0.5 to 2000 m (or give a camera)"),
-        p("camera", "object", "sensor_width_mm + focal_length_mm (or hfov_deg), image_width_px, image_height_px"),
+        p("camera", "object", "{preset} from GET /api/v1/cameras, or sensor_width_mm + focal_length_mm (or hfov_deg or dfov_deg), image_width_px, image_height_px; orientation landscape|portrait"),
         p("altitude_m", "number", "flight altitude above ground (with a camera: or gsd_cm)"),
         p("gsd_cm", "number", "wanted ground sample distance in cm/px; sets the altitude"),
         p("side_overlap", "number", "overlap of neighbouring lines' images, 0 to 0.95 (default 0.7)"),
         p("front_overlap", "number", "overlap of images along a line, 0 to 0.95 (default 0.8)"),
         p("heading_deg", "number", "compass bearing of the sweep lines; absent: the planner chooses"),
+        p("sweep_direction", "string", "planner (default): the planner's own rule; optimal: every direction tried, the shortest plan kept"),
         p("vehicle", "object", "{profile} or {kind, cruise_speed_mps, turn_radius_m}"),
         p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts (default: home)"),
         p("end", "object", "{position: [lon, lat], heading_deg}: where the flight ends (default: home)"),

@@ -9,7 +9,7 @@ use std::collections::BinaryHeap;
 
 use geo::{Coord, LineString, MultiPolygon, Polygon, Rect};
 
-use crate::planner::path::distance;
+use crate::path::distance;
 
 pub struct TransitPlanner {
     /// Rings a leg may not enter, with their bounding boxes.
@@ -97,6 +97,64 @@ impl TransitPlanner {
         out.push(a);
         out.reverse();
         Some(out)
+    }
+
+    /// Lengths of the shortest transits between all pairs of `points` (infinite where there is
+    /// none): straight where the way is clear, otherwise one Dijkstra per source point.
+    pub fn distance_matrix(&self, points: &[Coord]) -> Vec<Vec<f64>> {
+        use rayon::prelude::*;
+        let n = self.nodes.len();
+        let clear: Vec<Vec<bool>> = points.par_iter().map(|&a| points.iter().map(|&b| self.is_clear(a, b)).collect()).collect();
+        let blocked = clear.iter().any(|row| row.iter().any(|c| !c));
+        // nodes seen from each point, only needed when some pair is blocked
+        let seen: Vec<Vec<(usize, f64)>> = if blocked {
+            points.par_iter().map(|&p| (0..n).filter(|&i| self.is_clear(p, self.nodes[i])).map(|i| (i, distance(p, self.nodes[i]))).collect()).collect()
+        } else {
+            Vec::new()
+        };
+        (0..points.len())
+            .into_par_iter()
+            .map(|i| {
+                let row = &clear[i];
+                if row.iter().all(|&c| c) {
+                    return points.iter().map(|&b| distance(points[i], b)).collect();
+                }
+                let dist = self.dijkstra(&seen[i]);
+                (0..points.len())
+                    .map(|j| {
+                        if row[j] {
+                            distance(points[i], points[j])
+                        } else {
+                            seen[j].iter().map(|&(w, d)| dist[w] + d).fold(f64::INFINITY, f64::min)
+                        }
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Distances from a source that sees `sources` (node, distance) to every node.
+    fn dijkstra(&self, sources: &[(usize, f64)]) -> Vec<f64> {
+        let mut dist = vec![f64::INFINITY; self.nodes.len()];
+        let mut heap = BinaryHeap::new();
+        for &(i, d) in sources {
+            if d < dist[i] {
+                dist[i] = d;
+                heap.push(State { cost: d, node: i });
+            }
+        }
+        while let Some(State { cost, node }) = heap.pop() {
+            if cost > dist[node] {
+                continue;
+            }
+            for &(next, w) in &self.visible[node] {
+                if cost + w < dist[next] {
+                    dist[next] = cost + w;
+                    heap.push(State { cost: cost + w, node: next });
+                }
+            }
+        }
+        dist
     }
 
     /// True when the segment `a`–`b` does not enter the interior of any wall.

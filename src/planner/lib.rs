@@ -118,15 +118,15 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLi
         region: &region,
         keep_out: &keep_out,
         transit: &transit,
-        spacing: resolved.line_spacing_m,
+        layout: resolved.layout,
         sweep_angle: resolved.sweep_angle,
         start,
         end,
         vehicle: &resolved.vehicle,
     };
-    let planned = planner.plan(&problem, progress)?;
+    let planned = if resolved.optimal_direction { plan_every_direction(planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
     let estimates = ConstantPower { vehicle: &resolved.vehicle }.estimate(&planned.path);
-    let photos = resolved.camera.map(|c| photo_positions(&planned.path, c.photo_spacing_m));
+    let photos = resolved.camera.map(|c| photo_positions(&planned.path, &c));
     let mut stats = metrics::measure(&metrics::MeasureInput {
         path: &planned.path,
         estimates: &estimates,
@@ -135,9 +135,9 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLi
         spacing: resolved.line_spacing_m,
         sweep_heading_deg: params::math_to_bearing(planned.sweep_angle) % 180.0,
         cells: planned.cells,
-        photos: photos.as_ref().map_or(0, Vec::len),
+        photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
     });
-    let trajectory = export::feature_collection(&field.frame, &planned.path, &estimates, resolved.altitude_m, photos.as_deref());
+    let trajectory = export::feature_collection(&field.frame, &planned.path, &estimates, resolved.altitude_m, photos.as_deref().map(metrics::photo_points).as_deref());
     stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     progress.report(1.0);
     Ok(PlanOutput { stats, trajectory })
@@ -148,17 +148,60 @@ pub fn unknown_planner(id: &str) -> InputError {
     InputError::new("unknown_planner", "/planner", format!("no planner named `{id}`; known: {}", known.join(", ")))
 }
 
-/// Photo positions on every sweep, evenly spaced no farther apart than `spacing`, ends included.
-fn photo_positions(path: &FlightPath, spacing: f64) -> Vec<Coord> {
+/// Photo positions on every sweep (camera spec §6, fitted mode), with the line's direction.
+fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan) -> Vec<metrics::Photo> {
     let mut out = Vec::new();
     for p in path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep) {
         let (a, b) = (p.start(), p.end());
         let len = polyline_length(&p.points);
-        let n = (len / spacing).ceil().max(1.0) as usize;
-        out.extend((0..=n).map(|k| {
-            let t = k as f64 / n as f64;
-            Coord { x: a.x + (b.x - a.x) * t, y: a.y + (b.y - a.y) * t }
+        if len == 0.0 {
+            continue;
+        }
+        let heading = (b.y - a.y).atan2(b.x - a.x);
+        out.extend(camera::fitted_photo_offsets(len, camera.footprint_along_m, camera.photo_spacing_m).into_iter().map(|t| metrics::Photo {
+            at: Coord { x: a.x + (b.x - a.x) * t / len, y: a.y + (b.y - a.y) * t / len },
+            heading,
         }));
     }
     out
+}
+
+/// Sweep directions tried by `sweep_direction: optimal`: every 2°, then 0.5° around the best.
+const DIRECTION_STEP_DEG: f64 = 2.0;
+
+/// Plans with every sweep direction and keeps the shortest plan (ties: the smaller angle).
+fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, progress: &dyn Progress) -> Result<planners::PlannedPath, PlanError> {
+    use rayon::prelude::*;
+    let run = |angle: f64| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true).map(|p| (angle, p));
+    let better = |x: (f64, planners::PlannedPath), y: (f64, planners::PlannedPath)| {
+        let (lx, ly) = (x.1.path.length(), y.1.path.length());
+        if ly < lx - 1e-9 || (ly <= lx + 1e-9 && y.0 < x.0) { y } else { x }
+    };
+    let grid: Vec<f64> = (0..(180.0 / DIRECTION_STEP_DEG) as usize).map(|k| (k as f64 * DIRECTION_STEP_DEG).to_radians()).collect();
+    let mut best: Option<(f64, planners::PlannedPath)> = None;
+    // a chunk per progress report, so that a cancelled job stops soon
+    for (k, chunk) in grid.chunks(8).enumerate() {
+        let results: Vec<Result<(f64, planners::PlannedPath), PlanError>> = chunk.par_iter().map(|&a| run(a)).collect();
+        for r in results {
+            let r = r?;
+            best = Some(match best {
+                None => r,
+                Some(b) => better(b, r),
+            });
+        }
+        if !progress.report(0.1 + 0.8 * (k + 1) as f64 * 8.0 / grid.len() as f64) {
+            return Err(PlanError::Cancelled);
+        }
+    }
+    let (angle, mut planned) = best.expect("the grid is not empty");
+    let fine: Vec<f64> = [-1.5f64, -1.0, -0.5, 0.5, 1.0, 1.5].iter().map(|d| (angle + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect();
+    let refined: Vec<Result<(f64, planners::PlannedPath), PlanError>> = fine.par_iter().map(|&a| run(a)).collect();
+    let mut best = (angle, std::mem::take(&mut planned.path), planned.cells);
+    for r in refined {
+        let (a, p) = r?;
+        if p.path.length() < best.1.length() - 1e-9 {
+            best = (a, p.path, p.cells);
+        }
+    }
+    Ok(planners::PlannedPath { path: best.1, sweep_angle: best.0, cells: best.2 })
 }

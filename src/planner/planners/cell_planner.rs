@@ -1,0 +1,109 @@
+//! Decomposition planners: a [`Decomposition`] makes swept cells, a [`CellOrder`] orders them,
+//! and [`fly`] joins them into a path with turns and transits around no-fly zones.
+
+use super::{PlannedPath, Planner, Problem, Progress, connect};
+use crate::decompose::{Cell, CoverageArea, Decomposition, boustrophedon::Boustrophedon, eecd::Eecd, energy_aware::EnergyAware, naive::Naive};
+use crate::error::PlanError;
+use crate::path::{FlightPath, PieceKind};
+use crate::route::{CellOrder, CellVisit, RouteContext, cell_tour::CellTour, nearest_cell::NearestCell};
+
+pub struct CellPlanner {
+    pub id: &'static str,
+    pub description: &'static str,
+    pub direction_rule: &'static str,
+    pub decomposition: &'static dyn Decomposition,
+    pub order: &'static dyn CellOrder,
+}
+
+pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
+    id: "boustrophedon",
+    description: "Boustrophedon cellular decomposition around holes and no-fly zones; each cell swept in its \
+        own best direction; cells, directions and entry points ordered as one generalised travelling-salesman \
+        problem, with transits around no-fly zones. The recommended planner for hard fields.",
+    direction_rule: "the direction with the fewest lines for the decomposition, then each cell's own fewest-lines direction where shorter",
+    decomposition: &Boustrophedon,
+    order: &CellTour,
+};
+
+pub static NAIVE: CellPlanner = CellPlanner {
+    id: "naive",
+    description: "Convex cells cut at reflex vertices (seed 000 §3.2.1), each swept across its width, \
+        visited nearest first.",
+    direction_rule: "each cell across its narrowest width",
+    decomposition: &Naive,
+    order: &NearestCell,
+};
+
+pub static EECD: CellPlanner = CellPlanner {
+    id: "eecd",
+    description: "Convex cells by the cuts that minimise the summed cell widths, neighbours with the same \
+        direction merged while monotone (seed 000 §3.2.2); visiting order over each cell's four entry and exit \
+        options.",
+    direction_rule: "each cell across its narrowest width",
+    decomposition: &Eecd,
+    order: &CellTour,
+};
+
+pub static ENERGY_AWARE: CellPlanner = CellPlanner {
+    id: "energy_aware",
+    description: "Di Franco's energy-aware back-and-forth (seed 000 §3.2.3, E-BF of seed 002): lines parallel \
+        to the longest edge in one main run, the concave pockets it leaves swept the same way, recursively.",
+    direction_rule: "parallel to the longest edge (of the field, then of each pocket)",
+    decomposition: &EnergyAware,
+    order: &CellTour,
+};
+
+impl Planner for CellPlanner {
+    fn id(&self) -> &'static str {
+        self.id
+    }
+
+    fn description(&self) -> &'static str {
+        self.description
+    }
+
+    fn direction_rule(&self) -> &'static str {
+        self.direction_rule
+    }
+
+    fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
+        let area = CoverageArea { region: problem.region, keep_out: problem.keep_out, layout: problem.layout, angle: problem.sweep_angle };
+        let cells = self.decomposition.cells(&area);
+        if cells.is_empty() {
+            return Err(PlanError::Infeasible("no sweep line fits in the area left to cover".into()));
+        }
+        if !progress.report(0.3) {
+            return Err(PlanError::Cancelled);
+        }
+        let ctx = RouteContext { transit: problem.transit, start: problem.start, end: problem.end };
+        let tour = self.order.order(&cells, &ctx);
+        if !progress.report(0.5) {
+            return Err(PlanError::Cancelled);
+        }
+        let path = fly(&cells, &tour, problem)?;
+        let main = cells.iter().max_by(|a, b| a.sweep_length().total_cmp(&b.sweep_length())).expect("cells");
+        Ok(PlannedPath { path, sweep_angle: main.angle, cells: cells.len() })
+    }
+}
+
+/// The flight through `cells` in the order of `tour`: lines, turns between lines of a cell,
+/// transits between cells and from the start and to the end.
+pub fn fly(cells: &[Cell], tour: &[CellVisit], problem: &Problem<'_>) -> Result<FlightPath, PlanError> {
+    let half = problem.layout.half_swath();
+    let mut path = FlightPath::default();
+    let mut here = problem.start;
+    for visit in tour {
+        for (i, (a, b)) in visit.legs(&cells[visit.cell]).into_iter().enumerate() {
+            if let Some(h) = here {
+                let kind = if i == 0 { PieceKind::Transit } else { PieceKind::Turn };
+                connect(&mut path, kind, h, a, problem.transit)?;
+            }
+            path.push(PieceKind::Sweep, vec![a, b], half);
+            here = Some(b);
+        }
+    }
+    if let (Some(h), Some(end)) = (here, problem.end) {
+        connect(&mut path, PieceKind::Transit, h, end, problem.transit)?;
+    }
+    Ok(path)
+}

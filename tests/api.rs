@@ -319,3 +319,32 @@ async fn service_documents_itself() {
     assert_eq!(page.status(), 200);
     app.stop().await;
 }
+
+#[tokio::test]
+async fn planners_and_cameras_are_listed_and_a_camera_plan_searches_every_direction() {
+    let app = TestApp::spawn().await;
+    let (status, planners) = app.get("/api/v1/planners").await;
+    assert_eq!(status, 200);
+    let ids: Vec<&str> = planners.as_array().unwrap().iter().map(|p| p["id"].as_str().unwrap()).collect();
+    for id in ["boustrophedon", "naive", "eecd", "energy_aware"] {
+        assert!(ids.contains(&id), "{id} missing from {ids:?}");
+    }
+    assert!(planners[0]["direction_rule"].is_string() && planners[0]["parameters"].is_array());
+    let (status, cameras) = app.get("/api/v1/cameras").await;
+    assert_eq!(status, 200);
+    let p4 = cameras.as_array().unwrap().iter().find(|c| c["id"] == "dji_phantom4_pro").expect("preset listed");
+    assert_eq!((p4["sensor_width_mm"].as_f64(), p4["image_width_px"].as_u64()), (Some(13.2), Some(5472)));
+
+    let id = app.create_mission(&mission_body("random-fields/h03_00.json")).await;
+    // an unknown preset is refused, with where
+    let (status, problem) = app.post(&format!("/api/v1/missions/{id}/plans"), &json!({"camera": {"preset": "box_brownie"}, "altitude_m": 60})).await;
+    assert_eq!((status, problem["pointer"].as_str()), (422, Some("/camera/preset")), "{problem}");
+    let body = json!({"planner": "eecd", "camera": {"preset": "dji_phantom4_pro"}, "altitude_m": 60, "sweep_direction": "optimal"});
+    let (status, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &body).await;
+    assert_eq!(status, 202, "{plan}");
+    let plan = app.wait_finished(plan["id"].as_str().unwrap()).await;
+    assert_eq!(plan["status"], "succeeded", "{plan}");
+    let stats = &plan["stats"];
+    assert!(stats["photos"].as_u64().unwrap() > 0 && stats["photo_coverage_ratio"].as_f64().unwrap() >= 0.98, "{stats}");
+    app.stop().await;
+}

@@ -63,10 +63,19 @@ fn axial_difference(a: f64, b: f64) -> f64 {
 /// Merges neighbouring pieces with the same width direction while their union is one
 /// polygon, monotone along that direction.
 fn merge_monotone(mut pieces: Vec<Polygon>) -> Vec<Polygon> {
+    use geo::BoundingRect;
     let direction = |p: &Polygon| min_width_of(&p.exterior().0).1;
+    let touch = |a: &Polygon, b: &Polygon| match (a.bounding_rect(), b.bounding_rect()) {
+        (Some(x), Some(y)) => x.min().x <= y.max().x + 1e-6 && y.min().x <= x.max().x + 1e-6 && x.min().y <= y.max().y + 1e-6 && y.min().y <= x.max().y + 1e-6,
+        _ => false,
+    };
+    let mut first = 0;
     'again: loop {
-        for i in 0..pieces.len() {
+        for i in first..pieces.len() {
             for j in i + 1..pieces.len() {
+                if !touch(&pieces[i], &pieces[j]) {
+                    continue;
+                }
                 let (di, dj) = (direction(&pieces[i]), direction(&pieces[j]));
                 if axial_difference(di, dj) >= MERGE_TOLERANCE {
                     continue;
@@ -78,6 +87,8 @@ fn merge_monotone(mut pieces: Vec<Polygon>) -> Vec<Polygon> {
                 if merged.interiors().is_empty() && is_monotone(&ring, larger) {
                     pieces[i] = Polygon::new(closed(&super::polygon::clean(ring)), vec![]);
                     pieces.remove(j);
+                    // pieces before i found no partner among the others, nor in the merged one's parts
+                    first = i;
                     continue 'again;
                 }
             }

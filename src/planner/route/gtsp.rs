@@ -29,8 +29,11 @@ pub struct Instance {
 const EXACT_CLUSTERS: usize = 12;
 /// Largest number of nodes for the exact solver.
 const EXACT_NODES: usize = 48;
-/// Kicks of the iterated local search.
-const KICKS: usize = 30;
+/// Kicks of the iterated local search: 30 for small instances, fewer as a local search pass
+/// (O(m²) moves) grows, at least 3.
+fn kicks(m: usize) -> usize {
+    (30_000 / (m * m).max(1)).clamp(3, 30)
+}
 
 impl Instance {
     fn n(&self) -> usize {
@@ -335,7 +338,7 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
 }
 
 /// Random restarts, on instances of at most this many clusters.
-const RESTART_UP_TO: usize = 150;
+const RESTART_UP_TO: usize = 40;
 const RESTARTS: usize = 3;
 
 fn iterated_local_search(inst: &Instance, start: Vec<usize>, rng: &mut Rng) -> Vec<usize> {
@@ -345,7 +348,7 @@ fn iterated_local_search(inst: &Instance, start: Vec<usize>, rng: &mut Rng) -> V
     if m < 8 {
         return best;
     }
-    for _ in 0..KICKS {
+    for _ in 0..kicks(m) {
         // double bridge: A B C D → A C B D
         let mut cuts = [1 + rng.below(m - 1), 1 + rng.below(m - 1), 1 + rng.below(m - 1)];
         cuts.sort_unstable();

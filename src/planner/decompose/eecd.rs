@@ -87,7 +87,7 @@ fn merge_monotone(mut pieces: Vec<Polygon>) -> Vec<Polygon> {
                 if merged.interiors().is_empty() && is_monotone(&ring, larger) {
                     pieces[i] = Polygon::new(closed(&super::polygon::clean(ring)), vec![]);
                     pieces.remove(j);
-                    // pieces before i found no partner among the others, nor in the merged one's parts
+                    // earlier pieces are not retried against the union: a missed merge costs length, never coverage
                     first = i;
                     continue 'again;
                 }

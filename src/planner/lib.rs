@@ -193,15 +193,15 @@ fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, 
             return Err(PlanError::Cancelled);
         }
     }
-    let (angle, mut planned) = best.expect("the grid is not empty");
-    let fine: Vec<f64> = [-1.5f64, -1.0, -0.5, 0.5, 1.0, 1.5].iter().map(|d| (angle + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect();
+    let mut best = best.expect("the grid is not empty");
+    let fine: Vec<f64> = [-1.5f64, -1.0, -0.5, 0.5, 1.0, 1.5].iter().map(|d| (best.0 + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect();
     let refined: Vec<Result<(f64, planners::PlannedPath), PlanError>> = fine.par_iter().map(|&a| run(a)).collect();
-    let mut best = (angle, std::mem::take(&mut planned.path), planned.cells);
     for r in refined {
-        let (a, p) = r?;
-        if p.path.length() < best.1.length() - 1e-9 {
-            best = (a, p.path, p.cells);
+        let r = r?;
+        if r.1.path.length() < best.1.path.length() - 1e-9 {
+            best = r;
         }
     }
-    Ok(planners::PlannedPath { path: best.1, sweep_angle: best.0, cells: best.2 })
+    let (sweep_angle, planned) = best;
+    Ok(planners::PlannedPath { sweep_angle, ..planned })
 }

@@ -13,8 +13,7 @@
 
 use geo::{BooleanOps, MultiPolygon};
 
-use super::{Cell, CoverageArea, Decomposition, sort_cells, swept_cells};
-use crate::path::distance;
+use super::{Cell, CoverageArea, Decomposition, legs_length, sort_cells, swept_cells};
 use crate::sweep::{SweepPattern, SweepSegment, fewest_lines_direction, sweep};
 
 pub struct Boustrophedon;
@@ -35,16 +34,7 @@ impl Decomposition for Boustrophedon {
 
 /// Length of a cell flown back and forth: its lines and the straight turns between them.
 pub fn flown_length(cell: &Cell) -> f64 {
-    let legs: Vec<_> = cell
-        .segments
-        .iter()
-        .enumerate()
-        .map(|(k, s)| {
-            let (a, b) = cell.ends(s);
-            if k % 2 == 1 { (b, a) } else { (a, b) }
-        })
-        .collect();
-    legs.iter().map(|(a, b)| distance(*a, *b)).sum::<f64>() + legs.windows(2).map(|w| distance(w[0].1, w[1].0)).sum::<f64>()
+    legs_length(&cell.legs(false, false))
 }
 
 /// The cell, or the same area re-swept in its own fewest-lines direction when that is one

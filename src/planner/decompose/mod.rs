@@ -9,6 +9,7 @@ pub mod polygon;
 
 use geo::{BooleanOps, Coord, LineString, MultiPolygon, Polygon};
 
+use super::path::distance;
 use super::sweep::{LineLayout, SweepSegment, from_sweep_frame, sweep};
 
 /// A cell: one segment on each of a run of consecutive lines of direction `angle`.
@@ -35,10 +36,27 @@ impl Cell {
         Polygon::new(LineString::from(ring), vec![])
     }
 
+    /// The segments in flight order as (from, to) local points: lines in order or reversed,
+    /// the first flown from `a` to `b` or back, then alternating.
+    pub fn legs(&self, reverse_lines: bool, first_backwards: bool) -> Vec<(Coord, Coord)> {
+        let n = self.segments.len();
+        (0..n)
+            .map(|k| {
+                let (a, b) = self.ends(&self.segments[if reverse_lines { n - 1 - k } else { k }]);
+                if (k % 2 == 1) != first_backwards { (b, a) } else { (a, b) }
+            })
+            .collect()
+    }
+
     /// Summed length of the lines.
     pub fn sweep_length(&self) -> f64 {
         self.segments.iter().map(|s| s.b - s.a).sum()
     }
+}
+
+/// Length of legs flown one after the other: the legs and the straight joins between them.
+pub fn legs_length(legs: &[(Coord, Coord)]) -> f64 {
+    legs.iter().map(|(a, b)| distance(*a, *b)).sum::<f64>() + legs.windows(2).map(|w| distance(w[0].1, w[1].0)).sum::<f64>()
 }
 
 /// What a decomposition works on.

@@ -108,15 +108,7 @@ pub fn split(ring: &[Coord], i: usize, j: usize, hit: Coord) -> (Vec<Coord>, Vec
     let near = |a: Coord, b: Coord| (a.x - b.x).hypot(a.y - b.y) < 1e-6;
     let next = (j + 1) % n;
     // walk i → … → j, then the hit; and the hit → j+1 → … → i
-    let mut first = Vec::new();
-    let mut k = i;
-    loop {
-        first.push(ring[k]);
-        if k == j {
-            break;
-        }
-        k = (k + 1) % n;
-    }
+    let mut first = walk(ring, i, j);
     if !near(hit, ring[j]) && !near(hit, ring[next]) {
         first.push(hit);
     }
@@ -124,19 +116,18 @@ pub fn split(ring: &[Coord], i: usize, j: usize, hit: Coord) -> (Vec<Coord>, Vec
     if !near(hit, ring[next]) {
         second.push(if near(hit, ring[j]) { ring[j] } else { hit });
     }
-    let mut k = next;
-    loop {
-        second.push(ring[k]);
-        if k == i {
-            break;
-        }
-        k = (k + 1) % n;
-    }
+    second.extend(walk(ring, next, i));
     if near(hit, ring[next]) {
         // the chord ends on vertex j+1, which closes the first ring
         first.push(ring[next]);
     }
     (clean(first), clean(second))
+}
+
+/// The vertices from index `from` to index `to`, both included, in ring order.
+fn walk(ring: &[Coord], from: usize, to: usize) -> Vec<Coord> {
+    let steps = (to + ring.len() - from) % ring.len();
+    (0..=steps).map(|k| ring[(from + k) % ring.len()]).collect()
 }
 
 /// Drops repeated and collinear vertices.

@@ -7,8 +7,7 @@ use geo::Coord;
 
 use super::gtsp::{Instance, solve};
 use super::{CellOrder, CellVisit, RouteContext};
-use crate::decompose::Cell;
-use crate::path::distance;
+use crate::decompose::{Cell, legs_length};
 
 pub struct CellTour;
 
@@ -40,9 +39,9 @@ impl CellOrder for CellTour {
         let n = visits.len();
         let inst = Instance {
             clusters: (0..cells.len()).map(|c| (4 * c..4 * c + 4).collect()).collect(),
-            reverse: visits.iter().enumerate().map(|(i, v)| i - i % 4 + variant_index(&v.reversed(&cells[v.cell]))).collect(),
+            reverse: visits.iter().enumerate().map(|(i, v)| i - i % 4 + v.reversed(&cells[v.cell]).index()).collect(),
             cost: (0..n * n).map(|k| if k / n / 4 == k % n / 4 { f64::INFINITY } else { d[exit_at[k / n]][entry_at[k % n]] }).collect(),
-            node_cost: visits.iter().map(|v| flown_length(&v.legs(&cells[v.cell]))).collect(),
+            node_cost: visits.iter().map(|v| legs_length(&v.legs(&cells[v.cell]))).collect(),
             from_start: start_at.map(|s| entry_at.iter().map(|&e| d[s][e]).collect()),
             to_end: end_at.map(|e| exit_at.iter().map(|&x| d[x][e]).collect()),
         };
@@ -50,19 +49,11 @@ impl CellOrder for CellTour {
     }
 }
 
-fn variant_index(v: &CellVisit) -> usize {
-    v.reverse_lines as usize * 2 + v.first_backwards as usize
-}
-
-/// Lines and the straight turns between them.
-fn flown_length(legs: &[(Coord, Coord)]) -> f64 {
-    legs.iter().map(|(a, b)| distance(*a, *b)).sum::<f64>() + legs.windows(2).map(|w| distance(w[0].1, w[1].0)).sum::<f64>()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::decompose::boustrophedon::cells_of;
+    use crate::path::distance;
     use crate::route::nearest_cell::NearestCell;
     use crate::route::visibility::TransitPlanner;
     use crate::sweep::{LineLayout, sweep};
@@ -73,7 +64,7 @@ mod tests {
         let mut total = 0.0;
         for v in tour {
             let legs = v.legs(&cells[v.cell]);
-            total += distance(here, legs[0].0) + flown_length(&legs);
+            total += distance(here, legs[0].0) + legs_length(&legs);
             here = legs[legs.len() - 1].1;
         }
         total

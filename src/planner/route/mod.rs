@@ -30,14 +30,12 @@ impl CellVisit {
 
     /// The directed segments in flight order, as (from, to) local points.
     pub fn legs(&self, cell: &Cell) -> Vec<(Coord, Coord)> {
-        let n = cell.segments.len();
-        (0..n)
-            .map(|k| {
-                let s = &cell.segments[if self.reverse_lines { n - 1 - k } else { k }];
-                let (a, b) = cell.ends(s);
-                if (k % 2 == 1) != self.first_backwards { (b, a) } else { (a, b) }
-            })
-            .collect()
+        cell.legs(self.reverse_lines, self.first_backwards)
+    }
+
+    /// Position of this variant in [`CellVisit::variants`].
+    pub fn index(&self) -> usize {
+        self.reverse_lines as usize * 2 + self.first_backwards as usize
     }
 
     /// Where the visit enters and leaves the cell.

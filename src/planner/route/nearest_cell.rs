@@ -19,7 +19,7 @@ impl CellOrder for NearestCell {
             return Vec::new();
         }
         let ends: Vec<[(Coord, Coord); 4]> = cells.iter().enumerate().map(|(c, cell)| CellVisit::variants(c).map(|v| v.entry_exit(cell))).collect();
-        let at = |v: &CellVisit| ends[v.cell][v.reverse_lines as usize * 2 + v.first_backwards as usize];
+        let at = |v: &CellVisit| ends[v.cell][v.index()];
         let greedy = |first: Option<CellVisit>| -> (f64, Vec<CellVisit>) {
             let mut done = vec![false; cells.len()];
             let mut tour = Vec::with_capacity(cells.len());

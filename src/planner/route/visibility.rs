@@ -54,43 +54,15 @@ impl TransitPlanner {
         if self.is_clear(a, b) {
             return Some(vec![a, b]);
         }
-        // Dijkstra over nodes; index n = a, n + 1 = b
-        let n = self.nodes.len();
-        let from_a: Vec<(usize, f64)> = (0..n).filter(|&i| self.is_clear(a, self.nodes[i])).map(|i| (i, distance(a, self.nodes[i]))).collect();
-        let to_b: Vec<Option<f64>> = (0..n).map(|i| self.is_clear(self.nodes[i], b).then(|| distance(self.nodes[i], b))).collect();
-        let mut dist = vec![f64::INFINITY; n + 2];
-        let mut prev = vec![usize::MAX; n + 2];
-        let mut heap = BinaryHeap::new();
-        dist[n] = 0.0;
-        heap.push(State { cost: 0.0, node: n });
-        while let Some(State { cost, node }) = heap.pop() {
-            if node == n + 1 {
-                break;
-            }
-            if cost > dist[node] {
-                continue;
-            }
-            let edges: Box<dyn Iterator<Item = (usize, f64)>> = if node == n {
-                Box::new(from_a.iter().copied())
-            } else {
-                let to_goal = to_b[node].map(|d| (n + 1, d));
-                Box::new(self.visible[node].iter().copied().chain(to_goal))
-            };
-            for (next, w) in edges {
-                let c = cost + w;
-                if c < dist[next] {
-                    dist[next] = c;
-                    prev[next] = node;
-                    heap.push(State { cost: c, node: next });
-                }
-            }
-        }
-        if !dist[n + 1].is_finite() {
+        let from_a = self.seen_from(a);
+        let (dist, prev) = self.dijkstra(&from_a);
+        // the last corner: the one seen from `b` that ends the shortest way (first minimum)
+        let (mut cur, total) = self.seen_from(b).into_iter().map(|(w, d)| (w, dist[w] + d)).fold((usize::MAX, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc });
+        if !total.is_finite() {
             return None;
         }
         let mut out = vec![b];
-        let mut cur = prev[n + 1];
-        while cur != n {
+        while cur != usize::MAX {
             out.push(self.nodes[cur]);
             cur = prev[cur];
         }
@@ -99,16 +71,20 @@ impl TransitPlanner {
         Some(out)
     }
 
+    /// The nodes seen from `p`, with their distance.
+    fn seen_from(&self, p: Coord) -> Vec<(usize, f64)> {
+        (0..self.nodes.len()).filter(|&i| self.is_clear(p, self.nodes[i])).map(|i| (i, distance(p, self.nodes[i]))).collect()
+    }
+
     /// Lengths of the shortest transits between all pairs of `points` (infinite where there is
     /// none): straight where the way is clear, otherwise one Dijkstra per source point.
     pub fn distance_matrix(&self, points: &[Coord]) -> Vec<Vec<f64>> {
         use rayon::prelude::*;
-        let n = self.nodes.len();
         let clear: Vec<Vec<bool>> = points.par_iter().map(|&a| points.iter().map(|&b| self.is_clear(a, b)).collect()).collect();
         let blocked = clear.iter().any(|row| row.iter().any(|c| !c));
         // nodes seen from each point, only needed when some pair is blocked
         let seen: Vec<Vec<(usize, f64)>> = if blocked {
-            points.par_iter().map(|&p| (0..n).filter(|&i| self.is_clear(p, self.nodes[i])).map(|i| (i, distance(p, self.nodes[i]))).collect()).collect()
+            points.par_iter().map(|&p| self.seen_from(p)).collect()
         } else {
             Vec::new()
         };
@@ -119,7 +95,7 @@ impl TransitPlanner {
                 if row.iter().all(|&c| c) {
                     return points.iter().map(|&b| distance(points[i], b)).collect();
                 }
-                let dist = self.dijkstra(&seen[i]);
+                let (dist, _) = self.dijkstra(&seen[i]);
                 (0..points.len())
                     .map(|j| {
                         if row[j] {
@@ -133,9 +109,11 @@ impl TransitPlanner {
             .collect()
     }
 
-    /// Distances from a source that sees `sources` (node, distance) to every node.
-    fn dijkstra(&self, sources: &[(usize, f64)]) -> Vec<f64> {
+    /// Distances from a source that sees `sources` (node, distance) to every node, and each
+    /// node's predecessor on its shortest way (`usize::MAX`: reached straight from the source).
+    fn dijkstra(&self, sources: &[(usize, f64)]) -> (Vec<f64>, Vec<usize>) {
         let mut dist = vec![f64::INFINITY; self.nodes.len()];
+        let mut prev = vec![usize::MAX; self.nodes.len()];
         let mut heap = BinaryHeap::new();
         for &(i, d) in sources {
             if d < dist[i] {
@@ -150,11 +128,12 @@ impl TransitPlanner {
             for &(next, w) in &self.visible[node] {
                 if cost + w < dist[next] {
                     dist[next] = cost + w;
+                    prev[next] = node;
                     heap.push(State { cost: cost + w, node: next });
                 }
             }
         }
-        dist
+        (dist, prev)
     }
 
     /// True when the segment `a`–`b` does not enter the interior of any wall.

@@ -322,7 +322,7 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     let mut starts = vec![greedy(inst)];
     if m <= RESTART_UP_TO {
-        for _ in 0..RESTARTS {
+        for _ in 0..restarts(m) {
             let mut order: Vec<usize> = (0..m).map(|k| inst.clusters[k][0]).collect();
             for i in (1..m).rev() {
                 order.swap(i, rng.below(i + 1));
@@ -337,9 +337,12 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
         .expect("at least the greedy start")
 }
 
-/// Random restarts, on instances of at most this many clusters.
+/// Random restarts, on instances of at most this many clusters: more where each is cheap.
 const RESTART_UP_TO: usize = 40;
-const RESTARTS: usize = 3;
+
+fn restarts(m: usize) -> usize {
+    (240 / m.max(1)).clamp(3, 20)
+}
 
 fn iterated_local_search(inst: &Instance, start: Vec<usize>, rng: &mut Rng) -> Vec<usize> {
     let mut best = local_search(inst, start);

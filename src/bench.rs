@@ -56,7 +56,7 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
             let m: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(file))?)?;
             let area_m2 = e["area_m2"].as_f64().context("area_m2")?;
             let params = PlanParams { planner: p.id().into(), line_spacing_m: Some(bench_spacing(area_m2)), ..PlanParams::default() };
-            let mission = MissionGeometry { area: &m["area"], no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null()), home: None };
+            let mission = MissionGeometry { area: &m["area"], no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null()), obstacles: None, home: None };
             for _ in 0..repeats {
                 let t = Instant::now();
                 let plan = planner::plan(&mission, &params, &FieldLimits::default(), &|_| true).map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
@@ -91,4 +91,43 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
         out.push('\n');
     }
     Ok(out)
+}
+
+/// `coverplan bench --routing`: line-level routing of 100, 300 and 600 parallel 1 km lines,
+/// 20 m apart, with Dubins turns of radius 50 m (so the best order skips lines), against the
+/// plain boustrophedon order 1, 2, 3, … of the same lines.
+pub fn routing() -> String {
+    use crate::planner::geo::Coord;
+    use crate::planner::route::connect::Connector;
+    use crate::planner::route::gtsp::solve;
+    use crate::planner::route::line_tour::{Line, LineProblem};
+    use crate::planner::route::visibility::TransitPlanner;
+    use crate::planner::turn::TurnModel;
+    use std::fmt::Write;
+    let none = crate::planner::geo::MultiPolygon(vec![]);
+    let transit = TransitPlanner::new(&none, &none);
+    let connector = Connector { turn: TurnModel::Dubins(50.0), transit: &transit, detour: None };
+    let mut out = String::from("routing: parallel lines 1000 m long, 20 m apart, Dubins radius 50 m, free start and end\n\n");
+    out.push_str("| lines | cost matrix ms | solve ms | total ms | length m | boustrophedon m | saved |\n|------:|--------------:|---------:|---------:|---------:|----------------:|------:|\n");
+    for n in [100, 300, 600] {
+        let lines: Vec<Line> = (0..n).map(|i| Line { a: Coord { x: 0.0, y: 20.0 * i as f64 }, b: Coord { x: 1000.0, y: 20.0 * i as f64 }, region: 0 }).collect();
+        let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
+        let t0 = Instant::now();
+        let inst = problem.instance();
+        let t1 = Instant::now();
+        let seq = solve(&inst);
+        let t2 = Instant::now();
+        let boustrophedon: Vec<usize> = (0..n).map(|k| 2 * k + k % 2).collect();
+        let (length, reference) = (inst.total(&seq), inst.total(&boustrophedon));
+        let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1000.0;
+        let _ = writeln!(
+            out,
+            "| {n:5} | {:13.1} | {:8.1} | {:8.1} | {length:8.0} | {reference:15.0} | {:4.1} % |",
+            ms(t0, t1),
+            ms(t1, t2),
+            ms(t0, t2),
+            100.0 * (1.0 - length / reference)
+        );
+    }
+    out
 }

@@ -47,6 +47,9 @@ enum Command {
         /// Runs per field.
         #[arg(long, default_value_t = 3)]
         repeats: usize,
+        /// Instead: route 100, 300 and 600 parallel lines with Dubins turns.
+        #[arg(long)]
+        routing: bool,
     },
     /// Print the OpenAPI document.
     Openapi,
@@ -95,7 +98,11 @@ fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Serve(args) => serve(args),
         Command::Plan { mission, params, out } => plan(&mission, params.as_deref(), out.as_deref()),
-        Command::Bench { data, planner, repeats } => {
+        Command::Bench { routing: true, .. } => {
+            print!("{}", coverplan::bench::routing());
+            Ok(())
+        }
+        Command::Bench { data, planner, repeats, .. } => {
             coverplan::bench::run(&data, planner.as_deref(), repeats).map(|table| print!("{table}"))
         }
         Command::Openapi => {
@@ -142,6 +149,7 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
     let geometry = MissionGeometry {
         area: mission.get("area").context("the mission has no `area`")?,
         no_fly_zones: mission.get("no_fly_zones").filter(|v| !v.is_null()),
+        obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
         home,
     };
     let bar = std::io::stderr().is_terminal().then(|| {

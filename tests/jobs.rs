@@ -14,7 +14,7 @@ use serde_json::json;
 async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
     let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
     let body = common::mission_body("real-fields/nl-parcel-b.json");
-    let mission = missions::create(&db, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, home: None }).await.unwrap();
+    let mission = missions::create(&db, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
     let snapshot = json!({"area": mission.area});
     // spacing 13 makes this runner panic; anything else plans for real
     let runner: Runner = Arc::new(|job, progress| {

@@ -11,7 +11,7 @@ use proptest::prelude::*;
 use serde_json::{Value, json};
 
 fn plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> PlanOutput {
-    let mission = MissionGeometry { area, no_fly_zones: nfz, home: None };
+    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, home: None };
     planner::plan(&mission, params, &FieldLimits::default(), &|_| true).unwrap_or_else(|e| panic!("planning failed: {e}"))
 }
 
@@ -209,4 +209,64 @@ proptest! {
         let p = if with_camera { camera_params(planner, spacing, heading) } else { params(planner, spacing, heading) };
         check(&area, nfz, &p, &format!("star at {lon},{lat} r={radius} by {planner}"));
     }
+}
+
+/// Smallest radius of the circle through three points (infinite when they are collinear).
+fn circumradius(a: Coord, b: Coord, c: Coord) -> f64 {
+    let (ab, bc, ca) = ((b - a).x.hypot((b - a).y), (c - b).x.hypot((c - b).y), (a - c).x.hypot((a - c).y));
+    let cross = ((b - a).x * (c - a).y - (b - a).y * (c - a).x).abs();
+    if cross < 1e-9 { f64::INFINITY } else { ab * bc * ca / (2.0 * cross) }
+}
+
+/// Fixed wing over the generated fields, holes as no-fly zones: every planner (and
+/// `line_gtsp`) covers the field, never enters a zone (turn arcs included, checked by
+/// sampling in `check`), and never turns tighter than the radius along the whole path.
+#[test]
+fn fixed_wing_plans_respect_zones_and_turning_radius() {
+    let index: Value = serde_json::from_str(&std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/random-fields/index.json")).unwrap()).unwrap();
+    let mut planned = 0;
+    for (k, entry) in index.as_array().unwrap().iter().enumerate().filter(|(k, _)| k % 4 == 0) {
+        let f = format!("random-fields/{}", entry["file"].as_str().unwrap());
+        let m = common::fixture(&f);
+        let frame = LocalFrame::centred_on({
+            let mut pts = Vec::new();
+            collect_positions(&m["area"], &mut pts);
+            pts
+        });
+        let spacing = spacing_for(to_local_mp(&frame, &m["area"]).unsigned_area());
+        let radius = spacing * 1.2;
+        let nfz = m.get("no_fly_zones").filter(|v| !v.is_null());
+        let mut planners = PLANNERS.to_vec();
+        planners.push("line_gtsp");
+        let planner = planners[k / 4 % planners.len()];
+        let p: PlanParams = serde_json::from_value(json!({
+            "planner": planner, "line_spacing_m": spacing, "vehicle": {"kind": "fixed_wing", "turn_radius_m": radius},
+        }))
+        .unwrap();
+        let name = format!("{f} by {planner}, fixed wing r = {radius:.1} m");
+        check(&m["area"], nfz, &p, &name);
+        let out = plan(&m["area"], nfz, &p);
+        let pts: Vec<Coord> = out
+            .trajectory
+            .features
+            .iter()
+            .filter_map(|f| match &f.geometry.as_ref()?.value {
+                geojson::GeometryValue::LineString { coordinates } => Some(coordinates.iter().map(|c| frame.to_local(c[0], c[1])).collect::<Vec<_>>()),
+                _ => None,
+            })
+            .flat_map(|piece| piece.into_iter())
+            .collect();
+        // exported positions are rounded to 1e-7°: judge chords of 5 m and more, within 10 %
+        let mut kept: Vec<Coord> = Vec::new();
+        for p in pts {
+            if kept.last().is_none_or(|q: &Coord| (p - *q).x.hypot((p - *q).y) >= 5.0) {
+                kept.push(p);
+            }
+        }
+        for w in kept.windows(3) {
+            assert!(circumradius(w[0], w[1], w[2]) >= 0.9 * radius, "{name}: turns with radius {:.1} m at {:?}", circumradius(w[0], w[1], w[2]), w[1]);
+        }
+        planned += 1;
+    }
+    assert!(planned >= 16);
 }

@@ -24,6 +24,11 @@ pub struct MissionRequest {
     #[serde(default)]
     #[schema(value_type = Option<Object>)]
     pub no_fly_zones: Option<Value>,
+    /// GeoJSON Feature or FeatureCollection of Polygon features, each with a `height_m`
+    /// property (metres above ground): trees, buildings, masts to climb over.
+    #[serde(default)]
+    #[schema(value_type = Option<Object>)]
+    pub obstacles: Option<Value>,
     /// [longitude, latitude] of the take-off and landing point.
     #[serde(default)]
     pub home: Option<[f64; 2]>,
@@ -36,9 +41,9 @@ impl MissionRequest {
         if name.is_empty() || name.chars().count() > 200 {
             return Err(ApiError::invalid("invalid_name", "/name", "the name must have 1 to 200 characters"));
         }
-        let geometry = MissionGeometry { area: &self.area, no_fly_zones: self.no_fly_zones.as_ref(), home: self.home };
+        let geometry = MissionGeometry { area: &self.area, no_fly_zones: self.no_fly_zones.as_ref(), obstacles: self.obstacles.as_ref(), home: self.home };
         planner::validate_mission(&geometry, &state.config.limits)?;
-        Ok(NewMission { name, area: self.area, no_fly_zones: self.no_fly_zones.filter(|v| !v.is_null()), home: self.home })
+        Ok(NewMission { name, area: self.area, no_fly_zones: self.no_fly_zones.filter(|v| !v.is_null()), obstacles: self.obstacles.filter(|v| !v.is_null()), home: self.home })
     }
 }
 

@@ -16,9 +16,9 @@ use crate::store::plans::{self, Plan, PlanStatus};
     responses((status = 202, body = Plan, description = "queued"), (status = 404, body = Problem), (status = 422, body = Problem)))]
 pub async fn create(State(state): State<AppState>, Path(mission_id): Path<String>, ApiJson(params): ApiJson<PlanParams>) -> Result<(StatusCode, Json<Plan>), ApiError> {
     let mission = missions::get(&state.db, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
-    let geometry = MissionGeometry { area: &mission.area, no_fly_zones: mission.no_fly_zones.as_ref(), home: mission.home };
+    let geometry = MissionGeometry { area: &mission.area, no_fly_zones: mission.no_fly_zones.as_ref(), obstacles: mission.obstacles.as_ref(), home: mission.home };
     planner::check_plan(&geometry, &params, &state.config.limits)?;
-    let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "home": mission.home});
+    let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home});
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     let plan = plans::create(&state.db, &mission_id, &params, &snapshot).await?;
     state.jobs.notify();

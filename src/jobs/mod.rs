@@ -26,6 +26,7 @@ pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::
     let mission = MissionGeometry {
         area: job.mission.get("area").unwrap_or(&Value::Null),
         no_fly_zones: job.mission.get("no_fly_zones").filter(|v| !v.is_null()),
+        obstacles: job.mission.get("obstacles").filter(|v| !v.is_null()),
         home,
     };
     planner::plan(&mission, &params, limits, progress)

@@ -43,7 +43,7 @@ pub fn feature_collection(
         .zip(estimates)
         .enumerate()
         .map(|(seq, (piece, e))| {
-            let coords = piece.points.iter().map(|&c| position(frame, c, altitude_m)).collect();
+            let coords = piece.points.iter().enumerate().map(|(i, &c)| position(frame, c, piece.z.get(i).copied().or(altitude_m))).collect();
             let mut props = json!({
                 "seq": seq,
                 "kind": piece.kind,

@@ -29,6 +29,8 @@ impl Default for FieldLimits {
 pub struct MissionGeometry<'a> {
     pub area: &'a Value,
     pub no_fly_zones: Option<&'a Value>,
+    /// Polygon features with a `height_m` property: may be overflown, not flown through.
+    pub obstacles: Option<&'a Value>,
     pub home: Option<[f64; 2]>,
 }
 
@@ -40,6 +42,8 @@ pub struct Field {
     pub area: MultiPolygon,
     /// No-fly zones as given (not buffered).
     pub no_fly_zones: MultiPolygon,
+    /// Obstacle footprints with their height above ground, metres.
+    pub obstacles: Vec<(Polygon, f64)>,
     pub home: Option<Coord>,
 }
 
@@ -64,10 +68,14 @@ impl Field {
             None | Some(Value::Null) => Vec::new(),
             Some(v) => parse_polygons(v, "/no_fly_zones")?,
         };
+        let obstacles = match mission.obstacles {
+            None | Some(Value::Null) => Vec::new(),
+            Some(v) => parse_obstacles(v, "/obstacles")?,
+        };
         if let Some(h) = mission.home {
             check_position(&h, "/home")?;
         }
-        let vertices: usize = area.iter().chain(&nfz).flat_map(|p| &p.rings).map(|r| r.positions.len()).sum();
+        let vertices: usize = area.iter().chain(&nfz).chain(obstacles.iter().map(|o| &o.0)).flat_map(|p| &p.rings).map(|r| r.positions.len()).sum();
         if vertices > limits.max_vertices {
             return Err(InputError::new(
                 "too_many_vertices",
@@ -85,6 +93,7 @@ impl Field {
         let to_local = |raw: &RawPolygon| local_polygon(&frame, raw, limits);
         let area_polys = area.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
         let nfz_polys = nfz.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
+        let obstacles = obstacles.iter().map(|(raw, h)| to_local(raw).map(|p| (p, *h))).collect::<Result<Vec<_>, _>>()?;
 
         let area_mp = MultiPolygon(area_polys);
         for (i, a) in area_mp.0.iter().enumerate() {
@@ -120,7 +129,7 @@ impl Field {
                 return Err(InputError::new("home_in_no_fly_zone", "/home", "the home point lies inside a no-fly zone"));
             }
         }
-        Ok(Field { frame, area: area_mp, no_fly_zones: nfz_mp, home })
+        Ok(Field { frame, area: area_mp, no_fly_zones: nfz_mp, obstacles, home })
     }
 }
 
@@ -145,6 +154,33 @@ fn parse_polygons(value: &Value, pointer: &str) -> Result<Vec<RawPolygon>, Input
                 push_feature(f, &format!("{pointer}/features/{i}"), &mut out)?;
             }
         }
+    }
+    Ok(out)
+}
+
+/// Tallest obstacle accepted, metres.
+const MAX_OBSTACLE_HEIGHT_M: f64 = 1_000.0;
+
+/// A Feature or FeatureCollection of polygons, each feature with a `height_m` property.
+fn parse_obstacles(value: &Value, pointer: &str) -> Result<Vec<(RawPolygon, f64)>, InputError> {
+    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
+    let features: Vec<(geojson::Feature, String)> = match geojson {
+        GeoJson::Feature(f) => vec![(f, pointer.to_owned())],
+        GeoJson::FeatureCollection(fc) => fc.features.into_iter().enumerate().map(|(i, f)| (f, format!("{pointer}/features/{i}"))).collect(),
+        GeoJson::Geometry(_) => {
+            return Err(InputError::new("obstacle_height_missing", pointer, "obstacles are features with a `height_m` property; a bare geometry has none"));
+        }
+    };
+    let mut out = Vec::new();
+    for (f, fp) in features {
+        let hp = format!("{fp}/properties/height_m");
+        let height = f.property("height_m").and_then(Value::as_f64).ok_or_else(|| InputError::new("obstacle_height_missing", hp.clone(), "each obstacle needs its height above ground in metres as `height_m`"))?;
+        if !(height > 0.0 && height <= MAX_OBSTACLE_HEIGHT_M) {
+            return Err(InputError::new("parameter_out_of_range", hp, format!("{height} is outside the accepted range (0, {MAX_OBSTACLE_HEIGHT_M}] m")));
+        }
+        let mut polys = Vec::new();
+        push_feature(&f, &fp, &mut polys)?;
+        out.extend(polys.into_iter().map(|p| (p, height)));
     }
     Ok(out)
 }
@@ -405,7 +441,7 @@ mod tests {
     use serde_json::json;
 
     fn parse(area: Value) -> Result<Field, InputError> {
-        Field::parse(&MissionGeometry { area: &area, no_fly_zones: None, home: None }, &FieldLimits::default())
+        Field::parse(&MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, home: None }, &FieldLimits::default())
     }
 
     fn square(lon: f64, lat: f64, d: f64) -> Value {

@@ -1,7 +1,7 @@
 //! The planner: geometry in, plan out. Pure: no I/O, no async runtime, no database.
 //!
 //! Stages, one module each: [`frame`] (WGS84 ⇄ local metres) → [`field`] (validate,
-//! normalise) → [`decompose`] → [`sweep`] → turn and [`route`] → [`energy`] → [`metrics`] →
+//! normalise) → [`decompose`] → [`sweep`] → [`turn`] and [`route`] → [`energy`] → [`metrics`] →
 //! [`export`]. [`planners`] composes them; its registry lists every planner offered.
 
 pub mod camera;
@@ -17,6 +17,7 @@ pub mod path;
 pub mod planners;
 pub mod route;
 pub mod sweep;
+pub mod turn;
 pub mod vehicle;
 
 use std::time::Instant;
@@ -24,6 +25,8 @@ use std::time::Instant;
 use geo::{Area, BooleanOps, Buffer, Contains, Coord, MultiPolygon};
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
 
+/// The geometry types of the planner's interface.
+pub use geo;
 pub use error::{InputError, PlanError};
 pub use field::{FieldLimits, MissionGeometry};
 pub use metrics::Stats;
@@ -34,7 +37,10 @@ use energy::{EnergyModel, constant_power::ConstantPower};
 use field::Field;
 use path::{FlightPath, PieceKind, polyline_length};
 use planners::Problem;
+use route::connect::Connector;
 use route::visibility::TransitPlanner;
+use turn::TurnModel;
+use turn::climb::Obstacles;
 
 /// A finished plan.
 #[derive(Debug, Clone)]
@@ -96,6 +102,9 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLim
         }
         Ok(c)
     };
+    if !field.obstacles.is_empty() && resolved.altitude_m.is_none() {
+        return Err(InputError::new("altitude_missing", "/altitude_m", "the mission has obstacles: give the flight altitude (altitude_m, or a camera with gsd_cm) so that the plan can climb over them"));
+    }
     let start = resolved.start.map(|p| local(p, "/start/position")).transpose()?.or(field.home);
     let end = resolved.end.map(|p| local(p, "/end/position")).transpose()?.or(field.home);
     Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end })
@@ -114,17 +123,36 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLi
         return Err(PlanError::Cancelled);
     }
     let transit = TransitPlanner::new(&keep_out, &walls);
+    let turn = resolved.vehicle.turn_model();
+    // fixed wing: corners far enough from the zones to turn around them
+    let detour = match turn {
+        TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), &walls)),
+        TurnModel::Straight => None,
+    };
+    let connector = Connector { turn, transit: &transit, detour: detour.as_ref() };
+    let obstacles = resolved.altitude_m.filter(|_| !field.obstacles.is_empty()).map(|altitude| {
+        Obstacles::new(&field.obstacles, altitude, resolved.obstacle_clearance_m, resolved.max_climb_deg, resolved.coverage_penalty)
+    });
     let problem = Problem {
         region: &region,
         keep_out: &keep_out,
         transit: &transit,
+        connector: &connector,
         layout: resolved.layout,
         sweep_angle: resolved.sweep_angle,
         start,
         end,
+        start_heading: resolved.start_heading,
+        end_heading: resolved.end_heading,
+        allow_reentry: resolved.allow_reentry,
+        obstacles: obstacles.as_ref(),
         vehicle: &resolved.vehicle,
     };
-    let planned = if resolved.optimal_direction { plan_every_direction(planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
+    let mut planned = if resolved.optimal_direction { plan_every_direction(planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
+    let mut lost_coverage_m = 0.0;
+    if let Some(obs) = &obstacles {
+        (planned.path, lost_coverage_m) = obs.raise(&planned.path);
+    }
     let estimates = ConstantPower { vehicle: &resolved.vehicle }.estimate(&planned.path);
     let photos = resolved.camera.map(|c| photo_positions(&planned.path, &c));
     let mut stats = metrics::measure(&metrics::MeasureInput {
@@ -138,6 +166,7 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLi
         photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
     });
     let trajectory = export::feature_collection(&field.frame, &planned.path, &estimates, resolved.altitude_m, photos.as_deref().map(metrics::photo_points).as_deref());
+    stats.lost_coverage_m = lost_coverage_m;
     stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     progress.report(1.0);
     Ok(PlanOutput { stats, trajectory })

@@ -40,6 +40,9 @@ pub struct Stats {
     /// `lower_bound_m / length_m`.
     pub efficiency: f64,
     pub planning_time_ms: f64,
+    /// Metres of sweep line flown above the survey altitude to clear obstacles (not imaged).
+    #[serde(default)]
+    pub lost_coverage_m: f64,
 }
 
 /// The swath of a sweep piece as a polygon.
@@ -146,6 +149,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         lower_bound_m,
         efficiency: if length_m > 0.0 { lower_bound_m / length_m } else { 0.0 },
         planning_time_ms: 0.0,
+        lost_coverage_m: 0.0,
     }
 }
 

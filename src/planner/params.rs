@@ -55,6 +55,20 @@ pub struct PlanParams {
     pub start: Option<PoseParam>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub end: Option<PoseParam>,
+    /// Line-level routing may leave a field and come back to it (default true); false flies
+    /// each field in one block.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub allow_reentry: Option<bool>,
+    /// With obstacles: clearance kept above and around them, 0 to 200 m (default 10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obstacle_clearance_m: Option<f64>,
+    /// With obstacles: steepest climb and descent, 1 to 60° (default 30).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_climb_deg: Option<f64>,
+    /// With obstacles: metres of path that one metre of sweep flown too high to image costs
+    /// when choosing the order and the direction, 0 to 1000 (default 10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coverage_penalty: Option<f64>,
     /// Clearance kept from no-fly zones, 1 to 500 m (default 10).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nfz_margin_m: Option<f64>,
@@ -93,7 +107,14 @@ pub struct Resolved {
     pub vehicle: Vehicle,
     pub start: Option<[f64; 2]>,
     pub end: Option<[f64; 2]>,
+    /// Headings at the start and the end, math radians.
+    pub start_heading: Option<f64>,
+    pub end_heading: Option<f64>,
+    pub allow_reentry: bool,
     pub nfz_margin_m: f64,
+    pub obstacle_clearance_m: f64,
+    pub max_climb_deg: f64,
+    pub coverage_penalty: f64,
 }
 
 /// Compass bearing (clockwise from north, degrees) to a math angle (counter-clockwise from
@@ -150,6 +171,14 @@ impl PlanParams {
             }
             Ok(Some(p.position))
         };
+        let within = |v: Option<f64>, default: f64, lo: f64, hi: f64, pointer: &str, unit: &str| -> Result<f64, InputError> {
+            let v = v.unwrap_or(default);
+            check_range(v, lo, hi, pointer, unit)?;
+            Ok(v)
+        };
+        let obstacle_clearance_m = within(self.obstacle_clearance_m, 10.0, 0.0, 200.0, "/obstacle_clearance_m", "m")?;
+        let max_climb_deg = within(self.max_climb_deg, 30.0, 1.0, 60.0, "/max_climb_deg", "°")?;
+        let coverage_penalty = within(self.coverage_penalty, 10.0, 0.0, 1000.0, "/coverage_penalty", "")?;
         let nfz_margin_m = self.nfz_margin_m.unwrap_or(10.0);
         check_range(nfz_margin_m, 1.0, 500.0, "/nfz_margin_m", "m")?;
         Ok(Resolved {
@@ -162,7 +191,13 @@ impl PlanParams {
             vehicle,
             start: pose(&self.start, "start")?,
             end: pose(&self.end, "end")?,
+            start_heading: self.start.as_ref().and_then(|p| p.heading_deg).map(bearing_to_math),
+            end_heading: self.end.as_ref().and_then(|p| p.heading_deg).map(bearing_to_math),
+            allow_reentry: self.allow_reentry.unwrap_or(true),
             nfz_margin_m,
+            obstacle_clearance_m,
+            max_climb_deg,
+            coverage_penalty,
         })
     }
 }

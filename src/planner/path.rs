@@ -20,11 +20,18 @@ pub struct Piece {
     pub points: Vec<Coord>,
     /// Width covered on each side of a sweep (half the swath); 0 for other kinds.
     pub half_swath_m: f64,
+    /// Altitude of each point where the piece climbs over obstacles; empty: flown at the
+    /// plan's altitude.
+    pub z: Vec<f64>,
 }
 
 impl Piece {
+    /// Length along the path, climbs included.
     pub fn length(&self) -> f64 {
-        polyline_length(&self.points)
+        if self.z.is_empty() {
+            return polyline_length(&self.points);
+        }
+        self.points.windows(2).zip(self.z.windows(2)).map(|(p, z)| distance(p[0], p[1]).hypot(z[1] - z[0])).sum()
     }
 
     pub fn start(&self) -> Coord {
@@ -60,7 +67,7 @@ impl FlightPath {
         if let Some(last) = self.pieces.last() {
             debug_assert_eq!(last.end(), points[0], "pieces must join exactly");
         }
-        self.pieces.push(Piece { kind, points, half_swath_m });
+        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new() });
     }
 
     pub fn end(&self) -> Option<Coord> {

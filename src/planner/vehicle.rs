@@ -91,14 +91,20 @@ impl VehicleParams {
             check_range(r, 0.0, 5_000.0, "/vehicle/turn_radius_m", "m")?;
             v.turn_radius_m = r;
         }
-        if v.kind == VehicleKind::FixedWing {
-            return Err(InputError::new(
-                "vehicle_kind_not_supported",
-                "/vehicle/kind",
-                "fixed-wing plans need Dubins turns, which this server does not plan yet; use a multirotor",
-            ));
+        if v.kind == VehicleKind::FixedWing && v.turn_radius_m < 1.0 {
+            return Err(InputError::new("turn_radius_too_small", "/vehicle/turn_radius_m", "a fixed-wing aircraft needs a turning radius of at least 1 m"));
         }
         Ok(v)
+    }
+}
+
+impl Vehicle {
+    /// How this vehicle turns: on the spot, or on Dubins paths of its turning radius.
+    pub fn turn_model(&self) -> crate::turn::TurnModel {
+        match self.kind {
+            VehicleKind::Multirotor => crate::turn::TurnModel::Straight,
+            VehicleKind::FixedWing => crate::turn::TurnModel::Dubins(self.turn_radius_m),
+        }
     }
 }
 

@@ -17,6 +17,9 @@ pub struct Mission {
     pub area: Value,
     #[schema(value_type = Option<Object>)]
     pub no_fly_zones: Option<Value>,
+    /// Polygon features with `height_m`.
+    #[schema(value_type = Option<Object>)]
+    pub obstacles: Option<Value>,
     /// [longitude, latitude]
     pub home: Option<[f64; 2]>,
     pub created_at: String,
@@ -29,6 +32,7 @@ pub struct NewMission {
     pub name: String,
     pub area: Value,
     pub no_fly_zones: Option<Value>,
+    pub obstacles: Option<Value>,
     pub home: Option<[f64; 2]>,
 }
 
@@ -44,6 +48,7 @@ fn from_row(r: &SqliteRow) -> Result<Mission, sqlx::Error> {
         name: r.try_get("name")?,
         area: json("area")?.unwrap_or(Value::Null),
         no_fly_zones: json("no_fly_zones")?,
+        obstacles: json("obstacles")?,
         home: lon.zip(lat).map(|(a, b)| [a, b]),
         created_at: r.try_get("created_at")?,
         updated_at: r.try_get("updated_at")?,
@@ -54,13 +59,14 @@ pub async fn create(db: &Db, m: &NewMission) -> Result<Mission, sqlx::Error> {
     let id = new_id();
     let mut tx = begin_write(db).await?;
     sqlx::query(concat!(
-        "INSERT INTO missions (id, name, area, no_fly_zones, home_lon, home_lat, created_at, updated_at)
+        "INSERT INTO missions (id, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
          VALUES (?, ?, ?, ?, ?, ?, ", crate::sql_now!(), ", ", crate::sql_now!(), ")"
     ))
     .bind(&id)
     .bind(&m.name)
     .bind(m.area.to_string())
     .bind(m.no_fly_zones.as_ref().map(Value::to_string))
+    .bind(m.obstacles.as_ref().map(Value::to_string))
     .bind(m.home.map(|h| h[0]))
     .bind(m.home.map(|h| h[1]))
     .execute(&mut *tx)
@@ -88,11 +94,12 @@ pub async fn list(db: &Db, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64
 pub async fn update(db: &Db, id: &str, m: &NewMission) -> Result<Option<Mission>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let done = sqlx::query(concat!(
-        "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, home_lon = ?, home_lat = ?, updated_at = ", crate::sql_now!(), " WHERE id = ?"
+        "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ", crate::sql_now!(), " WHERE id = ?"
     ))
     .bind(&m.name)
     .bind(m.area.to_string())
     .bind(m.no_fly_zones.as_ref().map(Value::to_string))
+    .bind(m.obstacles.as_ref().map(Value::to_string))
     .bind(m.home.map(|h| h[0]))
     .bind(m.home.map(|h| h[1]))
     .bind(id)

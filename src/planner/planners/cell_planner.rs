@@ -5,7 +5,9 @@ use super::{PlannedPath, Planner, Problem, Progress, connect};
 use crate::decompose::{Cell, CoverageArea, Decomposition, boustrophedon::Boustrophedon, eecd::Eecd, energy_aware::EnergyAware, naive::Naive};
 use crate::error::PlanError;
 use crate::path::{FlightPath, PieceKind};
+use crate::route::line_tour::{Line, LineProblem, Terminal};
 use crate::route::{CellOrder, CellVisit, RouteContext, cell_tour::CellTour, nearest_cell::NearestCell};
+use crate::turn::TurnModel;
 
 pub struct CellPlanner {
     pub id: &'static str,
@@ -75,13 +77,17 @@ impl Planner for CellPlanner {
         if !progress.report(0.3) {
             return Err(PlanError::Cancelled);
         }
+        let main = cells.iter().max_by(|a, b| a.sweep_length().total_cmp(&b.sweep_length())).expect("cells");
+        if problem.connector.turn != TurnModel::Straight {
+            let path = fly_line_level(&cells, problem)?;
+            return Ok(PlannedPath { path, sweep_angle: main.angle, cells: cells.len() });
+        }
         let ctx = RouteContext { transit: problem.transit, start: problem.start, end: problem.end };
         let tour = self.order.order(&cells, &ctx);
         if !progress.report(0.5) {
             return Err(PlanError::Cancelled);
         }
         let path = fly(&cells, &tour, problem)?;
-        let main = cells.iter().max_by(|a, b| a.sweep_length().total_cmp(&b.sweep_length())).expect("cells");
         Ok(PlannedPath { path, sweep_angle: main.angle, cells: cells.len() })
     }
 }
@@ -106,4 +112,27 @@ pub fn fly(cells: &[Cell], tour: &[CellVisit], problem: &Problem<'_>) -> Result<
         connect(&mut path, PieceKind::Transit, h, end, problem.transit)?;
     }
     Ok(path)
+}
+
+/// Fixed wing: the cells' lines ordered one by one on Dubins costs (routing spec §1, line
+/// level), each cell a region the route may leave and re-enter.
+fn fly_line_level(cells: &[Cell], problem: &Problem<'_>) -> Result<FlightPath, PlanError> {
+    let lines: Vec<Line> = cells
+        .iter()
+        .enumerate()
+        .flat_map(|(region, cell)| cell.segments.iter().map(move |s| {
+            let (a, b) = cell.ends(s);
+            Line { a, b, region }
+        }))
+        .collect();
+    let route = LineProblem {
+        lines: &lines,
+        connector: problem.connector,
+        start: problem.start.map(|at| Terminal { at, heading: problem.start_heading }),
+        end: problem.end.map(|at| Terminal { at, heading: problem.end_heading }),
+        allow_reentry: true,
+        obstacles: problem.obstacles,
+    };
+    let (seq, _) = route.solve();
+    super::line_gtsp::fly_lines(&route, &seq, problem.layout.half_swath())
 }

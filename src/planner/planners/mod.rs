@@ -2,6 +2,7 @@
 //! file (or, for a decomposition planner, a `CellPlanner` value) and one line in [`registry`].
 
 pub mod cell_planner;
+pub mod line_gtsp;
 
 use geo::{Coord, MultiPolygon};
 use serde::Serialize;
@@ -9,10 +10,13 @@ use utoipa::ToSchema;
 
 use super::error::PlanError;
 use super::path::{FlightPath, PieceKind};
+use super::route::connect::Connector;
 use super::route::visibility::TransitPlanner;
 use super::sweep::LineLayout;
+use super::turn::climb::Obstacles;
 use super::vehicle::Vehicle;
 use cell_planner::{BOUSTROPHEDON, EECD, ENERGY_AWARE, NAIVE};
+use line_gtsp::LineGtsp;
 
 /// What every planner receives, in the local frame.
 pub struct Problem<'a> {
@@ -22,11 +26,20 @@ pub struct Problem<'a> {
     /// No-fly zones grown by the margin: sweep lines stop at their edge.
     pub keep_out: &'a MultiPolygon,
     pub transit: &'a TransitPlanner,
+    /// How the vehicle flies from pose to pose: Dubins paths for a fixed-wing aircraft.
+    pub connector: &'a Connector<'a>,
     pub layout: LineLayout,
     /// Fixed sweep direction (math radians), or `None` for the planner's own choice.
     pub sweep_angle: Option<f64>,
     pub start: Option<Coord>,
     pub end: Option<Coord>,
+    /// Headings at the start and the end (math radians); `None`: free.
+    pub start_heading: Option<f64>,
+    pub end_heading: Option<f64>,
+    /// Line-level routing may leave a field (or cell) and come back to it.
+    pub allow_reentry: bool,
+    /// Obstacles to climb over, when the mission has any.
+    pub obstacles: Option<&'a Obstacles>,
     pub vehicle: &'a Vehicle,
 }
 
@@ -58,7 +71,7 @@ pub trait Planner: Send + Sync {
 
 /// Every planner the service offers.
 pub fn registry() -> &'static [&'static dyn Planner] {
-    static REGISTRY: [&dyn Planner; 4] = [&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE];
+    static REGISTRY: [&dyn Planner; 5] = [&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &LineGtsp];
     &REGISTRY
 }
 
@@ -87,9 +100,10 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
         p("front_overlap", "number", "overlap of images along a line, 0 to 0.95 (default 0.8)"),
         p("heading_deg", "number", "compass bearing of the sweep lines; absent: the planner chooses"),
         p("sweep_direction", "string", "planner (default): the planner's own rule; optimal: every direction tried, the shortest plan kept"),
-        p("vehicle", "object", "{profile} or {kind, cruise_speed_mps, turn_radius_m}"),
-        p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts (default: home)"),
+        p("vehicle", "object", "{profile} or {kind: multirotor|fixed_wing, cruise_speed_mps, turn_radius_m}; fixed wing flies Dubins turns"),
+        p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts and its compass heading (default: home, heading free)"),
         p("end", "object", "{position: [lon, lat], heading_deg}: where the flight ends (default: home)"),
+        p("allow_reentry", "boolean", "line-level routing (line_gtsp, fixed wing) may leave a field and come back (default true)"),
         p("nfz_margin_m", "number", "clearance kept from no-fly zones, 1 to 500 m (default 10)"),
     ]
 }

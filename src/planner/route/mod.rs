@@ -5,8 +5,11 @@
 //! solved by [`gtsp`]).
 
 pub mod cell_tour;
+pub mod connect;
 pub mod gtsp;
+pub mod line_tour;
 pub mod nearest_cell;
+pub mod noon_bean;
 pub mod visibility;
 
 use geo::Coord;

@@ -142,6 +142,25 @@ impl TransitPlanner {
         self.walls.iter().all(|(bb, ring)| !rects_overlap(bb, &seg) || !segment_enters(a, b, ring))
     }
 
+    /// The corners a transit may bend around.
+    pub fn corners(&self) -> &[Coord] {
+        &self.nodes
+    }
+
+    /// True when no leg of the polyline enters a wall.
+    pub fn is_polyline_clear(&self, points: &[Coord]) -> bool {
+        let Some(bb) = bounding(points) else { return true };
+        if !self.any_wall_in(&bb) {
+            return true;
+        }
+        points.windows(2).all(|w| self.is_clear(w[0], w[1]))
+    }
+
+    /// True when some wall's bounding box overlaps `rect`.
+    pub fn any_wall_in(&self, rect: &Rect) -> bool {
+        self.walls.iter().any(|(bb, _)| rects_overlap(bb, rect))
+    }
+
     fn inside_wall(&self, p: Coord) -> bool {
         self.walls.iter().any(|(_, r)| point_in_ring(p, r))
     }
@@ -169,12 +188,18 @@ fn rings(p: &Polygon) -> Vec<Vec<Coord>> {
 }
 
 fn bbox(r: &[Coord]) -> Rect {
-    let (mut lo, mut hi) = (r[0], r[0]);
-    for c in r {
+    bounding(r).expect("a ring has points")
+}
+
+/// Bounding box of some points.
+pub fn bounding(points: &[Coord]) -> Option<Rect> {
+    let first = *points.first()?;
+    let (mut lo, mut hi) = (first, first);
+    for c in points {
         lo = Coord { x: lo.x.min(c.x), y: lo.y.min(c.y) };
         hi = Coord { x: hi.x.max(c.x), y: hi.y.max(c.y) };
     }
-    Rect::new(lo, hi)
+    Some(Rect::new(lo, hi))
 }
 
 fn rects_overlap(a: &Rect, b: &Rect) -> bool {

@@ -1,0 +1,146 @@
+//! Connections between poses that never enter a no-fly zone, turn arcs included (Dubins spec
+//! §9): straight transits on the visibility graph for a multirotor; for a fixed-wing aircraft
+//! the shortest clear Dubins word, or else Dubins hops along a visibility path laid far
+//! enough from the zones to turn in.
+
+use geo::{Coord, Rect};
+
+use super::visibility::{TransitPlanner, bounding};
+use crate::turn::dubins::{Pose, all_words};
+use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
+
+pub struct Connector<'a> {
+    pub turn: TurnModel,
+    /// Straight transits around the zones; its walls are what no connection may enter.
+    pub transit: &'a TransitPlanner,
+    /// Fixed wing: a visibility graph on the zones grown by the turning radius too.
+    pub detour: Option<&'a TransitPlanner>,
+}
+
+impl Connector<'_> {
+    /// The shortest connection found, as points from `from` to `to` exactly; `None` when there
+    /// is none.
+    pub fn path(&self, from: Pose, to: Pose) -> Option<Vec<Coord>> {
+        match self.turn {
+            TurnModel::Straight => self.transit.path(from.coord(), to.coord()),
+            TurnModel::Dubins(r) => self.clear_dubins(from, to, r).or_else(|| self.via_corner(from, to, r)).or_else(|| self.dubins_detour(from, to, r)),
+        }
+    }
+
+    /// Length of [`Connector::path`]; infinite when there is none.
+    pub fn length(&self, from: Pose, to: Pose) -> f64 {
+        match self.turn {
+            TurnModel::Straight => match self.transit.path(from.coord(), to.coord()) {
+                Some(p) => crate::path::polyline_length(&p),
+                None => f64::INFINITY,
+            },
+            TurnModel::Dubins(r) => {
+                if !self.transit.any_wall_in(&reach(from, to, r)) {
+                    return TurnModel::Dubins(r).length(from, to);
+                }
+                self.path(from, to).map_or(f64::INFINITY, |p| crate::path::polyline_length(&p))
+            }
+        }
+    }
+
+    /// A box that holds every connection between the two poses that has no detour.
+    pub fn reach(&self, from: Pose, to: Pose) -> Rect {
+        reach(from, to, match self.turn {
+            TurnModel::Dubins(r) => r,
+            TurnModel::Straight => 0.0,
+        })
+    }
+
+    /// The shortest Dubins word that stays clear of the walls.
+    fn clear_dubins(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+        let mut words = all_words(from, to, r);
+        words.sort_by(|a, b| a.length().total_cmp(&b.length()));
+        let near = self.transit.any_wall_in(&reach(from, to, r));
+        words.into_iter().map(|w| finish(w.sample(CHORD_TOLERANCE_M), to)).find(|pts| !near || self.transit.is_polyline_clear(pts))
+    }
+
+    /// Two clear Dubins paths through one corner of the detour graph, passed in one of 16
+    /// headings: the shortest such pair.
+    fn via_corner(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+        let mut best: Option<(f64, Pose)> = None;
+        for &c in self.detour?.corners() {
+            for k in 0..16 {
+                let via = Pose::at(c, k as f64 * std::f64::consts::TAU / 16.0);
+                let len = TurnModel::Dubins(r).length(from, via) + TurnModel::Dubins(r).length(via, to);
+                if best.is_some_and(|(b, _)| b <= len) {
+                    continue;
+                }
+                let clear = |a: Pose, b: Pose| self.transit.is_polyline_clear(&TurnModel::Dubins(r).points(a, b));
+                if clear(from, via) && clear(via, to) {
+                    best = Some((len, via));
+                }
+            }
+        }
+        let (_, via) = best?;
+        let mut out = TurnModel::Dubins(r).points(from, via);
+        out.extend_from_slice(&TurnModel::Dubins(r).points(via, to)[1..]);
+        Some(out)
+    }
+
+    /// Dubins hops through the corners of a detour, each corner passed heading from the
+    /// previous corner towards the next.
+    fn dubins_detour(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+        let corners = self.detour?.path(from.coord(), to.coord())?;
+        let k = corners.len();
+        let mut poses = vec![from];
+        for i in 1..k - 1 {
+            let d = corners[i + 1] - corners[i - 1];
+            poses.push(Pose::at(corners[i], d.y.atan2(d.x)));
+        }
+        poses.push(to);
+        let mut out = vec![from.coord()];
+        for w in poses.windows(2) {
+            let hop = self.clear_dubins(w[0], w[1], r)?;
+            out.extend_from_slice(&hop[1..]);
+        }
+        Some(out)
+    }
+}
+
+/// A box that holds every Dubins word between the two poses: each part stays within 4r of
+/// the start or the end, or on the way between them.
+fn reach(from: Pose, to: Pose, r: f64) -> Rect {
+    let bb = bounding(&[from.coord(), to.coord()]).expect("two points");
+    let m = Coord { x: 4.0 * r, y: 4.0 * r };
+    Rect::new(bb.min() - m, bb.max() + m)
+}
+
+fn finish(mut pts: Vec<Coord>, to: Pose) -> Vec<Coord> {
+    *pts.last_mut().expect("points") = to.coord();
+    pts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::{MultiPolygon, polygon};
+
+    #[test]
+    fn a_turn_avoids_a_zone_beside_the_line_end() {
+        // a U-turn from (-200, 0) to (-200, 75) with r = 85 bulges to x = 2.9 around y = 37.5
+        let zone = MultiPolygon(vec![polygon![(x: -10., y: 20.), (x: 30., y: 20.), (x: 30., y: 55.), (x: -10., y: 55.)]]);
+        let walls = zone.clone();
+        let transit = TransitPlanner::new(&zone, &walls);
+        let grown = MultiPolygon(vec![polygon![(x: -105., y: -75.), (x: 125., y: -75.), (x: 125., y: 150.), (x: -105., y: 150.)]]);
+        let detour = TransitPlanner::new(&grown, &walls);
+        let c = Connector { turn: TurnModel::Dubins(85.0), transit: &transit, detour: Some(&detour) };
+        let (a, b) = (Pose::new(-300.0, 0.0, 0.0), Pose::new(-300.0, 75.0, std::f64::consts::PI));
+        let free = TurnModel::Dubins(85.0).length(a, b);
+        let pts = c.path(a, b).expect("a way round");
+        assert!(transit.is_polyline_clear(&pts));
+        assert_eq!(pts[0], a.coord());
+        assert_eq!(*pts.last().unwrap(), b.coord());
+        assert!((c.length(a, b) - crate::path::polyline_length(&pts)).abs() < 1e-9);
+        assert!(c.length(a, b) >= free - 1.0);
+        // a zone on the far side of the bulb: another word or a detour is flown
+        let (a2, b2) = (Pose::new(-200.0, 0.0, 0.0), Pose::new(-200.0, 75.0, std::f64::consts::PI));
+        let pts = c.path(a2, b2).expect("a way round");
+        assert!(transit.is_polyline_clear(&pts), "the connection enters the zone");
+        assert!(!transit.is_polyline_clear(&TurnModel::Dubins(85.0).points(a2, b2)), "the plain bulb would have entered it");
+    }
+}

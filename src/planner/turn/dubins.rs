@@ -1,0 +1,354 @@
+//! Shortest paths of a Dubins vehicle (forward only, turning radius at least `r`) between two
+//! poses: the six words LSL, RSR, LSR, RSL, RLR, LRL in closed form (Dubins spec §3), their
+//! sampling into polylines (§8), and the turn-pattern closed forms used as test references (§5).
+//!
+//! Angles here are math headings: radians counter-clockwise from east (local +x). The API
+//! speaks compass bearings; [`crate::params::bearing_to_math`] converts at the boundary.
+//!
+//! ```
+//! use coverplan_planner::turn::dubins::{Pose, shortest};
+//! // U-turn onto a line 170 m to the left with r = 85 m: exactly a half circle
+//! let path = shortest(Pose::new(0.0, 0.0, 0.0), Pose::new(0.0, 170.0, std::f64::consts::PI), 85.0);
+//! assert!((path.length() - std::f64::consts::PI * 85.0).abs() < 1e-6);
+//! ```
+
+use std::f64::consts::{PI, TAU};
+
+use geo::Coord;
+
+/// A position and a math heading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    pub x: f64,
+    pub y: f64,
+    pub theta: f64,
+}
+
+impl Pose {
+    pub fn new(x: f64, y: f64, theta: f64) -> Self {
+        Self { x, y, theta }
+    }
+
+    pub fn at(c: Coord, theta: f64) -> Self {
+        Self { x: c.x, y: c.y, theta }
+    }
+
+    pub fn coord(&self) -> Coord {
+        Coord { x: self.x, y: self.y }
+    }
+
+    /// The same place facing the other way.
+    pub fn reversed(&self) -> Self {
+        Self { theta: self.theta + PI, ..*self }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Word {
+    Lsl,
+    Rsr,
+    Lsr,
+    Rsl,
+    Rlr,
+    Lrl,
+}
+
+/// One part of a word: left arc, straight, right arc.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Part {
+    L,
+    S,
+    R,
+}
+
+impl Word {
+    pub const ALL: [Word; 6] = [Word::Lsl, Word::Rsr, Word::Lsr, Word::Rsl, Word::Rlr, Word::Lrl];
+
+    pub fn parts(self) -> [Part; 3] {
+        use Part::*;
+        match self {
+            Word::Lsl => [L, S, L],
+            Word::Rsr => [R, S, R],
+            Word::Lsr => [L, S, R],
+            Word::Rsl => [R, S, L],
+            Word::Rlr => [R, L, R],
+            Word::Lrl => [L, R, L],
+        }
+    }
+}
+
+/// A Dubins path: `start`, radius, word and the three normalised parameters (arc angles in
+/// radians, straight length divided by `radius`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DubinsPath {
+    pub start: Pose,
+    pub radius: f64,
+    pub word: Word,
+    pub params: [f64; 3],
+}
+
+fn mod2pi(a: f64) -> f64 {
+    a - TAU * (a / TAU).floor()
+}
+
+/// A normalised configuration with its sines and cosines, computed once for all six words.
+struct Normalised {
+    alpha: f64,
+    beta: f64,
+    d: f64,
+    sa: f64,
+    ca: f64,
+    sb: f64,
+    cb: f64,
+    cab: f64,
+}
+
+/// The parameters `(t, p, q)` of `word` between the normalised configuration, if feasible.
+fn word_params(word: Word, n: &Normalised) -> Option<[f64; 3]> {
+    let Normalised { alpha, beta, d, sa, ca, sb, cb, cab } = *n;
+    match word {
+        Word::Lsl => {
+            let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sa - sb);
+            (p2 >= 0.0).then(|| {
+                let tau = (cb - ca).atan2(d + sa - sb);
+                [mod2pi(tau - alpha), p2.sqrt(), mod2pi(beta - tau)]
+            })
+        }
+        Word::Rsr => {
+            let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sb - sa);
+            (p2 >= 0.0).then(|| {
+                let tau = (ca - cb).atan2(d - sa + sb);
+                [mod2pi(alpha - tau), p2.sqrt(), mod2pi(tau - beta)]
+            })
+        }
+        Word::Lsr => {
+            let p2 = -2.0 + d * d + 2.0 * cab + 2.0 * d * (sa + sb);
+            (p2 >= 0.0).then(|| {
+                let p = p2.sqrt();
+                let tau = (-ca - cb).atan2(d + sa + sb) - (-2.0f64).atan2(p);
+                [mod2pi(tau - alpha), p, mod2pi(tau - beta)]
+            })
+        }
+        Word::Rsl => {
+            let p2 = -2.0 + d * d + 2.0 * cab - 2.0 * d * (sa + sb);
+            (p2 >= 0.0).then(|| {
+                let p = p2.sqrt();
+                let tau = (ca + cb).atan2(d - sa - sb) - 2.0f64.atan2(p);
+                [mod2pi(alpha - tau), p, mod2pi(beta - tau)]
+            })
+        }
+        Word::Rlr => {
+            let g = (6.0 - d * d + 2.0 * cab + 2.0 * d * (sa - sb)) / 8.0;
+            (g.abs() <= 1.0).then(|| {
+                let p = mod2pi(TAU - g.acos());
+                let t = mod2pi(alpha - (ca - cb).atan2(d - sa + sb) + p / 2.0);
+                [t, p, mod2pi(alpha - beta - t + p)]
+            })
+        }
+        Word::Lrl => {
+            let g = (6.0 - d * d + 2.0 * cab + 2.0 * d * (sb - sa)) / 8.0;
+            (g.abs() <= 1.0).then(|| {
+                let p = mod2pi(TAU - g.acos());
+                let t = mod2pi(-alpha - (ca - cb).atan2(d + sa - sb) + p / 2.0);
+                [t, p, mod2pi(beta - alpha - t + p)]
+            })
+        }
+    }
+}
+
+/// Every feasible word from `q0` to `q1` with radius `r > 0`, in the order of [`Word::ALL`].
+pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
+    debug_assert!(r > 0.0);
+    let (dx, dy) = (q1.x - q0.x, q1.y - q0.y);
+    let dist = dx.hypot(dy);
+    let phi = if dist > 0.0 { dy.atan2(dx) } else { 0.0 };
+    let (alpha, beta) = (mod2pi(q0.theta - phi), mod2pi(q1.theta - phi));
+    let ((sa, ca), (sb, cb)) = (alpha.sin_cos(), beta.sin_cos());
+    let n = Normalised { alpha, beta, d: dist / r, sa, ca, sb, cb, cab: ca * cb + sa * sb };
+    Word::ALL
+        .iter()
+        .filter_map(|&word| word_params(word, &n).map(|params| DubinsPath { start: q0, radius: r, word, params }))
+        .collect()
+}
+
+/// The shortest path from `q0` to `q1` with radius `r > 0`; ties go to the first word of
+/// [`Word::ALL`].
+pub fn shortest(q0: Pose, q1: Pose, r: f64) -> DubinsPath {
+    all_words(q0, q1, r)
+        .into_iter()
+        .fold(None, |best: Option<DubinsPath>, p| match best {
+            Some(b) if b.length() <= p.length() => Some(b),
+            _ => Some(p),
+        })
+        .expect("LSL or RSR is always feasible")
+}
+
+/// Length of the shortest path, without building it.
+pub fn shortest_length(q0: Pose, q1: Pose, r: f64) -> f64 {
+    shortest(q0, q1, r).length()
+}
+
+/// The pose reached after `s` metres of `part`, from `from`.
+fn advance(from: Pose, part: Part, s: f64, r: f64) -> Pose {
+    match part {
+        Part::S => Pose { x: from.x + s * from.theta.cos(), y: from.y + s * from.theta.sin(), theta: from.theta },
+        Part::L | Part::R => {
+            let sigma = if part == Part::L { 1.0 } else { -1.0 };
+            let (sin0, cos0) = from.theta.sin_cos();
+            let (cx, cy) = (from.x - sigma * r * sin0, from.y + sigma * r * cos0);
+            let theta = from.theta + sigma * s / r;
+            Pose { x: cx + sigma * r * theta.sin(), y: cy - sigma * r * theta.cos(), theta }
+        }
+    }
+}
+
+impl DubinsPath {
+    pub fn length(&self) -> f64 {
+        self.radius * (self.params[0] + self.params[1] + self.params[2])
+    }
+
+    /// The three parts with their lengths in metres.
+    pub fn segments(&self) -> [(Part, f64); 3] {
+        let parts = self.word.parts();
+        [0, 1, 2].map(|i| (parts[i], self.params[i] * self.radius))
+    }
+
+    /// The pose where the path ends (by following its parts).
+    pub fn end_pose(&self) -> Pose {
+        self.segments().iter().fold(self.start, |q, &(part, s)| advance(q, part, s, self.radius))
+    }
+
+    /// Points along the path: arcs with a chord error of at most `chord_tolerance_m` (and at
+    /// most 10° per step), straights by their ends. Starts at the start position; the last
+    /// point is the end position.
+    pub fn sample(&self, chord_tolerance_m: f64) -> Vec<Coord> {
+        let r = self.radius;
+        let max_step = 10f64.to_radians();
+        let step = if chord_tolerance_m < r { (2.0 * (1.0 - chord_tolerance_m / r).acos()).min(max_step) } else { max_step };
+        let mut out = vec![self.start.coord()];
+        let mut q = self.start;
+        for (part, s) in self.segments() {
+            if s <= 0.0 {
+                continue;
+            }
+            if part != Part::S {
+                let k = ((s / r) / step).ceil().max(1.0) as usize;
+                for i in 1..k {
+                    out.push(advance(q, part, s * i as f64 / k as f64, r).coord());
+                }
+            }
+            q = advance(q, part, s, r);
+            out.push(q.coord());
+        }
+        out
+    }
+}
+
+/// Turn between antiparallel lines `d` apart with aligned ends (spec §5): U-turn when
+/// `d ≥ 2r`, Ω-turn ("bulb") below.
+pub fn parallel_turn_length(d: f64, r: f64) -> f64 {
+    if d >= 2.0 * r {
+        PI * r + (d - 2.0 * r)
+    } else {
+        let eta = (d / 2.0 + r).atan2((4.0 * r * r - ((d + 2.0 * r) / 2.0).powi(2)).sqrt());
+        r * (3.0 * PI - 4.0 * eta)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn deg(p: (f64, f64, f64)) -> Pose {
+        Pose::new(p.0, p.1, p.2.to_radians())
+    }
+
+    fn angle_gap(a: f64, b: f64) -> f64 {
+        let d = mod2pi(a - b);
+        d.min(TAU - d)
+    }
+
+    #[test]
+    fn u_turns_between_parallel_lines() {
+        // (r, d, length) from the spec's table
+        let cases = [
+            (85.0, 0.0, 623.08),
+            (85.0, 75.0, 527.53),
+            (85.0, 150.0, 384.23),
+            (85.0, 170.0, 267.04),
+            (85.0, 225.0, 322.04),
+            (85.0, 300.0, 397.04),
+            (40.0, 28.0, 258.44),
+            (40.0, 56.0, 214.43),
+            (40.0, 84.0, 129.66),
+            (40.0, 0.0, 293.22),
+            (60.0, 86.4, 317.02),
+            (60.0, 172.8, 241.30),
+        ];
+        for (r, d, expected) in cases {
+            let len = shortest_length(Pose::new(0.0, 0.0, 0.0), Pose::new(0.0, d, PI), r);
+            assert!((len - expected).abs() < 0.01, "r {r} d {d}: {len} vs {expected}");
+            assert!((parallel_turn_length(d, r) - expected).abs() < 0.01, "closed form r {r} d {d}");
+        }
+    }
+
+    #[test]
+    fn general_configurations() {
+        let cases = [
+            ((0.0, 0.0, 90.0), (200.0, 100.0, -45.0), 50.0, Word::Rsr, 249.424),
+            ((10.0, 20.0, 30.0), (-50.0, 60.0, 200.0), 25.0, Word::Lsl, 113.464),
+            ((0.0, 0.0, 0.0), (30.0, 10.0, 180.0), 40.0, Word::Rlr, 275.441),
+            ((0.0, 0.0, 0.0), (100.0, 0.0, 0.0), 40.0, Word::Lsl, 100.000),
+        ];
+        for (a, b, r, word, expected) in cases {
+            let p = shortest(deg(a), deg(b), r);
+            assert_eq!(p.word, word, "{a:?} → {b:?}");
+            assert!((p.length() - expected).abs() < 1e-3, "{a:?} → {b:?}: {}", p.length());
+        }
+        // every feasible word of the first case
+        let lengths: Vec<(Word, f64)> = all_words(deg((0.0, 0.0, 90.0)), deg((200.0, 100.0, -45.0)), 50.0).iter().map(|p| (p.word, p.length())).collect();
+        for (word, expected) in [(Word::Lsl, 826.339), (Word::Lsr, 551.009), (Word::Rlr, 602.477), (Word::Rsl, 542.022), (Word::Rsr, 249.424)] {
+            let got = lengths.iter().find(|(w, _)| *w == word).map(|x| x.1);
+            assert!(got.is_some_and(|l| (l - expected).abs() < 1e-3), "{word:?}: {got:?}");
+        }
+    }
+
+    #[test]
+    fn samples_keep_the_chord_error_small() {
+        let p = shortest(Pose::new(0.0, 0.0, 0.0), Pose::new(0.0, 75.0, PI), 85.0);
+        let pts = p.sample(0.2);
+        assert_eq!(pts[0], Coord { x: 0.0, y: 0.0 });
+        let last = *pts.last().unwrap();
+        assert!((last.x).abs() < 1e-6 && (last.y - 75.0).abs() < 1e-6);
+        // each chord spans at most 7.9° of an 85 m arc
+        let max_chord = 2.0 * 85.0 * (7.9f64.to_radians() / 2.0).sin();
+        assert!(pts.windows(2).all(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y) <= max_chord + 1e-6));
+        let sampled: f64 = pts.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum();
+        assert!(sampled <= p.length() && sampled > p.length() * 0.999);
+    }
+
+    fn pose() -> impl Strategy<Value = Pose> {
+        (0.0..1000.0f64, 0.0..1000.0f64, -PI..PI).prop_map(|(x, y, t)| Pose::new(x, y, t))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        #[test]
+        fn words_reach_the_end_pose_and_the_shortest_is_shortest(q0 in pose(), q1 in pose(), r in prop::sample::select(vec![1.0, 10.0, 85.0, 300.0])) {
+            let words = all_words(q0, q1, r);
+            prop_assert!(!words.is_empty());
+            let best = shortest(q0, q1, r);
+            for w in &words {
+                let end = w.end_pose();
+                prop_assert!((end.x - q1.x).hypot(end.y - q1.y) <= 1e-6 * r.max(1.0), "{:?} misses by {}", w.word, (end.x - q1.x).hypot(end.y - q1.y));
+                prop_assert!(angle_gap(end.theta, q1.theta) <= 1e-9, "{:?} heading off by {}", w.word, angle_gap(end.theta, q1.theta));
+                prop_assert!(best.length() <= w.length() + 1e-9);
+            }
+            let back = shortest_length(q1.reversed(), q0.reversed(), r);
+            prop_assert!((back - best.length()).abs() <= 1e-6 * r.max(1.0), "reversal: {} vs {}", back, best.length());
+            let d = (q1.x - q0.x).hypot(q1.y - q0.y);
+            prop_assert!(best.length() >= d - 1e-9 && best.length() <= d + 4.0 * PI * r + 1e-9);
+        }
+    }
+}

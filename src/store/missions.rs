@@ -60,7 +60,7 @@ pub async fn create(db: &Db, m: &NewMission) -> Result<Mission, sqlx::Error> {
     let mut tx = begin_write(db).await?;
     sqlx::query(concat!(
         "INSERT INTO missions (id, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
-         VALUES (?, ?, ?, ?, ?, ?, ", crate::sql_now!(), ", ", crate::sql_now!(), ")"
+         VALUES (?, ?, ?, ?, ?, ?, ?, ", crate::sql_now!(), ", ", crate::sql_now!(), ")"
     ))
     .bind(&id)
     .bind(&m.name)

@@ -23,7 +23,10 @@ macro_rules! sql_now {
 }
 
 /// The schema migrations, embedded in the binary, in order.
-const MIGRATIONS: &[(i64, &str, &str)] = &[(1, "init", include_str!("../../migrations/0001_init.sql"))];
+const MIGRATIONS: &[(i64, &str, &str)] = &[
+    (1, "init", include_str!("../../migrations/0001_init.sql")),
+    (2, "obstacles", include_str!("../../migrations/0002_obstacles.sql")),
+];
 
 fn migrator() -> Migrator {
     Migrator::with_migrations(

@@ -5,7 +5,7 @@ use super::{PlannedPath, Planner, Problem, Progress, connect};
 use crate::decompose::{Cell, CoverageArea, Decomposition, boustrophedon::Boustrophedon, eecd::Eecd, energy_aware::EnergyAware, naive::Naive};
 use crate::error::PlanError;
 use crate::path::{FlightPath, PieceKind};
-use crate::route::line_tour::{Line, LineProblem, Terminal};
+use crate::route::line_tour::Line;
 use crate::route::{CellOrder, CellVisit, RouteContext, cell_tour::CellTour, nearest_cell::NearestCell};
 use crate::turn::TurnModel;
 
@@ -125,14 +125,7 @@ fn fly_line_level(cells: &[Cell], problem: &Problem<'_>) -> Result<FlightPath, P
             Line { a, b, region }
         }))
         .collect();
-    let route = LineProblem {
-        lines: &lines,
-        connector: problem.connector,
-        start: problem.start.map(|at| Terminal { at, heading: problem.start_heading }),
-        end: problem.end.map(|at| Terminal { at, heading: problem.end_heading }),
-        allow_reentry: true,
-        obstacles: problem.obstacles,
-    };
+    let route = problem.line_problem(&lines, true);
     let (seq, _) = route.solve();
     super::line_gtsp::fly_lines(&route, &seq, problem.layout.half_swath())
 }

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use super::{PlannedPath, Planner, Problem, Progress};
 use crate::error::PlanError;
 use crate::path::{FlightPath, PieceKind};
-use crate::route::line_tour::{Line, LineProblem, Terminal};
+use crate::route::line_tour::{Line, LineProblem};
 use crate::sweep::{candidate_directions, from_sweep_frame, sweep, width_across};
 
 pub struct LineGtsp;
@@ -58,55 +58,53 @@ impl Planner for LineGtsp {
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
         let fields: Vec<MultiPolygon> = problem.region.0.iter().map(|p| MultiPolygon(vec![p.clone()])).collect();
-        let mut search = Search { problem, fields: &fields, step_deg: GRID_DEG };
-        let all = MultiPolygon(fields.iter().flat_map(|f| f.0.clone()).collect());
-        let mut candidates: Vec<Vec<f64>> = match problem.sweep_angle {
-            Some(a) => vec![vec![a]; fields.len()],
-            None if fields.len() > SEPARATE_HEADINGS_UP_TO => vec![search.headings(&all, 1, GRID_DEG)],
-            None => fields.iter().map(|f| search.headings(f, fields.len(), GRID_DEG)).collect(),
+        let search = Search { problem, fields: &fields };
+        // headings are chosen per group: one group per field, or one shared by all when there
+        // are more than a few fields (their combinations would explode)
+        let groups: Vec<MultiPolygon> = if fields.len() > SEPARATE_HEADINGS_UP_TO { vec![MultiPolygon(fields.iter().flat_map(|f| f.0.clone()).collect())] } else { fields.clone() };
+        let per_field = |choice: &[f64]| -> Vec<f64> { if groups.len() == fields.len() { choice.to_vec() } else { vec![choice[0]; fields.len()] } };
+        let evaluate = |choices: Vec<Vec<f64>>, from: f64, to: f64| -> Result<Vec<(f64, Vec<f64>)>, PlanError> {
+            let combos: Vec<Vec<f64>> = choices.iter().map(|c| per_field(c)).collect();
+            let ranked = search.evaluate(&combos, progress, from, to)?;
+            // back to group choices: a shared heading is the first field's
+            Ok(ranked.into_iter().map(|(c, combo)| (c, if groups.len() == fields.len() { combo } else { vec![combo[0]] })).collect())
         };
-        // many combinations: a coarser grid first (spec §6.4), its best refined on the 2° grid
-        while problem.sweep_angle.is_none() && candidates.iter().map(Vec::len).product::<usize>() > MAX_COARSE_COMBINATIONS && search.step_deg < 12.0 {
-            search.step_deg += GRID_DEG;
-            candidates = if fields.len() > SEPARATE_HEADINGS_UP_TO {
-                vec![search.headings(&all, 1, search.step_deg)]
-            } else {
-                fields.iter().map(|f| search.headings(f, fields.len(), search.step_deg)).collect()
-            };
-        }
-        if std::env::var_os("COVERPLAN_TRACE").is_some() {
-            eprintln!("line_gtsp: grid {}°, {:?} headings per field", search.step_deg, candidates.iter().map(Vec::len).collect::<Vec<_>>());
-        }
-        // beyond a few fields, one heading for all of them (the combinations would explode)
-        let coarse = if fields.len() > SEPARATE_HEADINGS_UP_TO { candidates[0].iter().map(|&h| vec![h; fields.len()]).collect() } else { combinations(&candidates) };
-        let mut ranked = search.evaluate(&coarse, progress, 0.1, 0.5)?;
-        if problem.sweep_angle.is_none() {
-            // the grid's neighbours of the best coarse combinations, then 0.5° around the best
-            for (step_deg, keep, to) in [(search.step_deg - GRID_DEG, COARSE_KEPT, 0.7), (1.5, REFINED_COMBINATIONS, 0.9)] {
-                let offsets: Vec<f64> = if step_deg == 1.5 { REFINE_DEG.to_vec() } else { (-(step_deg / GRID_DEG) as i32..=(step_deg / GRID_DEG) as i32).map(|j| j as f64 * GRID_DEG).collect() };
-                if offsets.len() <= 1 {
-                    continue;
+        let best = match problem.sweep_angle {
+            Some(a) => vec![a; fields.len()],
+            None => {
+                // many combinations: a coarser grid first (spec §6.4), its best refined on the 2° grid
+                let mut step_deg = GRID_DEG;
+                let headings = |step: f64| -> Vec<Vec<f64>> { groups.iter().map(|g| search.headings(g, groups.len(), step)).collect() };
+                let mut candidates = headings(step_deg);
+                while candidates.iter().map(Vec::len).product::<usize>() > MAX_COARSE_COMBINATIONS && step_deg < 12.0 {
+                    step_deg += GRID_DEG;
+                    candidates = headings(step_deg);
                 }
-                let finer: Vec<Vec<f64>> = ranked
-                    .iter()
-                    .take(keep)
-                    .flat_map(|(_, combo)| {
-                        let turn = |h: f64, d: f64| (h + d.to_radians()).rem_euclid(std::f64::consts::PI);
-                        if fields.len() > SEPARATE_HEADINGS_UP_TO {
-                            return offsets.iter().map(|&d| combo.iter().map(|&h| turn(h, d)).collect()).collect();
-                        }
-                        let around: Vec<Vec<f64>> = combo.iter().map(|&h| offsets.iter().map(|&d| turn(h, d)).collect()).collect();
-                        combinations(&around)
-                    })
-                    .collect();
-                let from = if to == 0.7 { 0.5 } else { 0.7 };
-                ranked.extend(search.evaluate(&finer, progress, from, to)?);
-                ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+                let mut ranked = evaluate(combinations(&candidates), 0.1, 0.5)?;
+                // the 2° neighbours of the best coarse choices, then 0.5° around the best
+                let reach = ((step_deg - GRID_DEG) / GRID_DEG).round() as i32;
+                let grid_offsets: Vec<f64> = (-reach..=reach).map(|j| j as f64 * GRID_DEG).collect();
+                for (offsets, keep, from, to) in [(grid_offsets, COARSE_KEPT, 0.5, 0.7), (REFINE_DEG.to_vec(), REFINED_COMBINATIONS, 0.7, 0.9)] {
+                    if offsets.len() <= 1 {
+                        continue;
+                    }
+                    let around = |choice: &Vec<f64>| {
+                        let options: Vec<Vec<f64>> = choice.iter().map(|&h| offsets.iter().map(|&d| (h + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect()).collect();
+                        combinations(&options)
+                    };
+                    let finer: Vec<Vec<f64>> = ranked.iter().take(keep).flat_map(|(_, choice)| around(choice)).collect();
+                    ranked.extend(evaluate(finer, from, to)?);
+                    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+                }
+                let (_, choice) = ranked.into_iter().next().ok_or_else(|| PlanError::Infeasible("no sweep line fits in the area left to cover".into()))?;
+                per_field(&choice)
             }
-        }
-        let (_, best) = ranked.into_iter().next().ok_or_else(|| PlanError::Infeasible("no sweep line fits in the area left to cover".into()))?;
+        };
         let lines = search.lines(&best);
-        let route = search.route(&lines);
+        if lines.is_empty() {
+            return Err(PlanError::Infeasible("no sweep line fits in the area left to cover".into()));
+        }
+        let route = problem.line_problem(&lines, problem.allow_reentry);
         let (seq, _) = route.solve();
         let path = fly_lines(&route, &seq, problem.layout.half_swath())?;
         let main = (0..fields.len()).max_by(|&a, &b| fields[a].unsigned_area().total_cmp(&fields[b].unsigned_area())).unwrap_or(0);
@@ -122,8 +120,6 @@ fn combinations(candidates: &[Vec<f64>]) -> Vec<Vec<f64>> {
 struct Search<'a> {
     problem: &'a Problem<'a>,
     fields: &'a [MultiPolygon],
-    /// Grid of the first pass, degrees.
-    step_deg: f64,
 }
 
 /// Lines of one field at one heading.
@@ -162,15 +158,7 @@ impl Search<'_> {
     }
 
     fn route<'l>(&'l self, lines: &'l [Line]) -> LineProblem<'l> {
-        let p = self.problem;
-        LineProblem {
-            lines,
-            connector: p.connector,
-            start: p.start.map(|at| Terminal { at, heading: p.start_heading }),
-            end: p.end.map(|at| Terminal { at, heading: p.end_heading }),
-            allow_reentry: p.allow_reentry,
-            obstacles: p.obstacles,
-        }
+        self.problem.line_problem(lines, self.problem.allow_reentry)
     }
 
     /// Every field's lines at every heading that `combos` use, swept once each.
@@ -256,7 +244,6 @@ impl Search<'_> {
         bounded.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut best = f64::INFINITY;
         let mut out = Vec::new();
-        let mut solved = 0;
         for (k, chunk) in bounded.chunks(CHUNK).enumerate() {
             if chunk[0].0 >= best || !chunk[0].0.is_finite() {
                 break;
@@ -270,7 +257,6 @@ impl Search<'_> {
                     Some((inst.total(&seq), i))
                 })
                 .collect();
-            solved += costs.len();
             for (c, i) in costs {
                 best = best.min(c);
                 out.push((c, combos[i].clone()));
@@ -280,9 +266,6 @@ impl Search<'_> {
             }
         }
         out.sort_by(|a, b| a.0.total_cmp(&b.0));
-        if std::env::var_os("COVERPLAN_TRACE").is_some() {
-            eprintln!("line_gtsp: {solved} of {} combinations solved, best {best:.1}", combos.len());
-        }
         Ok(out)
     }
 }

@@ -11,6 +11,7 @@ use utoipa::ToSchema;
 use super::error::PlanError;
 use super::path::{FlightPath, PieceKind};
 use super::route::connect::Connector;
+use super::route::line_tour::{Line, LineProblem, Terminal};
 use super::route::visibility::TransitPlanner;
 use super::sweep::LineLayout;
 use super::turn::climb::Obstacles;
@@ -48,6 +49,20 @@ pub struct PlannedPath {
     /// Main sweep direction (math radians).
     pub sweep_angle: f64,
     pub cells: usize,
+}
+
+impl Problem<'_> {
+    /// Line-level routing of `lines` from this problem's start to its end.
+    pub fn line_problem<'l>(&'l self, lines: &'l [Line], allow_reentry: bool) -> LineProblem<'l> {
+        LineProblem {
+            lines,
+            connector: self.connector,
+            start: self.start.map(|at| Terminal { at, heading: self.start_heading }),
+            end: self.end.map(|at| Terminal { at, heading: self.end_heading }),
+            allow_reentry,
+            obstacles: self.obstacles,
+        }
+    }
 }
 
 /// Reports progress in [0, 1]; answers `false` when the job should stop.

@@ -22,7 +22,7 @@ pub struct Line {
 
 impl Line {
     pub fn length(&self) -> f64 {
-        (self.b.x - self.a.x).hypot(self.b.y - self.a.y)
+        crate::path::distance(self.a, self.b)
     }
 }
 

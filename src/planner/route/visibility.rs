@@ -202,7 +202,8 @@ pub fn bounding(points: &[Coord]) -> Option<Rect> {
     Some(Rect::new(lo, hi))
 }
 
-fn rects_overlap(a: &Rect, b: &Rect) -> bool {
+/// True when the two boxes share a point.
+pub fn rects_overlap(a: &Rect, b: &Rect) -> bool {
     a.min().x <= b.max().x && b.min().x <= a.max().x && a.min().y <= b.max().y && b.min().y <= a.max().y
 }
 

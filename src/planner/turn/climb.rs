@@ -8,7 +8,7 @@
 use geo::{Buffer, Coord, Polygon, Rect};
 
 use crate::path::{FlightPath, Piece, PieceKind, distance};
-use crate::route::visibility::{bounding, point_in_ring};
+use crate::route::visibility::{bounding, point_in_ring, rects_overlap};
 
 /// Spacing of the altitude samples along the path.
 pub const STEP_M: f64 = 1.0;
@@ -61,10 +61,9 @@ impl Obstacles {
 
     /// True when an obstacle (grown by the clearance and the climb distance) may touch `rect`.
     pub fn near(&self, rect: &Rect) -> bool {
-        let m = self.reach_m();
-        self.prisms.iter().any(|(bb, _, top)| {
-            *top > self.survey_altitude_m && bb.min().x - m <= rect.max().x && rect.min().x <= bb.max().x + m && bb.min().y - m <= rect.max().y && rect.min().y <= bb.max().y + m
-        })
+        let m = Coord { x: self.reach_m(), y: self.reach_m() };
+        let grown = Rect::new(rect.min() - m, rect.max() + m);
+        self.prisms.iter().any(|(bb, _, top)| *top > self.survey_altitude_m && rects_overlap(bb, &grown))
     }
 
     /// The lowest profile over points `STEP_M` apart: at least the required altitude, and

@@ -25,7 +25,7 @@ impl LocalFrame {
     /// longitude range so that a field straddling ±180° gets an origin near 180°, not near 0°.
     ///
     /// ```
-    /// use coverplan::planner::frame::LocalFrame;
+    /// use coverplan_planner::frame::LocalFrame;
     /// let f = LocalFrame::centred_on([[179.99, 10.0], [-179.99, 10.2]]);
     /// assert!((f.origin()[0].abs() - 180.0).abs() < 1e-9);
     /// ```

@@ -30,9 +30,12 @@ fn camera_params(planner: &str, spacing: f64, heading: Option<f64>) -> PlanParam
 
 /// The properties every plan must have.
 fn check(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str) {
+    check_covering(area, nfz, p, name, if nfz.is_some() { 0.98 } else { 0.99 });
+}
+
+fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str, min_coverage: f64) {
     let out = plan(area, nfz, p);
     let s = &out.stats;
-    let min_coverage = if nfz.is_some() { 0.98 } else { 0.99 };
     assert!(s.coverage_ratio >= min_coverage, "{name}: coverage {}", s.coverage_ratio);
     if let Some(photo) = s.photo_coverage_ratio {
         assert!(photo >= min_coverage - 0.01, "{name}: photo coverage {photo}");
@@ -221,11 +224,11 @@ fn circumradius(a: Coord, b: Coord, c: Coord) -> f64 {
 /// Fixed wing over the generated fields, holes as no-fly zones: every planner (and
 /// `line_gtsp`) covers the field, never enters a zone (turn arcs included, checked by
 /// sampling in `check`), and never turns tighter than the radius along the whole path.
-// Fails today: on a generated field with no-fly zones the router finds no flyable connection
-// between two lines 24 m apart beside a zone (r = 1.2 × spacing) and the plan is refused. The
-// connector's detours (one corner, or hops along a visibility path) are not enough yet; issue 4.
+// Line ends against a no-fly zone are now pulled back until the aircraft can turn there
+// (`Connector::turnable`), the cause of the earlier "no flyable way" refusals; this test has not
+// been run since, so it stays ignored until it is (issue 4).
 #[test]
-#[ignore = "fixed-wing detours around no-fly zones still fail on some generated fields"]
+#[ignore = "not yet run since line ends beside zones are trimmed for fixed wing"]
 fn fixed_wing_plans_respect_zones_and_turning_radius() {
     let index: Value = serde_json::from_str(&std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/random-fields/index.json")).unwrap()).unwrap();
     let mut planned = 0;
@@ -248,8 +251,10 @@ fn fixed_wing_plans_respect_zones_and_turning_radius() {
         }))
         .unwrap();
         let name = format!("{f} by {planner}, fixed wing r = {radius:.1} m");
-        check(&m["area"], nfz, &p, &name);
+        // a fixed wing cannot fly the last turning radius of a line that ends against a zone
+        check_covering(&m["area"], nfz, &p, &name, if nfz.is_some() { 0.9 } else { 0.99 });
         let out = plan(&m["area"], nfz, &p);
+        eprintln!("{name}: coverage {:.4}", out.stats.coverage_ratio);
         let pts: Vec<Coord> = out
             .trajectory
             .features

@@ -117,14 +117,12 @@ pub fn fly(cells: &[Cell], tour: &[CellVisit], problem: &Problem<'_>) -> Result<
 /// Fixed wing: the cells' lines ordered one by one on Dubins costs (routing spec §1, line
 /// level), each cell a region the route may leave and re-enter.
 fn fly_line_level(cells: &[Cell], problem: &Problem<'_>) -> Result<FlightPath, PlanError> {
-    let lines: Vec<Line> = cells
-        .iter()
-        .enumerate()
-        .flat_map(|(region, cell)| cell.segments.iter().map(move |s| {
+    let lines: Vec<Line> = problem.flyable(cells.iter().enumerate().flat_map(|(region, cell)| {
+        cell.segments.iter().map(move |s| {
             let (a, b) = cell.ends(s);
             Line { a, b, region }
-        }))
-        .collect();
+        })
+    }));
     let route = problem.line_problem(&lines, true);
     let (seq, _) = route.solve();
     super::line_gtsp::fly_lines(&route, &seq, problem.layout.half_swath())

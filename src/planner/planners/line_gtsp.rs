@@ -5,11 +5,13 @@
 //!
 //! Each field's sweep heading is searched on a 2° grid (plus its hull's edge directions),
 //! keeping headings whose line count is within δ of the field's fewest (δ: every heading for
-//! one field, 3 for two, 1 for more). When that makes more than 4 000 combinations, a coarser
+//! one field, 3 for two, 1 for more). When that makes more than 20 000 combinations, a coarser
 //! grid (4°, 6°, …) is searched first and the neighbourhoods of its best five on the 2° grid.
-//! Combinations are evaluated in parallel, cheapest lower bound first, skipping those whose
-//! bound exceeds the best route found; connection costs are computed once per pair of fields
-//! and headings. The best three are refined on a 0.5° grid.
+//! Combinations are evaluated in parallel by a quick solve (greedy and one local search),
+//! cheapest lower bound first, skipping those whose bound exceeds the best route found;
+//! connection costs are computed once per pair of fields and headings. After each stage the
+//! best [`FINALISTS`] are solved in full and re-ranked; the best three are refined on a 0.5°
+//! grid.
 
 use std::collections::HashMap;
 
@@ -36,7 +38,9 @@ const CHUNK: usize = 64;
 /// More fields than this share one heading.
 const SEPARATE_HEADINGS_UP_TO: usize = 3;
 /// Above this many combinations on the 2° grid, the search starts on a coarser grid.
-const MAX_COARSE_COMBINATIONS: usize = 4_000;
+const MAX_COARSE_COMBINATIONS: usize = 20_000;
+/// Combinations ranked best by quick solves that are solved in full at each stage.
+const FINALISTS: usize = 48;
 /// Coarse combinations whose neighbourhood is searched on the 2° grid.
 const COARSE_KEPT: usize = 5;
 
@@ -63,11 +67,22 @@ impl Planner for LineGtsp {
         // are more than a few fields (their combinations would explode)
         let groups: Vec<MultiPolygon> = if fields.len() > SEPARATE_HEADINGS_UP_TO { vec![MultiPolygon(fields.iter().flat_map(|f| f.0.clone()).collect())] } else { fields.clone() };
         let per_field = |choice: &[f64]| -> Vec<f64> { if groups.len() == fields.len() { choice.to_vec() } else { vec![choice[0]; fields.len()] } };
-        let evaluate = |choices: Vec<Vec<f64>>, from: f64, to: f64| -> Result<Vec<(f64, Vec<f64>)>, PlanError> {
+        // quick solves rank the combinations (cost, group choice, solved in full?) ...
+        let evaluate = |choices: Vec<Vec<f64>>, from: f64, to: f64| -> Result<Vec<(f64, Vec<f64>, bool)>, PlanError> {
             let combos: Vec<Vec<f64>> = choices.iter().map(|c| per_field(c)).collect();
             let ranked = search.evaluate(&combos, progress, from, to)?;
             // back to group choices: a shared heading is the first field's
-            Ok(ranked.into_iter().map(|(c, combo)| (c, if groups.len() == fields.len() { combo } else { vec![combo[0]] })).collect())
+            Ok(ranked.into_iter().map(|(c, combo)| (c, if groups.len() == fields.len() { combo } else { vec![combo[0]] }, false)).collect())
+        };
+        // ... and the best few are solved in full before the ranking picks anything
+        let settle = |ranked: &mut Vec<(f64, Vec<f64>, bool)>| {
+            let open: Vec<(usize, Vec<f64>)> = ranked.iter().enumerate().take(FINALISTS).filter(|(_, r)| !r.2).map(|(i, r)| (i, per_field(&r.1))).collect();
+            let solved: Vec<(usize, f64)> = open.into_par_iter().map(|(i, combo)| (i, search.route(&search.lines(&combo)).solve().1)).collect();
+            for (i, cost) in solved {
+                ranked[i].0 = cost;
+                ranked[i].2 = true;
+            }
+            ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
         };
         let best = match problem.sweep_angle {
             Some(a) => vec![a; fields.len()],
@@ -81,6 +96,7 @@ impl Planner for LineGtsp {
                     candidates = headings(step_deg);
                 }
                 let mut ranked = evaluate(combinations(&candidates), 0.1, 0.5)?;
+                settle(&mut ranked);
                 // the 2° neighbours of the best coarse choices, then 0.5° around the best
                 let reach = ((step_deg - GRID_DEG) / GRID_DEG).round() as i32;
                 let grid_offsets: Vec<f64> = (-reach..=reach).map(|j| j as f64 * GRID_DEG).collect();
@@ -92,11 +108,11 @@ impl Planner for LineGtsp {
                         let options: Vec<Vec<f64>> = choice.iter().map(|&h| offsets.iter().map(|&d| (h + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect()).collect();
                         combinations(&options)
                     };
-                    let finer: Vec<Vec<f64>> = ranked.iter().take(keep).flat_map(|(_, choice)| around(choice)).collect();
+                    let finer: Vec<Vec<f64>> = ranked.iter().take(keep).flat_map(|(_, choice, _)| around(choice)).collect();
                     ranked.extend(evaluate(finer, from, to)?);
-                    ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    settle(&mut ranked);
                 }
-                let (_, choice) = ranked.into_iter().next().ok_or_else(|| PlanError::Infeasible("no sweep line fits in the area left to cover".into()))?;
+                let (_, choice, _) = ranked.into_iter().next().ok_or_else(|| PlanError::Infeasible("no sweep line fits in the area left to cover".into()))?;
                 per_field(&choice)
             }
         };
@@ -149,7 +165,7 @@ impl Search<'_> {
     /// The lines of field `region` at heading `h`.
     fn field_lines(&self, region: usize, h: f64) -> Vec<Line> {
         let pattern = sweep(&self.fields[region], self.problem.keep_out, h, self.problem.layout);
-        pattern.lines.iter().flatten().chain(&pattern.gap_fills).map(|s| Line { a: from_sweep_frame(h, s.a, s.offset), b: from_sweep_frame(h, s.b, s.offset), region }).collect()
+        self.problem.flyable(pattern.lines.iter().flatten().chain(&pattern.gap_fills).map(|s| Line { a: from_sweep_frame(h, s.a, s.offset), b: from_sweep_frame(h, s.b, s.offset), region }))
     }
 
     /// The lines of every field at its heading.
@@ -253,7 +269,7 @@ impl Search<'_> {
                 .filter(|(bound, _)| *bound < best)
                 .filter_map(|&(_, i)| {
                     let (_, inst) = instance(&combos[i])?;
-                    let seq = crate::route::gtsp::solve(&inst);
+                    let seq = crate::route::gtsp::quick(&inst);
                     Some((inst.total(&seq), i))
                 })
                 .collect();

@@ -52,6 +52,12 @@ pub struct PlannedPath {
 }
 
 impl Problem<'_> {
+    /// The stretch of each line the vehicle can fly (see [`Connector::turnable`]); lines with
+    /// nothing left are dropped, and the coverage metric shows what that loses.
+    pub fn flyable(&self, lines: impl IntoIterator<Item = Line>) -> Vec<Line> {
+        lines.into_iter().filter_map(|l| self.connector.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l })).collect()
+    }
+
     /// Line-level routing of `lines` from this problem's start to its end.
     pub fn line_problem<'l>(&'l self, lines: &'l [Line], allow_reentry: bool) -> LineProblem<'l> {
         LineProblem {

@@ -5,7 +5,7 @@
 
 use geo::Coord;
 
-use super::gtsp::{Instance, solve};
+use super::gtsp::{Costs, Instance, solve};
 use super::{CellOrder, CellVisit, RouteContext};
 use crate::decompose::{Cell, legs_length};
 
@@ -40,10 +40,11 @@ impl CellOrder for CellTour {
         let inst = Instance {
             clusters: (0..cells.len()).map(|c| (4 * c..4 * c + 4).collect()).collect(),
             reverse: visits.iter().enumerate().map(|(i, v)| i - i % 4 + v.reversed(&cells[v.cell]).index()).collect(),
-            cost: (0..n * n).map(|k| if k / n / 4 == k % n / 4 { f64::INFINITY } else { d[exit_at[k / n]][entry_at[k % n]] }).collect(),
+            cost: Costs::Dense((0..n * n).map(|k| if k / n / 4 == k % n / 4 { f64::INFINITY } else { d[exit_at[k / n]][entry_at[k % n]] }).collect()),
             node_cost: visits.iter().map(|v| legs_length(&v.legs(&cells[v.cell]))).collect(),
             from_start: start_at.map(|s| entry_at.iter().map(|&e| d[s][e]).collect()),
             to_end: end_at.map(|e| exit_at.iter().map(|&x| d[x][e]).collect()),
+            candidates: None,
         };
         solve(&inst).into_iter().map(|v| visits[v]).collect()
     }

@@ -43,6 +43,48 @@ impl Connector<'_> {
         }
     }
 
+    /// The stretch of the line `a → b` a fixed-wing aircraft can fly: each end pulled back (in
+    /// steps of r/8) until the aircraft can turn there, a half circle to the left or to the
+    /// right clear of the no-fly zones; `None` when nothing is left. A line that ends against
+    /// a zone could be neither left nor entered there without crossing it. The straight model
+    /// turns anywhere: the line is kept whole.
+    pub fn turnable(&self, a: Coord, b: Coord) -> Option<(Coord, Coord)> {
+        let TurnModel::Dubins(r) = self.turn else { return Some((a, b)) };
+        let length = crate::path::distance(a, b);
+        if length == 0.0 {
+            return None;
+        }
+        let dir = (b - a) / length;
+        let step = r / 8.0;
+        let mut from_a = 0.0;
+        while from_a <= length && !self.can_turn_at(a + dir * from_a, -dir, r) {
+            from_a += step;
+        }
+        let mut from_b = 0.0;
+        while length - from_b > from_a && !self.can_turn_at(b - dir * from_b, dir, r) {
+            from_b += step;
+        }
+        (length - from_b - from_a > 1e-6).then(|| (a + dir * from_a, b - dir * from_b))
+    }
+
+    /// True when a half circle of radius `r` turning left or right from `at`, flying `out`
+    /// (unit), stays clear of the walls.
+    fn can_turn_at(&self, at: Coord, out: Coord, r: f64) -> bool {
+        let room = Rect::new(at - Coord { x: 2.0 * r, y: 2.0 * r }, at + Coord { x: 2.0 * r, y: 2.0 * r });
+        if !self.transit.any_wall_in(&room) {
+            return true;
+        }
+        [1.0, -1.0].into_iter().any(|side: f64| {
+            let centre = at + Coord { x: -out.y, y: out.x } * (side * r);
+            let phase = (at.y - centre.y).atan2(at.x - centre.x);
+            let arc: Vec<Coord> = (0..=16).map(|k| {
+                let phi = phase + side * std::f64::consts::PI * k as f64 / 16.0;
+                centre + Coord { x: phi.cos(), y: phi.sin() } * r
+            }).collect();
+            self.transit.is_polyline_clear(&arc)
+        })
+    }
+
     /// A box that holds every connection between the two poses that has no detour.
     pub fn reach(&self, from: Pose, to: Pose) -> Rect {
         reach(from, to, match self.turn {
@@ -142,5 +184,24 @@ mod tests {
         let pts = c.path(a2, b2).expect("a way round");
         assert!(transit.is_polyline_clear(&pts), "the connection enters the zone");
         assert!(!transit.is_polyline_clear(&TurnModel::Dubins(85.0).points(a2, b2)), "the plain bulb would have entered it");
+    }
+
+    #[test]
+    fn a_line_against_a_zone_is_pulled_back_until_the_aircraft_can_turn() {
+        let zone = MultiPolygon(vec![polygon![(x: 100., y: -60.), (x: 200., y: -60.), (x: 200., y: 60.), (x: 100., y: 60.)]]);
+        let transit = TransitPlanner::new(&zone, &zone);
+        let c = Connector { turn: TurnModel::Dubins(30.0), transit: &transit, detour: None };
+        let (a, b) = (Coord { x: -500.0, y: 0.0 }, Coord { x: 95.0, y: 0.0 });
+        let (a2, b2) = c.turnable(a, b).expect("most of the line is left");
+        assert_eq!(a2, a, "the far end has room");
+        // a half circle reaches r = 30 m ahead: the end must be at x ≤ 70, found in steps of r/8
+        assert!(b2.x <= 70.0 && b2.x > 70.0 - 30.0 / 8.0, "pulled back to {b2:?}");
+        // from the new end a U-turn to either side is clear
+        let turn = TurnModel::Dubins(30.0).points(Pose::at(b2, 0.0), Pose::at(b2 + Coord { x: 0.0, y: 60.0 }, std::f64::consts::PI));
+        assert!(transit.is_polyline_clear(&turn));
+        // a line shorter than the room it needs is dropped; a multirotor keeps every line whole
+        assert_eq!(c.turnable(Coord { x: 80.0, y: 0.0 }, b), None);
+        let straight = Connector { turn: TurnModel::Straight, transit: &transit, detour: None };
+        assert_eq!(straight.turnable(a, b), Some((a, b)));
     }
 }

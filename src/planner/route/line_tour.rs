@@ -8,7 +8,7 @@ use geo::Coord;
 use rayon::prelude::*;
 
 use super::connect::Connector;
-use super::gtsp::{Instance, solve};
+use super::gtsp::{Costs, Instance, KnownCosts, solve};
 use crate::turn::climb::Obstacles;
 use crate::turn::dubins::Pose;
 
@@ -76,6 +76,13 @@ const REGION_CHANGE: f64 = 1e8;
 /// Cost of an impossible connection: large enough never to be chosen when there is a way.
 pub const NO_WAY: f64 = 1e12;
 
+fn finite(c: f64) -> f64 {
+    if c.is_finite() { c } else { NO_WAY }
+}
+
+/// Entries nearest each exit whose connections are priced before the search.
+pub const CANDIDATES: usize = 24;
+
 impl LineProblem<'_> {
     /// Cost of the connection from the exit of node `u` to the entry of node `v`: its length,
     /// or with obstacles its raised 3D length plus the penalty for the coverage it loses;
@@ -112,33 +119,66 @@ impl LineProblem<'_> {
         }).collect())
     }
 
-    /// The GTSP instance: clusters of two directed nodes, connection and node costs.
-    pub fn instance(&self) -> Instance {
-        let n = 2 * self.lines.len();
-        let raw: Vec<f64> = (0..n).into_par_iter().flat_map_iter(|u| (0..n).map(move |v| (u, v))).map(|(u, v)| self.connection(u, v)).collect();
-        self.assemble(raw, self.start_costs(), self.end_costs())
+    /// The GTSP instance: clusters of two directed nodes, node costs, and connection costs
+    /// computed when the search first needs them, those to each exit's [`CANDIDATES`] nearest
+    /// entries in advance (in parallel).
+    pub fn instance(&self) -> Instance<'_> {
+        let candidates = self.candidates();
+        let pairs: Vec<(usize, usize)> = candidates.iter().enumerate().flat_map(|(u, c)| c.iter().map(move |&v| (u, v))).collect();
+        let known: KnownCosts = pairs.into_par_iter().map(|(u, v)| ((u, v), self.priced(u, v, self.connection(u, v)))).collect();
+        let costs = Costs::lazy(2 * self.lines.len(), known, |u, v| self.priced(u, v, self.connection(u, v)));
+        let mut inst = self.instance_with(costs, self.start_costs(), self.end_costs());
+        inst.candidates = Some(candidates);
+        inst
     }
 
-    /// The instance from connection costs (`raw[u * n + v]`, infinite where there is no way):
-    /// impossible connections get [`NO_WAY`], changes of region the surcharge when re-entries
-    /// are not allowed.
-    pub fn assemble(&self, mut raw: Vec<f64>, from_start: Option<Vec<f64>>, to_end: Option<Vec<f64>>) -> Instance {
+    /// For each node, the nodes whose entry is nearest its exit in a straight line: where the
+    /// cheap connections are (a Dubins path is never shorter than the straight line). By brute
+    /// force, O(n²) distances, a few milliseconds for thousands of lines.
+    fn candidates(&self) -> Vec<Vec<usize>> {
         let n = 2 * self.lines.len();
-        let finite = |c: f64| if c.is_finite() { c } else { NO_WAY };
+        let entries: Vec<Coord> = (0..n).map(|v| entry(self.lines, v).coord()).collect();
+        (0..n)
+            .into_par_iter()
+            .map(|u| {
+                let from = exit(self.lines, u).coord();
+                let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| (crate::path::distance(from, entries[v]), v)).collect();
+                if near.len() > CANDIDATES {
+                    near.select_nth_unstable_by(CANDIDATES, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                    near.truncate(CANDIDATES);
+                }
+                near.into_iter().map(|(_, v)| v).collect()
+            })
+            .collect()
+    }
+
+    /// The cost the solver sees: impossible connections get [`NO_WAY`], changes of region the
+    /// surcharge when re-entries are not allowed.
+    fn priced(&self, u: usize, v: usize, raw: f64) -> f64 {
+        let surcharge = if !self.allow_reentry && self.lines[u / 2].region != self.lines[v / 2].region { REGION_CHANGE } else { 0.0 };
+        finite(raw) + surcharge
+    }
+
+    /// The instance from all connection costs (`raw[u * n + v]`, infinite where there is no
+    /// way), priced as [`Self::instance`] does.
+    pub fn assemble(&self, mut raw: Vec<f64>, from_start: Option<Vec<f64>>, to_end: Option<Vec<f64>>) -> Instance<'static> {
+        let n = 2 * self.lines.len();
         for (i, c) in raw.iter_mut().enumerate() {
-            let (u, v) = (i / n, i % n);
-            *c = finite(*c);
-            if !self.allow_reentry && self.lines[u / 2].region != self.lines[v / 2].region {
-                *c += REGION_CHANGE;
-            }
+            *c = self.priced(i / n, i % n, *c);
         }
+        self.instance_with(Costs::Dense(raw), from_start, to_end)
+    }
+
+    fn instance_with<'c>(&self, cost: Costs<'c>, from_start: Option<Vec<f64>>, to_end: Option<Vec<f64>>) -> Instance<'c> {
+        let n = 2 * self.lines.len();
         Instance {
             clusters: (0..self.lines.len()).map(|k| vec![2 * k, 2 * k + 1]).collect(),
             reverse: (0..n).map(|v| v ^ 1).collect(),
-            cost: raw,
+            cost,
             node_cost: (0..n).map(|v| self.lines[v / 2].length()).collect(),
             from_start: from_start.map(|r| r.into_iter().map(finite).collect()),
             to_end: to_end.map(|r| r.into_iter().map(finite).collect()),
+            candidates: None,
         }
     }
 
@@ -167,7 +207,7 @@ impl LineProblem<'_> {
     pub fn lower_bound(&self, inst: &Instance) -> f64 {
         let n = inst.node_cost.len();
         let cheapest = |v: usize, incoming: bool| -> f64 {
-            let line = (0..n).filter(|&u| u / 2 != v / 2).map(|u| if incoming { inst.cost[u * n + v] } else { inst.cost[v * n + u] }).fold(f64::INFINITY, f64::min);
+            let line = (0..n).filter(|&u| u / 2 != v / 2).map(|u| if incoming { inst.c(u, v) } else { inst.c(v, u) }).fold(f64::INFINITY, f64::min);
             let terminal = if incoming { &inst.from_start } else { &inst.to_end };
             match terminal {
                 None => 0.0,
@@ -210,6 +250,10 @@ mod tests {
         assert!((cost - 3000.0 - 1734.6).abs() < 0.1, "{cost}");
         let inst = problem.instance();
         assert!(problem.lower_bound(&inst) <= cost + 1e-9);
+        // every connection priced up front gives the same optimum as lazy pricing
+        let n = 2 * lines.len();
+        let dense = problem.assemble((0..n * n).map(|i| problem.connection(i / n, i % n)).collect(), None, None);
+        assert!((dense.total(&solve(&dense)) - cost).abs() < 1e-9);
         // boustrophedon order for comparison: 5 bulbs of 527.5 m
         let bous: Vec<usize> = (0..6).map(|k| 2 * k + k % 2).collect();
         assert!((problem.cost_of(&inst, &bous) - 3000.0 - 2637.6).abs() < 0.1);

@@ -24,7 +24,7 @@ pub fn to_atsp(inst: &Instance) -> Atsp {
     let n = inst.node_cost.len();
     debug_assert!(inst.clusters.iter().all(|c| c.len() == 2));
     let (s, e, size) = (n, n + 1, n + 2);
-    let d = |u: usize, w: usize| inst.cost[u * n + w] + inst.node_cost[w];
+    let d = |u: usize, w: usize| inst.c(u, w) + inst.node_cost[w];
     let start = |w: usize| inst.from_start.as_ref().map_or(0.0, |f| f[w]) + inst.node_cost[w];
     let end = |u: usize| inst.to_end.as_ref().map_or(0.0, |t| t[u]);
     let largest = (0..n).flat_map(|u| (0..n).map(move |w| (u, w))).filter(|&(u, w)| u != w && inst.reverse[u] != w).map(|(u, w)| d(u, w)).chain((0..n).map(start)).chain((0..n).map(end)).fold(0.0f64, f64::max);
@@ -67,7 +67,7 @@ impl Atsp {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::route::gtsp::held_karp;
+    use crate::route::gtsp::{Costs, held_karp};
 
     struct Rng(u64);
     impl Rng {
@@ -107,10 +107,11 @@ mod tests {
             let inst = Instance {
                 clusters: vec![vec![0, 1], vec![2, 3], vec![4, 5]],
                 reverse: (0..n).map(|v| v ^ 1).collect(),
-                cost: int(n * n),
+                cost: Costs::Dense(int(n * n)),
                 node_cost: int(n),
                 from_start: Some(int(n)),
                 to_end: Some(int(n)),
+                candidates: None,
             };
             // GTSP by brute force: every cluster order and node choice
             let mut gtsp = f64::INFINITY;

@@ -1,0 +1,426 @@
+//! Generalised travelling-salesman path (routing spec §2–§4): visit one node of every cluster,
+//! from an optional start to an optional end, at least cost.
+//!
+//! Exact by [`held_karp`] when the clusters are few. Otherwise a greedy tour, improved by
+//! [`local_search`] (2-opt and Or-opt towards each node's nearest neighbours, cluster
+//! optimisation) inside an iterated local search with segment-limited double-bridge kicks.
+//! Deterministic: a fixed-seed generator drives the kicks, ties keep the first minimum.
+//!
+//! Large instances need not price every pair: with [`Costs::Lazy`] and candidate lists, a
+//! connection is computed the first time the search looks at it.
+
+mod held_karp;
+mod local_search;
+
+use std::cell::{Cell, RefCell};
+use std::collections::HashMap;
+
+pub use held_karp::held_karp;
+use local_search::{EPS, Neighbours, local_search};
+
+/// Connection costs known in advance, by node pair.
+pub type KnownCosts = Vec<((usize, usize), f64)>;
+
+/// Connection costs from the exit of one node to the entry of another.
+pub enum Costs<'a> {
+    /// `cost[u * n + v]`.
+    Dense(Vec<f64>),
+    /// Computed on first use and kept.
+    Lazy(LazyCosts<'a>),
+}
+
+/// Instances up to this many nodes keep lazily computed costs in a table (NaN: not yet
+/// computed; 8 n² bytes, 72 MB at most), larger ones in a hash map.
+const LAZY_TABLE_UP_TO: usize = 3000;
+
+pub struct LazyCosts<'a> {
+    n: usize,
+    table: Vec<Cell<f64>>,
+    map: RefCell<HashMap<(usize, usize), f64, foldhash::fast::FixedState>>,
+    compute: Box<dyn Fn(usize, usize) -> f64 + 'a>,
+}
+
+impl<'a> Costs<'a> {
+    /// Costs of `n` nodes computed by `compute` when first asked for, `known` ones kept.
+    pub fn lazy(n: usize, known: KnownCosts, compute: impl Fn(usize, usize) -> f64 + 'a) -> Self {
+        let lazy = LazyCosts {
+            n,
+            table: if n <= LAZY_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() },
+            map: RefCell::default(),
+            compute: Box::new(compute),
+        };
+        for ((u, v), c) in known {
+            lazy.keep(u, v, c);
+        }
+        Costs::Lazy(lazy)
+    }
+}
+
+impl LazyCosts<'_> {
+    fn keep(&self, u: usize, v: usize, c: f64) {
+        match self.table.get(u * self.n + v) {
+            Some(cell) => cell.set(c),
+            None => {
+                self.map.borrow_mut().insert((u, v), c);
+            }
+        }
+    }
+
+    fn get(&self, u: usize, v: usize) -> f64 {
+        let known = match self.table.get(u * self.n + v) {
+            Some(cell) => Some(cell.get()).filter(|c| !c.is_nan()),
+            None => self.map.borrow().get(&(u, v)).copied(),
+        };
+        known.unwrap_or_else(|| {
+            let c = (self.compute)(u, v);
+            self.keep(u, v, c);
+            c
+        })
+    }
+}
+
+/// A GTSP instance. Nodes are `0..n`; each belongs to exactly one cluster.
+pub struct Instance<'a> {
+    pub clusters: Vec<Vec<usize>>,
+    /// The node flown the other way round (same cluster): enters where `v` leaves.
+    pub reverse: Vec<usize>,
+    pub cost: Costs<'a>,
+    /// Cost of flying the node itself.
+    pub node_cost: Vec<f64>,
+    /// From the start to each node's entry; `None`: the path may start anywhere.
+    pub from_start: Option<Vec<f64>>,
+    /// From each node's exit to the end; `None`: the path may end anywhere.
+    pub to_end: Option<Vec<f64>>,
+    /// The nodes worth trying after each node (`None`: every node); the solver keeps the
+    /// cheapest [`NEIGHBOURS`] of them.
+    pub candidates: Option<Vec<Vec<usize>>>,
+}
+
+/// Largest number of clusters solved exactly (2^m · n states).
+const EXACT_CLUSTERS: usize = 12;
+/// Largest number of nodes for the exact solver.
+const EXACT_NODES: usize = 48;
+/// Neighbours per node the local search tries; every node on instances of at most
+/// [`ALL_NEIGHBOURS_UP_TO`] clusters.
+pub const NEIGHBOURS: usize = 10;
+const ALL_NEIGHBOURS_UP_TO: usize = 40;
+/// Kicks of the iterated local search: many on small instances, where they find better
+/// orders; few on large ones, where each repair costs more and the first local optimum of
+/// parallel lines is already within a fraction of a per cent of what kicks find.
+fn kicks(m: usize) -> usize {
+    (20_000 / m.max(1)).clamp(30, 300)
+}
+/// Random restarts on instances of at most this many clusters.
+const RESTART_UP_TO: usize = 40;
+const RESTARTS: usize = 3;
+/// Longest segment a double-bridge kick moves.
+const KICK_SEGMENT: usize = 50;
+
+impl Instance<'_> {
+    pub fn n(&self) -> usize {
+        self.node_cost.len()
+    }
+
+    /// Cost from the exit of `u` to the entry of `v`.
+    pub fn c(&self, u: usize, v: usize) -> f64 {
+        match &self.cost {
+            Costs::Dense(cost) => cost[u * self.n() + v],
+            Costs::Lazy(lazy) => lazy.get(u, v),
+        }
+    }
+
+    fn start(&self, v: usize) -> f64 {
+        self.from_start.as_ref().map_or(0.0, |s| s[v])
+    }
+
+    fn end(&self, v: usize) -> f64 {
+        self.to_end.as_ref().map_or(0.0, |e| e[v])
+    }
+
+    /// Total cost of a node sequence.
+    pub fn total(&self, seq: &[usize]) -> f64 {
+        let (Some(&first), Some(&last)) = (seq.first(), seq.last()) else { return 0.0 };
+        self.start(first) + seq.iter().map(|&v| self.node_cost[v]).sum::<f64>() + seq.windows(2).map(|w| self.c(w[0], w[1])).sum::<f64>() + self.end(last)
+    }
+
+    fn cluster_of(&self) -> Vec<usize> {
+        let mut of = vec![0; self.n()];
+        for (k, c) in self.clusters.iter().enumerate() {
+            for &v in c {
+                of[v] = k;
+            }
+        }
+        of
+    }
+
+    /// Cost of the link between two places of a sequence, where `None` is the start or the end.
+    fn link(&self, u: Option<usize>, v: Option<usize>) -> f64 {
+        match (u, v) {
+            (Some(u), Some(v)) => self.c(u, v),
+            (None, Some(v)) => self.start(v),
+            (Some(u), None) => self.end(u),
+            (None, None) => 0.0,
+        }
+    }
+}
+
+/// The best sequence found: one node per cluster, in flight order.
+pub fn solve(inst: &Instance) -> Vec<usize> {
+    match inst.clusters.len() {
+        0 => Vec::new(),
+        m if m <= EXACT_CLUSTERS && inst.n() <= EXACT_NODES => held_karp(inst),
+        _ => heuristic(inst),
+    }
+}
+
+/// Largest number of clusters [`quick`] solves exactly: Held–Karp's 2^m·n² steps cost more
+/// than a local search above it.
+const QUICK_EXACT_CLUSTERS: usize = 7;
+
+/// A good sequence fast: exact when tiny, otherwise the greedy tour and one local search,
+/// without kicks. For ranking many instances before solving the best with [`solve`].
+pub fn quick(inst: &Instance) -> Vec<usize> {
+    let m = inst.clusters.len();
+    match m {
+        0 => Vec::new(),
+        m if m <= QUICK_EXACT_CLUSTERS && inst.n() <= EXACT_NODES => held_karp(inst),
+        _ => {
+            let of = inst.cluster_of();
+            let nb = Neighbours::new(inst, &of, neighbour_count(m));
+            let start = greedy_with(inst, &nb, &of);
+            let total = inst.total(&start);
+            local_search(inst, &nb, &of, (start, total), 0..m, true).0
+        }
+    }
+}
+
+fn neighbour_count(m: usize) -> usize {
+    if m <= ALL_NEIGHBOURS_UP_TO { usize::MAX } else { NEIGHBOURS }
+}
+
+/// Greedy from the start: the cheapest next node of an unvisited cluster, looked for among
+/// the neighbours first. Without a start, a few first clusters are tried and the cheapest
+/// result kept.
+pub fn greedy(inst: &Instance) -> Vec<usize> {
+    let of = inst.cluster_of();
+    greedy_with(inst, &Neighbours::new(inst, &of, neighbour_count(inst.clusters.len())), &of)
+}
+
+fn greedy_with(inst: &Instance, nb: &Neighbours, of: &[usize]) -> Vec<usize> {
+    let m = inst.clusters.len();
+    let run = |first: Option<usize>| -> Vec<usize> {
+        let mut done = vec![false; m];
+        let mut seq: Vec<usize> = Vec::with_capacity(m);
+        if let Some(f) = first {
+            done[of[f]] = true;
+            seq.push(f);
+        }
+        while seq.len() < m {
+            let step = |w: usize| inst.link(seq.last().copied(), Some(w)) + inst.node_cost[w];
+            let cheapest = |it: &mut dyn Iterator<Item = usize>| it.filter(|&w| !done[of[w]]).min_by(|&a, &b| step(a).total_cmp(&step(b)));
+            let near: &[usize] = match seq.last() {
+                Some(&u) => &nb.out[u],
+                None => &nb.first,
+            };
+            let next = cheapest(&mut near.iter().copied()).or_else(|| cheapest(&mut (0..inst.n()))).expect("a cluster is left");
+            done[of[next]] = true;
+            seq.push(next);
+        }
+        seq
+    };
+    if inst.from_start.is_some() {
+        return run(None);
+    }
+    let firsts = if m <= 100 { 24 } else { 4 };
+    inst.clusters
+        .iter()
+        .take(firsts)
+        .flatten()
+        .map(|&f| run(Some(f)))
+        .min_by(|a, b| inst.total(a).total_cmp(&inst.total(b)))
+        .unwrap_or_else(|| run(None))
+}
+
+/// The best node of each cluster for the cluster order of `seq` (a shortest path through
+/// the layers).
+pub fn optimise_clusters(inst: &Instance, seq: &[usize]) -> Vec<usize> {
+    let of = inst.cluster_of();
+    let layers: Vec<&Vec<usize>> = seq.iter().map(|&v| &inst.clusters[of[v]]).collect();
+    let mut cost: Vec<Vec<f64>> = Vec::with_capacity(layers.len());
+    let mut from: Vec<Vec<usize>> = Vec::with_capacity(layers.len());
+    for (k, layer) in layers.iter().enumerate() {
+        let mut c = Vec::with_capacity(layer.len());
+        let mut f = Vec::with_capacity(layer.len());
+        for &w in layer.iter() {
+            if k == 0 {
+                c.push(inst.start(w) + inst.node_cost[w]);
+                f.push(0);
+            } else {
+                let (best_i, best) = layers[k - 1]
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &u)| (i, cost[k - 1][i] + inst.c(u, w)))
+                    .fold((0, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc });
+                c.push(best + inst.node_cost[w]);
+                f.push(best_i);
+            }
+        }
+        cost.push(c);
+        from.push(f);
+    }
+    let last = layers.len() - 1;
+    let mut i = (0..layers[last].len())
+        .map(|i| (i, cost[last][i] + inst.end(layers[last][i])))
+        .fold((0, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc })
+        .0;
+    let mut out = vec![0; layers.len()];
+    for k in (0..layers.len()).rev() {
+        out[k] = layers[k][i];
+        i = from[k][i];
+    }
+    out
+}
+
+/// A small deterministic generator (xorshift64*), for the kicks.
+struct Rng(u64);
+
+impl Rng {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 33) as usize % n
+    }
+}
+
+/// Iterated local search from the greedy tour and, for instances of moderate size, from a
+/// few random orders too; the best result wins.
+pub fn heuristic(inst: &Instance) -> Vec<usize> {
+    let m = inst.clusters.len();
+    let of = inst.cluster_of();
+    let nb = Neighbours::new(inst, &of, neighbour_count(m));
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut starts = vec![greedy_with(inst, &nb, &of)];
+    if m <= RESTART_UP_TO {
+        for _ in 0..RESTARTS {
+            let mut order: Vec<usize> = (0..m).map(|k| inst.clusters[k][0]).collect();
+            for i in (1..m).rev() {
+                order.swap(i, rng.below(i + 1));
+            }
+            starts.push(optimise_clusters(inst, &order));
+        }
+    }
+    starts
+        .into_iter()
+        .map(|s| iterated_local_search(inst, &nb, &of, s, &mut rng))
+        .min_by(|a, b| inst.total(a).total_cmp(&inst.total(b)))
+        .expect("at least the greedy start")
+}
+
+fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: Vec<usize>, rng: &mut Rng) -> Vec<usize> {
+    let m = start.len();
+    let total = inst.total(&start);
+    let (mut best, mut best_cost) = local_search(inst, nb, of, (start, total), 0..m, true);
+    if m < 8 {
+        return best;
+    }
+    for _ in 0..kicks(m) {
+        // double bridge A B C D → A C B D, with B and C short so the repair stays local
+        let x = 1 + rng.below(m - 2);
+        let y = x + 1 + rng.below(KICK_SEGMENT.min(m - 1 - x));
+        let z = y + 1 + rng.below(KICK_SEGMENT.min(m - y));
+        let at = |i: usize| best.get(i).copied();
+        let broken = inst.link(at(x - 1), at(x)) + inst.link(at(y - 1), at(y)) + inst.link(at(z - 1), at(z));
+        let joined = inst.link(at(x - 1), at(y)) + inst.link(at(z - 1), at(x)) + inst.link(at(y - 1), at(z));
+        let kicked: Vec<usize> = best[..x].iter().chain(&best[y..z]).chain(&best[x..y]).chain(&best[z..]).copied().collect();
+        let touched = [x - 1, x, y - 1, y, z - 1, z].into_iter().filter(|&p| p < m).map(|p| of[best[p]]);
+        let (candidate, cost) = local_search(inst, nb, of, (kicked, best_cost + joined - broken), touched, false);
+        if cost < best_cost - EPS {
+            best = candidate;
+            best_cost = cost;
+        }
+    }
+    let m = best.len();
+    local_search(inst, nb, of, (best, best_cost), 0..m, true).0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Directed segments on random lines, as clusters of their two directions; straight
+    /// connections, so costs have the reversal symmetry.
+    fn segments_instance(seg: &[((f64, f64), (f64, f64))], with_start: bool) -> Instance<'static> {
+        let mut entry = Vec::new();
+        let mut exit = Vec::new();
+        for &(a, b) in seg {
+            entry.extend([a, b]);
+            exit.extend([b, a]);
+        }
+        let n = entry.len();
+        let d = |p: (f64, f64), q: (f64, f64)| (p.0 - q.0).hypot(p.1 - q.1);
+        Instance {
+            clusters: (0..seg.len()).map(|k| vec![2 * k, 2 * k + 1]).collect(),
+            reverse: (0..n).map(|v| v ^ 1).collect(),
+            cost: Costs::Dense((0..n * n).map(|i| d(exit[i / n], entry[i % n])).collect()),
+            node_cost: (0..n).map(|v| d(entry[v], exit[v])).collect(),
+            from_start: with_start.then(|| entry.iter().map(|&e| d((0.0, 0.0), e)).collect()),
+            to_end: None,
+            candidates: None,
+        }
+    }
+
+    fn valid(inst: &Instance, seq: &[usize]) -> bool {
+        let of = inst.cluster_of();
+        let mut seen: Vec<usize> = seq.iter().map(|&v| of[v]).collect();
+        seen.sort();
+        seen == (0..inst.clusters.len()).collect::<Vec<_>>()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(40))]
+        #[test]
+        fn heuristic_is_within_one_percent_of_exact(
+            seg in prop::collection::vec(((0.0..500.0f64, 0.0..500.0f64), (0.0..500.0f64, 0.0..500.0f64)), 8..=12),
+            with_start in any::<bool>(),
+        ) {
+            let inst = segments_instance(&seg, with_start);
+            let exact = held_karp(&inst);
+            let heur = heuristic(&inst);
+            prop_assert!(valid(&inst, &exact) && valid(&inst, &heur));
+            let (e, h) = (inst.total(&exact), inst.total(&heur));
+            prop_assert!(e <= h + 1e-6, "exact {e} above heuristic {h}");
+            prop_assert!(h <= e * 1.01 + 1e-6, "heuristic {h} more than 1 % above exact {e}");
+            prop_assert!(e <= inst.total(&greedy(&inst)) + 1e-6);
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(12))]
+        /// Instances too large for the exact solver: the search keeps one node per cluster and
+        /// is never worse than its greedy start or than the quick solve.
+        #[test]
+        fn heuristic_improves_on_greedy_for_many_clusters(
+            seg in prop::collection::vec(((0.0..2000.0f64, 0.0..2000.0f64), (0.0..2000.0f64, 0.0..2000.0f64)), 45..=90),
+            with_start in any::<bool>(),
+        ) {
+            let inst = segments_instance(&seg, with_start);
+            let heur = heuristic(&inst);
+            let fast = quick(&inst);
+            prop_assert!(valid(&inst, &heur) && valid(&inst, &fast));
+            prop_assert!(inst.total(&heur) <= inst.total(&fast) + 1e-6);
+            prop_assert!(inst.total(&fast) <= inst.total(&greedy(&inst)) + 1e-6);
+        }
+    }
+
+    #[test]
+    fn parallel_lines_are_flown_back_and_forth() {
+        // ten parallel lines 10 m apart: the best path sweeps them in order, alternating
+        let seg: Vec<_> = (0..30).map(|i| ((0.0, i as f64 * 10.0), (100.0, i as f64 * 10.0))).collect();
+        let inst = segments_instance(&seg, true);
+        let seq = solve(&inst);
+        assert!(valid(&inst, &seq));
+        assert!((inst.total(&seq) - (30.0 * 100.0 + 29.0 * 10.0)).abs() < 1e-6, "{}", inst.total(&seq));
+    }
+}

@@ -1,7 +1,7 @@
 //! Decomposition planners: a [`Decomposition`] makes swept cells, a [`CellOrder`] orders them,
 //! and [`fly`] joins them into a path with turns and transits around no-fly zones.
 
-use super::{PlannedPath, Planner, Problem, Progress, connect};
+use super::{PlannedPath, Planner, Problem, Progress, connect, no_sweep_lines};
 use crate::decompose::{Cell, CoverageArea, Decomposition, boustrophedon::Boustrophedon, eecd::Eecd, energy_aware::EnergyAware, naive::Naive};
 use crate::error::PlanError;
 use crate::path::{FlightPath, PieceKind};
@@ -72,7 +72,7 @@ impl Planner for CellPlanner {
         let area = CoverageArea { region: problem.region, keep_out: problem.keep_out, layout: problem.layout, angle: problem.sweep_angle };
         let cells = self.decomposition.cells(&area);
         if cells.is_empty() {
-            return Err(PlanError::Infeasible("no sweep line fits in the area left to cover".into()));
+            return Err(no_sweep_lines());
         }
         if !progress.report(0.3) {
             return Err(PlanError::Cancelled);

@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use geo::{Area, ConvexHull, Coord, MultiPolygon};
 use rayon::prelude::*;
 
-use super::{PlannedPath, Planner, Problem, Progress};
+use super::{PlannedPath, Planner, Problem, Progress, no_sweep_lines};
 use crate::error::PlanError;
 use crate::path::{FlightPath, PieceKind};
 use crate::route::line_tour::{Line, LineProblem};
@@ -112,15 +112,15 @@ impl Planner for LineGtsp {
                     ranked.extend(evaluate(finer, from, to)?);
                     settle(&mut ranked);
                 }
-                let (_, choice, _) = ranked.into_iter().next().ok_or_else(|| PlanError::Infeasible("no sweep line fits in the area left to cover".into()))?;
+                let (_, choice, _) = ranked.into_iter().next().ok_or_else(no_sweep_lines)?;
                 per_field(&choice)
             }
         };
         let lines = search.lines(&best);
         if lines.is_empty() {
-            return Err(PlanError::Infeasible("no sweep line fits in the area left to cover".into()));
+            return Err(no_sweep_lines());
         }
-        let route = problem.line_problem(&lines, problem.allow_reentry);
+        let route = search.route(&lines);
         let (seq, _) = route.solve();
         let path = fly_lines(&route, &seq, problem.layout.half_swath())?;
         let main = (0..fields.len()).max_by(|&a, &b| fields[a].unsigned_area().total_cmp(&fields[b].unsigned_area())).unwrap_or(0);

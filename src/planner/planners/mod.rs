@@ -71,6 +71,11 @@ impl Problem<'_> {
     }
 }
 
+/// The refusal when the area leaves room for no sweep line.
+fn no_sweep_lines() -> PlanError {
+    PlanError::Infeasible("no sweep line fits in the area left to cover".into())
+}
+
 /// Reports progress in [0, 1]; answers `false` when the job should stop.
 pub trait Progress {
     fn report(&self, fraction: f64) -> bool;

@@ -125,8 +125,9 @@ impl LineProblem<'_> {
     pub fn instance(&self) -> Instance<'_> {
         let candidates = self.candidates();
         let pairs: Vec<(usize, usize)> = candidates.iter().enumerate().flat_map(|(u, c)| c.iter().map(move |&v| (u, v))).collect();
-        let known: KnownCosts = pairs.into_par_iter().map(|(u, v)| ((u, v), self.priced(u, v, self.connection(u, v)))).collect();
-        let costs = Costs::lazy(2 * self.lines.len(), known, |u, v| self.priced(u, v, self.connection(u, v)));
+        let price = |u: usize, v: usize| self.priced(u, v, self.connection(u, v));
+        let known: KnownCosts = pairs.into_par_iter().map(|(u, v)| ((u, v), price(u, v))).collect();
+        let costs = Costs::lazy(2 * self.lines.len(), known, price);
         let mut inst = self.instance_with(costs, self.start_costs(), self.end_costs());
         inst.candidates = Some(candidates);
         inst

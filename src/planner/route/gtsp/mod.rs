@@ -185,8 +185,7 @@ pub fn quick(inst: &Instance) -> Vec<usize> {
         0 => Vec::new(),
         m if m <= QUICK_EXACT_CLUSTERS && inst.n() <= EXACT_NODES => held_karp(inst),
         _ => {
-            let of = inst.cluster_of();
-            let nb = Neighbours::new(inst, &of, neighbour_count(m));
+            let (of, nb) = neighbours(inst);
             let start = greedy_with(inst, &nb, &of);
             let total = inst.total(&start);
             local_search(inst, &nb, &of, (start, total), 0..m, true).0
@@ -194,16 +193,21 @@ pub fn quick(inst: &Instance) -> Vec<usize> {
     }
 }
 
-fn neighbour_count(m: usize) -> usize {
-    if m <= ALL_NEIGHBOURS_UP_TO { usize::MAX } else { NEIGHBOURS }
+/// Each node's cluster, and the neighbour lists the search uses: every node on small
+/// instances, the [`NEIGHBOURS`] cheapest on larger ones.
+fn neighbours(inst: &Instance) -> (Vec<usize>, Neighbours) {
+    let of = inst.cluster_of();
+    let k = if inst.clusters.len() <= ALL_NEIGHBOURS_UP_TO { usize::MAX } else { NEIGHBOURS };
+    let nb = Neighbours::new(inst, &of, k);
+    (of, nb)
 }
 
 /// Greedy from the start: the cheapest next node of an unvisited cluster, looked for among
 /// the neighbours first. Without a start, a few first clusters are tried and the cheapest
 /// result kept.
 pub fn greedy(inst: &Instance) -> Vec<usize> {
-    let of = inst.cluster_of();
-    greedy_with(inst, &Neighbours::new(inst, &of, neighbour_count(inst.clusters.len())), &of)
+    let (of, nb) = neighbours(inst);
+    greedy_with(inst, &nb, &of)
 }
 
 fn greedy_with(inst: &Instance, nb: &Neighbours, of: &[usize]) -> Vec<usize> {
@@ -297,8 +301,7 @@ impl Rng {
 /// few random orders too; the best result wins.
 pub fn heuristic(inst: &Instance) -> Vec<usize> {
     let m = inst.clusters.len();
-    let of = inst.cluster_of();
-    let nb = Neighbours::new(inst, &of, neighbour_count(m));
+    let (of, nb) = neighbours(inst);
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     let mut starts = vec![greedy_with(inst, &nb, &of)];
     if m <= RESTART_UP_TO {
@@ -340,7 +343,6 @@ fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: 
             best_cost = cost;
         }
     }
-    let m = best.len();
     local_search(inst, nb, of, (best, best_cost), 0..m, true).0
 }
 

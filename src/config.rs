@@ -18,6 +18,9 @@ pub struct Config {
     pub shutdown_grace: Duration,
     /// Test knob: hold each claimed job this long before planning.
     pub job_start_delay: Duration,
+    /// Map tiles for the page (a Leaflet URL template); `None`: no tiles, the page works offline.
+    pub tile_url: Option<String>,
+    pub tile_attribution: Option<String>,
 }
 
 impl Config {
@@ -32,6 +35,8 @@ impl Config {
             limits: FieldLimits::default(),
             shutdown_grace: Duration::from_secs(30),
             job_start_delay: Duration::ZERO,
+            tile_url: None,
+            tile_attribution: None,
         }
     }
 }

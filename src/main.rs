@@ -50,6 +50,9 @@ enum Command {
         /// Instead: route 100, 300 and 600 parallel lines with Dubins turns.
         #[arg(long)]
         routing: bool,
+        /// Instead: E-Spiral against E-BF energy on generated polygons, and EG-CPP time by grid size.
+        #[arg(long)]
+        energy: bool,
     },
     /// Print the OpenAPI document.
     Openapi,
@@ -85,6 +88,13 @@ struct ServeArgs {
     /// Seconds running plans get to finish at shutdown before they are requeued.
     #[arg(long, env = "COVERPLAN_SHUTDOWN_GRACE_S", default_value_t = 30)]
     shutdown_grace_s: u64,
+    /// Map tile URL template for the page, e.g. https://tile.openstreetmap.org/{z}/{x}/{y}.png;
+    /// without it the page draws on a plain background (no network needed).
+    #[arg(long, env = "COVERPLAN_TILE_URL")]
+    tile_url: Option<String>,
+    /// Attribution shown with the tiles.
+    #[arg(long, env = "COVERPLAN_TILE_ATTRIBUTION")]
+    tile_attribution: Option<String>,
     /// Test knob: hold each job this many milliseconds before planning.
     #[arg(long, env = "COVERPLAN_JOB_START_DELAY_MS", default_value_t = 0, hide = true)]
     job_start_delay_ms: u64,
@@ -98,6 +108,10 @@ fn main() -> ExitCode {
     let result = match Cli::parse().command {
         Command::Serve(args) => serve(args),
         Command::Plan { mission, params, out } => plan(&mission, params.as_deref(), out.as_deref()),
+        Command::Bench { energy: true, repeats, .. } => {
+            print!("{}", coverplan::bench::energy::run(repeats.max(1) * 4));
+            Ok(())
+        }
         Command::Bench { routing: true, .. } => {
             print!("{}", coverplan::bench::routing());
             Ok(())
@@ -131,6 +145,8 @@ fn serve(args: ServeArgs) -> anyhow::Result<()> {
     config.limits = FieldLimits { max_area_ha: args.max_area_ha, max_vertices: args.max_vertices, ..FieldLimits::default() };
     config.shutdown_grace = Duration::from_secs(args.shutdown_grace_s);
     config.job_start_delay = Duration::from_millis(args.job_start_delay_ms);
+    config.tile_url = args.tile_url.filter(|u| !u.is_empty());
+    config.tile_attribution = args.tile_attribution;
     tokio::runtime::Runtime::new()?.block_on(coverplan::server::run(config, coverplan::server::shutdown_signal()))
 }
 
@@ -163,7 +179,7 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         }
         true
     };
-    let output = planner::plan(&geometry, &params, &FieldLimits::default(), &progress);
+    let output = planner::plan(&geometry, &params, &planner::vehicle::builtin_profiles(), &FieldLimits::default(), &progress);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }

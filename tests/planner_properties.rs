@@ -12,7 +12,7 @@ use serde_json::{Value, json};
 
 fn plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> PlanOutput {
     let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, home: None };
-    planner::plan(&mission, params, &FieldLimits::default(), &|_| true).unwrap_or_else(|e| panic!("planning failed: {e}"))
+    planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true).unwrap_or_else(|e| panic!("planning failed: {e}"))
 }
 
 const PLANNERS: [&str; 4] = ["boustrophedon", "naive", "eecd", "energy_aware"];
@@ -278,4 +278,12 @@ fn fixed_wing_plans_respect_zones_and_turning_radius() {
         planned += 1;
     }
     assert!(planned >= 16);
+}
+
+/// The built-in profiles with a battery no plan here exhausts: these tests are about geometry,
+/// not sorties.
+fn unlimited_battery() -> Vec<planner::vehicle::Vehicle> {
+    let mut profiles = planner::vehicle::builtin_profiles();
+    profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
+    profiles
 }

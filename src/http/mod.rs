@@ -6,6 +6,8 @@ pub mod missions;
 pub mod openapi;
 pub mod planners;
 pub mod plans;
+pub mod ui;
+pub mod vehicles;
 
 use std::sync::Arc;
 
@@ -38,6 +40,10 @@ pub fn router(state: AppState) -> Router {
         .route("/plans/{id}/trajectory", get(plans::trajectory))
         .route("/planners", get(planners::list))
         .route("/cameras", get(planners::cameras))
+        .route("/vehicles", get(vehicles::list).post(vehicles::create))
+        .route("/vehicles/{id}", get(vehicles::get).put(vehicles::update).delete(vehicles::delete))
+        .route("/estimates", axum::routing::post(vehicles::estimate))
+        .route("/ui-config", get(ui::config))
         .fallback(|| async { error::ApiError::Client { status: StatusCode::NOT_FOUND, code: "no_route", detail: "no such API route".into(), pointer: None } });
     let static_dir = ServeDir::new(&state.config.static_dir);
     Router::new()

@@ -2,7 +2,7 @@
 
 use utoipa::OpenApi;
 
-use super::{error, health, missions, planners, plans};
+use super::{error, health, missions, planners, plans, ui, vehicles};
 
 #[derive(OpenApi)]
 #[openapi(
@@ -15,9 +15,11 @@ use super::{error, health, missions, planners, plans};
         plans::create, plans::list, plans::get, plans::trajectory, plans::cancel,
         planners::list,
         planners::cameras,
+        ui::config,
+        vehicles::list, vehicles::get, vehicles::create, vehicles::update, vehicles::delete, vehicles::estimate,
     ),
     components(schemas(error::Problem, crate::planner::Stats, crate::planner::path::PieceKind)),
-    tags((name = "missions"), (name = "plans"), (name = "planners"), (name = "health"))
+    tags((name = "missions"), (name = "plans"), (name = "planners"), (name = "vehicles"), (name = "health"))
 )]
 pub struct ApiDoc;
 

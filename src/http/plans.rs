@@ -9,7 +9,7 @@ use serde_json::json;
 use super::AppState;
 use super::error::{ApiError, ApiJson, Problem};
 use crate::planner::{self, MissionGeometry, PlanParams};
-use crate::store::missions;
+use crate::store::{missions, vehicles};
 use crate::store::plans::{self, Plan, PlanStatus};
 
 #[utoipa::path(post, path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)), request_body = PlanParams,
@@ -17,8 +17,12 @@ use crate::store::plans::{self, Plan, PlanStatus};
 pub async fn create(State(state): State<AppState>, Path(mission_id): Path<String>, ApiJson(params): ApiJson<PlanParams>) -> Result<(StatusCode, Json<Plan>), ApiError> {
     let mission = missions::get(&state.db, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
     let geometry = MissionGeometry { area: &mission.area, no_fly_zones: mission.no_fly_zones.as_ref(), obstacles: mission.obstacles.as_ref(), home: mission.home };
-    planner::check_plan(&geometry, &params, &state.config.limits)?;
-    let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home});
+    let profiles = vehicles::profiles(&state.db).await?;
+    planner::check_plan(&geometry, &params, &profiles, &state.config.limits)?;
+    // the named profile as it is now: editing it later does not change a queued plan
+    let profile = params.vehicle.resolve(&profiles)?;
+    let base = profiles.iter().find(|p| p.profile == profile.profile);
+    let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home, "vehicles": [base]});
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     let plan = plans::create(&state.db, &mission_id, &params, &snapshot).await?;
     state.jobs.notify();

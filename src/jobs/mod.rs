@@ -29,7 +29,12 @@ pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::
         obstacles: job.mission.get("obstacles").filter(|v| !v.is_null()),
         home,
     };
-    planner::plan(&mission, &params, limits, progress)
+    // the profile as it was when the plan was queued (older plans: the built-ins)
+    let profiles = match job.mission.get("vehicles") {
+        Some(v) => serde_json::from_value(v.clone()).map_err(|e| PlanError::Infeasible(format!("stored vehicle profile is unreadable: {e}")))?,
+        None => planner::vehicle::builtin_profiles(),
+    };
+    planner::plan(&mission, &params, &profiles, limits, progress)
 }
 
 struct RunningJob {

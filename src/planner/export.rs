@@ -4,7 +4,7 @@ use geo::Coord;
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, Position};
 use serde_json::json;
 
-use super::energy::PieceEstimate;
+use super::energy::PathEstimate;
 use super::frame::LocalFrame;
 use super::path::FlightPath;
 
@@ -30,34 +30,42 @@ fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
     Feature { geometry: Some(Geometry::new(value)), properties: Some(properties), ..Default::default() }
 }
 
+/// The sorties' pieces in flight order, each with its sortie (1-based), speeds, time and
+/// energy, and the battery left at its end (as a share of the usable energy).
 pub fn feature_collection(
     frame: &LocalFrame,
-    path: &FlightPath,
-    estimates: &[PieceEstimate],
+    sorties: &[FlightPath],
+    estimates: &[PathEstimate],
     altitude_m: Option<f64>,
+    usable_j: f64,
     photos: Option<&[Coord]>,
 ) -> FeatureCollection {
-    let mut features: Vec<Feature> = path
-        .pieces
-        .iter()
-        .zip(estimates)
-        .enumerate()
-        .map(|(seq, (piece, e))| {
+    let mut features = Vec::new();
+    for (k, (sortie, estimate)) in sorties.iter().zip(estimates).enumerate() {
+        // take-off is spent before the first piece
+        let mut used = estimate.takeoff_landing_j / 2.0;
+        for (piece, e) in sortie.pieces.iter().zip(&estimate.pieces) {
+            used += e.energy_j;
             let coords = piece.points.iter().enumerate().map(|(i, &c)| position(frame, c, piece.z.get(i).copied().or(altitude_m))).collect();
             let mut props = json!({
-                "seq": seq,
+                "seq": features.len(),
+                "sortie": k + 1,
                 "kind": piece.kind,
                 "length_m": round(piece.length(), 2),
                 "duration_s": round(e.duration_s, 2),
                 "energy_j": round(e.energy_j, 2),
                 "speed_mps": round(e.speed_mps, 2),
+                "v_in_mps": round(e.v_in_mps, 2),
+                "v_out_mps": round(e.v_out_mps, 2),
+                "cumulative_energy_j": round(used, 1),
+                "battery_remaining": round(1.0 - used / usable_j, 4),
             });
             if let Some(z) = altitude_m {
                 props["altitude_m"] = json!(round(z, 2));
             }
-            feature(GeometryValue::LineString { coordinates: coords }, props)
-        })
-        .collect();
+            features.push(feature(GeometryValue::LineString { coordinates: coords }, props));
+        }
+    }
     if let Some(photos) = photos {
         let coords = photos.iter().map(|&c| position(frame, c, altitude_m)).collect();
         features.push(feature(GeometryValue::MultiPoint { coordinates: coords }, json!({"kind": "photos", "count": photos.len()})));

@@ -243,7 +243,7 @@ fn raw_polygon(rings: &[Vec<geojson::Position>], pointer: &str) -> Result<RawPol
     Ok(RawPolygon { pointer: pointer.to_owned(), rings })
 }
 
-fn check_position(p: &[f64; 2], pointer: &str) -> Result<(), InputError> {
+pub fn check_position(p: &[f64; 2], pointer: &str) -> Result<(), InputError> {
     let [lon, lat] = *p;
     if !lon.is_finite() || !lat.is_finite() {
         return Err(InputError::new("invalid_position", pointer, "coordinates must be finite numbers"));

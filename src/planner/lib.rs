@@ -8,6 +8,7 @@ pub mod camera;
 pub mod decompose;
 pub mod energy;
 pub mod error;
+pub mod estimate;
 pub mod export;
 pub mod field;
 pub mod frame;
@@ -16,6 +17,7 @@ pub mod params;
 pub mod path;
 pub mod planners;
 pub mod route;
+pub mod sortie;
 pub mod sweep;
 pub mod turn;
 pub mod vehicle;
@@ -33,7 +35,6 @@ pub use metrics::Stats;
 pub use params::PlanParams;
 pub use planners::Progress;
 
-use energy::{EnergyModel, constant_power::ConstantPower};
 use field::Field;
 use path::{FlightPath, PieceKind, polyline_length};
 use planners::Problem;
@@ -77,8 +78,8 @@ struct Prepared {
     end: Option<Coord>,
 }
 
-fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLimits) -> Result<Prepared, InputError> {
-    let resolved = params.resolve()?;
+fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<Prepared, InputError> {
+    let resolved = params.resolve(profiles)?;
     let planner = planners::find(&params.planner).ok_or_else(|| unknown_planner(&params.planner))?;
     let field = Field::parse(mission, limits)?;
     let sweep_km = field.area.unsigned_area() / resolved.line_spacing_m / 1000.0;
@@ -111,14 +112,15 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLim
 }
 
 /// Checks a plan request without planning: what [`plan`] would refuse as input, this refuses.
-pub fn check_plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLimits) -> Result<(), InputError> {
-    prepare(mission, params, limits).map(|_| ())
+pub fn check_plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<(), InputError> {
+    prepare(mission, params, profiles, limits).map(|_| ())
 }
 
-/// Plans `mission` with `params`. `progress` is called between stages and may cancel.
-pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLimits, progress: &dyn Progress) -> Result<PlanOutput, PlanError> {
+/// Plans `mission` with `params`; `vehicle.profile` names one of `profiles`. `progress` is
+/// called between stages and may cancel.
+pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits, progress: &dyn Progress) -> Result<PlanOutput, PlanError> {
     let started = Instant::now();
-    let Prepared { resolved, planner, field, region, keep_out, walls, start, end } = prepare(mission, params, limits)?;
+    let Prepared { resolved, planner, field, region, keep_out, walls, start, end } = prepare(mission, params, profiles, limits)?;
     if !progress.report(0.1) {
         return Err(PlanError::Cancelled);
     }
@@ -147,17 +149,39 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLi
         allow_reentry: resolved.allow_reentry,
         obstacles: obstacles.as_ref(),
         vehicle: &resolved.vehicle,
+        objective: resolved.objective,
     };
-    let mut planned = if resolved.optimal_direction { plan_every_direction(planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
+    let planned = if resolved.optimal_direction { plan_every_direction(planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
+    // climbs over obstacles are flown by every sortie, so they are priced when splitting
+    let raised = |p: &FlightPath| obstacles.as_ref().map_or((p.clone(), 0.0), |obs| obs.raise(p));
+    let model = energy::model_for(&resolved.vehicle);
+    let energy_of = |p: &FlightPath| model.estimate(&raised(p).0, resolved.altitude_m).energy_j();
+    let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
+    let budget = sortie::Budget {
+        home: field.home,
+        usable_j: resolved.vehicle.battery.usable_j(),
+        max_sorties: resolved.max_sorties,
+        connect: &connect,
+        energy: &energy_of,
+    };
     let mut lost_coverage_m = 0.0;
-    if let Some(obs) = &obstacles {
-        (planned.path, lost_coverage_m) = obs.raise(&planned.path);
-    }
-    let estimates = ConstantPower { vehicle: &resolved.vehicle }.estimate(&planned.path);
-    let photos = resolved.camera.map(|c| photo_positions(&planned.path, &c));
+    let sorties: Vec<FlightPath> = budget
+        .split(&planned.path)?
+        .iter()
+        .map(|s| {
+            let (path, lost) = raised(s);
+            lost_coverage_m += lost;
+            path
+        })
+        .collect();
+    let estimates: Vec<energy::PathEstimate> = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
+    let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
+    let photos = resolved.camera.map(|c| photo_positions(&path, &c));
     let mut stats = metrics::measure(&metrics::MeasureInput {
-        path: &planned.path,
+        path: &path,
+        sorties: &sorties,
         estimates: &estimates,
+        usable_j: resolved.vehicle.battery.usable_j(),
         region: &region,
         no_fly_zones: &field.no_fly_zones,
         spacing: resolved.line_spacing_m,
@@ -165,8 +189,10 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, limits: &FieldLi
         cells: planned.cells,
         photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
     });
-    let trajectory = export::feature_collection(&field.frame, &planned.path, &estimates, resolved.altitude_m, photos.as_deref().map(metrics::photo_points).as_deref());
+    let trajectory = export::feature_collection(&field.frame, &sorties, &estimates, resolved.altitude_m, resolved.vehicle.battery.usable_j(), photos.as_deref().map(metrics::photo_points).as_deref());
     stats.lost_coverage_m = lost_coverage_m;
+    stats.planner = planned.planner.unwrap_or(planner.id()).to_string();
+    stats.alternatives = planned.alternatives;
     stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     progress.report(1.0);
     Ok(PlanOutput { stats, trajectory })

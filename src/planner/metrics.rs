@@ -5,8 +5,10 @@ use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
 use super::camera::CameraPlan;
-use super::energy::PieceEstimate;
+use super::energy::PathEstimate;
 use super::path::{FlightPath, PieceKind};
+use super::planners::Alternative;
+use super::sortie::SortieTotals;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct Stats {
@@ -14,8 +16,24 @@ pub struct Stats {
     pub sweep_length_m: f64,
     pub turn_length_m: f64,
     pub transit_length_m: f64,
+    /// Flight time and energy, take-off and landing included (each sortie's).
     pub duration_s: f64,
     pub energy_j: f64,
+    pub energy_wh: f64,
+    /// Of `energy_j`: climbing to the flight altitude and descending from it.
+    pub takeoff_landing_energy_j: f64,
+    /// Flights from home and back the plan is split into (1: one battery suffices).
+    pub sorties: usize,
+    /// Each sortie's figures, in flight order.
+    pub sortie_totals: Vec<SortieTotals>,
+    /// Lower bound on the batteries the plan needs: total energy over one battery's usable energy.
+    pub batteries_needed: usize,
+    /// The planner that made the plan (with `auto`, the one chosen).
+    #[serde(default)]
+    pub planner: String,
+    /// With `auto`: how every other planner did.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub alternatives: Vec<Alternative>,
     /// Share of the area to cover (field − holes − no-fly zones with their margin) under the swaths.
     pub coverage_ratio: f64,
     /// Share of the area to cover inside at least one photo's footprint (with a camera).
@@ -106,8 +124,13 @@ pub fn length_inside(path: &FlightPath, zones: &MultiPolygon) -> f64 {
 }
 
 pub struct MeasureInput<'a> {
+    /// The whole flight: its sorties one after another.
     pub path: &'a FlightPath,
-    pub estimates: &'a [PieceEstimate],
+    pub sorties: &'a [FlightPath],
+    /// One per sortie.
+    pub estimates: &'a [PathEstimate],
+    /// Energy one battery gives above its reserve.
+    pub usable_j: f64,
     pub region: &'a MultiPolygon,
     pub no_fly_zones: &'a MultiPolygon,
     pub spacing: f64,
@@ -119,6 +142,7 @@ pub struct MeasureInput<'a> {
 pub fn measure(m: &MeasureInput<'_>) -> Stats {
     let by_kind = |k: PieceKind| m.path.pieces.iter().filter(|p| p.kind == k).map(|p| p.length()).sum::<f64>();
     let length_m = m.path.length();
+    let energy_j: f64 = m.estimates.iter().map(PathEstimate::energy_j).sum();
     let area = m.region.unsigned_area();
     let lower_bound_m = area / m.spacing;
     let strips = sweep_strips(m.path);
@@ -133,8 +157,28 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         sweep_length_m: by_kind(PieceKind::Sweep),
         turn_length_m: by_kind(PieceKind::Turn),
         transit_length_m: by_kind(PieceKind::Transit),
-        duration_s: m.estimates.iter().map(|e| e.duration_s).sum(),
-        energy_j: m.estimates.iter().map(|e| e.energy_j).sum(),
+        duration_s: m.estimates.iter().map(PathEstimate::duration_s).sum(),
+        energy_j,
+        energy_wh: energy_j / 3600.0,
+        takeoff_landing_energy_j: m.estimates.iter().map(|e| e.takeoff_landing_j).sum(),
+        sorties: m.sorties.len(),
+        sortie_totals: m
+            .sorties
+            .iter()
+            .zip(m.estimates)
+            .enumerate()
+            .map(|(k, (s, e))| SortieTotals {
+                sortie: k + 1,
+                sweep_lines: s.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).count(),
+                length_m: s.length(),
+                duration_s: e.duration_s(),
+                energy_j: e.energy_j(),
+                battery_used: e.energy_j() / m.usable_j,
+            })
+            .collect(),
+        batteries_needed: (energy_j / m.usable_j).ceil().max(1.0) as usize,
+        planner: String::new(),
+        alternatives: Vec::new(),
         coverage_ratio: if area > 0.0 { (covered / area).min(1.0) } else { 0.0 },
         photo_coverage_ratio,
         overlap_ratio: if swept > 0.0 { (strip_sum / swept - 1.0).max(0.0) } else { 0.0 },

@@ -72,6 +72,22 @@ pub struct PlanParams {
     /// Clearance kept from no-fly zones, 1 to 500 m (default 10).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nfz_margin_m: Option<f64>,
+    /// What planner `auto` minimises (default `energy`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective: Option<Objective>,
+    /// Most sorties a plan may be split into when one battery is not enough, 1 to 100
+    /// (default 20); splitting needs the mission's home.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_sorties: Option<u32>,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Objective {
+    #[default]
+    Energy,
+    Time,
+    Length,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
@@ -115,6 +131,8 @@ pub struct Resolved {
     pub obstacle_clearance_m: f64,
     pub max_climb_deg: f64,
     pub coverage_penalty: f64,
+    pub objective: Objective,
+    pub max_sorties: usize,
 }
 
 /// Compass bearing (clockwise from north, degrees) to a math angle (counter-clockwise from
@@ -129,8 +147,9 @@ pub fn math_to_bearing(angle: f64) -> f64 {
 }
 
 impl PlanParams {
-    pub fn resolve(&self) -> Result<Resolved, InputError> {
-        let vehicle = self.vehicle.resolve()?;
+    /// Validates the parameters; `vehicle.profile` is looked up in `profiles`.
+    pub fn resolve(&self, profiles: &[Vehicle]) -> Result<Resolved, InputError> {
+        let vehicle = self.vehicle.resolve(profiles)?;
         let overlap = |v: Option<f64>, default: f64, pointer: &str| -> Result<f64, InputError> {
             let v = v.unwrap_or(default);
             check_range(v, 0.0, 0.95, pointer, "")?;
@@ -181,6 +200,10 @@ impl PlanParams {
         let coverage_penalty = within(self.coverage_penalty, 10.0, 0.0, 1000.0, "/coverage_penalty", "")?;
         let nfz_margin_m = self.nfz_margin_m.unwrap_or(10.0);
         check_range(nfz_margin_m, 1.0, 500.0, "/nfz_margin_m", "m")?;
+        let max_sorties = self.max_sorties.unwrap_or(20);
+        if !(1..=100).contains(&max_sorties) {
+            return Err(InputError::new("parameter_out_of_range", "/max_sorties", format!("{max_sorties} is outside the accepted range [1, 100]")));
+        }
         Ok(Resolved {
             line_spacing_m,
             camera,
@@ -198,6 +221,8 @@ impl PlanParams {
             obstacle_clearance_m,
             max_climb_deg,
             coverage_penalty,
+            objective: self.objective.unwrap_or_default(),
+            max_sorties: max_sorties as usize,
         })
     }
 }
@@ -216,11 +241,12 @@ mod tests {
     #[test]
     fn refuses_absurd_values_with_their_place() {
         let p: PlanParams = serde_json::from_str(r#"{"line_spacing_m": -3}"#).unwrap();
-        assert_eq!(p.resolve().unwrap_err().pointer, "/line_spacing_m");
+        let profiles = crate::vehicle::builtin_profiles();
+        assert_eq!(p.resolve(&profiles).unwrap_err().pointer, "/line_spacing_m");
         let p: PlanParams = serde_json::from_str(r#"{"line_spacing_m": 20, "vehicle": {"cruise_speed_mps": 1e9}}"#).unwrap();
-        assert_eq!(p.resolve().unwrap_err().pointer, "/vehicle/cruise_speed_mps");
+        assert_eq!(p.resolve(&profiles).unwrap_err().pointer, "/vehicle/cruise_speed_mps");
         let p: PlanParams = serde_json::from_str(r#"{}"#).unwrap();
-        assert_eq!(p.resolve().unwrap_err().code, "spacing_missing");
+        assert_eq!(p.resolve(&profiles).unwrap_err().code, "spacing_missing");
         assert!(serde_json::from_str::<PlanParams>(r#"{"vehicle": {"kind": "boat"}}"#).is_err());
     }
 }

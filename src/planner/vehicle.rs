@@ -1,8 +1,11 @@
-//! Vehicles: built-in profiles and per-plan overrides.
+//! Vehicles: profiles (built-in or stored by the service) and per-plan overrides.
 
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
+use super::energy::constant_power::PowerFigures;
+use super::energy::fixed_wing::Airframe;
+use super::energy::iem::IemCoefficients;
 use super::error::InputError;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
@@ -12,48 +15,114 @@ pub enum VehicleKind {
     FixedWing,
 }
 
-/// A resolved vehicle with every figure the planner needs.
-#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
+/// The energy model of a profile and its parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(tag = "model", content = "parameters", rename_all = "snake_case")]
+pub enum EnergyParams {
+    /// Seed 002's improved model: measured polynomials, speed kept through corners.
+    MultirotorIem(IemCoefficients),
+    /// Steady-flight physics with banked turns and climbs.
+    FixedWing(Airframe),
+    /// One power figure for the whole flight.
+    ConstantPower(PowerFigures),
+}
+
+/// The battery: its energy and the share kept in reserve at landing.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Battery {
+    pub energy_wh: f64,
+    /// Fraction of `energy_wh` that must be left at landing (default 0.25).
+    pub reserve: f64,
+}
+
+impl Battery {
+    /// Energy a sortie may use, in joules.
+    pub fn usable_j(&self) -> f64 {
+        self.energy_wh * 3600.0 * (1.0 - self.reserve)
+    }
+}
+
+/// A vehicle profile with every figure the planner needs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
 pub struct Vehicle {
+    /// Identifier: lower-case letters, digits, `_` and `-`.
     pub profile: String,
+    #[serde(default)]
+    pub description: String,
     pub kind: VehicleKind,
+    /// Cruise speed; for the multirotor model, the highest speed of any leg.
     pub cruise_speed_mps: f64,
     /// Minimum turning radius (0 for a multirotor, which stops and turns on the spot).
     pub turn_radius_m: f64,
-    /// Acceleration and deceleration at corners (multirotor).
+    /// Acceleration and deceleration at corners (multirotor, constant-power model).
     pub acceleration_mps2: f64,
-    /// Electrical power drawn in cruise, the default energy model's single coefficient.
-    pub cruise_power_w: f64,
+    pub energy: EnergyParams,
+    pub battery: Battery,
 }
 
-/// Built-in profiles. Figures are typical assumptions, documented in the README, not
-/// measurements of a particular airframe.
+/// Built-in profiles. `iris` carries measured coefficients; the others' figures are assumed
+/// (documented in the README), not measurements of a particular airframe.
 pub fn builtin_profiles() -> Vec<Vehicle> {
+    let li_ion = |energy_wh| Battery { energy_wh, reserve: 0.25 };
     vec![
         Vehicle {
+            profile: "iris".into(),
+            description: "3DR IRIS quadrotor (seed 002): measured energy model, legs at most 7.8 m/s, 3S 5.1 Ah battery".into(),
+            kind: VehicleKind::Multirotor,
+            cruise_speed_mps: 7.8,
+            turn_radius_m: 0.0,
+            acceleration_mps2: 1.0,
+            energy: EnergyParams::MultirotorIem(IemCoefficients::iris()),
+            battery: li_ion(56.6),
+        },
+        Vehicle {
+            profile: "maja".into(),
+            description: "Fixed-wing survey aircraft of seed 004: 15 m/s, planning turn radius 85 m; energy from an assumed 3 kg airframe, 4S 5 Ah battery".into(),
+            kind: VehicleKind::FixedWing,
+            cruise_speed_mps: 15.0,
+            turn_radius_m: 85.0,
+            acceleration_mps2: 1.0,
+            energy: EnergyParams::FixedWing(Airframe::default()),
+            battery: li_ion(74.0),
+        },
+        Vehicle {
             profile: "generic_multirotor".into(),
+            description: "Assumed large survey multirotor: 8 m/s, 400 W, two 274 Wh batteries (about 55 minutes)".into(),
             kind: VehicleKind::Multirotor,
             cruise_speed_mps: 8.0,
             turn_radius_m: 0.0,
             acceleration_mps2: 2.0,
-            cruise_power_w: 250.0,
+            energy: EnergyParams::ConstantPower(PowerFigures { cruise_power_w: 400.0, vertical_speed_mps: 2.0 }),
+            battery: li_ion(548.0),
         },
         Vehicle {
             profile: "generic_fixed_wing".into(),
+            description: "Assumed small fixed-wing aircraft: 15 m/s, turning radius 50 m, 74 Wh".into(),
             kind: VehicleKind::FixedWing,
             cruise_speed_mps: 15.0,
             turn_radius_m: 50.0,
             acceleration_mps2: 1.0,
-            cruise_power_w: 150.0,
+            energy: EnergyParams::FixedWing(Airframe::default()),
+            battery: li_ion(74.0),
         },
     ]
+}
+
+/// The profile used for a kind when no profile is named.
+fn default_profile(kind: Option<VehicleKind>) -> &'static str {
+    match kind {
+        Some(VehicleKind::FixedWing) => "generic_fixed_wing",
+        _ => "generic_multirotor",
+    }
 }
 
 /// The vehicle part of a plan request: a profile, a kind, or both, with optional overrides.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleParams {
-    /// Name of a profile (`generic_multirotor`, `generic_fixed_wing`).
+    /// Name of a profile, as listed by `GET /api/v1/vehicles`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -62,38 +131,40 @@ pub struct VehicleParams {
     pub cruise_speed_mps: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub turn_radius_m: Option<f64>,
+    /// Battery energy, Wh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub battery_wh: Option<f64>,
+    /// Share of the battery kept at landing, 0 to 0.9.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub battery_reserve: Option<f64>,
 }
 
 impl VehicleParams {
-    pub fn resolve(&self) -> Result<Vehicle, InputError> {
-        let profiles = builtin_profiles();
-        let mut v = match (&self.profile, self.kind) {
-            (Some(name), _) => profiles.into_iter().find(|p| &p.profile == name).ok_or_else(|| {
-                InputError::new(
-                    "unknown_vehicle_profile",
-                    "/vehicle/profile",
-                    format!("no vehicle profile named `{name}`; known: generic_multirotor, generic_fixed_wing"),
-                )
-            })?,
-            (None, Some(kind)) => profiles.into_iter().find(|p| p.kind == kind).expect("a profile per kind"),
-            (None, None) => profiles.into_iter().next().expect("a default profile"),
-        };
+    /// The profile named (or the kind's default) from `profiles`, with the overrides applied.
+    pub fn resolve(&self, profiles: &[Vehicle]) -> Result<Vehicle, InputError> {
+        let name = self.profile.as_deref().unwrap_or(default_profile(self.kind));
+        let mut v = profiles.iter().find(|p| p.profile == name).cloned().ok_or_else(|| {
+            let known: Vec<&str> = profiles.iter().map(|p| p.profile.as_str()).collect();
+            InputError::new("unknown_vehicle_profile", "/vehicle/profile", format!("no vehicle profile named `{name}`; known: {}", known.join(", ")))
+        })?;
         if let Some(kind) = self.kind {
             if kind != v.kind {
                 return Err(InputError::new("vehicle_kind_mismatch", "/vehicle/kind", format!("profile `{}` is not of this kind", v.profile)));
             }
         }
         if let Some(s) = self.cruise_speed_mps {
-            check_range(s, 0.5, 100.0, "/vehicle/cruise_speed_mps", "m/s")?;
             v.cruise_speed_mps = s;
         }
         if let Some(r) = self.turn_radius_m {
-            check_range(r, 0.0, 5_000.0, "/vehicle/turn_radius_m", "m")?;
             v.turn_radius_m = r;
         }
-        if v.kind == VehicleKind::FixedWing && v.turn_radius_m < 1.0 {
-            return Err(InputError::new("turn_radius_too_small", "/vehicle/turn_radius_m", "a fixed-wing aircraft needs a turning radius of at least 1 m"));
+        if let Some(e) = self.battery_wh {
+            v.battery.energy_wh = e;
         }
+        if let Some(r) = self.battery_reserve {
+            v.battery.reserve = r;
+        }
+        v.validate("/vehicle")?;
         Ok(v)
     }
 }
@@ -106,6 +177,87 @@ impl Vehicle {
             VehicleKind::FixedWing => crate::turn::TurnModel::Dubins(self.turn_radius_m),
         }
     }
+
+    /// Checks every figure; `at` is the JSON pointer of the profile in the request.
+    pub fn validate(&self, at: &str) -> Result<(), InputError> {
+        let id_ok = !self.profile.is_empty()
+            && self.profile.len() <= 64
+            && self.profile.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_' || b == b'-');
+        if !id_ok {
+            return Err(InputError::new("invalid_profile_id", format!("{at}/profile"), "1 to 64 characters: lower-case letters, digits, `_` and `-`"));
+        }
+        let range = |v: f64, lo: f64, hi: f64, field: &str, unit: &str| check_range(v, lo, hi, &format!("{at}/{field}"), unit);
+        range(self.cruise_speed_mps, 0.5, 100.0, "cruise_speed_mps", "m/s")?;
+        range(self.turn_radius_m, 0.0, 5_000.0, "turn_radius_m", "m")?;
+        range(self.acceleration_mps2, 0.1, 20.0, "acceleration_mps2", "m/s²")?;
+        range(self.battery.energy_wh, 1.0, 100_000.0, "battery/energy_wh", "Wh")?;
+        range(self.battery.reserve, 0.0, 0.9, "battery/reserve", "")?;
+        if self.kind == VehicleKind::FixedWing && self.turn_radius_m < 1.0 {
+            return Err(InputError::new("turn_radius_too_small", format!("{at}/turn_radius_m"), "a fixed-wing aircraft needs a turning radius of at least 1 m"));
+        }
+        let p = |field: &str| format!("{at}/energy/parameters/{field}");
+        let model_kind = match &self.energy {
+            EnergyParams::MultirotorIem(c) => {
+                for (field, poly) in [("level_power", &c.level_power), ("accel_power", &c.accel_power), ("decel_power", &c.decel_power)] {
+                    if poly.is_empty() || poly.len() > 12 || poly.iter().any(|k| !k.is_finite()) {
+                        return Err(InputError::new("invalid_energy_model", p(field), "a polynomial needs 1 to 12 finite coefficients, highest power first"));
+                    }
+                }
+                for (field, v, hi) in [
+                    ("decel_reference_mps", c.decel_reference_mps, 100.0),
+                    ("climb_rate_mps", c.climb_rate_mps, 50.0),
+                    ("climb_power_w", c.climb_power_w, 1e6),
+                    ("descent_rate_mps", c.descent_rate_mps, 50.0),
+                    ("descent_power_w", c.descent_power_w, 1e6),
+                    ("yaw_rate_deg_s", c.yaw_rate_deg_s, 3600.0),
+                    ("yaw_power_w", c.yaw_power_w, 1e6),
+                ] {
+                    check_range(v, 1e-3, hi, &p(field), "")?;
+                }
+                check_range(c.waypoint_hold_s, 0.0, 600.0, &p("waypoint_hold_s"), "s")?;
+                let knots_ok = !c.exit_speed_fraction.is_empty()
+                    && c.exit_speed_fraction.iter().all(|[a, f]| (0.0..=180.0).contains(a) && (0.0..=1.0).contains(f))
+                    && c.exit_speed_fraction.windows(2).all(|w| w[0][0] < w[1][0]);
+                if !knots_ok {
+                    return Err(InputError::new("invalid_energy_model", p("exit_speed_fraction"), "knots [angle 0..180°, fraction 0..1] with increasing angles"));
+                }
+                if (0..=12).any(|k| not_positive_at(&c.level_power, k as f64 * self.cruise_speed_mps / 12.0)) {
+                    return Err(InputError::new("invalid_energy_model", p("level_power"), "level power must be positive from 0 to the cruise speed"));
+                }
+                VehicleKind::Multirotor
+            }
+            EnergyParams::FixedWing(a) => {
+                for (field, v, lo, hi) in [
+                    ("mass_kg", a.mass_kg, 0.05, 1e4),
+                    ("wing_span_m", a.wing_span_m, 0.1, 100.0),
+                    ("wing_area_m2", a.wing_area_m2, 0.01, 1e3),
+                    ("drag_coefficient_zero_lift", a.drag_coefficient_zero_lift, 1e-4, 1.0),
+                    ("oswald_efficiency", a.oswald_efficiency, 0.1, 1.0),
+                    ("propulsive_efficiency", a.propulsive_efficiency, 0.05, 1.0),
+                    ("avionics_power_w", a.avionics_power_w, 0.0, 1e4),
+                    ("air_density_kg_m3", a.air_density_kg_m3, 0.1, 2.0),
+                    ("climb_rate_mps", a.climb_rate_mps, 0.1, 50.0),
+                ] {
+                    check_range(v, lo, hi, &p(field), "")?;
+                }
+                VehicleKind::FixedWing
+            }
+            EnergyParams::ConstantPower(f) => {
+                check_range(f.cruise_power_w, 1.0, 1e6, &p("cruise_power_w"), "W")?;
+                check_range(f.vertical_speed_mps, 0.1, 50.0, &p("vertical_speed_mps"), "m/s")?;
+                self.kind
+            }
+        };
+        if model_kind != self.kind {
+            return Err(InputError::new("vehicle_kind_mismatch", format!("{at}/energy/model"), "this energy model is for the other kind of vehicle"));
+        }
+        Ok(())
+    }
+}
+
+/// True when the polynomial is zero or negative at `x`.
+fn not_positive_at(c: &[f64], x: f64) -> bool {
+    crate::energy::iem::polyval(c, x) <= 0.0
 }
 
 /// Checks that `value` is finite and within `[lo, hi]`.
@@ -118,4 +270,27 @@ pub fn check_range(value: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> R
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtins_are_valid_and_overrides_are_checked() {
+        let all = builtin_profiles();
+        for v in &all {
+            v.validate("").unwrap_or_else(|e| panic!("{}: {e}", v.profile));
+        }
+        let fixed = VehicleParams { kind: Some(VehicleKind::FixedWing), ..Default::default() }.resolve(&all).unwrap();
+        assert_eq!(fixed.profile, "generic_fixed_wing");
+        let iris = VehicleParams { profile: Some("iris".into()), battery_wh: Some(20.0), ..Default::default() }.resolve(&all).unwrap();
+        assert_eq!(iris.battery.energy_wh, 20.0);
+        let bad = VehicleParams { profile: Some("iris".into()), battery_reserve: Some(1.5), ..Default::default() }.resolve(&all);
+        assert_eq!(bad.unwrap_err().pointer, "/vehicle/battery/reserve");
+        let unknown = VehicleParams { profile: Some("zeppelin".into()), ..Default::default() }.resolve(&all).unwrap_err();
+        assert!(unknown.detail.contains("iris"), "{}", unknown.detail);
+        let mismatch = VehicleParams { profile: Some("maja".into()), kind: Some(VehicleKind::Multirotor), ..Default::default() }.resolve(&all);
+        assert_eq!(mismatch.unwrap_err().code, "vehicle_kind_mismatch");
+    }
 }

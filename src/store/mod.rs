@@ -1,9 +1,10 @@
-//! SQLite storage: missions and plans. WAL mode; every write transaction starts with
+//! SQLite storage: missions, plans and vehicle profiles. WAL mode; every write transaction starts with
 //! `BEGIN IMMEDIATE`, so concurrent writers wait for the lock (busy timeout) instead of
 //! failing with "database is locked" when a read transaction tries to upgrade.
 
 pub mod missions;
 pub mod plans;
+pub mod vehicles;
 
 use std::str::FromStr;
 use std::time::Duration;
@@ -26,6 +27,7 @@ macro_rules! sql_now {
 const MIGRATIONS: &[(i64, &str, &str)] = &[
     (1, "init", include_str!("../../migrations/0001_init.sql")),
     (2, "obstacles", include_str!("../../migrations/0002_obstacles.sql")),
+    (3, "vehicles", include_str!("../../migrations/0003_vehicles.sql")),
 ];
 
 fn migrator() -> Migrator {
@@ -47,6 +49,7 @@ pub async fn connect(url: &str) -> Result<Db, sqlx::Error> {
         .busy_timeout(Duration::from_secs(30));
     let pool = SqlitePoolOptions::new().max_connections(8).connect_with(options).await?;
     migrator().run(&pool).await?;
+    vehicles::insert_builtins(&pool).await?;
     Ok(pool)
 }
 

@@ -1,21 +1,34 @@
-//! The default energy model, until a measured one replaces it: the vehicle cruises at its
-//! cruise speed drawing its cruise power; a multirotor stops at every corner sharper than
+//! The simplest energy model, for vehicles without a measured one: the vehicle cruises at its
+//! cruise speed drawing one power figure; a multirotor stops at every corner sharper than
 //! 0.5° (decelerating and accelerating at `acceleration_mps2`), which costs `v/a` seconds more
-//! than flying the same distance at cruise speed, at cruise power. Take-off and landing are
-//! not counted.
+//! than flying the same distance at cruise speed, at cruise power. Take-off and landing climb
+//! and descend at `vertical_speed_mps`, at the same power.
+
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
 
 use super::{EnergyModel, PieceEstimate, heading_change};
 use crate::path::FlightPath;
 use crate::vehicle::{Vehicle, VehicleKind};
 
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PowerFigures {
+    /// Electrical power drawn in flight.
+    pub cruise_power_w: f64,
+    /// Take-off climb and landing descent rate.
+    pub vertical_speed_mps: f64,
+}
+
 pub struct ConstantPower<'a> {
     pub vehicle: &'a Vehicle,
+    pub power: &'a PowerFigures,
 }
 
 const CORNER_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 impl EnergyModel for ConstantPower<'_> {
-    fn estimate(&self, path: &FlightPath) -> Vec<PieceEstimate> {
+    fn pieces(&self, path: &FlightPath) -> Vec<PieceEstimate> {
         let v = self.vehicle.cruise_speed_mps;
         let stop_s = match self.vehicle.kind {
             VehicleKind::Multirotor => v / self.vehicle.acceleration_mps2,
@@ -39,14 +52,21 @@ impl EnergyModel for ConstantPower<'_> {
             stops[0] += 0.5;
             stops[n - 1] += 0.5;
         }
+        let power = self.power.cruise_power_w;
         path.pieces
             .iter()
             .zip(stops)
             .map(|(p, s)| {
                 let duration_s = p.length() / v + s * stop_s;
-                PieceEstimate { speed_mps: v, duration_s, energy_j: duration_s * self.vehicle.cruise_power_w }
+                let v_ends = if stop_s > 0.0 { 0.0 } else { v };
+                PieceEstimate { speed_mps: v, duration_s, energy_j: duration_s * power, v_in_mps: v_ends, v_out_mps: v_ends }
             })
             .collect()
+    }
+
+    fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64) {
+        let t = (up_m + down_m) / self.power.vertical_speed_mps;
+        (t, t * self.power.cruise_power_w)
     }
 }
 
@@ -54,12 +74,14 @@ impl EnergyModel for ConstantPower<'_> {
 mod tests {
     use super::*;
     use crate::path::PieceKind;
-    use crate::vehicle::builtin_profiles;
+    use crate::vehicle::{EnergyParams, builtin_profiles};
     use geo::Coord;
 
     #[test]
     fn corners_cost_time_and_energy_grows_with_length() {
-        let v = &builtin_profiles()[0];
+        let v = builtin_profiles().into_iter().find(|v| v.profile == "generic_multirotor").unwrap();
+        let EnergyParams::ConstantPower(power) = &v.energy else { panic!("generic_multirotor has a constant power") };
+        let v = &v;
         let c = |x, y| Coord { x, y };
         let mut straight = FlightPath::default();
         straight.push(PieceKind::Sweep, vec![c(0.0, 0.0), c(100.0, 0.0)], 5.0);
@@ -67,13 +89,15 @@ mod tests {
         let mut bent = FlightPath::default();
         bent.push(PieceKind::Sweep, vec![c(0.0, 0.0), c(100.0, 0.0)], 5.0);
         bent.push(PieceKind::Turn, vec![c(100.0, 0.0), c(100.0, 100.0)], 0.0);
-        let m = ConstantPower { vehicle: v };
-        let t_straight: f64 = m.estimate(&straight).iter().map(|e| e.duration_s).sum();
-        let t_bent: f64 = m.estimate(&bent).iter().map(|e| e.duration_s).sum();
+        let m = ConstantPower { vehicle: v, power };
+        let t_straight = m.estimate(&straight, None).duration_s();
+        let t_bent = m.estimate(&bent, None).duration_s();
         let stop = v.cruise_speed_mps / v.acceleration_mps2;
         assert!((t_straight - (200.0 / v.cruise_speed_mps + stop)).abs() < 1e-9);
         assert!((t_bent - (200.0 / v.cruise_speed_mps + 2.0 * stop)).abs() < 1e-9);
-        let e: f64 = m.estimate(&bent).iter().map(|e| e.energy_j).sum();
-        assert!((e - t_bent * v.cruise_power_w).abs() < 1e-6);
+        let e = m.estimate(&bent, None).energy_j();
+        assert!((e - t_bent * power.cruise_power_w).abs() < 1e-6);
+        let climbing = m.estimate(&bent, Some(40.0));
+        assert!((climbing.takeoff_landing_s - 80.0 / power.vertical_speed_mps).abs() < 1e-9);
     }
 }

@@ -1,19 +1,68 @@
-//! Energy/time stage: speed, duration and energy of every piece of a flight path.
+//! Energy/time stage: speed, duration and energy of every piece of a flight path, one model
+//! per file: [`iem`] (measured multirotor), [`fixed_wing`] (physics of steady flight),
+//! [`constant_power`] (a single power figure). [`model_for`] picks the vehicle's.
 
 pub mod constant_power;
+pub mod fixed_wing;
+pub mod iem;
+
+use serde::Serialize;
+use utoipa::ToSchema;
 
 use super::path::FlightPath;
+use super::vehicle::{EnergyParams, Vehicle};
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, ToSchema)]
 pub struct PieceEstimate {
+    /// Cruise speed (the fastest leg's, where a piece has several).
     pub speed_mps: f64,
     pub duration_s: f64,
     pub energy_j: f64,
+    /// Speed entering and leaving the piece.
+    pub v_in_mps: f64,
+    pub v_out_mps: f64,
+}
+
+/// A path's estimate: one per piece, plus take-off to the flight altitude and landing.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PathEstimate {
+    pub pieces: Vec<PieceEstimate>,
+    pub takeoff_landing_s: f64,
+    pub takeoff_landing_j: f64,
+}
+
+impl PathEstimate {
+    pub fn duration_s(&self) -> f64 {
+        self.pieces.iter().map(|e| e.duration_s).sum::<f64>() + self.takeoff_landing_s
+    }
+
+    pub fn energy_j(&self) -> f64 {
+        self.pieces.iter().map(|e| e.energy_j).sum::<f64>() + self.takeoff_landing_j
+    }
 }
 
 pub trait EnergyModel {
-    /// One estimate per piece of `path`, in order.
-    fn estimate(&self, path: &FlightPath) -> Vec<PieceEstimate>;
+    /// One estimate per piece of `path`, in order, from rest to rest.
+    fn pieces(&self, path: &FlightPath) -> Vec<PieceEstimate>;
+
+    /// Time and energy of climbing `up_m` after take-off and descending `down_m` to land.
+    fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64);
+
+    /// The whole flight at `altitude_m` (or at ground level).
+    fn estimate(&self, path: &FlightPath, altitude_m: Option<f64>) -> PathEstimate {
+        let h = altitude_m.unwrap_or(0.0).max(0.0);
+        let (takeoff_landing_s, takeoff_landing_j) = self.takeoff_landing(h, h);
+        PathEstimate { pieces: self.pieces(path), takeoff_landing_s, takeoff_landing_j }
+    }
+}
+
+/// The energy model of `vehicle`.
+pub fn model_for(vehicle: &Vehicle) -> Box<dyn EnergyModel + '_> {
+    match &vehicle.energy {
+        EnergyParams::MultirotorIem(c) => Box::new(iem::Iem { coefficients: c, max_speed_mps: vehicle.cruise_speed_mps }),
+        EnergyParams::FixedWing(a) => Box::new(fixed_wing::FixedWing { airframe: a, speed_mps: vehicle.cruise_speed_mps, turn_radius_m: vehicle.turn_radius_m }),
+        EnergyParams::ConstantPower(p) => Box::new(constant_power::ConstantPower { vehicle, power: p }),
+    }
 }
 
 /// Heading change in radians (0..π) at the joint of `a→b` and `b→c`.
@@ -22,4 +71,130 @@ pub fn heading_change(a: geo::Coord, b: geo::Coord, c: geo::Coord) -> f64 {
     let cross = u.x * v.y - u.y * v.x;
     let dot = u.x * v.x + u.y * v.y;
     cross.atan2(dot).abs()
+}
+
+/// A straight run of the path between two corners.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Leg {
+    pub length_m: f64,
+    /// Heading change at the leg's end, degrees (0 for the last leg).
+    pub turn_after_deg: f64,
+    /// Height gained and lost along the leg.
+    pub climb_m: f64,
+    pub descent_m: f64,
+    /// Metres of the leg in each piece it crosses: (piece index, metres).
+    pub spans: Vec<(usize, f64)>,
+}
+
+/// Joints straighter than this are flown through: the legs merge (energy spec §4).
+const COLLINEAR_DEG: f64 = 0.5;
+
+/// The path as legs between its corners.
+pub fn legs(path: &FlightPath) -> Vec<Leg> {
+    let mut out: Vec<Leg> = Vec::new();
+    let mut current = Leg::default();
+    let mut last_dir: Option<geo::Coord> = None;
+    for (i, piece) in path.pieces.iter().enumerate() {
+        for k in 1..piece.points.len() {
+            let (a, b) = (piece.points[k - 1], piece.points[k]);
+            let d = b - a;
+            let len = d.x.hypot(d.y);
+            if len < 1e-9 {
+                continue;
+            }
+            if let Some(prev) = last_dir {
+                let turn = heading_change(geo::Coord { x: 0.0, y: 0.0 }, prev, prev + d).to_degrees();
+                if turn >= COLLINEAR_DEG {
+                    current.turn_after_deg = turn;
+                    out.push(std::mem::take(&mut current));
+                }
+            }
+            last_dir = Some(d);
+            current.length_m += len;
+            match current.spans.last_mut() {
+                Some((p, m)) if *p == i => *m += len,
+                _ => current.spans.push((i, len)),
+            }
+            if let (Some(za), Some(zb)) = (piece.z.get(k - 1), piece.z.get(k)) {
+                current.climb_m += (zb - za).max(0.0);
+                current.descent_m += (za - zb).max(0.0);
+            }
+        }
+    }
+    if current.length_m > 0.0 {
+        out.push(current);
+    }
+    out
+}
+
+/// Shares each leg's figures among the pieces it crosses, in proportion to length.
+pub fn spread_over_pieces<F>(path: &FlightPath, legs: &[Leg], flown: &[F], as_estimate: impl Fn(&F) -> PieceEstimate) -> Vec<PieceEstimate> {
+    let mut pieces = vec![PieceEstimate::default(); path.pieces.len()];
+    let mut touched = vec![false; path.pieces.len()];
+    let mut v_in = 0.0;
+    for (leg, f) in legs.iter().zip(flown) {
+        let e = as_estimate(f);
+        for &(i, metres) in &leg.spans {
+            let share = metres / leg.length_m;
+            let p = &mut pieces[i];
+            if !touched[i] {
+                p.v_in_mps = v_in;
+                touched[i] = true;
+            }
+            p.speed_mps = p.speed_mps.max(e.speed_mps);
+            p.duration_s += e.duration_s * share;
+            p.energy_j += e.energy_j * share;
+            p.v_out_mps = e.v_out_mps;
+        }
+        v_in = e.v_out_mps;
+    }
+    pieces
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::path::PieceKind;
+    use crate::vehicle::builtin_profiles;
+    use geo::Coord;
+
+    fn square_path(side: f64) -> FlightPath {
+        let c = |x, y| Coord { x, y };
+        let mut p = FlightPath::default();
+        p.push(PieceKind::Sweep, vec![c(0.0, 0.0), c(side / 2.0, 0.0), c(side, 0.0)], 5.0);
+        p.push(PieceKind::Turn, vec![c(side, 0.0), c(side, side)], 0.0);
+        p.push(PieceKind::Sweep, vec![c(side, side), c(0.0, side)], 5.0);
+        p
+    }
+
+    #[test]
+    fn legs_merge_straight_joints_and_keep_corners() {
+        let legs = legs(&square_path(100.0));
+        assert_eq!(legs.len(), 3);
+        assert!((legs[0].length_m - 100.0).abs() < 1e-9 && (legs[0].turn_after_deg - 90.0).abs() < 1e-9);
+        assert_eq!(legs[2].turn_after_deg, 0.0);
+        assert_eq!(legs[1].spans, vec![(1, 100.0)]);
+    }
+
+    #[test]
+    fn every_model_charges_more_for_longer_paths_and_sharper_turns() {
+        let c = |x, y| Coord { x, y };
+        let bent = |angle_deg: f64| {
+            let a = angle_deg.to_radians();
+            let mut p = FlightPath::default();
+            p.push(PieceKind::Sweep, vec![c(0.0, 0.0), c(200.0, 0.0)], 5.0);
+            p.push(PieceKind::Sweep, vec![c(200.0, 0.0), c(200.0 + 200.0 * a.cos(), 200.0 * a.sin())], 5.0);
+            p
+        };
+        for v in builtin_profiles() {
+            let m = model_for(&v);
+            let e = |p: &FlightPath| m.estimate(p, Some(30.0)).energy_j();
+            assert!(e(&square_path(200.0)) > e(&square_path(100.0)), "{}", v.profile);
+            if matches!(v.energy, EnergyParams::MultirotorIem(_)) {
+                // sharper corners cost more: less speed is kept through them
+                let energies: Vec<f64> = [10.0, 45.0, 90.0, 135.0, 170.0].iter().map(|&a| e(&bent(a))).collect();
+                assert!(energies.windows(2).all(|w| w[1] > w[0]), "{}: {energies:?}", v.profile);
+            }
+        }
+    }
 }

@@ -55,6 +55,14 @@ pub static ENERGY_AWARE: CellPlanner = CellPlanner {
     order: &CellTour,
 };
 
+pub static E_BF: CellPlanner = CellPlanner {
+    id: "e_bf",
+    description: "Energy-aware back-and-forth as seed 002 compares it with E-Spiral: the energy_aware geometry         (lines parallel to the longest edge, pockets the same way) flown in a fixed nearest-first order, each         leg at its energy-optimal speed.",
+    direction_rule: "parallel to the longest edge (of the field, then of each pocket)",
+    decomposition: &EnergyAware,
+    order: &NearestCell,
+};
+
 impl Planner for CellPlanner {
     fn id(&self) -> &'static str {
         self.id
@@ -80,7 +88,7 @@ impl Planner for CellPlanner {
         let main = cells.iter().max_by(|a, b| a.sweep_length().total_cmp(&b.sweep_length())).expect("cells");
         if problem.connector.turn != TurnModel::Straight {
             let path = fly_line_level(&cells, problem)?;
-            return Ok(PlannedPath { path, sweep_angle: main.angle, cells: cells.len() });
+            return Ok(PlannedPath::new(path, main.angle, cells.len()));
         }
         let ctx = RouteContext { transit: problem.transit, start: problem.start, end: problem.end };
         let tour = self.order.order(&cells, &ctx);
@@ -88,7 +96,7 @@ impl Planner for CellPlanner {
             return Err(PlanError::Cancelled);
         }
         let path = fly(&cells, &tour, problem)?;
-        Ok(PlannedPath { path, sweep_angle: main.angle, cells: cells.len() })
+        Ok(PlannedPath::new(path, main.angle, cells.len()))
     }
 }
 

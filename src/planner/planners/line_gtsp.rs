@@ -124,7 +124,7 @@ impl Planner for LineGtsp {
         let (seq, _) = route.solve();
         let path = fly_lines(&route, &seq, problem.layout.half_swath())?;
         let main = (0..fields.len()).max_by(|&a, &b| fields[a].unsigned_area().total_cmp(&fields[b].unsigned_area())).unwrap_or(0);
-        Ok(PlannedPath { path, sweep_angle: best.get(main).copied().unwrap_or(0.0), cells: fields.len() })
+        Ok(PlannedPath::new(path, best.get(main).copied().unwrap_or(0.0), fields.len()))
     }
 }
 

@@ -1,7 +1,10 @@
 //! Planners: each composes the stages into a complete method. Adding a planner means adding a
 //! file (or, for a decomposition planner, a `CellPlanner` value) and one line in [`registry`].
 
+pub mod auto;
 pub mod cell_planner;
+pub mod e_spiral;
+pub mod eg_cpp;
 pub mod line_gtsp;
 
 use geo::{Coord, MultiPolygon};
@@ -15,8 +18,12 @@ use super::route::line_tour::{Line, LineProblem, Terminal};
 use super::route::visibility::TransitPlanner;
 use super::sweep::LineLayout;
 use super::turn::climb::Obstacles;
+use super::params::Objective;
 use super::vehicle::Vehicle;
-use cell_planner::{BOUSTROPHEDON, EECD, ENERGY_AWARE, NAIVE};
+use auto::Auto;
+use cell_planner::{BOUSTROPHEDON, E_BF, EECD, ENERGY_AWARE, NAIVE};
+use e_spiral::ESpiral;
+use eg_cpp::EgCpp;
 use line_gtsp::LineGtsp;
 
 /// What every planner receives, in the local frame.
@@ -42,6 +49,8 @@ pub struct Problem<'a> {
     /// Obstacles to climb over, when the mission has any.
     pub obstacles: Option<&'a Obstacles>,
     pub vehicle: &'a Vehicle,
+    /// What planner `auto` minimises.
+    pub objective: Objective,
 }
 
 pub struct PlannedPath {
@@ -49,6 +58,34 @@ pub struct PlannedPath {
     /// Main sweep direction (math radians).
     pub sweep_angle: f64,
     pub cells: usize,
+    /// The planner that made the path, when another one chose it (`auto`).
+    pub planner: Option<&'static str>,
+    /// The other planners' results, when one was chosen among several (`auto`).
+    pub alternatives: Vec<Alternative>,
+}
+
+impl PlannedPath {
+    pub fn new(path: FlightPath, sweep_angle: f64, cells: usize) -> Self {
+        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new() }
+    }
+}
+
+/// How another planner did on the same problem.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, ToSchema)]
+pub struct Alternative {
+    pub planner: String,
+    /// Figures of its plan (without take-off and landing, the same for every planner).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy_j: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coverage_ratio: Option<f64>,
+    /// Why it made no plan.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
 }
 
 impl Problem<'_> {
@@ -97,7 +134,7 @@ pub trait Planner: Send + Sync {
 
 /// Every planner the service offers.
 pub fn registry() -> &'static [&'static dyn Planner] {
-    static REGISTRY: [&dyn Planner; 5] = [&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &LineGtsp];
+    static REGISTRY: [&dyn Planner; 9] = [&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &E_BF, &ESpiral, &EgCpp, &LineGtsp, &Auto];
     &REGISTRY
 }
 
@@ -126,7 +163,9 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
         p("front_overlap", "number", "overlap of images along a line, 0 to 0.95 (default 0.8)"),
         p("heading_deg", "number", "compass bearing of the sweep lines; absent: the planner chooses"),
         p("sweep_direction", "string", "planner (default): the planner's own rule; optimal: every direction tried, the shortest plan kept"),
-        p("vehicle", "object", "{profile} or {kind: multirotor|fixed_wing, cruise_speed_mps, turn_radius_m}; fixed wing flies Dubins turns"),
+        p("vehicle", "object", "{profile} from GET /api/v1/vehicles, or {kind: multirotor|fixed_wing}, with overrides cruise_speed_mps, turn_radius_m, battery_wh, battery_reserve; fixed wing flies Dubins turns"),
+        p("objective", "string", "auto only: energy (default), time or length"),
+        p("max_sorties", "integer", "most sorties when one battery is not enough, 1 to 100 (default 20); needs the mission's home"),
         p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts and its compass heading (default: home, heading free)"),
         p("end", "object", "{position: [lon, lat], heading_deg}: where the flight ends (default: home)"),
         p("allow_reentry", "boolean", "line-level routing (line_gtsp, fixed wing) may leave a field and come back (default true)"),

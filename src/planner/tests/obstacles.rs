@@ -40,7 +40,7 @@ fn mission(sides: &[&str], penalty: f64) -> (PlanOutput, Vec<Polygon>, LocalFram
     }))
     .unwrap();
     let m = MissionGeometry { area: &area, no_fly_zones: None, obstacles: Some(&obstacles_json), home: None };
-    (plan(&m, &params, &FieldLimits::default(), &|_| true).expect("planned"), obstacles, frame)
+    (plan(&m, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true).expect("planned"), obstacles, frame)
 }
 
 /// Every exported point above an obstacle is at least its height plus the clearance up, and
@@ -84,4 +84,12 @@ fn a_large_penalty_turns_the_lines_away_from_the_obstacles() {
     // lines run north–south: their turns stay clear of the east and west obstacles
     let h = out.stats.sweep_heading_deg;
     assert!(h.min(180.0 - h) < 20.0, "sweep heading {h}");
+}
+
+/// The built-in profiles with a battery no plan here exhausts: these tests are about geometry,
+/// not sorties.
+fn unlimited_battery() -> Vec<coverplan_planner::vehicle::Vehicle> {
+    let mut profiles = coverplan_planner::vehicle::builtin_profiles();
+    profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
+    profiles
 }

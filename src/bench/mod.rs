@@ -1,5 +1,8 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
-//! generated fields (`tests/fixtures/random-fields` by default), printed as a table.
+//! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
+//! `--routing` and `--energy` run the routing and the energy benchmarks instead.
+
+pub mod energy;
 
 use std::path::Path;
 use std::time::Instant;
@@ -13,6 +16,8 @@ use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams};
 struct Row {
     holes: usize,
     times_ms: Vec<f64>,
+    /// Fields the planner refused (not applicable, or over its limits).
+    refused: usize,
     lengths_m: Vec<f64>,
     efficiency: Vec<f64>,
     coverage: Vec<f64>,
@@ -47,9 +52,12 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
     out.push_str(&format!("fields: {} from {}; {repeats} runs each; spacing = sqrt(area)/20 within 5..60 m; holes as no-fly zones\n\n", entries.len(), dir.display()));
     // lengths of the reference planner (the first one, `boustrophedon`) per field
     let mut reference: std::collections::HashMap<String, f64> = std::collections::HashMap::new();
+    // a battery large enough that no plan is split into sorties
+    let mut profiles = planner::vehicle::builtin_profiles();
+    profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
     for p in registry().iter().filter(|p| planner_filter.is_none_or(|f| f == p.id())) {
         let mut rows: Vec<Row> =
-            (0..=15).map(|holes| Row { holes, times_ms: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![], vs_reference: vec![] }).collect();
+            (0..=15).map(|holes| Row { holes, refused: 0, times_ms: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![], vs_reference: vec![] }).collect();
         for e in entries {
             let file = e["file"].as_str().context("file")?;
             let holes = e["holes"].as_u64().context("holes")? as usize;
@@ -59,8 +67,11 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
             let mission = MissionGeometry { area: &m["area"], no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null()), obstacles: None, home: None };
             for _ in 0..repeats {
                 let t = Instant::now();
-                let plan = planner::plan(&mission, &params, &FieldLimits::default(), &|_| true).map_err(|e| anyhow::anyhow!("{file}: {e}"))?;
                 let row = &mut rows[holes.min(15)];
+                let Ok(plan) = planner::plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true) else {
+                    row.refused += 1;
+                    continue;
+                };
                 row.times_ms.push(t.elapsed().as_secs_f64() * 1000.0);
                 row.lengths_m.push(plan.stats.length_m);
                 if p.id() == registry()[0].id() {
@@ -74,15 +85,15 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
             }
         }
         out.push_str(&format!("planner {}\n", p.id()));
-        out.push_str(&format!("| holes | fields | median ms | p95 ms | mean length m | length / {} | mean efficiency | min coverage |\n", registry()[0].id()));
-        out.push_str("|------:|-------:|----------:|-------:|--------------:|----------:|----------------:|-------------:|\n");
-        for r in rows.iter_mut().filter(|r| !r.times_ms.is_empty()) {
+        out.push_str(&format!("| holes | fields | refused | median ms | p95 ms | mean length m | length / {} | mean efficiency | min coverage |\n", registry()[0].id()));
+        out.push_str("|------:|-------:|--------:|----------:|-------:|--------------:|----------:|----------------:|-------------:|\n");
+        for r in rows.iter_mut().filter(|r| !r.times_ms.is_empty() || r.refused > 0) {
             let n = r.times_ms.len() / repeats.max(1);
             let median = quantile(&mut r.times_ms, 0.5);
             let p95 = quantile(&mut r.times_ms, 0.95);
             out.push_str(&format!(
-                "| {:>5} | {:>6} | {:>9.2} | {:>6.2} | {:>13.0} | {:>9} | {:>15.3} | {:>12.4} |\n",
-                r.holes, n, median, p95, mean(&r.lengths_m),
+                "| {:>5} | {:>6} | {:>7} | {:>9.2} | {:>6.2} | {:>13.0} | {:>9} | {:>15.3} | {:>12.4} |\n",
+                r.holes, n, r.refused / repeats.max(1), median, p95, mean(&r.lengths_m),
                 if r.vs_reference.is_empty() { "-".to_string() } else { format!("{:.3}", mean(&r.vs_reference)) },
                 mean(&r.efficiency),
                 r.coverage.iter().copied().fold(f64::INFINITY, f64::min)

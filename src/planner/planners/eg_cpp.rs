@@ -1,0 +1,349 @@
+//! EG-CPP (seed 002 §4.2, multirotor planners spec §3): a grid of photo positions over the
+//! area, wavefront labels from a start cell, and a depth-first search that always moves to
+//! the unvisited neighbours with the highest label, minimising an energy cost with branch
+//! and bound. Every valid cell is tried as the start, in parallel.
+//!
+//! The search cost is the spec's additive one (energy spec §5): each straight run costs the
+//! rest-to-rest energy of its length (the measured OEM table of seed 002), each heading change
+//! 6.117 J per degree. The bound prunes with `continue`, not with the published code's
+//! `return`, which dropped the remaining siblings too. The search is exponential: it is
+//! refused above [`MAX_GRID_CELLS`] cells or [`MAX_EXPANSIONS`] expansions per start.
+
+use std::collections::VecDeque;
+
+use geo::{Contains, Coord, Point};
+use rayon::prelude::*;
+
+use super::{PlannedPath, Planner, Problem, Progress, connect};
+use crate::error::{InputError, PlanError};
+use crate::path::{FlightPath, PieceKind, distance};
+use crate::vehicle::VehicleKind;
+
+pub struct EgCpp;
+
+/// Largest grid searched exhaustively (the spec's `max_grid_cells`).
+pub const MAX_GRID_CELLS: usize = 60;
+/// Search nodes one start cell may expand before the instance is refused.
+pub const MAX_EXPANSIONS: u64 = 3_000_000;
+
+/// Rest-to-rest energy of a straight run (seed 002's OEM table, energy spec §7): (m, J).
+const REST_TO_REST: [(f64, f64); 22] = [
+    (0.0, 0.0),
+    (1.0, 539.4),
+    (2.0, 791.6),
+    (3.0, 978.9),
+    (5.0, 1264.9),
+    (7.0, 1487.3),
+    (10.0, 1755.4),
+    (15.0, 2104.1),
+    (20.0, 2383.2),
+    (30.0, 2830.2),
+    (40.0, 3195.1),
+    (50.0, 3512.9),
+    (70.0, 4065.1),
+    (100.0, 4778.8),
+    (150.0, 5834.6),
+    (200.0, 6841.6),
+    (300.0, 8844.3),
+    (400.0, 10846.2),
+    (500.0, 12848.0),
+    (700.0, 16851.5),
+    (1000.0, 22856.7),
+    (1086.0, 24578.2),
+];
+/// Beyond the table, per metre.
+const REST_TO_REST_SLOPE: f64 = 20.0175;
+/// No straight run costs less per metre than this: the bound on what is left.
+const MIN_J_PER_M: f64 = 20.0;
+/// Rotation energy per degree of heading change.
+const TURN_J_PER_DEG: f64 = 6.11698;
+
+pub fn run_energy(d: f64) -> f64 {
+    let last = REST_TO_REST[REST_TO_REST.len() - 1];
+    if d >= last.0 {
+        return last.1 + (d - last.0) * REST_TO_REST_SLOPE;
+    }
+    let k = REST_TO_REST.iter().position(|&(x, _)| x > d).expect("d is inside the table");
+    let ((x0, y0), (x1, y1)) = (REST_TO_REST[k - 1], REST_TO_REST[k]);
+    y0 + (y1 - y0) * (d - x0) / (x1 - x0)
+}
+
+/// The eight moves: (column step, row step).
+const MOVES: [(i64, i64); 8] = [(1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1)];
+
+fn turn_energy(from: usize, to: usize) -> f64 {
+    let steps = (to as i64 - from as i64).rem_euclid(8);
+    steps.min(8 - steps) as f64 * 45.0 * TURN_J_PER_DEG
+}
+
+/// The valid cells and the clear moves between them.
+struct Grid {
+    centres: Vec<Coord>,
+    rc: Vec<(i64, i64)>,
+    /// (neighbour, move index, length)
+    moves: Vec<Vec<(usize, usize, f64)>>,
+    step: f64,
+}
+
+impl Grid {
+    fn build(problem: &Problem<'_>) -> Result<Grid, InputError> {
+        let angle = problem.sweep_angle.unwrap_or(0.0);
+        let (s, c) = angle.sin_cos();
+        let to_grid = |p: Coord| Coord { x: p.x * c + p.y * s, y: -p.x * s + p.y * c };
+        let from_grid = |p: Coord| Coord { x: p.x * c - p.y * s, y: p.x * s + p.y * c };
+        let pts: Vec<Coord> = problem.region.0.iter().flat_map(|p| p.exterior().0.iter().map(|&q| to_grid(q))).collect();
+        let (lo, hi) = pts.iter().fold((Coord { x: f64::MAX, y: f64::MAX }, Coord { x: f64::MIN, y: f64::MIN }), |(lo, hi), p| {
+            (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) })
+        });
+        let footprint = problem.layout.footprint.unwrap_or(problem.layout.spacing);
+        // camera spec §4a: outer footprints flush with the box, spacing re-fitted
+        let axis = |width: f64| -> (usize, f64) {
+            let n = ((width - footprint).max(0.0) / problem.layout.spacing).ceil() as usize + 1;
+            let spacing = if n > 1 { (width - footprint) / (n - 1) as f64 } else { 0.0 };
+            (n, spacing)
+        };
+        let ((nc, dx), (nr, dy)) = (axis(hi.x - lo.x), axis(hi.y - lo.y));
+        let too_large = |n: usize| {
+            InputError::new(
+                "instance_too_large",
+                "/line_spacing_m",
+                format!("eg_cpp searches at most {MAX_GRID_CELLS} grid cells exhaustively; this area needs {n} at this spacing: widen the spacing or use boustrophedon"),
+            )
+        };
+        if nc.saturating_mul(nr) > 64 * MAX_GRID_CELLS {
+            return Err(too_large(nc.saturating_mul(nr)));
+        }
+        let origin = |n: usize, d: f64, lo: f64, width: f64| if n > 1 { lo + footprint / 2.0 } else { lo + width / 2.0 - d };
+        let (x0, y0) = (origin(nc, dx, lo.x, hi.x - lo.x), origin(nr, dy, lo.y, hi.y - lo.y));
+        let mut centres = Vec::new();
+        let mut rc = Vec::new();
+        for r in 0..nr {
+            for col in 0..nc {
+                let p = from_grid(Coord { x: x0 + col as f64 * dx, y: y0 + r as f64 * dy });
+                if problem.region.contains(&Point::from(p)) {
+                    centres.push(p);
+                    rc.push((r as i64, col as i64));
+                }
+            }
+        }
+        if centres.len() > MAX_GRID_CELLS {
+            return Err(too_large(centres.len()));
+        }
+        let index = |r: i64, col: i64| rc.iter().position(|&q| q == (r, col));
+        let moves = rc
+            .iter()
+            .enumerate()
+            .map(|(i, &(r, col))| {
+                MOVES
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(m, &(dc, dr))| index(r + dr, col + dc).map(|j| (j, m)))
+                    .filter(|&(j, _)| problem.transit.is_clear(centres[i], centres[j]))
+                    .map(|(j, m)| (j, m, distance(centres[i], centres[j])))
+                    .collect()
+            })
+            .collect();
+        Ok(Grid { centres, rc, moves, step: dx.min(dy).max(1e-3) })
+    }
+
+    /// Breadth-first distance in moves from `start`, 1 at the start; 0 where unreachable.
+    fn labels(&self, start: usize) -> Vec<u32> {
+        let mut label = vec![0; self.centres.len()];
+        label[start] = 1;
+        let mut queue = VecDeque::from([start]);
+        while let Some(i) = queue.pop_front() {
+            for &(j, _, _) in &self.moves[i] {
+                if label[j] == 0 {
+                    label[j] = label[i] + 1;
+                    queue.push_back(j);
+                }
+            }
+        }
+        label
+    }
+}
+
+/// The best tour from one start cell.
+struct Search<'g> {
+    grid: &'g Grid,
+    label: Vec<u32>,
+    start: usize,
+    path: Vec<usize>,
+    best: f64,
+    best_path: Vec<usize>,
+    expansions: u64,
+}
+
+impl Search<'_> {
+    /// The closing flight from the last cell straight back to the start.
+    fn close_cost(&self, last: usize, last_move: Option<usize>) -> f64 {
+        let (a, b) = (self.grid.centres[last], self.grid.centres[self.start]);
+        let d = distance(a, b);
+        if d == 0.0 {
+            return 0.0;
+        }
+        let turn = last_move.map_or(0.0, |m| {
+            let (dc, dr) = MOVES[m];
+            let (s, c) = ((b.y - a.y) / d, (b.x - a.x) / d);
+            let heading = (dr as f64).atan2(dc as f64);
+            (s.atan2(c) - heading).sin().atan2((s.atan2(c) - heading).cos()).abs().to_degrees() * TURN_J_PER_DEG
+        });
+        turn + run_energy(d)
+    }
+
+    /// Depth-first branch and bound; `Err` when the expansion budget runs out.
+    fn search(&mut self, visited: u64, cost: f64, run_m: f64, last_move: Option<usize>) -> Result<(), ()> {
+        self.expansions += 1;
+        if self.expansions > MAX_EXPANSIONS {
+            return Err(());
+        }
+        let n = self.grid.centres.len();
+        let here = *self.path.last().expect("the path has its start");
+        if self.path.len() == n {
+            let total = cost + self.close_cost(here, last_move);
+            if total < self.best {
+                self.best = total;
+                self.best_path = self.path.clone();
+            }
+            return Ok(());
+        }
+        let free = |j: usize| visited & (1u64 << j) == 0;
+        let top = self.grid.moves[here].iter().filter(|&&(j, _, _)| free(j)).map(|&(j, _, _)| self.label[j]).max();
+        let Some(top) = top else { return Ok(()) }; // dead end
+        let mut children: Vec<(f64, f64, usize, usize)> = self.grid.moves[here]
+            .iter()
+            .filter(|&&(j, _, _)| free(j) && self.label[j] == top)
+            .map(|&(j, m, len)| {
+                // spec Eqs. 14–15: a straight continuation re-prices the whole run
+                let (delta, run) = match last_move {
+                    Some(prev) if prev == m => (run_energy(run_m + len) - run_energy(run_m), run_m + len),
+                    Some(prev) => (turn_energy(prev, m) + run_energy(len), len),
+                    None => (run_energy(len), len),
+                };
+                (delta, run, j, m)
+            })
+            .collect();
+        children.sort_by(|a, b| a.0.total_cmp(&b.0).then(self.grid.rc[a.2].cmp(&self.grid.rc[b.2])));
+        let left = (n - self.path.len() - 1) as f64;
+        for (delta, run, j, m) in children {
+            if cost + delta + left * self.grid.step * MIN_J_PER_M >= self.best {
+                continue; // not `return`: the siblings may still be cheaper
+            }
+            self.path.push(j);
+            let r = self.search(visited | (1u64 << j), cost + delta, run, Some(m));
+            self.path.pop();
+            r?;
+        }
+        Ok(())
+    }
+}
+
+/// The cheapest tour from `start`, with its cost; `Err` when the budget ran out.
+fn tour_from(grid: &Grid, start: usize) -> Result<Option<(f64, Vec<usize>)>, ()> {
+    let mut s = Search { grid, label: grid.labels(start), start, path: vec![start], best: f64::INFINITY, best_path: Vec::new(), expansions: 0 };
+    s.search(1u64 << start, 0.0, 0.0, None)?;
+    Ok(s.best.is_finite().then_some((s.best, s.best_path)))
+}
+
+impl Planner for EgCpp {
+    fn id(&self) -> &'static str {
+        "eg_cpp"
+    }
+
+    fn description(&self) -> &'static str {
+        "Energy-aware grid coverage (seed 002 §4.2): photo positions on a grid, searched exhaustively with an energy \
+         cost and branch and bound from every start cell. Multirotors; small irregular areas with no-fly zones \
+         (at most 60 cells)."
+    }
+
+    fn direction_rule(&self) -> &'static str {
+        "grid aligned with east–north, or with heading_deg"
+    }
+
+    fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
+        if problem.vehicle.kind != VehicleKind::Multirotor {
+            return Err(InputError::new("planner_not_applicable", "/vehicle/kind", "eg_cpp is a multirotor planner: its tours turn on the spot").into());
+        }
+        let grid = Grid::build(problem)?;
+        if grid.centres.is_empty() {
+            return Err(super::no_sweep_lines());
+        }
+        let from_start = |i: usize| problem.start.map_or(0.0, |s| run_energy(distance(s, grid.centres[i])));
+        let tours: Vec<Result<Option<(f64, Vec<usize>)>, ()>> = (0..grid.centres.len()).into_par_iter().map(|i| tour_from(&grid, i)).collect();
+        if !progress.report(0.8) {
+            return Err(PlanError::Cancelled);
+        }
+        let mut best: Option<(f64, Vec<usize>)> = None;
+        for (i, t) in tours.into_iter().enumerate() {
+            let t = t.map_err(|()| {
+                PlanError::Input(InputError::new(
+                    "instance_too_large",
+                    "/planner",
+                    format!(
+                        "eg_cpp did not finish its exhaustive search within {MAX_EXPANSIONS} expansions per start cell on this {}-cell grid: use boustrophedon or a wider spacing",
+                        grid.centres.len()
+                    ),
+                ))
+            })?;
+            if let Some((cost, path)) = t {
+                let cost = cost + from_start(i);
+                if best.as_ref().is_none_or(|b| cost < b.0) {
+                    best = Some((cost, path));
+                }
+            }
+        }
+        let (_, order) = best.ok_or_else(|| PlanError::Infeasible("no grid tour visits every cell once: the grid is not connected by clear moves".into()))?;
+        Ok(PlannedPath::new(fly(&grid, &order, problem)?, problem.sweep_angle.unwrap_or(0.0), 1))
+    }
+}
+
+/// The tour as straight runs between corners, closed back to its first cell.
+fn fly(grid: &Grid, order: &[usize], problem: &Problem<'_>) -> Result<FlightPath, PlanError> {
+    let half = problem.layout.half_swath();
+    let mut path = FlightPath::default();
+    let first = grid.centres[order[0]];
+    if let Some(s) = problem.start {
+        connect(&mut path, PieceKind::Transit, s, first, problem.transit)?;
+    }
+    let mut run_start = first;
+    for k in 1..order.len() {
+        let here = grid.centres[order[k]];
+        let straight_on = order.get(k + 1).is_some_and(|&next| {
+            let (a, b) = (here - grid.centres[order[k - 1]], grid.centres[next] - here);
+            (a.x * b.y - a.y * b.x).abs() < 1e-6 * distance(Coord::zero(), a) * distance(Coord::zero(), b) && a.x * b.x + a.y * b.y > 0.0
+        });
+        if !straight_on {
+            path.push(PieceKind::Sweep, vec![run_start, here], half);
+            run_start = here;
+        }
+    }
+    if order.len() == 1 {
+        path.push(PieceKind::Sweep, vec![first, first], half);
+    }
+    let last = path.end().expect("the tour has a run");
+    connect(&mut path, PieceKind::Transit, last, first, problem.transit)?;
+    if let Some(end) = problem.end {
+        connect(&mut path, PieceKind::Transit, first, end, problem.transit)?;
+    }
+    Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn run_energy_follows_the_table_and_never_undercuts_the_bound() {
+        assert!((run_energy(100.0) - 4778.8).abs() < 1e-9);
+        assert!((run_energy(2000.0) - (24578.2 + 914.0 * 20.0175)).abs() < 1e-6);
+        // the bound of the search: every metre costs at least MIN_J_PER_M, also at the margin
+        let mut d = 0.5;
+        while d < 1500.0 {
+            assert!(run_energy(d) >= MIN_J_PER_M * d);
+            assert!(run_energy(d + 0.5) - run_energy(d) >= MIN_J_PER_M * 0.5 - 1e-9, "{d}");
+            d += 0.5;
+        }
+        assert_eq!(turn_energy(0, 4), 180.0 * TURN_J_PER_DEG);
+        assert_eq!(turn_energy(7, 1), 90.0 * TURN_J_PER_DEG);
+    }
+}

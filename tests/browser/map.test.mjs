@@ -1,0 +1,110 @@
+// The map page end to end: the real server (a fresh database, no map tiles) and Debian's
+// Chromium driven by playwright-core. Draws a field and a home point, plans it, compares two
+// planners, and reopens the mission from its link. Run by tests/run_all.sh after the build.
+import { spawn } from 'node:child_process';
+import { mkdtempSync, rmSync } from 'node:fs';
+import net from 'node:net';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import assert from 'node:assert/strict';
+import { chromium } from 'playwright-core';
+
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const binary = path.join(process.env.CARGO_TARGET_DIR || path.join(root, 'target'), 'debug', 'coverplan');
+
+const freePort = () => new Promise((resolve) => {
+  const s = net.createServer().listen(0, '127.0.0.1', () => { const { port } = s.address(); s.close(() => resolve(port)); });
+});
+
+async function waitFor(check, what, ms = 30000) {
+  const until = Date.now() + ms;
+  for (;;) {
+    try { if (await check()) return; } catch { /* not yet */ }
+    if (Date.now() > until) throw new Error(`timed out waiting for ${what}`);
+    await new Promise((r) => setTimeout(r, 100));
+  }
+}
+
+const dir = mkdtempSync(path.join(os.tmpdir(), 'coverplan-browser-'));
+const port = await freePort();
+const base = `http://127.0.0.1:${port}`;
+const server = spawn(binary, ['serve', '--addr', `127.0.0.1:${port}`, '--database-url', path.join(dir, 'page.db'), '--static-dir', path.join(root, 'static'), '--workers', '2'], { stdio: ['ignore', 'inherit', 'inherit'] });
+let browser;
+try {
+  await waitFor(async () => (await fetch(`${base}/healthz`)).ok, 'the server');
+  browser = await chromium.launch({
+    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const foreign = [];
+  page.on('request', (r) => { if (!r.url().startsWith(base) && !r.url().startsWith('data:')) foreign.push(r.url()); });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+
+  await page.goto(base);
+  await page.waitForSelector('body[data-ready=true]');
+  // the form comes from the API
+  const planners = await page.$$eval('#planner option', (o) => o.map((x) => x.value));
+  for (const id of ['boustrophedon', 'e_spiral', 'eg_cpp', 'auto', 'line_gtsp']) assert.ok(planners.includes(id), `${id} in ${planners}`);
+  const vehicles = await page.$$eval('#vehicle option', (o) => o.map((x) => x.value));
+  assert.ok(vehicles.includes('iris') && vehicles.includes('maja'), `${vehicles}`);
+  assert.ok(await page.$$eval('#camera option', (o) => o.length) > 1);
+
+  // draw a field: four clicks, then the first vertex again
+  const box = await page.locator('#map').boundingBox();
+  const at = (dx, dy) => [box.x + box.width / 2 + dx, box.y + box.height / 2 + dy];
+  await page.selectOption('#draw-kind', 'field');
+  await page.click('#draw');
+  for (const [dx, dy] of [[-120, -90], [120, -90], [140, 90], [-120, 90], [-120, -90]]) {
+    await page.mouse.click(...at(dx, dy));
+    await page.waitForTimeout(150);
+  }
+  assert.equal(await page.evaluate(() => window.coverplan.state.fields.getLayers().length), 1, 'one field drawn');
+  await page.selectOption('#draw-kind', 'home');
+  await page.click('#draw');
+  await page.mouse.click(...at(-160, 120));
+  await waitFor(() => page.evaluate(() => !!window.coverplan.state.poses.home), 'the home marker');
+
+  // plan it
+  await page.selectOption('#planner', 'boustrophedon');
+  await page.fill('#spacing', '20');
+  await page.click('#plan');
+  await page.waitForSelector('td[data-figure=length]', { timeout: 60000 });
+  assert.match(await page.textContent('#status'), /planned/);
+  const missionId = new URL(page.url()).searchParams.get('mission');
+  assert.ok(missionId, 'the URL names the mission');
+  const sweeps = await page.$$eval('path[stroke="#1565c0"]', (p) => p.length);
+  assert.ok(sweeps >= 5, `${sweeps} sweep lines drawn`);
+  assert.ok(await page.$$eval('.arrow', (a) => a.length) >= 5, 'direction arrows');
+  assert.match(await page.textContent('td[data-figure=coverage]'), /%/);
+
+  // the saved mission is what was drawn
+  const saved = await (await fetch(`${base}/api/v1/missions/${missionId}`)).json();
+  assert.equal(saved.area.coordinates.length, 1);
+  assert.ok(saved.home, 'home saved');
+
+  // compare with a second planner
+  await page.check('#compare');
+  await page.selectOption('#planner', 'e_spiral');
+  await page.click('#plan');
+  await waitFor(() => page.isVisible('#col-b'), 'the comparison column', 60000);
+  const cells = await page.$$eval('#figures tbody tr:first-child td', (t) => t.map((x) => x.textContent));
+  assert.deepEqual(cells.slice(1), ['e_spiral', 'boustrophedon']);
+
+  // a shared link reopens the mission with its latest plan
+  await page.goto(`${base}/?mission=${missionId}`);
+  await page.waitForSelector('body[data-ready=true]');
+  await page.waitForSelector('td[data-figure=length]');
+  assert.equal(await page.inputValue('#planner'), 'e_spiral');
+  await page.screenshot({ path: path.join(os.tmpdir(), 'coverplan-page.png') });
+
+  assert.deepEqual(foreign, [], 'nothing is loaded from outside the server');
+  assert.deepEqual(errors, [], 'no script errors');
+  console.log(`map page: ok (${sweeps} sweeps drawn; screenshot in ${path.join(os.tmpdir(), 'coverplan-page.png')})`);
+} finally {
+  if (browser) await browser.close();
+  server.kill('SIGTERM');
+  rmSync(dir, { recursive: true, force: true });
+}

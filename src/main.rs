@@ -88,13 +88,13 @@ struct ServeArgs {
     /// Seconds running plans get to finish at shutdown before they are requeued.
     #[arg(long, env = "COVERPLAN_SHUTDOWN_GRACE_S", default_value_t = 30)]
     shutdown_grace_s: u64,
-    /// Map tile URL template for the page, e.g. https://tile.openstreetmap.org/{z}/{x}/{y}.png;
-    /// without it the page draws on a plain background (no network needed).
-    #[arg(long, env = "COVERPLAN_TILE_URL")]
-    tile_url: Option<String>,
+    /// Map tile URL template for the page; an empty value turns tiles off (the page then draws
+    /// on a plain background and needs no network).
+    #[arg(long, env = "COVERPLAN_TILE_URL", default_value = "https://tile.openstreetmap.org/{z}/{x}/{y}.png")]
+    tile_url: String,
     /// Attribution shown with the tiles.
-    #[arg(long, env = "COVERPLAN_TILE_ATTRIBUTION")]
-    tile_attribution: Option<String>,
+    #[arg(long, env = "COVERPLAN_TILE_ATTRIBUTION", default_value = "© OpenStreetMap contributors")]
+    tile_attribution: String,
     /// Test knob: hold each job this many milliseconds before planning.
     #[arg(long, env = "COVERPLAN_JOB_START_DELAY_MS", default_value_t = 0, hide = true)]
     job_start_delay_ms: u64,
@@ -145,8 +145,8 @@ fn serve(args: ServeArgs) -> anyhow::Result<()> {
     config.limits = FieldLimits { max_area_ha: args.max_area_ha, max_vertices: args.max_vertices, ..FieldLimits::default() };
     config.shutdown_grace = Duration::from_secs(args.shutdown_grace_s);
     config.job_start_delay = Duration::from_millis(args.job_start_delay_ms);
-    config.tile_url = args.tile_url.filter(|u| !u.is_empty());
-    config.tile_attribution = args.tile_attribution;
+    config.tile_url = Some(args.tile_url).filter(|u| !u.is_empty());
+    config.tile_attribution = Some(args.tile_attribution).filter(|a| !a.is_empty());
     tokio::runtime::Runtime::new()?.block_on(coverplan::server::run(config, coverplan::server::shutdown_signal()))
 }
 

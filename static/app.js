@@ -396,6 +396,7 @@ function clearResult() {
   }
   state.result = null;
   state.compared = null;
+  $('download').hidden = true;
   renderFigures();
   drawChart();
 }
@@ -412,6 +413,9 @@ async function showPlan(plan) {
   const fc = await api('GET', `/api/v1/plans/${plan.id}/trajectory`);
   if (state.result) { map.removeLayer(state.result.layer); map.removeLayer(state.result.photos); }
   state.result = { ...drawTrajectory(fc, false), fc, stats: plan.stats, params: plan.params };
+  $('download').href = `/api/v1/plans/${plan.id}/trajectory`;
+  $('download').download = `plan-${plan.id}.geojson`;
+  $('download').hidden = false;
   togglePhotos();
   renderFigures();
   drawChart();

@@ -29,7 +29,7 @@ async function waitFor(check, what, ms = 30000) {
 const dir = mkdtempSync(path.join(os.tmpdir(), 'coverplan-browser-'));
 const port = await freePort();
 const base = `http://127.0.0.1:${port}`;
-const server = spawn(binary, ['serve', '--addr', `127.0.0.1:${port}`, '--database-url', path.join(dir, 'page.db'), '--static-dir', path.join(root, 'static'), '--workers', '2'], { stdio: ['ignore', 'inherit', 'inherit'] });
+const server = spawn(binary, ['serve', '--addr', `127.0.0.1:${port}`, '--database-url', path.join(dir, 'page.db'), '--static-dir', path.join(root, 'static'), '--workers', '2', '--tile-url', ''], { stdio: ['ignore', 'inherit', 'inherit'] });
 let browser;
 try {
   await waitFor(async () => (await fetch(`${base}/healthz`)).ok, 'the server');
@@ -42,6 +42,7 @@ try {
   page.on('request', (r) => { if (!r.url().startsWith(base) && !r.url().startsWith('data:')) foreign.push(r.url()); });
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
 
   await page.goto(base);
   await page.waitForSelector('body[data-ready=true]');
@@ -79,6 +80,8 @@ try {
   assert.ok(sweeps >= 5, `${sweeps} sweep lines drawn`);
   assert.ok(await page.$$eval('.arrow', (a) => a.length) >= 5, 'direction arrows');
   assert.match(await page.textContent('td[data-figure=coverage]'), /%/);
+  const download = await page.getAttribute('#download', 'href');
+  assert.ok((await fetch(base + download)).ok, 'the download link serves the trajectory');
 
   // the saved mission is what was drawn
   const saved = await (await fetch(`${base}/api/v1/missions/${missionId}`)).json();
@@ -99,6 +102,10 @@ try {
   await page.waitForSelector('td[data-figure=length]');
   assert.equal(await page.inputValue('#planner'), 'e_spiral');
   await page.screenshot({ path: path.join(os.tmpdir(), 'coverplan-page.png') });
+  // a phone-sized screen: the map and the form are both there
+  await page.setViewportSize({ width: 390, height: 844 });
+  assert.ok((await page.locator('#map').boundingBox()).width > 300, 'the map spans a phone screen');
+  assert.ok(await page.isVisible('#plan'));
 
   assert.deepEqual(foreign, [], 'nothing is loaded from outside the server');
   assert.deepEqual(errors, [], 'no script errors');

@@ -117,7 +117,7 @@ pub fn routing() -> String {
     use std::fmt::Write;
     let none = crate::planner::geo::MultiPolygon(vec![]);
     let transit = TransitPlanner::new(&none, &none);
-    let connector = Connector { turn: TurnModel::Dubins(50.0), transit: &transit, detour: None };
+    let connector = Connector::new(TurnModel::Dubins(50.0), &transit, None);
     let mut out = String::from("routing: parallel lines 1000 m long, 20 m apart, Dubins radius 50 m, free start and end\n\n");
     out.push_str("| lines | cost matrix ms | solve ms | total ms | length m | boustrophedon m | saved |\n|------:|--------------:|---------:|---------:|---------:|----------------:|------:|\n");
     for n in [100, 300, 600] {

@@ -131,7 +131,7 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), &walls)),
         TurnModel::Straight => None,
     };
-    let connector = Connector { turn, transit: &transit, detour: detour.as_ref() };
+    let connector = Connector::new(turn, &transit, detour.as_ref());
     let obstacles = resolved.altitude_m.filter(|_| !field.obstacles.is_empty()).map(|altitude| {
         Obstacles::new(&field.obstacles, altitude, resolved.obstacle_clearance_m, resolved.max_climb_deg, resolved.coverage_penalty)
     });

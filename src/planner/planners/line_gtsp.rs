@@ -5,15 +5,17 @@
 //!
 //! Each field's sweep heading is searched on a 2° grid (plus its hull's edge directions),
 //! keeping headings whose line count is within δ of the field's fewest (δ: every heading for
-//! one field, 3 for two, 1 for more). When that makes more than 20 000 combinations, a coarser
-//! grid (4°, 6°, …) is searched first and the neighbourhoods of its best five on the 2° grid.
-//! Combinations are evaluated in parallel by a quick solve (greedy and one local search),
-//! cheapest lower bound first, skipping those whose bound exceeds the best route found;
-//! connection costs are computed once per pair of fields and headings. After each stage the
-//! best [`FINALISTS`] are solved in full and re-ranked; the best three are refined on a 0.5°
-//! grid.
+//! one field, 3 for two, 1 for more). When that makes more than 5 000 combinations, a coarser
+//! grid (4°, 6°, …) is searched first, then the 2° neighbourhoods of its best five, then one
+//! field's heading at a time over its whole 2° list from the best five combinations, until
+//! the best stands. Combinations are evaluated in parallel, cheapest lower bound first,
+//! skipping those whose bound exceeds the best route found, each by a quick solve: exact
+//! (Held–Karp) up to ten lines, else greedy and one local search. Connection costs are
+//! computed once per pair of fields and headings and kept for the whole search. After each
+//! stage the best [`FINALISTS`] are solved in full and re-ranked; the best three are refined
+//! on a 0.5° grid.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use geo::{Area, ConvexHull, Coord, MultiPolygon};
 use rayon::prelude::*;
@@ -21,7 +23,10 @@ use rayon::prelude::*;
 use super::{PlannedPath, Planner, Problem, Progress, no_sweep_lines};
 use crate::error::PlanError;
 use crate::path::{FlightPath, PieceKind};
+use crate::route::gtsp::{self, Instance};
+use crate::route::connect::Connector;
 use crate::route::line_tour::{Line, LineProblem};
+use crate::route::visibility::TransitPlanner;
 use crate::sweep::{candidate_directions, from_sweep_frame, sweep, width_across};
 
 pub struct LineGtsp;
@@ -38,11 +43,17 @@ const CHUNK: usize = 64;
 /// More fields than this share one heading.
 const SEPARATE_HEADINGS_UP_TO: usize = 3;
 /// Above this many combinations on the 2° grid, the search starts on a coarser grid.
-const MAX_COARSE_COMBINATIONS: usize = 20_000;
+const MAX_COARSE_COMBINATIONS: usize = 5_000;
 /// Combinations ranked best by quick solves that are solved in full at each stage.
 const FINALISTS: usize = 48;
+/// The same around no-fly zones, where each is solved on connections priced around them.
+const FINALISTS_AROUND_ZONES: usize = 8;
 /// Coarse combinations whose neighbourhood is searched on the 2° grid.
 const COARSE_KEPT: usize = 5;
+/// After a coarse search: rounds of changing one group's heading at a time, from the best
+/// few combinations.
+const DESCENT_ROUNDS: usize = 4;
+const DESCENT_STARTS: usize = 5;
 
 impl Planner for LineGtsp {
     fn id(&self) -> &'static str {
@@ -62,95 +73,190 @@ impl Planner for LineGtsp {
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
         let fields: Vec<MultiPolygon> = problem.region.0.iter().map(|p| MultiPolygon(vec![p.clone()])).collect();
-        let search = Search { problem, fields: &fields };
-        // headings are chosen per group: one group per field, or one shared by all when there
-        // are more than a few fields (their combinations would explode)
-        let groups: Vec<MultiPolygon> = if fields.len() > SEPARATE_HEADINGS_UP_TO { vec![MultiPolygon(fields.iter().flat_map(|f| f.0.clone()).collect())] } else { fields.clone() };
-        let per_field = |choice: &[f64]| -> Vec<f64> { if groups.len() == fields.len() { choice.to_vec() } else { vec![choice[0]; fields.len()] } };
-        // quick solves rank the combinations (cost, group choice, solved in full?) ...
-        let evaluate = |choices: Vec<Vec<f64>>, from: f64, to: f64| -> Result<Vec<(f64, Vec<f64>, bool)>, PlanError> {
-            let combos: Vec<Vec<f64>> = choices.iter().map(|c| per_field(c)).collect();
-            let ranked = search.evaluate(&combos, progress, from, to)?;
-            // back to group choices: a shared heading is the first field's
-            Ok(ranked.into_iter().map(|(c, combo)| (c, if groups.len() == fields.len() { combo } else { vec![combo[0]] }, false)).collect())
+        let open_sky = TransitPlanner::new(&MultiPolygon(vec![]), &MultiPolygon(vec![]));
+        let around_zones = problem.transit.has_walls();
+        let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None);
+        let search = Search {
+            problem,
+            fields: &fields,
+            shared: fields.len() > SEPARATE_HEADINGS_UP_TO,
+            ranking_connector: if around_zones { &ranking_connector } else { problem.connector },
+            finalists: if around_zones { FINALISTS_AROUND_ZONES } else { FINALISTS },
         };
-        // ... and the best few are solved in full before the ranking picks anything
-        let settle = |ranked: &mut Vec<(f64, Vec<f64>, bool)>| {
-            let open: Vec<(usize, Vec<f64>)> = ranked.iter().enumerate().take(FINALISTS).filter(|(_, r)| !r.2).map(|(i, r)| (i, per_field(&r.1))).collect();
-            let solved: Vec<(usize, f64)> = open.into_par_iter().map(|(i, combo)| (i, search.route(&search.lines(&combo)).solve().1)).collect();
-            for (i, cost) in solved {
-                ranked[i].0 = cost;
-                ranked[i].2 = true;
+        let (best, seq) = match problem.sweep_angle {
+            Some(a) => {
+                let best = vec![a; fields.len()];
+                let seq = search.route(&search.lines(&best)).solve().0;
+                (best, seq)
             }
-            ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
-        };
-        let best = match problem.sweep_angle {
-            Some(a) => vec![a; fields.len()],
             None => {
-                // many combinations: a coarser grid first (spec §6.4), its best refined on the 2° grid
-                let mut step_deg = GRID_DEG;
-                let headings = |step: f64| -> Vec<Vec<f64>> { groups.iter().map(|g| search.headings(g, groups.len(), step)).collect() };
-                let mut candidates = headings(step_deg);
-                while candidates.iter().map(Vec::len).product::<usize>() > MAX_COARSE_COMBINATIONS && step_deg < 12.0 {
-                    step_deg += GRID_DEG;
-                    candidates = headings(step_deg);
-                }
-                let mut ranked = evaluate(combinations(&candidates), 0.1, 0.5)?;
-                settle(&mut ranked);
-                // the 2° neighbours of the best coarse choices, then 0.5° around the best
-                let reach = ((step_deg - GRID_DEG) / GRID_DEG).round() as i32;
-                let grid_offsets: Vec<f64> = (-reach..=reach).map(|j| j as f64 * GRID_DEG).collect();
-                for (offsets, keep, from, to) in [(grid_offsets, COARSE_KEPT, 0.5, 0.7), (REFINE_DEG.to_vec(), REFINED_COMBINATIONS, 0.7, 0.9)] {
-                    if offsets.len() <= 1 {
-                        continue;
-                    }
-                    let around = |choice: &Vec<f64>| {
-                        let options: Vec<Vec<f64>> = choice.iter().map(|&h| offsets.iter().map(|&d| (h + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect()).collect();
-                        combinations(&options)
-                    };
-                    let finer: Vec<Vec<f64>> = ranked.iter().take(keep).flat_map(|(_, choice, _)| around(choice)).collect();
-                    ranked.extend(evaluate(finer, from, to)?);
-                    settle(&mut ranked);
-                }
-                let (_, choice, _) = ranked.into_iter().next().ok_or_else(no_sweep_lines)?;
-                per_field(&choice)
+                let (choice, seq) = search.best_choice(progress)?;
+                (search.per_field(&choice), seq)
             }
         };
         let lines = search.lines(&best);
         if lines.is_empty() {
             return Err(no_sweep_lines());
         }
-        let route = search.route(&lines);
-        let (seq, _) = route.solve();
-        let path = fly_lines(&route, &seq, problem.layout.half_swath())?;
+        let path = fly_lines(&search.route(&lines), &seq, problem.layout.half_swath())?;
         let main = (0..fields.len()).max_by(|&a, &b| fields[a].unsigned_area().total_cmp(&fields[b].unsigned_area())).unwrap_or(0);
         Ok(PlannedPath::new(path, best.get(main).copied().unwrap_or(0.0), fields.len()))
     }
 }
 
-/// Every combination of one heading per field.
+/// Every combination of one heading per group.
 fn combinations(candidates: &[Vec<f64>]) -> Vec<Vec<f64>> {
     candidates.iter().fold(vec![Vec::new()], |acc, options| acc.iter().flat_map(|c| options.iter().map(move |&h| [c.clone(), vec![h]].concat())).collect())
 }
 
-struct Search<'a> {
-    problem: &'a Problem<'a>,
-    fields: &'a [MultiPolygon],
+/// The combinations that differ from `choice` in one group's heading, taken from `grid`.
+fn one_group_changed(choice: &[f64], grid: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    (0..choice.len())
+        .flat_map(|g| {
+            grid[g].iter().map(move |&h| {
+                let mut moved = choice.to_vec();
+                moved[g] = h;
+                moved
+            })
+        })
+        .collect()
+}
+
+/// A heading per group and the solver's total of its route (with the region-change surcharge
+/// when re-entries are not allowed, the same for every combination); once settled (solved
+/// exactly or by the full solver, on the real connections) the route's node sequence.
+struct Ranked {
+    cost: f64,
+    choice: Vec<f64>,
+    seq: Option<Vec<usize>>,
+}
+
+/// The combinations evaluated so far, best first, and every one looked at.
+#[derive(Default)]
+struct Ranking {
+    ranked: Vec<Ranked>,
+    seen: HashSet<Vec<u64>>,
+}
+
+impl Ranking {
+    fn best_cost(&self) -> f64 {
+        self.ranked.first().map_or(f64::INFINITY, |r| r.cost)
+    }
+
+    fn sort(&mut self) {
+        self.ranked.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    }
+
+    /// The combinations around the best `keep`: each heading moved by every offset (degrees).
+    fn around(&self, keep: usize, offsets: &[f64]) -> Vec<Vec<f64>> {
+        self.ranked
+            .iter()
+            .take(keep)
+            .flat_map(|r| {
+                let options: Vec<Vec<f64>> = r.choice.iter().map(|&h| offsets.iter().map(|&d| (h + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect()).collect();
+                combinations(&options)
+            })
+            .collect()
+    }
 }
 
 /// Lines of one field at one heading.
 type Key = (usize, u64);
 
+/// Costs from the start to each node's entry and from each node's exit to the end.
+type TerminalCosts = (Option<Vec<f64>>, Option<Vec<f64>>);
+
+/// Every field's lines at every heading looked at, and the connection costs between the lines
+/// of two fields at their headings (or of one field): each computed once, whatever the other
+/// fields do, and kept from one stage of the search to the next.
+#[derive(Default)]
+struct Tables {
+    swept: HashMap<Key, Vec<Line>>,
+    terminals: HashMap<Key, TerminalCosts>,
+    blocks: HashMap<(Key, Key), Vec<f64>>,
+}
+
+fn keys(combo: &[f64]) -> Vec<Key> {
+    combo.iter().enumerate().map(|(r, h)| (r, h.to_bits())).collect()
+}
+
+struct Search<'a> {
+    problem: &'a Problem<'a>,
+    fields: &'a [MultiPolygon],
+    /// One heading shared by every field (more than a few fields: their combinations would
+    /// explode); otherwise one per field.
+    shared: bool,
+    /// The connections combinations are ranked on. Around no-fly zones, connections that
+    /// ignore them: a fixed-wing connection blocked by a zone costs a search through the
+    /// zones' corners, too much for every pair of lines at every heading. The finalists are
+    /// then solved on the real connections.
+    ranking_connector: &'a Connector<'a>,
+    /// Combinations solved in full after each stage.
+    finalists: usize,
+}
+
 impl Search<'_> {
-    /// Candidate headings of one field (math radians in [0, π)).
-    fn headings(&self, field: &MultiPolygon, field_count: usize, step_deg: f64) -> Vec<f64> {
+    /// The groups whose headings are chosen: every field, or all fields as one.
+    fn groups(&self) -> Vec<MultiPolygon> {
+        if self.shared { vec![MultiPolygon(self.fields.iter().flat_map(|f| f.0.clone()).collect())] } else { self.fields.to_vec() }
+    }
+
+    /// A heading per field from a heading per group.
+    fn per_field(&self, choice: &[f64]) -> Vec<f64> {
+        if self.shared { vec![choice[0]; self.fields.len()] } else { choice.to_vec() }
+    }
+
+    /// The candidate headings of every group on a grid of `step_deg`.
+    fn grid(&self, step_deg: f64) -> Vec<Vec<f64>> {
+        let groups = self.groups();
+        groups.iter().map(|g| self.headings(g, groups.len(), step_deg)).collect()
+    }
+
+    /// The best heading per group: every combination on the 2° grid when they are few;
+    /// otherwise a coarser grid first (spec §6.4), the 2° neighbours of its best, then one
+    /// group at a time over its whole 2° list until the best combination stands. Last, 0.5°
+    /// around the best three.
+    fn best_choice(&self, progress: &dyn Progress) -> Result<(Vec<f64>, Vec<usize>), PlanError> {
+        let mut ranking = Ranking::default();
+        let tables = &mut Tables::default();
+        let mut step_deg = GRID_DEG;
+        let mut candidates = self.grid(step_deg);
+        while candidates.iter().map(Vec::len).product::<usize>() > MAX_COARSE_COMBINATIONS && step_deg < 12.0 {
+            step_deg += GRID_DEG;
+            candidates = self.grid(step_deg);
+        }
+        self.evaluate(tables, &mut ranking, combinations(&candidates), progress, (0.1, 0.5))?;
+        if step_deg > GRID_DEG {
+            let reach = ((step_deg - GRID_DEG) / GRID_DEG).round() as i32;
+            let offsets: Vec<f64> = (-reach..=reach).map(|j| j as f64 * GRID_DEG).collect();
+            let finer = ranking.around(COARSE_KEPT, &offsets);
+            self.evaluate(tables, &mut ranking, finer, progress, (0.5, 0.6))?;
+            let grid = self.grid(GRID_DEG);
+            for round in 0..DESCENT_ROUNDS {
+                let leader = ranking.ranked.first().map(|r| r.choice.clone());
+                let moves: Vec<Vec<f64>> = ranking.ranked.iter().take(DESCENT_STARTS).flat_map(|r| one_group_changed(&r.choice, &grid)).collect();
+                let at = 0.6 + 0.2 * round as f64 / DESCENT_ROUNDS as f64;
+                self.evaluate(tables, &mut ranking, moves, progress, (at, at + 0.2 / DESCENT_ROUNDS as f64))?;
+                if ranking.ranked.first().map(|r| &r.choice) == leader.as_ref() {
+                    break;
+                }
+            }
+        }
+        let refined = ranking.around(REFINED_COMBINATIONS, &REFINE_DEG);
+        self.evaluate(tables, &mut ranking, refined, progress, (0.8, 0.9))?;
+        let best = ranking.ranked.into_iter().next().ok_or_else(no_sweep_lines)?;
+        Ok((best.choice, best.seq.expect("the best combination is settled")))
+    }
+
+    /// Candidate headings of one group (math radians in [0, π)).
+    fn headings(&self, field: &MultiPolygon, group_count: usize, step_deg: f64) -> Vec<f64> {
         let hull: Vec<Coord> = field.convex_hull().exterior().0.clone();
         let mut grid: Vec<f64> = (0..(180.0 / step_deg).ceil() as usize).map(|k| (k as f64 * step_deg).to_radians()).collect();
         let edges: Vec<f64> = candidate_directions(&hull).into_iter().take(hull.len().saturating_sub(1)).collect();
         grid.extend(edges.iter().copied());
         let count = |h: f64| self.problem.layout.count(width_across(&hull, h));
         let fewest = grid.iter().map(|&h| count(h)).min().unwrap_or(1);
-        let delta = match field_count {
+        let delta = match group_count {
             1 if fewest <= ALL_HEADINGS_UP_TO_LINES => usize::MAX,
             1 => 2,
             2 => 3,
@@ -177,112 +283,162 @@ impl Search<'_> {
         self.problem.line_problem(lines, self.problem.allow_reentry)
     }
 
-    /// Every field's lines at every heading that `combos` use, swept once each.
-    fn sweeps(&self, combos: &[Vec<f64>]) -> HashMap<Key, Vec<Line>> {
-        let mut keys: Vec<Key> = combos.iter().flat_map(|c| c.iter().enumerate().map(|(r, h)| (r, h.to_bits()))).collect();
-        keys.sort_unstable();
-        keys.dedup();
-        keys.par_iter().map(|&(r, h)| ((r, h), self.field_lines(r, f64::from_bits(h)))).collect()
+    /// The route of `lines` on the connections combinations are ranked on.
+    fn ranking_route<'l>(&'l self, lines: &'l [Line]) -> LineProblem<'l> {
+        LineProblem { connector: self.ranking_connector, ..self.route(lines) }
     }
 
-    /// Connection costs between the lines of two fields at their headings (or of one field),
-    /// for every pair that `combos` use: each computed once, whatever the third field does.
-    fn blocks(&self, combos: &[Vec<f64>], swept: &HashMap<Key, Vec<Line>>) -> HashMap<(Key, Key), Vec<f64>> {
+    /// The combination (a heading per field) solved in full on the real connections: its
+    /// node sequence and the solver's total.
+    fn solve_in_full(&self, tables: &Tables, combo: &[f64]) -> Option<(Vec<usize>, f64)> {
+        let solved = |inst: Instance| {
+            let seq = gtsp::solve(&inst);
+            let cost = inst.total(&seq);
+            (seq, cost)
+        };
+        if self.ranks_on_real_connections() {
+            return self.instance(tables, combo).map(|(_, inst)| solved(inst));
+        }
+        let lines = self.lines(combo);
+        (!lines.is_empty()).then(|| solved(self.route(&lines).instance()))
+    }
+
+    fn ranks_on_real_connections(&self) -> bool {
+        std::ptr::eq(self.ranking_connector, self.problem.connector)
+    }
+
+    /// Sweeps and prices (in parallel) what `combos` need and `tables` lack.
+    fn tabulate(&self, tables: &mut Tables, combos: &[Vec<f64>]) {
+        let mut fresh: Vec<Key> = combos.iter().flat_map(|c| keys(c)).filter(|k| !tables.swept.contains_key(k)).collect();
+        fresh.sort_unstable();
+        fresh.dedup();
+        let swept: Vec<(Key, Vec<Line>, TerminalCosts)> = fresh
+            .par_iter()
+            .map(|&(r, h)| {
+                let lines = self.field_lines(r, f64::from_bits(h));
+                let route = self.ranking_route(&lines);
+                let terminals = (route.start_costs(), route.end_costs());
+                ((r, h), lines, terminals)
+            })
+            .collect();
+        for (k, lines, terminals) in swept {
+            tables.swept.insert(k, lines);
+            tables.terminals.insert(k, terminals);
+        }
         let mut pairs: Vec<(Key, Key)> = combos
             .iter()
             .flat_map(|c| {
-                let keys: Vec<Key> = c.iter().enumerate().map(|(r, h)| (r, h.to_bits())).collect();
-                keys.iter().flat_map(|&a| keys.iter().map(move |&b| (a, b))).collect::<Vec<_>>()
+                let ks = keys(c);
+                ks.iter().flat_map(|&a| ks.iter().map(move |&b| (a, b))).collect::<Vec<_>>()
             })
+            .filter(|p| !tables.blocks.contains_key(p))
             .collect();
         pairs.sort_unstable();
         pairs.dedup();
-        pairs
+        let blocks: Vec<((Key, Key), Vec<f64>)> = pairs
             .par_iter()
             .map(|&(a, b)| {
-                let (la, lb) = (&swept[&a], &swept[&b]);
+                let (la, lb) = (&tables.swept[&a], &tables.swept[&b]);
                 let lines: Vec<Line> = if a == b { la.clone() } else { la.iter().chain(lb).copied().collect() };
-                let route = self.route(&lines);
+                let route = self.ranking_route(&lines);
                 let off = if a == b { 0 } else { 2 * la.len() };
                 let costs = (0..2 * la.len()).flat_map(|u| (0..2 * lb.len()).map(move |v| (u, v))).map(|(u, v)| route.connection(u, off + v)).collect();
                 ((a, b), costs)
             })
-            .collect()
+            .collect();
+        tables.blocks.extend(blocks);
     }
 
-    /// Costs of the combinations (lowest first; those whose lower bound exceeds the best found
-    /// are dropped), evaluated in parallel chunks so that cancellation is honoured.
-    fn evaluate(&self, combos: &[Vec<f64>], progress: &dyn Progress, from: f64, to: f64) -> Result<Vec<(f64, Vec<f64>)>, PlanError> {
-        let swept = self.sweeps(combos);
-        let blocks = self.blocks(combos, &swept);
-        let terminals: HashMap<Key, (Option<Vec<f64>>, Option<Vec<f64>>)> = swept.iter().map(|(&k, lines)| {
-            let route = self.route(lines);
-            (k, (route.start_costs(), route.end_costs()))
-        }).collect();
-        // the instance of a combination, assembled from the blocks
-        let instance = |combo: &[f64]| -> Option<(Vec<Line>, crate::route::gtsp::Instance)> {
-            let keys: Vec<Key> = combo.iter().enumerate().map(|(r, h)| (r, h.to_bits())).collect();
-            let lines: Vec<Line> = keys.iter().flat_map(|k| swept[k].iter().copied()).collect();
-            if lines.is_empty() {
-                return None;
-            }
-            let n = 2 * lines.len();
-            let mut raw = vec![f64::INFINITY; n * n];
-            let mut row0 = 0;
-            for a in &keys {
-                let na = 2 * swept[a].len();
-                let mut col0 = 0;
-                for b in &keys {
-                    let nb = 2 * swept[b].len();
-                    let block = &blocks[&(*a, *b)];
-                    for u in 0..na {
-                        raw[(row0 + u) * n + col0..(row0 + u) * n + col0 + nb].copy_from_slice(&block[u * nb..(u + 1) * nb]);
-                    }
-                    col0 += nb;
+    /// The lines and the instance of a combination (a heading per field), assembled from the
+    /// tables; `None` without lines.
+    fn instance(&self, tables: &Tables, combo: &[f64]) -> Option<(Vec<Line>, Instance<'static>)> {
+        let keys = keys(combo);
+        let lines: Vec<Line> = keys.iter().flat_map(|k| tables.swept[k].iter().copied()).collect();
+        if lines.is_empty() {
+            return None;
+        }
+        let n = 2 * lines.len();
+        let mut raw = vec![f64::INFINITY; n * n];
+        let mut row0 = 0;
+        for a in &keys {
+            let na = 2 * tables.swept[a].len();
+            let mut col0 = 0;
+            for b in &keys {
+                let nb = 2 * tables.swept[b].len();
+                let block = &tables.blocks[&(*a, *b)];
+                for u in 0..na {
+                    raw[(row0 + u) * n + col0..(row0 + u) * n + col0 + nb].copy_from_slice(&block[u * nb..(u + 1) * nb]);
                 }
-                row0 += na;
+                col0 += nb;
             }
-            let concat = |pick: fn(&(Option<Vec<f64>>, Option<Vec<f64>>)) -> &Option<Vec<f64>>| -> Option<Vec<f64>> {
-                keys.iter().map(|k| pick(&terminals[k]).clone()).collect::<Option<Vec<Vec<f64>>>>().map(|v| v.concat())
-            };
-            let inst = self.route(&lines).assemble(raw, concat(|t| &t.0), concat(|t| &t.1));
-            Some((lines, inst))
+            row0 += na;
+        }
+        let concat = |pick: fn(&TerminalCosts) -> &Option<Vec<f64>>| -> Option<Vec<f64>> {
+            keys.iter().map(|k| pick(&tables.terminals[k]).clone()).collect::<Option<Vec<Vec<f64>>>>().map(|v| v.concat())
         };
-        // bounds first: they order the search
+        let inst = self.ranking_route(&lines).assemble(raw, concat(|t| &t.0), concat(|t| &t.1));
+        Some((lines, inst))
+    }
+
+    /// Ranks the `choices` not seen before (a heading per group): cheapest lower bound first,
+    /// each solved quickly unless its bound exceeds the best route found, in parallel chunks
+    /// so that cancellation is honoured. Then the best [`FINALISTS`] not yet settled are
+    /// solved in full before the ranking picks anything.
+    fn evaluate(&self, tables: &mut Tables, ranking: &mut Ranking, choices: Vec<Vec<f64>>, progress: &dyn Progress, (from, to): (f64, f64)) -> Result<(), PlanError> {
+        let fresh: Vec<Vec<f64>> = choices.into_iter().filter(|c| ranking.seen.insert(c.iter().map(|h| h.to_bits()).collect())).collect();
+        let combos: Vec<Vec<f64>> = fresh.iter().map(|c| self.per_field(c)).collect();
+        self.tabulate(tables, &combos);
+        let tables = &*tables;
         let mut bounded: Vec<(f64, usize)> = combos
             .par_iter()
             .enumerate()
-            .map(|(i, combo)| match instance(combo) {
-                Some((lines, inst)) => (self.route(&lines).lower_bound(&inst), i),
+            .map(|(i, combo)| match self.instance(tables, combo) {
+                Some((lines, inst)) => (self.ranking_route(&lines).lower_bound(&inst), i),
                 None => (f64::INFINITY, i),
             })
             .collect();
         bounded.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut best = f64::INFINITY;
-        let mut out = Vec::new();
+        let mut best = ranking.best_cost();
+        // an exact solve on the real connections settles the combination
+        let real = self.ranks_on_real_connections();
         for (k, chunk) in bounded.chunks(CHUNK).enumerate() {
             if chunk[0].0 >= best || !chunk[0].0.is_finite() {
                 break;
             }
-            let costs: Vec<(f64, usize)> = chunk
+            let costs: Vec<(f64, Option<Vec<usize>>, usize)> = chunk
                 .par_iter()
                 .filter(|(bound, _)| *bound < best)
                 .filter_map(|&(_, i)| {
-                    let (_, inst) = instance(&combos[i])?;
-                    let seq = crate::route::gtsp::quick(&inst);
-                    Some((inst.total(&seq), i))
+                    let (_, inst) = self.instance(tables, &combos[i])?;
+                    let seq = gtsp::quick(&inst);
+                    Some((inst.total(&seq), (real && gtsp::quick_is_exact(&inst)).then_some(seq), i))
                 })
                 .collect();
-            for (c, i) in costs {
-                best = best.min(c);
-                out.push((c, combos[i].clone()));
+            for (cost, seq, i) in costs {
+                best = best.min(cost);
+                ranking.ranked.push(Ranked { cost, choice: fresh[i].clone(), seq });
             }
             if !progress.report(from + (to - from) * ((k + 1) * CHUNK) as f64 / bounded.len() as f64) {
                 return Err(PlanError::Cancelled);
             }
         }
-        out.sort_by(|a, b| a.0.total_cmp(&b.0));
-        Ok(out)
+        ranking.sort();
+        // real costs may exceed ranking costs: solve again while an unsettled combination
+        // reaches the top
+        loop {
+            let open: Vec<(usize, Vec<f64>)> = ranking.ranked.iter().enumerate().take(self.finalists).filter(|(_, r)| r.seq.is_none()).map(|(i, r)| (i, self.per_field(&r.choice))).collect();
+            if open.is_empty() {
+                break;
+            }
+            let solved: Vec<(usize, Option<(Vec<usize>, f64)>)> = open.into_par_iter().map(|(i, combo)| (i, self.solve_in_full(tables, &combo))).collect();
+            for (i, result) in solved {
+                let (seq, cost) = result.unwrap_or((Vec::new(), f64::INFINITY));
+                ranking.ranked[i].cost = cost;
+                ranking.ranked[i].seq = Some(seq);
+            }
+            ranking.sort();
+        }
+        Ok(())
     }
 }
 

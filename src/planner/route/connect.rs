@@ -3,10 +3,13 @@
 //! the shortest clear Dubins word, or else Dubins hops along a visibility path laid far
 //! enough from the zones to turn in.
 
+use std::collections::HashMap;
+use std::sync::{Arc, RwLock};
+
 use geo::{Coord, Rect};
 
 use super::visibility::{TransitPlanner, bounding};
-use crate::turn::dubins::{Pose, all_words};
+use crate::turn::dubins::{DubinsPath, Pose, all_words, shortest};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
 
 pub struct Connector<'a> {
@@ -15,6 +18,30 @@ pub struct Connector<'a> {
     pub transit: &'a TransitPlanner,
     /// Fixed wing: a visibility graph on the zones grown by the turning radius too.
     pub detour: Option<&'a TransitPlanner>,
+    /// Fixed wing around zones: the poses a connection may pass through, each detour corner
+    /// in 16 headings.
+    via: Vec<Pose>,
+    /// Dubins lengths from a pose to every via pose, and from every via pose to a pose: a
+    /// pose's row is computed once and serves all its connections.
+    legs_out: Legs,
+    legs_in: Legs,
+}
+
+type Legs = RwLock<HashMap<[u64; 3], Arc<[f64]>>>;
+
+/// Headings a connection may pass a detour corner in.
+const VIA_HEADINGS: usize = 16;
+
+impl<'a> Connector<'a> {
+    pub fn new(turn: TurnModel, transit: &'a TransitPlanner, detour: Option<&'a TransitPlanner>) -> Self {
+        let via = match (turn, detour) {
+            (TurnModel::Dubins(_), Some(d)) => {
+                d.corners().iter().flat_map(|&c| (0..VIA_HEADINGS).map(move |k| Pose::at(c, k as f64 * std::f64::consts::TAU / VIA_HEADINGS as f64))).collect()
+            }
+            _ => Vec::new(),
+        };
+        Connector { turn, transit, detour, via, legs_out: Legs::default(), legs_in: Legs::default() }
+    }
 }
 
 impl Connector<'_> {
@@ -34,12 +61,10 @@ impl Connector<'_> {
                 Some(p) => crate::path::polyline_length(&p),
                 None => f64::INFINITY,
             },
-            TurnModel::Dubins(r) => {
-                if !self.transit.any_wall_in(&reach(from, to, r)) {
-                    return TurnModel::Dubins(r).length(from, to);
-                }
-                self.path(from, to).map_or(f64::INFINITY, |p| crate::path::polyline_length(&p))
-            }
+            TurnModel::Dubins(r) => match self.shortest_clear(from, to, r) {
+                Some((word, _)) => word.length(),
+                None => self.path(from, to).map_or(f64::INFINITY, |p| crate::path::polyline_length(&p)),
+            },
         }
     }
 
@@ -93,34 +118,59 @@ impl Connector<'_> {
         })
     }
 
-    /// The shortest Dubins word that stays clear of the walls.
-    fn clear_dubins(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+    /// The shortest Dubins word that stays clear of the walls, with its points when they had
+    /// to be computed to tell (a word whose box meets no wall is clear without them).
+    fn shortest_clear(&self, from: Pose, to: Pose, r: f64) -> Option<(DubinsPath, Option<Vec<Coord>>)> {
         let mut words = all_words(from, to, r);
         words.sort_by(|a, b| a.length().total_cmp(&b.length()));
-        let near = self.transit.any_wall_in(&reach(from, to, r));
-        words.into_iter().map(|w| finish(w.sample(CHORD_TOLERANCE_M), to)).find(|pts| !near || self.transit.is_polyline_clear(pts))
+        words.into_iter().find_map(|w| {
+            if !self.transit.any_wall_in(&w.bounds()) {
+                return Some((w, None));
+            }
+            let points = finish(w.sample(CHORD_TOLERANCE_M), to);
+            self.transit.is_polyline_clear(&points).then_some((w, Some(points)))
+        })
     }
 
-    /// Two clear Dubins paths through one corner of the detour graph, passed in one of 16
-    /// headings: the shortest such pair.
+    /// The shortest Dubins word that stays clear of the walls, as points.
+    fn clear_dubins(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+        self.shortest_clear(from, to, r).map(|(w, points)| points.unwrap_or_else(|| finish(w.sample(CHORD_TOLERANCE_M), to)))
+    }
+
+    /// Two clear Dubins paths through one corner of the detour graph, passed in one of
+    /// [`VIA_HEADINGS`] headings: the shortest such pair (the first of equals in corner
+    /// order). Candidates are ranked on the cached lengths; a candidate's clearance, which
+    /// costs its points, is checked shortest first until one is clear.
     fn via_corner(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
-        let mut best: Option<(f64, Pose)> = None;
-        for &c in self.detour?.corners() {
-            for k in 0..16 {
-                let via = Pose::at(c, k as f64 * std::f64::consts::TAU / 16.0);
-                let len = TurnModel::Dubins(r).length(from, via) + TurnModel::Dubins(r).length(via, to);
-                if best.is_some_and(|(b, _)| b <= len) {
-                    continue;
-                }
-                let clear = |a: Pose, b: Pose| self.transit.is_polyline_clear(&TurnModel::Dubins(r).points(a, b));
-                if clear(from, via) && clear(via, to) {
-                    best = Some((len, via));
-                }
-            }
+        if self.via.is_empty() {
+            return None;
         }
-        let (_, via) = best?;
-        let mut out = TurnModel::Dubins(r).points(from, via);
-        out.extend_from_slice(&TurnModel::Dubins(r).points(via, to)[1..]);
+        let out = self.legs(&self.legs_out, from, |via| shortest(from, via, r).length());
+        let into = self.legs(&self.legs_in, to, |via| shortest(via, to, r).length());
+        let mut order: Vec<(f64, usize)> = out.iter().zip(into.iter()).map(|(a, b)| a + b).enumerate().map(|(k, l)| (l, k)).collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        order.into_iter().find_map(|(_, k)| self.clear_pair(from, self.via[k], to, r))
+    }
+
+    /// The row of `pose` in `legs`: `length(via)` for every via pose, computed on first use.
+    fn legs(&self, legs: &Legs, pose: Pose, length: impl Fn(Pose) -> f64) -> Arc<[f64]> {
+        let key = [pose.x.to_bits(), pose.y.to_bits(), pose.theta.to_bits()];
+        if let Some(row) = legs.read().unwrap_or_else(|e| e.into_inner()).get(&key) {
+            return row.clone();
+        }
+        let row: Arc<[f64]> = self.via.iter().map(|&v| length(v)).collect();
+        legs.write().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(row).clone()
+    }
+
+    /// The shortest Dubins paths `from → via → to` as points, when both are clear.
+    fn clear_pair(&self, from: Pose, via: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+        let clear = |a: Pose, b: Pose| -> Option<Vec<Coord>> {
+            let word = shortest(a, b, r);
+            let points = finish(word.sample(CHORD_TOLERANCE_M), b);
+            (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&points)).then_some(points)
+        };
+        let mut out = clear(from, via)?;
+        out.extend_from_slice(&clear(via, to)?[1..]);
         Some(out)
     }
 
@@ -170,7 +220,7 @@ mod tests {
         let transit = TransitPlanner::new(&zone, &walls);
         let grown = MultiPolygon(vec![polygon![(x: -105., y: -75.), (x: 125., y: -75.), (x: 125., y: 150.), (x: -105., y: 150.)]]);
         let detour = TransitPlanner::new(&grown, &walls);
-        let c = Connector { turn: TurnModel::Dubins(85.0), transit: &transit, detour: Some(&detour) };
+        let c = Connector::new(TurnModel::Dubins(85.0), &transit, Some(&detour));
         let (a, b) = (Pose::new(-300.0, 0.0, 0.0), Pose::new(-300.0, 75.0, std::f64::consts::PI));
         let free = TurnModel::Dubins(85.0).length(a, b);
         let pts = c.path(a, b).expect("a way round");
@@ -190,7 +240,7 @@ mod tests {
     fn a_line_against_a_zone_is_pulled_back_until_the_aircraft_can_turn() {
         let zone = MultiPolygon(vec![polygon![(x: 100., y: -60.), (x: 200., y: -60.), (x: 200., y: 60.), (x: 100., y: 60.)]]);
         let transit = TransitPlanner::new(&zone, &zone);
-        let c = Connector { turn: TurnModel::Dubins(30.0), transit: &transit, detour: None };
+        let c = Connector::new(TurnModel::Dubins(30.0), &transit, None);
         let (a, b) = (Coord { x: -500.0, y: 0.0 }, Coord { x: 95.0, y: 0.0 });
         let (a2, b2) = c.turnable(a, b).expect("most of the line is left");
         assert_eq!(a2, a, "the far end has room");
@@ -201,7 +251,7 @@ mod tests {
         assert!(transit.is_polyline_clear(&turn));
         // a line shorter than the room it needs is dropped; a multirotor keeps every line whole
         assert_eq!(c.turnable(Coord { x: 80.0, y: 0.0 }, b), None);
-        let straight = Connector { turn: TurnModel::Straight, transit: &transit, detour: None };
+        let straight = Connector::new(TurnModel::Straight, &transit, None);
         assert_eq!(straight.turnable(a, b), Some((a, b)));
     }
 }

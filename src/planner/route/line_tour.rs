@@ -8,7 +8,7 @@ use geo::Coord;
 use rayon::prelude::*;
 
 use super::connect::Connector;
-use super::gtsp::{Costs, Instance, KnownCosts, solve};
+use super::gtsp::{self, Costs, Instance, KnownCosts, solve};
 use crate::turn::climb::Obstacles;
 use crate::turn::dubins::Pose;
 
@@ -203,20 +203,28 @@ impl LineProblem<'_> {
         inst.total(seq) - surcharge
     }
 
-    /// A lower bound of `inst.total` over every tour: each line flown, entered by its cheapest
-    /// way in and left by its cheapest way out (the larger of the two sums).
+    /// A lower bound of `inst.total` (an instance of this problem's) over every tour. Without
+    /// re-entries every tour changes region at least once per region after the first: the
+    /// bound of the instance without the surcharges, plus that many.
     pub fn lower_bound(&self, inst: &Instance) -> f64 {
-        let n = inst.node_cost.len();
-        let cheapest = |v: usize, incoming: bool| -> f64 {
-            let line = (0..n).filter(|&u| u / 2 != v / 2).map(|u| if incoming { inst.c(u, v) } else { inst.c(v, u) }).fold(f64::INFINITY, f64::min);
-            let terminal = if incoming { &inst.from_start } else { &inst.to_end };
-            match terminal {
-                None => 0.0,
-                Some(t) => line.min(t[v]),
-            }
+        if self.allow_reentry {
+            return gtsp::lower_bound(inst);
+        }
+        let n = inst.n();
+        let other_region = |u: usize, v: usize| self.lines[u / 2].region != self.lines[v / 2].region;
+        let plain = Instance {
+            clusters: inst.clusters.clone(),
+            reverse: inst.reverse.clone(),
+            cost: Costs::Dense((0..n * n).map(|i| inst.c(i / n, i % n) - if other_region(i / n, i % n) { REGION_CHANGE } else { 0.0 }).collect()),
+            node_cost: inst.node_cost.clone(),
+            from_start: inst.from_start.clone(),
+            to_end: inst.to_end.clone(),
+            candidates: None,
         };
-        let sum = |incoming: bool| -> f64 { (0..self.lines.len()).map(|k| (0..2).map(|d| inst.node_cost[2 * k + d] + cheapest(2 * k + d, incoming)).fold(f64::INFINITY, f64::min)).sum() };
-        sum(true).max(sum(false))
+        let mut regions: Vec<usize> = self.lines.iter().map(|l| l.region).collect();
+        regions.sort_unstable();
+        regions.dedup();
+        gtsp::lower_bound(&plain) + regions.len().saturating_sub(1) as f64 * REGION_CHANGE
     }
 
     /// Flight legs of a node sequence: `(entry, exit)` poses.
@@ -244,7 +252,7 @@ mod tests {
         let lines: Vec<Line> = (0..6).map(|i| Line { a: Coord { x: 0.0, y: 75.0 * i as f64 }, b: Coord { x: 500.0, y: 75.0 * i as f64 }, region: 0 }).collect();
         let none = MultiPolygon(vec![]);
         let transit = TransitPlanner::new(&none, &none);
-        let connector = Connector { turn: TurnModel::Dubins(85.0), transit: &transit, detour: None };
+        let connector = Connector::new(TurnModel::Dubins(85.0), &transit, None);
         let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
         let (seq, cost) = problem.solve();
         assert_eq!(seq.len(), 6);
@@ -258,5 +266,20 @@ mod tests {
         // boustrophedon order for comparison: 5 bulbs of 527.5 m
         let bous: Vec<usize> = (0..6).map(|k| 2 * k + k % 2).collect();
         assert!((problem.cost_of(&inst, &bous) - 3000.0 - 2637.6).abs() < 0.1);
+    }
+
+    #[test]
+    fn the_bound_counts_the_region_changes_a_tour_without_reentries_makes() {
+        // three lines in each of two fields side by side, flown without re-entries
+        let lines: Vec<Line> = (0..6).map(|i| Line { a: Coord { x: 600.0 * (i / 3) as f64, y: 75.0 * (i % 3) as f64 }, b: Coord { x: 600.0 * (i / 3) as f64 + 400.0, y: 75.0 * (i % 3) as f64 }, region: i / 3 }).collect();
+        let none = MultiPolygon(vec![]);
+        let transit = TransitPlanner::new(&none, &none);
+        let connector = Connector::new(TurnModel::Dubins(85.0), &transit, None);
+        let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: false, obstacles: None };
+        let inst = problem.instance();
+        let seq = solve(&inst);
+        let bound = problem.lower_bound(&inst);
+        assert!(bound <= inst.total(&seq) + 1e-6, "{bound} above {}", inst.total(&seq));
+        assert!(bound >= REGION_CHANGE + 2400.0, "{bound} misses the region change");
     }
 }

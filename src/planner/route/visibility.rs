@@ -156,6 +156,11 @@ impl TransitPlanner {
         points.windows(2).all(|w| self.is_clear(w[0], w[1]))
     }
 
+    /// True when there is any wall at all.
+    pub fn has_walls(&self) -> bool {
+        !self.walls.is_empty()
+    }
+
     /// True when some wall's bounding box overlaps `rect`.
     pub fn any_wall_in(&self, rect: &Rect) -> bool {
         self.walls.iter().any(|(bb, _)| rects_overlap(bb, rect))

@@ -83,18 +83,14 @@ fn scenario_2() {
     check(&SCENARIO_2, true, 5238.0);
 }
 
-// Three fields. Ranking heading combinations by quick solves made the search fast (5.7 s with
-// re-entries, 4.1 s without, `coverplan plan` on this mission) but it settles on 6 295 m and
-// 6 600 m, above the thesis's 6 235 m and 6 583 m; the exhaustive 2° search with every
-// combination solved in full reached 6 227.3 m and 6 575.2 m in 441 s and 139 s. See issue 4.
+// Three fields, each with its own heading: the search ranks heading combinations exactly
+// (Held–Karp) and changes one field's heading at a time from the best few.
 #[test]
-#[ignore = "three-field heading search above the thesis's length when fast, too slow when exhaustive"]
 fn scenario_3_with_reentries() {
     check(&SCENARIO_3, true, 6235.0);
 }
 
 #[test]
-#[ignore = "three-field heading search above the thesis's length when fast, too slow when exhaustive"]
 fn scenario_3_without_reentries() {
     check(&SCENARIO_3, false, 6583.0);
 }

@@ -218,6 +218,30 @@ impl DubinsPath {
         self.segments().iter().fold(self.start, |q, &(part, s)| advance(q, part, s, self.radius))
     }
 
+    /// A box that holds the whole path: each arc's circle and each straight's ends. Cheap
+    /// next to [`Self::sample`], so a path far from every obstacle is cleared without points.
+    pub fn bounds(&self) -> geo::Rect {
+        let r = self.radius;
+        let (mut lo, mut hi) = (self.start.coord(), self.start.coord());
+        let mut q = self.start;
+        for (part, s) in self.segments() {
+            let next = advance(q, part, s, r);
+            let (a, b) = match part {
+                Part::S => (q.coord(), next.coord()),
+                Part::L | Part::R => {
+                    let sigma = if part == Part::L { 1.0 } else { -1.0 };
+                    let (sin0, cos0) = q.theta.sin_cos();
+                    let centre = Coord { x: q.x - sigma * r * sin0, y: q.y + sigma * r * cos0 };
+                    (centre - Coord { x: r, y: r }, centre + Coord { x: r, y: r })
+                }
+            };
+            lo = Coord { x: lo.x.min(a.x).min(b.x), y: lo.y.min(a.y).min(b.y) };
+            hi = Coord { x: hi.x.max(a.x).max(b.x), y: hi.y.max(a.y).max(b.y) };
+            q = next;
+        }
+        geo::Rect::new(lo, hi)
+    }
+
     /// Points along the path: arcs with a chord error of at most `chord_tolerance_m` (and at
     /// most 10° per step), straights by their ends. Starts at the start position; the last
     /// point is the end position.
@@ -349,6 +373,12 @@ mod tests {
             prop_assert!((back - best.length()).abs() <= 1e-6 * r.max(1.0), "reversal: {} vs {}", back, best.length());
             let d = (q1.x - q0.x).hypot(q1.y - q0.y);
             prop_assert!(best.length() >= d - 1e-9 && best.length() <= d + 4.0 * PI * r + 1e-9);
+            // every sampled point of every word lies in its bounding box
+            for w in &words {
+                let b = w.bounds();
+                let inside = |p: &Coord| p.x >= b.min().x - 1e-6 && p.x <= b.max().x + 1e-6 && p.y >= b.min().y - 1e-6 && p.y <= b.max().y + 1e-6;
+                prop_assert!(w.sample(0.01 * r).iter().all(inside), "{:?} leaves its bounds", w.word);
+            }
         }
     }
 }

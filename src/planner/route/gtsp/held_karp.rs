@@ -6,30 +6,33 @@ use super::Instance;
 /// The optimal sequence: one node per cluster, in flight order.
 pub fn held_karp(inst: &Instance) -> Vec<usize> {
     let (m, n) = (inst.clusters.len(), inst.n());
-    let of = inst.cluster_of();
+    assert!(m < usize::BITS as usize && n < u16::MAX as usize, "an instance far too large for Held–Karp");
+    let bit: Vec<usize> = inst.cluster_of().iter().map(|&k| 1 << k).collect();
+    // each step's cost (the connection and the node entered) read once: the loop below runs
+    // 2^m · n² times
+    let step: Vec<f64> = (0..n * n).map(|i| inst.c(i / n, i % n) + inst.node_cost[i % n]).collect();
     let full = (1usize << m) - 1;
     let mut dp = vec![f64::INFINITY; (full + 1) * n];
-    let mut parent = vec![usize::MAX; (full + 1) * n];
+    let mut parent = vec![u16::MAX; (full + 1) * n];
     for v in 0..n {
-        dp[(1 << of[v]) * n + v] = inst.start(v) + inst.node_cost[v];
+        dp[bit[v] * n + v] = inst.start(v) + inst.node_cost[v];
     }
     for set in 1..=full {
         for v in 0..n {
             let here = dp[set * n + v];
-            if !here.is_finite() || set & (1 << of[v]) == 0 {
+            if set & bit[v] == 0 || !here.is_finite() {
                 continue;
             }
-            for (k, cluster) in inst.clusters.iter().enumerate() {
-                if set & (1 << k) != 0 {
+            let row = &step[v * n..(v + 1) * n];
+            for w in 0..n {
+                if set & bit[w] != 0 {
                     continue;
                 }
-                let next_set = set | (1 << k);
-                for &w in cluster {
-                    let cost = here + inst.c(v, w) + inst.node_cost[w];
-                    if cost < dp[next_set * n + w] {
-                        dp[next_set * n + w] = cost;
-                        parent[next_set * n + w] = v;
-                    }
+                let at = (set | bit[w]) * n + w;
+                let cost = here + row[w];
+                if cost < dp[at] {
+                    dp[at] = cost;
+                    parent[at] = v as u16;
                 }
             }
         }
@@ -47,11 +50,14 @@ pub fn held_karp(inst: &Instance) -> Vec<usize> {
     }
     let (mut set, mut v) = (full, best.1);
     let mut seq = Vec::with_capacity(m);
-    while v != usize::MAX {
+    loop {
         seq.push(v);
         let p = parent[set * n + v];
-        set &= !(1 << of[v]);
-        v = p;
+        set &= !bit[v];
+        if p == u16::MAX {
+            break;
+        }
+        v = p as usize;
     }
     seq.reverse();
     seq

@@ -9,12 +9,14 @@
 //! Large instances need not price every pair: with [`Costs::Lazy`] and candidate lists, a
 //! connection is computed the first time the search looks at it.
 
+mod bound;
 mod held_karp;
 mod local_search;
 
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 
+pub use bound::lower_bound;
 pub use held_karp::held_karp;
 use local_search::{EPS, Neighbours, local_search};
 
@@ -173,18 +175,22 @@ pub fn solve(inst: &Instance) -> Vec<usize> {
     }
 }
 
-/// Largest number of clusters [`quick`] solves exactly: Held–Karp's 2^m·n² steps cost more
-/// than a local search above it.
-const QUICK_EXACT_CLUSTERS: usize = 7;
+/// Largest number of clusters [`quick`] solves exactly: Held–Karp's 2^m·n² steps, about a
+/// millisecond at ten lines, cost much more than a local search above it.
+const QUICK_EXACT_CLUSTERS: usize = 10;
 
-/// A good sequence fast: exact when tiny, otherwise the greedy tour and one local search,
+/// True when [`quick`] solves `inst` exactly.
+pub fn quick_is_exact(inst: &Instance) -> bool {
+    inst.clusters.len() <= QUICK_EXACT_CLUSTERS && inst.n() <= EXACT_NODES
+}
+
+/// A good sequence fast: exact when small, otherwise the greedy tour and one local search,
 /// without kicks. For ranking many instances before solving the best with [`solve`].
 pub fn quick(inst: &Instance) -> Vec<usize> {
-    let m = inst.clusters.len();
-    match m {
+    match inst.clusters.len() {
         0 => Vec::new(),
-        m if m <= QUICK_EXACT_CLUSTERS && inst.n() <= EXACT_NODES => held_karp(inst),
-        _ => {
+        _ if quick_is_exact(inst) => held_karp(inst),
+        m => {
             let (of, nb) = neighbours(inst);
             let start = greedy_with(inst, &nb, &of);
             let total = inst.total(&start);
@@ -395,6 +401,7 @@ mod tests {
             prop_assert!(e <= h + 1e-6, "exact {e} above heuristic {h}");
             prop_assert!(h <= e * 1.01 + 1e-6, "heuristic {h} more than 1 % above exact {e}");
             prop_assert!(e <= inst.total(&greedy(&inst)) + 1e-6);
+            prop_assert!(lower_bound(&inst) <= e + 1e-6, "bound {} above the optimum {e}", lower_bound(&inst));
         }
     }
 
@@ -413,6 +420,7 @@ mod tests {
             prop_assert!(valid(&inst, &heur) && valid(&inst, &fast));
             prop_assert!(inst.total(&heur) <= inst.total(&fast) + 1e-6);
             prop_assert!(inst.total(&fast) <= inst.total(&greedy(&inst)) + 1e-6);
+            prop_assert!(lower_bound(&inst) <= inst.total(&heur) + 1e-6);
         }
     }
 

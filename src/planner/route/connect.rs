@@ -61,10 +61,12 @@ impl Connector<'_> {
                 Some(p) => crate::path::polyline_length(&p),
                 None => f64::INFINITY,
             },
-            TurnModel::Dubins(r) => match self.shortest_clear(from, to, r) {
-                Some((word, _)) => word.length(),
-                None => self.path(from, to).map_or(f64::INFINITY, |p| crate::path::polyline_length(&p)),
-            },
+            TurnModel::Dubins(r) => {
+                if !self.transit.any_wall_in(&reach(from, to, r)) {
+                    return TurnModel::Dubins(r).length(from, to);
+                }
+                self.path(from, to).map_or(f64::INFINITY, |p| crate::path::polyline_length(&p))
+            }
         }
     }
 

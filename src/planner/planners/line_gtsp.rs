@@ -83,22 +83,21 @@ impl Planner for LineGtsp {
             ranking_connector: if around_zones { &ranking_connector } else { problem.connector },
             finalists: if around_zones { FINALISTS_AROUND_ZONES } else { FINALISTS },
         };
-        let (best, seq) = match problem.sweep_angle {
-            Some(a) => {
-                let best = vec![a; fields.len()];
-                let seq = search.route(&search.lines(&best)).solve().0;
-                (best, seq)
-            }
+        // a searched heading comes with its route; a fixed one is routed here
+        let (best, searched) = match problem.sweep_angle {
+            Some(a) => (vec![a; fields.len()], None),
             None => {
                 let (choice, seq) = search.best_choice(progress)?;
-                (search.per_field(&choice), seq)
+                (search.per_field(&choice), Some(seq))
             }
         };
         let lines = search.lines(&best);
         if lines.is_empty() {
             return Err(no_sweep_lines());
         }
-        let path = fly_lines(&search.route(&lines), &seq, problem.layout.half_swath())?;
+        let route = search.route(&lines);
+        let seq = searched.unwrap_or_else(|| route.solve().0);
+        let path = fly_lines(&route, &seq, problem.layout.half_swath())?;
         let main = (0..fields.len()).max_by(|&a, &b| fields[a].unsigned_area().total_cmp(&fields[b].unsigned_area())).unwrap_or(0);
         Ok(PlannedPath::new(path, best.get(main).copied().unwrap_or(0.0), fields.len()))
     }

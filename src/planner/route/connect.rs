@@ -120,23 +120,18 @@ impl Connector<'_> {
         })
     }
 
-    /// The shortest Dubins word that stays clear of the walls, with its points when they had
-    /// to be computed to tell (a word whose box meets no wall is clear without them).
-    fn shortest_clear(&self, from: Pose, to: Pose, r: f64) -> Option<(DubinsPath, Option<Vec<Coord>>)> {
-        let mut words = all_words(from, to, r);
-        words.sort_by(|a, b| a.length().total_cmp(&b.length()));
-        words.into_iter().find_map(|w| {
-            if !self.transit.any_wall_in(&w.bounds()) {
-                return Some((w, None));
-            }
-            let points = finish(w.sample(CHORD_TOLERANCE_M), to);
-            self.transit.is_polyline_clear(&points).then_some((w, Some(points)))
-        })
-    }
-
     /// The shortest Dubins word that stays clear of the walls, as points.
     fn clear_dubins(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
-        self.shortest_clear(from, to, r).map(|(w, points)| points.unwrap_or_else(|| finish(w.sample(CHORD_TOLERANCE_M), to)))
+        let mut words = all_words(from, to, r);
+        words.sort_by(|a, b| a.length().total_cmp(&b.length()));
+        words.into_iter().find_map(|w| self.clear_points(w, to))
+    }
+
+    /// The points of `word` (ending exactly at `to`) when it stays clear of the walls: a word
+    /// whose box meets no wall is clear without checking its points.
+    fn clear_points(&self, word: DubinsPath, to: Pose) -> Option<Vec<Coord>> {
+        let points = finish(word.sample(CHORD_TOLERANCE_M), to);
+        (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&points)).then_some(points)
     }
 
     /// Two clear Dubins paths through one corner of the detour graph, passed in one of
@@ -166,13 +161,8 @@ impl Connector<'_> {
 
     /// The shortest Dubins paths `from → via → to` as points, when both are clear.
     fn clear_pair(&self, from: Pose, via: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
-        let clear = |a: Pose, b: Pose| -> Option<Vec<Coord>> {
-            let word = shortest(a, b, r);
-            let points = finish(word.sample(CHORD_TOLERANCE_M), b);
-            (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&points)).then_some(points)
-        };
-        let mut out = clear(from, via)?;
-        out.extend_from_slice(&clear(via, to)?[1..]);
+        let mut out = self.clear_points(shortest(from, via, r), via)?;
+        out.extend_from_slice(&self.clear_points(shortest(via, to, r), to)?[1..]);
         Some(out)
     }
 

@@ -193,13 +193,24 @@ fn advance(from: Pose, part: Part, s: f64, r: f64) -> Pose {
     match part {
         Part::S => Pose { x: from.x + s * from.theta.cos(), y: from.y + s * from.theta.sin(), theta: from.theta },
         Part::L | Part::R => {
-            let sigma = if part == Part::L { 1.0 } else { -1.0 };
-            let (sin0, cos0) = from.theta.sin_cos();
-            let (cx, cy) = (from.x - sigma * r * sin0, from.y + sigma * r * cos0);
+            let sigma = turn_sign(part);
+            let c = arc_centre(from, part, r);
             let theta = from.theta + sigma * s / r;
-            Pose { x: cx + sigma * r * theta.sin(), y: cy - sigma * r * theta.cos(), theta }
+            Pose { x: c.x + sigma * r * theta.sin(), y: c.y - sigma * r * theta.cos(), theta }
         }
     }
+}
+
+/// +1 for a left arc, -1 for a right one.
+fn turn_sign(part: Part) -> f64 {
+    if part == Part::L { 1.0 } else { -1.0 }
+}
+
+/// Centre of the circle an arc of `part` (L or R) flies from `from`.
+fn arc_centre(from: Pose, part: Part, r: f64) -> Coord {
+    let sigma = turn_sign(part);
+    let (sin0, cos0) = from.theta.sin_cos();
+    Coord { x: from.x - sigma * r * sin0, y: from.y + sigma * r * cos0 }
 }
 
 impl DubinsPath {
@@ -229,9 +240,7 @@ impl DubinsPath {
             let (a, b) = match part {
                 Part::S => (q.coord(), next.coord()),
                 Part::L | Part::R => {
-                    let sigma = if part == Part::L { 1.0 } else { -1.0 };
-                    let (sin0, cos0) = q.theta.sin_cos();
-                    let centre = Coord { x: q.x - sigma * r * sin0, y: q.y + sigma * r * cos0 };
+                    let centre = arc_centre(q, part, r);
                     (centre - Coord { x: r, y: r }, centre + Coord { x: r, y: r })
                 }
             };

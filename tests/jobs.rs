@@ -45,3 +45,22 @@ async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
     assert_eq!(queue.workers_alive(), 1);
     queue.shutdown(handles, Duration::from_secs(1)).await;
 }
+
+/// Plans created within the same millisecond (their `created_at` ties) are still claimed
+/// first in, first out.
+#[tokio::test]
+async fn queued_plans_are_claimed_in_the_order_they_were_created() {
+    let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
+    let body = common::mission_body("real-fields/nl-parcel-b.json");
+    let mission = missions::create(&db, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
+    let snapshot = json!({"area": mission.area});
+    let mut created = Vec::new();
+    for k in 0..40 {
+        created.push(plans::create(&db, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot).await.unwrap().id);
+    }
+    let mut claimed = Vec::new();
+    while let Some(job) = plans::claim_next(&db).await.unwrap() {
+        claimed.push(job.id);
+    }
+    assert_eq!(claimed, created);
+}

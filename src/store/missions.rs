@@ -81,7 +81,7 @@ pub async fn get(db: &Db, id: &str) -> Result<Option<Mission>, sqlx::Error> {
 
 /// A page of missions, newest first, and the total count.
 pub async fn list(db: &Db, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
-    let rows = sqlx::query("SELECT * FROM missions ORDER BY created_at DESC, id LIMIT ? OFFSET ?")
+    let rows = sqlx::query("SELECT * FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")
         .bind(limit)
         .bind(offset)
         .fetch_all(db)

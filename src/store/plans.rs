@@ -104,7 +104,7 @@ pub async fn get(db: &Db, id: &str) -> Result<Option<Plan>, sqlx::Error> {
 }
 
 pub async fn list_for_mission(db: &Db, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
-    let rows = sqlx::query(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? ORDER BY created_at DESC, id"))
+    let rows = sqlx::query(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? ORDER BY created_at DESC, rowid DESC"))
         .bind(mission_id)
         .fetch_all(db)
         .await?;
@@ -130,7 +130,7 @@ pub async fn claim_next(db: &Db) -> Result<Option<Job>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let row = sqlx::query(concat!(
         "UPDATE plans SET status = 'running', progress = 0, started_at = ", crate::sql_now!(), ", attempts = attempts + 1
-         WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, id LIMIT 1)
+         WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1)
          RETURNING id, params, mission"
     ))
     .fetch_optional(&mut *tx)

@@ -4,6 +4,7 @@
 //! enough from the zones to turn in.
 
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Arc, RwLock};
 
 use geo::{Coord, Rect};
@@ -21,13 +22,24 @@ pub struct Connector<'a> {
     /// Fixed wing around zones: the poses a connection may pass through, each detour corner
     /// in 16 headings.
     via: Vec<Pose>,
-    /// Dubins lengths from a pose to every via pose, and from every via pose to a pose: a
-    /// pose's row is computed once and serves all its connections.
+    /// The legs from a pose to every via pose, and from every via pose to a pose: a pose's
+    /// row is computed once and serves all its connections.
     legs_out: Legs,
     legs_in: Legs,
 }
 
-type Legs = RwLock<HashMap<[u64; 3], Arc<[f64]>>>;
+type Legs = RwLock<HashMap<[u64; 3], Arc<LegRow>>>;
+
+/// The legs between one pose and every via pose: their Dubins lengths, and whether each
+/// stays clear of the walls, found out the first time a connection needs to know.
+struct LegRow {
+    length: Box<[f64]>,
+    clear: Box<[AtomicU8]>,
+}
+
+const UNKNOWN: u8 = 0;
+const CLEAR: u8 = 1;
+const BLOCKED: u8 = 2;
 
 /// Headings a connection may pass a detour corner in.
 const VIA_HEADINGS: usize = 16;
@@ -127,43 +139,61 @@ impl Connector<'_> {
         words.into_iter().find_map(|w| self.clear_points(w, to))
     }
 
-    /// The points of `word` (ending exactly at `to`) when it stays clear of the walls: a word
-    /// whose box meets no wall is clear without checking its points.
+    /// The points of `word` (ending exactly at `to`) when it stays clear of the walls.
     fn clear_points(&self, word: DubinsPath, to: Pose) -> Option<Vec<Coord>> {
-        let points = finish(word.sample(CHORD_TOLERANCE_M), to);
+        let points = word_points(word, to);
         (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&points)).then_some(points)
+    }
+
+    /// True when `word` (ending at `to`) stays clear of the walls: a word whose box meets no
+    /// wall is clear without computing its points.
+    fn is_word_clear(&self, word: DubinsPath, to: Pose) -> bool {
+        !self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&word_points(word, to))
     }
 
     /// Two clear Dubins paths through one corner of the detour graph, passed in one of
     /// [`VIA_HEADINGS`] headings: the shortest such pair (the first of equals in corner
-    /// order). Candidates are ranked on the cached lengths; a candidate's clearance, which
-    /// costs its points, is checked shortest first until one is clear.
+    /// order). Candidates are ranked on the cached lengths and checked shortest first, each
+    /// leg's clearance found out once per pose and via pose.
     fn via_corner(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
         if self.via.is_empty() {
             return None;
         }
         let out = self.legs(&self.legs_out, from, |via| shortest(from, via, r).length());
         let into = self.legs(&self.legs_in, to, |via| shortest(via, to, r).length());
-        let mut order: Vec<(f64, usize)> = out.iter().zip(into.iter()).map(|(a, b)| a + b).enumerate().map(|(k, l)| (l, k)).collect();
+        let mut order: Vec<(f64, usize)> = out.length.iter().zip(into.length.iter()).map(|(a, b)| a + b).enumerate().map(|(k, l)| (l, k)).collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        order.into_iter().find_map(|(_, k)| self.clear_pair(from, self.via[k], to, r))
+        let (_, k) = order.into_iter().find(|&(_, k)| {
+            let via = self.via[k];
+            self.is_leg_clear(&out, k, || self.is_word_clear(shortest(from, via, r), via))
+                && self.is_leg_clear(&into, k, || self.is_word_clear(shortest(via, to, r), to))
+        })?;
+        let mut points = word_points(shortest(from, self.via[k], r), self.via[k]);
+        points.extend_from_slice(&word_points(shortest(self.via[k], to, r), to)[1..]);
+        Some(points)
     }
 
     /// The row of `pose` in `legs`: `length(via)` for every via pose, computed on first use.
-    fn legs(&self, legs: &Legs, pose: Pose, length: impl Fn(Pose) -> f64) -> Arc<[f64]> {
+    fn legs(&self, legs: &Legs, pose: Pose, length: impl Fn(Pose) -> f64) -> Arc<LegRow> {
         let key = [pose.x.to_bits(), pose.y.to_bits(), pose.theta.to_bits()];
         if let Some(row) = legs.read().unwrap_or_else(|e| e.into_inner()).get(&key) {
             return row.clone();
         }
-        let row: Arc<[f64]> = self.via.iter().map(|&v| length(v)).collect();
+        let row = Arc::new(LegRow { length: self.via.iter().map(|&v| length(v)).collect(), clear: self.via.iter().map(|_| AtomicU8::new(UNKNOWN)).collect() });
         legs.write().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(row).clone()
     }
 
-    /// The shortest Dubins paths `from → via → to` as points, when both are clear.
-    fn clear_pair(&self, from: Pose, via: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
-        let mut out = self.clear_points(shortest(from, via, r), via)?;
-        out.extend_from_slice(&self.clear_points(shortest(via, to, r), to)?[1..]);
-        Some(out)
+    /// Whether leg `k` of `row` is clear, as `check` tells the first time.
+    fn is_leg_clear(&self, row: &LegRow, k: usize, check: impl FnOnce() -> bool) -> bool {
+        match row.clear[k].load(Ordering::Relaxed) {
+            CLEAR => true,
+            BLOCKED => false,
+            _ => {
+                let clear = check();
+                row.clear[k].store(if clear { CLEAR } else { BLOCKED }, Ordering::Relaxed);
+                clear
+            }
+        }
     }
 
     /// Dubins hops through the corners of a detour, each corner passed heading from the
@@ -194,7 +224,9 @@ fn reach(from: Pose, to: Pose, r: f64) -> Rect {
     Rect::new(bb.min() - m, bb.max() + m)
 }
 
-fn finish(mut pts: Vec<Coord>, to: Pose) -> Vec<Coord> {
+/// The points of `word`, ending exactly at `to`.
+fn word_points(word: DubinsPath, to: Pose) -> Vec<Coord> {
+    let mut pts = word.sample(CHORD_TOLERANCE_M);
     *pts.last_mut().expect("points") = to.coord();
     pts
 }

@@ -119,16 +119,23 @@ impl LineProblem<'_> {
         }).collect())
     }
 
-    /// The GTSP instance: clusters of two directed nodes, node costs, and connection costs
-    /// computed when the search first needs them, those to each exit's [`CANDIDATES`] nearest
-    /// entries in advance (in parallel).
+    /// The GTSP instance: clusters of two directed nodes, node costs, connection costs, and
+    /// each exit's [`CANDIDATES`] nearest entries, where the local search looks for moves.
+    /// Up to [`gtsp::ALL_NEIGHBOURS_UP_TO`] lines every connection is computed in advance, in
+    /// parallel (the search would ask for most of them, one at a time); on more, those to
+    /// the candidates are, and the rest when the search first needs them.
     pub fn instance(&self) -> Instance<'_> {
         let candidates = self.candidates();
-        let pairs: Vec<(usize, usize)> = candidates.iter().enumerate().flat_map(|(u, c)| c.iter().map(move |&v| (u, v))).collect();
-        let price = |u: usize, v: usize| self.priced(u, v, self.connection(u, v));
-        let known: KnownCosts = pairs.into_par_iter().map(|(u, v)| ((u, v), price(u, v))).collect();
-        let costs = Costs::lazy(2 * self.lines.len(), known, price);
-        let mut inst = self.instance_with(costs, self.start_costs(), self.end_costs());
+        let n = 2 * self.lines.len();
+        let mut inst = if self.lines.len() <= gtsp::ALL_NEIGHBOURS_UP_TO {
+            let raw: Vec<f64> = (0..n * n).into_par_iter().map(|i| self.connection(i / n, i % n)).collect();
+            self.assemble(raw, self.start_costs(), self.end_costs())
+        } else {
+            let pairs: Vec<(usize, usize)> = candidates.iter().enumerate().flat_map(|(u, c)| c.iter().map(move |&v| (u, v))).collect();
+            let price = |u: usize, v: usize| self.priced(u, v, self.connection(u, v));
+            let known: KnownCosts = pairs.into_par_iter().map(|(u, v)| ((u, v), price(u, v))).collect();
+            self.instance_with(Costs::lazy(n, known, price), self.start_costs(), self.end_costs())
+        };
         inst.candidates = Some(candidates);
         inst
     }

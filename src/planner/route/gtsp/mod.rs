@@ -105,7 +105,7 @@ const EXACT_NODES: usize = 48;
 /// Neighbours per node the local search tries; every node on instances of at most
 /// [`ALL_NEIGHBOURS_UP_TO`] clusters.
 pub const NEIGHBOURS: usize = 10;
-const ALL_NEIGHBOURS_UP_TO: usize = 40;
+pub const ALL_NEIGHBOURS_UP_TO: usize = 40;
 /// Kicks of the iterated local search: many on small instances, where they find better
 /// orders; few on large ones, where each repair costs more and the first local optimum of
 /// parallel lines is already within a fraction of a per cent of what kicks find.

@@ -10,12 +10,18 @@ use coverplan::planner::FieldLimits;
 use coverplan::store::{self, missions, plans};
 use serde_json::json;
 
-#[tokio::test]
-async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
+/// A fresh database holding one mission, and the snapshot of it a plan is queued with.
+async fn fresh_mission() -> (store::Db, missions::Mission, serde_json::Value) {
     let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
     let body = common::mission_body("real-fields/nl-parcel-b.json");
     let mission = missions::create(&db, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
     let snapshot = json!({"area": mission.area});
+    (db, mission, snapshot)
+}
+
+#[tokio::test]
+async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
+    let (db, mission, snapshot) = fresh_mission().await;
     // spacing 13 makes this runner panic; anything else plans for real
     let runner: Runner = Arc::new(|job, progress| {
         if job.params["line_spacing_m"] == json!(13.0) {
@@ -50,10 +56,7 @@ async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
 /// first in, first out.
 #[tokio::test]
 async fn queued_plans_are_claimed_in_the_order_they_were_created() {
-    let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
-    let body = common::mission_body("real-fields/nl-parcel-b.json");
-    let mission = missions::create(&db, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
-    let snapshot = json!({"area": mission.area});
+    let (db, mission, snapshot) = fresh_mission().await;
     let mut created = Vec::new();
     for k in 0..40 {
         created.push(plans::create(&db, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot).await.unwrap().id);

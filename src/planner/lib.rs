@@ -148,6 +148,7 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         end_heading: resolved.end_heading,
         allow_reentry: resolved.allow_reentry,
         obstacles: obstacles.as_ref(),
+        coverage_penalty: resolved.coverage_penalty,
         vehicle: &resolved.vehicle,
         objective: resolved.objective,
     };

@@ -65,8 +65,9 @@ pub struct PlanParams {
     /// With obstacles: steepest climb and descent, 1 to 60° (default 30).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_climb_deg: Option<f64>,
-    /// With obstacles: metres of path that one metre of sweep flown too high to image costs
-    /// when choosing the order and the direction, 0 to 1000 (default 10).
+    /// Metres of path that one metre of sweep lost costs when choosing the order and the
+    /// direction, 0 to 1000 (default 10): sweep flown too high to image over an obstacle, or
+    /// (`line_gtsp`, fixed wing) cut short to leave room to turn before a no-fly zone.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coverage_penalty: Option<f64>,
     /// Clearance kept from no-fly zones, 1 to 500 m (default 10).

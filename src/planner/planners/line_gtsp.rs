@@ -13,7 +13,9 @@
 //! (Held–Karp) up to ten lines, else greedy and one local search. Connection costs are
 //! computed once per pair of fields and headings and kept for the whole search. After each
 //! stage the best [`FINALISTS`] are solved in full and re-ranked; the best three are refined
-//! on a 0.5° grid.
+//! on a 0.5° grid. A fixed-wing aircraft cannot fly the end of a line that stops against a
+//! no-fly zone (no room to turn): each metre of sweep a heading loses that way costs
+//! `coverage_penalty` metres of route, or the shortest route would be the one that flies least.
 
 use std::collections::{HashMap, HashSet};
 
@@ -121,8 +123,9 @@ fn one_group_changed(choice: &[f64], grid: &[Vec<f64>]) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// A heading per group and the solver's total of its route (with the region-change surcharge
-/// when re-entries are not allowed, the same for every combination); once settled (solved
+/// A heading per group and its cost: the solver's total of its route (with the region-change
+/// surcharge when re-entries are not allowed, the same for every combination) plus the
+/// penalty for the sweep it loses before no-fly zones; once settled (solved
 /// exactly or by the full solver, on the real connections) the route's node sequence.
 struct Ranked {
     cost: f64,
@@ -162,17 +165,30 @@ impl Ranking {
 /// Lines of one field at one heading.
 type Key = (usize, u64);
 
-/// Costs from the start to each node's entry and from each node's exit to the end.
-type TerminalCosts = (Option<Vec<f64>>, Option<Vec<f64>>);
+/// One field swept at one heading: its flyable lines, the metres of sweep cut off them to
+/// leave room to turn before no-fly zones, and the costs from the start to each node's entry
+/// and from each node's exit to the end.
+struct Swept {
+    lines: Vec<Line>,
+    lost_m: f64,
+    from_start: Option<Vec<f64>>,
+    to_end: Option<Vec<f64>>,
+}
 
 /// Every field's lines at every heading looked at, and the connection costs between the lines
 /// of two fields at their headings (or of one field): each computed once, whatever the other
 /// fields do, and kept from one stage of the search to the next.
 #[derive(Default)]
 struct Tables {
-    swept: HashMap<Key, Vec<Line>>,
-    terminals: HashMap<Key, TerminalCosts>,
+    swept: HashMap<Key, Swept>,
     blocks: HashMap<(Key, Key), Vec<f64>>,
+}
+
+impl Tables {
+    /// Metres of sweep a combination loses to turning room before no-fly zones.
+    fn lost_m(&self, combo: &[f64]) -> f64 {
+        keys(combo).iter().map(|k| self.swept[k].lost_m).sum()
+    }
 }
 
 fn keys(combo: &[f64]) -> Vec<Key> {
@@ -267,15 +283,26 @@ impl Search<'_> {
         kept
     }
 
-    /// The lines of field `region` at heading `h`.
-    fn field_lines(&self, region: usize, h: f64) -> Vec<Line> {
+    /// The flyable lines of field `region` at heading `h`, and the metres of sweep lost to
+    /// turning room before no-fly zones (lines cut short or dropped).
+    fn field_lines(&self, region: usize, h: f64) -> (Vec<Line>, f64) {
         let pattern = sweep(&self.fields[region], self.problem.keep_out, h, self.problem.layout);
-        self.problem.flyable(pattern.lines.iter().flatten().chain(&pattern.gap_fills).map(|s| Line { a: from_sweep_frame(h, s.a, s.offset), b: from_sweep_frame(h, s.b, s.offset), region }))
+        let whole: Vec<Line> = pattern.lines.iter().flatten().chain(&pattern.gap_fills).map(|s| Line { a: from_sweep_frame(h, s.a, s.offset), b: from_sweep_frame(h, s.b, s.offset), region }).collect();
+        let flown = self.problem.flyable(whole.iter().copied());
+        let metres = |lines: &[Line]| lines.iter().map(Line::length).sum::<f64>();
+        let lost_m = (metres(&whole) - metres(&flown)).max(0.0);
+        (flown, lost_m)
     }
 
     /// The lines of every field at its heading.
     fn lines(&self, combo: &[f64]) -> Vec<Line> {
-        combo.iter().enumerate().flat_map(|(region, &h)| self.field_lines(region, h)).collect()
+        combo.iter().enumerate().flat_map(|(region, &h)| self.field_lines(region, h).0).collect()
+    }
+
+    /// What a combination's lost sweep adds to its cost: `coverage_penalty` metres of path
+    /// per metre, so that a heading does not win by leaving more of the field unflown.
+    fn penalty(&self, tables: &Tables, combo: &[f64]) -> f64 {
+        self.problem.coverage_penalty * tables.lost_m(combo)
     }
 
     fn route<'l>(&'l self, lines: &'l [Line]) -> LineProblem<'l> {
@@ -288,11 +315,11 @@ impl Search<'_> {
     }
 
     /// The combination (a heading per field) solved in full on the real connections: its
-    /// node sequence and the solver's total.
+    /// node sequence and the solver's total plus the penalty for its lost sweep.
     fn solve_in_full(&self, tables: &Tables, combo: &[f64]) -> Option<(Vec<usize>, f64)> {
         let solved = |inst: Instance| {
             let seq = gtsp::solve(&inst);
-            let cost = inst.total(&seq);
+            let cost = inst.total(&seq) + self.penalty(tables, combo);
             (seq, cost)
         };
         if self.ranks_on_real_connections() {
@@ -311,19 +338,16 @@ impl Search<'_> {
         let mut fresh: Vec<Key> = combos.iter().flat_map(|c| keys(c)).filter(|k| !tables.swept.contains_key(k)).collect();
         fresh.sort_unstable();
         fresh.dedup();
-        let swept: Vec<(Key, Vec<Line>, TerminalCosts)> = fresh
+        let swept: Vec<(Key, Swept)> = fresh
             .par_iter()
             .map(|&(r, h)| {
-                let lines = self.field_lines(r, f64::from_bits(h));
+                let (lines, lost_m) = self.field_lines(r, f64::from_bits(h));
                 let route = self.ranking_route(&lines);
-                let terminals = (route.start_costs(), route.end_costs());
-                ((r, h), lines, terminals)
+                let (from_start, to_end) = (route.start_costs(), route.end_costs());
+                ((r, h), Swept { lines, lost_m, from_start, to_end })
             })
             .collect();
-        for (k, lines, terminals) in swept {
-            tables.swept.insert(k, lines);
-            tables.terminals.insert(k, terminals);
-        }
+        tables.swept.extend(swept);
         let mut pairs: Vec<(Key, Key)> = combos
             .iter()
             .flat_map(|c| {
@@ -337,7 +361,7 @@ impl Search<'_> {
         let blocks: Vec<((Key, Key), Vec<f64>)> = pairs
             .par_iter()
             .map(|&(a, b)| {
-                let (la, lb) = (&tables.swept[&a], &tables.swept[&b]);
+                let (la, lb) = (&tables.swept[&a].lines, &tables.swept[&b].lines);
                 let lines: Vec<Line> = if a == b { la.clone() } else { la.iter().chain(lb).copied().collect() };
                 let route = self.ranking_route(&lines);
                 let off = if a == b { 0 } else { 2 * la.len() };
@@ -352,7 +376,7 @@ impl Search<'_> {
     /// tables; `None` without lines.
     fn instance(&self, tables: &Tables, combo: &[f64]) -> Option<(Vec<Line>, Instance<'static>)> {
         let keys = keys(combo);
-        let lines: Vec<Line> = keys.iter().flat_map(|k| tables.swept[k].iter().copied()).collect();
+        let lines: Vec<Line> = keys.iter().flat_map(|k| tables.swept[k].lines.iter().copied()).collect();
         if lines.is_empty() {
             return None;
         }
@@ -360,10 +384,10 @@ impl Search<'_> {
         let mut raw = vec![f64::INFINITY; n * n];
         let mut row0 = 0;
         for a in &keys {
-            let na = 2 * tables.swept[a].len();
+            let na = 2 * tables.swept[a].lines.len();
             let mut col0 = 0;
             for b in &keys {
-                let nb = 2 * tables.swept[b].len();
+                let nb = 2 * tables.swept[b].lines.len();
                 let block = &tables.blocks[&(*a, *b)];
                 for u in 0..na {
                     raw[(row0 + u) * n + col0..(row0 + u) * n + col0 + nb].copy_from_slice(&block[u * nb..(u + 1) * nb]);
@@ -372,10 +396,10 @@ impl Search<'_> {
             }
             row0 += na;
         }
-        let concat = |pick: fn(&TerminalCosts) -> &Option<Vec<f64>>| -> Option<Vec<f64>> {
-            keys.iter().map(|k| pick(&tables.terminals[k]).clone()).collect::<Option<Vec<Vec<f64>>>>().map(|v| v.concat())
+        let concat = |pick: fn(&Swept) -> &Option<Vec<f64>>| -> Option<Vec<f64>> {
+            keys.iter().map(|k| pick(&tables.swept[k]).clone()).collect::<Option<Vec<Vec<f64>>>>().map(|v| v.concat())
         };
-        let inst = self.ranking_route(&lines).assemble(raw, concat(|t| &t.0), concat(|t| &t.1));
+        let inst = self.ranking_route(&lines).assemble(raw, concat(|s| &s.from_start), concat(|s| &s.to_end));
         Some((lines, inst))
     }
 
@@ -392,7 +416,7 @@ impl Search<'_> {
             .par_iter()
             .enumerate()
             .map(|(i, combo)| match self.instance(tables, combo) {
-                Some((lines, inst)) => (self.ranking_route(&lines).lower_bound(&inst), i),
+                Some((lines, inst)) => (self.ranking_route(&lines).lower_bound(&inst) + self.penalty(tables, combo), i),
                 None => (f64::INFINITY, i),
             })
             .collect();
@@ -410,7 +434,8 @@ impl Search<'_> {
                 .filter_map(|&(_, i)| {
                     let (_, inst) = self.instance(tables, &combos[i])?;
                     let seq = gtsp::quick(&inst);
-                    Some((inst.total(&seq), (real && gtsp::quick_is_exact(&inst)).then_some(seq), i))
+                    let cost = inst.total(&seq) + self.penalty(tables, &combos[i]);
+                    Some((cost, (real && gtsp::quick_is_exact(&inst)).then_some(seq), i))
                 })
                 .collect();
             for (cost, seq, i) in costs {

@@ -48,6 +48,9 @@ pub struct Problem<'a> {
     pub allow_reentry: bool,
     /// Obstacles to climb over, when the mission has any.
     pub obstacles: Option<&'a Obstacles>,
+    /// Metres of path one metre of sweep left unflown costs when a planner weighs headings
+    /// (lines cut short to leave a fixed-wing aircraft room to turn before a no-fly zone).
+    pub coverage_penalty: f64,
     pub vehicle: &'a Vehicle,
     /// What planner `auto` minimises.
     pub objective: Objective,

@@ -106,11 +106,14 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
 
 /// `coverplan bench --routing`: line-level routing of 100, 300 and 600 parallel 1 km lines,
 /// 20 m apart, with Dubins turns of radius 50 m (so the best order skips lines), against the
-/// plain boustrophedon order 1, 2, 3, … of the same lines.
+/// plain boustrophedon order 1, 2, 3, … of the same lines, and against the standard route of
+/// seeds 003 and 004: the Noon–Bean transformation to an asymmetric TSP, solved by Or-opt and
+/// as many kicks.
 pub fn routing() -> String {
     use crate::planner::geo::Coord;
     use crate::planner::route::connect::Connector;
-    use crate::planner::route::gtsp::solve;
+    use crate::planner::route::gtsp::{kicks, solve};
+    use crate::planner::route::noon_bean;
     use crate::planner::route::line_tour::{Line, LineProblem};
     use crate::planner::route::visibility::TransitPlanner;
     use crate::planner::turn::TurnModel;
@@ -119,7 +122,7 @@ pub fn routing() -> String {
     let transit = TransitPlanner::new(&none, &none);
     let connector = Connector::new(TurnModel::Dubins(50.0), &transit, None);
     let mut out = String::from("routing: parallel lines 1000 m long, 20 m apart, Dubins radius 50 m, free start and end\n\n");
-    out.push_str("| lines | cost matrix ms | solve ms | total ms | length m | boustrophedon m | saved |\n|------:|--------------:|---------:|---------:|---------:|----------------:|------:|\n");
+    out.push_str("| lines | cost matrix ms | solve ms | total ms | length m | boustrophedon m | saved | Noon–Bean ATSP m | its solve ms |\n|------:|--------------:|---------:|---------:|---------:|----------------:|------:|-----------------:|-------------:|\n");
     for n in [100, 300, 600] {
         let lines: Vec<Line> = (0..n).map(|i| Line { a: Coord { x: 0.0, y: 20.0 * i as f64 }, b: Coord { x: 1000.0, y: 20.0 * i as f64 }, region: 0 }).collect();
         let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
@@ -130,14 +133,18 @@ pub fn routing() -> String {
         let t2 = Instant::now();
         let boustrophedon: Vec<usize> = (0..n).map(|k| 2 * k + k % 2).collect();
         let (length, reference) = (inst.total(&seq), inst.total(&boustrophedon));
+        let t3 = Instant::now();
+        let atsp = noon_bean::solve(&inst, kicks(n)).map_or(f64::NAN, |s| inst.total(&s));
+        let t4 = Instant::now();
         let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1000.0;
         let _ = writeln!(
             out,
-            "| {n:5} | {:13.1} | {:8.1} | {:8.1} | {length:8.0} | {reference:15.0} | {:4.1} % |",
+            "| {n:5} | {:13.1} | {:8.1} | {:8.1} | {length:8.0} | {reference:15.0} | {:4.1} % | {atsp:16.0} | {:12.1} |",
             ms(t0, t1),
             ms(t1, t2),
             ms(t0, t2),
-            100.0 * (1.0 - length / reference)
+            100.0 * (1.0 - length / reference),
+            ms(t3, t4)
         );
     }
     out

@@ -4,6 +4,7 @@
 //! [`cell_tour::CellTour`] (generalised TSP over the cells' entry variants, routing spec §1–§4,
 //! solved by [`gtsp`]).
 
+pub mod atsp;
 pub mod cell_tour;
 pub mod connect;
 pub mod gtsp;

@@ -109,7 +109,7 @@ pub const ALL_NEIGHBOURS_UP_TO: usize = 40;
 /// Kicks of the iterated local search: many on small instances, where they find better
 /// orders; few on large ones, where each repair costs more and the first local optimum of
 /// parallel lines is already within a fraction of a per cent of what kicks find.
-fn kicks(m: usize) -> usize {
+pub fn kicks(m: usize) -> usize {
     (20_000 / m.max(1)).clamp(30, 300)
 }
 /// Random restarts on instances of at most this many clusters.

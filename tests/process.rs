@@ -1,4 +1,4 @@
-//! The `coverplan` binary as operators run it: killed mid-job, stopped with SIGTERM.
+//! The `coverplan` binary as operators run it: killed mid-job, stopped with SIGTERM, benchmarking.
 
 mod common;
 
@@ -113,4 +113,19 @@ async fn sigterm_requeues_unfinished_work_and_exits_cleanly() {
     wait_status(&client, &server.base, &plan, "succeeded").await;
     server.child.kill().unwrap();
     server.child.wait().unwrap();
+}
+
+#[test]
+fn the_routing_benchmark_prints_its_table() {
+    let out = Command::new(env!("CARGO_BIN_EXE_coverplan")).args(["bench", "--routing"]).output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    // | lines | matrix ms | solve ms | total ms | length | boustrophedon | saved | Noon–Bean | ms |
+    let rows: Vec<Vec<String>> = text.lines().filter(|l| l.starts_with("| ") && l[2..].trim_start().starts_with(|c: char| c.is_ascii_digit())).map(|l| l.split('|').map(|c| c.trim().to_string()).collect()).collect();
+    assert_eq!(rows.iter().map(|r| r[1].as_str()).collect::<Vec<_>>(), ["100", "300", "600"], "{text}");
+    for r in &rows {
+        let number = |i: usize| r[i].parse::<f64>().unwrap_or_else(|_| panic!("column {i} of {r:?}"));
+        assert!(number(5) < number(6), "the routed lines are no shorter than boustrophedon: {r:?}");
+        assert!(number(8).is_finite() && number(8) < number(6), "the Noon–Bean route: {r:?}");
+    }
 }

@@ -265,9 +265,16 @@ impl DubinsPath {
                 continue;
             }
             if part != Part::S {
+                // k equal steps round the arc's centre, the direction turned by rotation
+                // rather than a sine and cosine per point
                 let k = ((s / r) / step).ceil().max(1.0) as usize;
-                for i in 1..k {
-                    out.push(advance(q, part, s * i as f64 / k as f64, r).coord());
+                let sigma = turn_sign(part);
+                let centre = arc_centre(q, part, r);
+                let (sin_d, cos_d) = (sigma * s / r / k as f64).sin_cos();
+                let (mut sin_t, mut cos_t) = q.theta.sin_cos();
+                for _ in 1..k {
+                    (sin_t, cos_t) = (sin_t * cos_d + cos_t * sin_d, cos_t * cos_d - sin_t * sin_d);
+                    out.push(Coord { x: centre.x + sigma * r * sin_t, y: centre.y - sigma * r * cos_t });
                 }
             }
             q = advance(q, part, s, r);
@@ -359,6 +366,27 @@ mod tests {
         assert!(pts.windows(2).all(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y) <= max_chord + 1e-6));
         let sampled: f64 = pts.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum();
         assert!(sampled <= p.length() && sampled > p.length() * 0.999);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(500))]
+        /// Arc points found by rotation lie where the closed form puts them.
+        #[test]
+        fn samples_lie_on_the_path(q0 in pose(), q1 in pose(), r in prop::sample::select(vec![1.0, 10.0, 85.0])) {
+            let path = shortest(q0, q1, r);
+            let pts = path.sample(0.2);
+            let mut expected = vec![q0.coord()];
+            let mut q = q0;
+            for (part, s) in path.segments().into_iter().filter(|&(_, s)| s > 0.0) {
+                let k = if part == Part::S { 1 } else { ((s / r) / (2.0 * (1.0 - 0.2 / r).acos()).min(10f64.to_radians())).ceil().max(1.0) as usize };
+                expected.extend((1..=k).map(|i| advance(q, part, s * i as f64 / k as f64, r).coord()));
+                q = advance(q, part, s, r);
+            }
+            prop_assert_eq!(pts.len(), expected.len());
+            for (p, e) in pts.iter().zip(&expected) {
+                prop_assert!((p.x - e.x).hypot(p.y - e.y) < 1e-9, "{:?} instead of {:?}", p, e);
+            }
+        }
     }
 
     fn pose() -> impl Strategy<Value = Pose> {

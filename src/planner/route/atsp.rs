@@ -6,6 +6,8 @@
 
 use std::collections::VecDeque;
 
+use super::gtsp::Rng;
+
 /// Cheapest successors and predecessors kept per node.
 const NEIGHBOURS: usize = 10;
 /// Longest chain an Or-opt move carries.
@@ -52,22 +54,16 @@ pub fn solve(m: &Matrix, first: usize, kicks: usize) -> Vec<usize> {
     let mut tour = nearest_neighbour(m, first);
     let mut total = m.tour_cost(&tour);
     or_opt(m, &succ, &pred, &mut tour, &mut total, (0..m.size).collect());
-    let mut rng = 0x9E37_79B9_7F4A_7C15u64;
-    let mut below = |n: usize| {
-        rng ^= rng >> 12;
-        rng ^= rng << 25;
-        rng ^= rng >> 27;
-        (rng.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 33) as usize % n
-    };
     let n = m.size;
     if n < 8 {
         return tour;
     }
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     for _ in 0..kicks {
         // A B C D → A C B D with B and C short; the first node stays first
-        let x = 1 + below(n - 3);
-        let y = x + 1 + below(KICK_SEGMENT.min(n - 2 - x));
-        let z = y + 1 + below(KICK_SEGMENT.min(n - 1 - y));
+        let x = 1 + rng.below(n - 3);
+        let y = x + 1 + rng.below(KICK_SEGMENT.min(n - 2 - x));
+        let z = y + 1 + rng.below(KICK_SEGMENT.min(n - 1 - y));
         let mut kicked: Vec<usize> = tour[..x].iter().chain(&tour[y..z]).chain(&tour[x..y]).chain(&tour[z..]).copied().collect();
         let mut cost = m.tour_cost(&kicked);
         let touched = [x - 1, x, y - 1, y, z - 1, z % n].into_iter().map(|p| tour[p]).collect();

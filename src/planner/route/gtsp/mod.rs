@@ -292,10 +292,10 @@ pub fn optimise_clusters(inst: &Instance, seq: &[usize]) -> Vec<usize> {
 }
 
 /// A small deterministic generator (xorshift64*), for the kicks.
-struct Rng(u64);
+pub(crate) struct Rng(pub u64);
 
 impl Rng {
-    fn below(&mut self, n: usize) -> usize {
+    pub fn below(&mut self, n: usize) -> usize {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;

@@ -225,39 +225,39 @@ fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan) -> Vec<metric
 /// Sweep directions tried by `sweep_direction: optimal`: every 2°, then 0.5° around the best.
 const DIRECTION_STEP_DEG: f64 = 2.0;
 
-/// Plans with every sweep direction and keeps the shortest plan (ties: the smaller angle).
+/// A direction tried by `sweep_direction: optimal`: its angle, the area its plan covers, and
+/// the plan.
+type Tried = (f64, f64, planners::PlannedPath);
+
+/// Plans with every sweep direction and keeps the shortest plan among those that cover the
+/// area as well as the best of them does, as `auto` chooses among planners (a fixed wing's
+/// shortest plan is often the one whose lines stop short of a no-fly zone); ties: the
+/// smaller angle.
 fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, progress: &dyn Progress) -> Result<planners::PlannedPath, PlanError> {
     use rayon::prelude::*;
-    let run = |angle: f64| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true).map(|p| (angle, p));
-    let better = |x: (f64, planners::PlannedPath), y: (f64, planners::PlannedPath)| {
-        let (lx, ly) = (x.1.path.length(), y.1.path.length());
-        if ly < lx - 1e-9 || (ly <= lx + 1e-9 && y.0 < x.0) { y } else { x }
+    let run = |angle: f64| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true).map(|p| (angle, metrics::covered_area(&p.path, problem.region), p));
+    let best = |tried: &[Tried]| -> usize {
+        let most = tried.iter().map(|t| t.1).fold(0.0, f64::max);
+        let length = |i: usize| tried[i].2.path.length();
+        (0..tried.len())
+            .filter(|&i| tried[i].1 >= most * (1.0 - planners::auto::COVERAGE_SLACK))
+            .min_by(|&i, &j| if (length(i) - length(j)).abs() <= 1e-9 { tried[i].0.total_cmp(&tried[j].0) } else { length(i).total_cmp(&length(j)) })
+            .expect("the best-covering plan qualifies")
     };
     let grid: Vec<f64> = (0..(180.0 / DIRECTION_STEP_DEG) as usize).map(|k| (k as f64 * DIRECTION_STEP_DEG).to_radians()).collect();
-    let mut best: Option<(f64, planners::PlannedPath)> = None;
+    let mut tried: Vec<Tried> = Vec::with_capacity(grid.len() + 6);
     // a chunk per progress report, so that a cancelled job stops soon
     for (k, chunk) in grid.chunks(8).enumerate() {
-        let results: Vec<Result<(f64, planners::PlannedPath), PlanError>> = chunk.par_iter().map(|&a| run(a)).collect();
-        for r in results {
-            let r = r?;
-            best = Some(match best {
-                None => r,
-                Some(b) => better(b, r),
-            });
-        }
+        let results: Vec<Result<Tried, PlanError>> = chunk.par_iter().map(|&a| run(a)).collect();
+        tried.extend(results.into_iter().collect::<Result<Vec<_>, _>>()?);
         if !progress.report(0.1 + 0.8 * (k + 1) as f64 * 8.0 / grid.len() as f64) {
             return Err(PlanError::Cancelled);
         }
     }
-    let mut best = best.expect("the grid is not empty");
-    let fine: Vec<f64> = [-1.5f64, -1.0, -0.5, 0.5, 1.0, 1.5].iter().map(|d| (best.0 + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect();
-    let refined: Vec<Result<(f64, planners::PlannedPath), PlanError>> = fine.par_iter().map(|&a| run(a)).collect();
-    for r in refined {
-        let r = r?;
-        if r.1.path.length() < best.1.path.length() - 1e-9 {
-            best = r;
-        }
-    }
-    let (sweep_angle, planned) = best;
+    let around = tried[best(&tried)].0;
+    let fine: Vec<f64> = [-1.5f64, -1.0, -0.5, 0.5, 1.0, 1.5].iter().map(|d| (around + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect();
+    let refined: Vec<Result<Tried, PlanError>> = fine.par_iter().map(|&a| run(a)).collect();
+    tried.extend(refined.into_iter().collect::<Result<Vec<_>, _>>()?);
+    let (sweep_angle, _, planned) = tried.swap_remove(best(&tried));
     Ok(planners::PlannedPath { sweep_angle, ..planned })
 }

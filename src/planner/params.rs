@@ -46,7 +46,8 @@ pub struct PlanParams {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading_deg: Option<f64>,
     /// Without `heading_deg`: `planner` (default) lets the planner apply its own rule;
-    /// `optimal` plans every direction (2° apart, refined to 0.5°) and keeps the shortest.
+    /// `optimal` plans every direction (2° apart, refined to 0.5°) and keeps the shortest
+    /// among those that cover within 1 % of the best-covering one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep_direction: Option<SweepDirection>,
     #[serde(default)]

@@ -14,8 +14,9 @@ use crate::params::Objective;
 
 pub struct Auto;
 
-/// A plan may cover this much less than the best-covering one and still be chosen.
-const COVERAGE_SLACK: f64 = 0.01;
+/// A plan may cover this much less than the best-covering one and still be chosen (here, and
+/// among the directions of `sweep_direction: optimal`).
+pub const COVERAGE_SLACK: f64 = 0.01;
 
 impl Planner for Auto {
     fn id(&self) -> &'static str {

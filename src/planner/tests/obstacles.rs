@@ -1,7 +1,8 @@
 //! Obstacles with heights (seed 003): the plan climbs over them within the slope limit with the
 //! clearance, never flies through one, and a large coverage penalty steers the sweep direction
 //! away from climbs that cost coverage. The same penalty keeps `line_gtsp` from choosing a
-//! heading whose lines stop against a no-fly zone, where a fixed wing cannot fly their ends.
+//! heading whose lines stop against a no-fly zone, where a fixed wing cannot fly their ends,
+//! and `sweep_direction: optimal` keeps to the directions that cover as well as the best.
 
 use coverplan_planner::frame::LocalFrame;
 use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, plan};
@@ -88,15 +89,14 @@ fn a_large_penalty_turns_the_lines_away_from_the_obstacles() {
 }
 
 /// A 600 m × 300 m field cut from its north edge to 120 m by a 20 m wide no-fly zone, planned
-/// by `line_gtsp` for a fixed wing (r = 40 m, spacing 28 m) with the given coverage penalty.
-fn field_cut_by_a_zone(penalty: Option<f64>) -> PlanOutput {
+/// for a fixed wing (r = 40 m, spacing 28 m) with `params` (at least the planner).
+fn field_cut_by_a_zone(params: Value) -> PlanOutput {
     let frame = LocalFrame::new(8.5, 47.3);
     let field = polygon![(x: 0., y: 0.), (x: 600., y: 0.), (x: 600., y: 300.), (x: 0., y: 300.)];
     let zone = polygon![(x: 290., y: 120.), (x: 310., y: 120.), (x: 310., y: 400.), (x: 290., y: 400.)];
-    let mut params = json!({"planner": "line_gtsp", "line_spacing_m": 28.0, "vehicle": {"kind": "fixed_wing", "turn_radius_m": 40.0}});
-    if let Some(p) = penalty {
-        params["coverage_penalty"] = json!(p);
-    }
+    let mut params = params;
+    params["line_spacing_m"] = json!(28.0);
+    params["vehicle"] = json!({"kind": "fixed_wing", "turn_radius_m": 40.0});
     let area = json!({"type": "Polygon", "coordinates": ring(&frame, &field)});
     let zones = json!({"type": "Polygon", "coordinates": ring(&frame, &zone)});
     let m = MissionGeometry { area: &area, no_fly_zones: Some(&zones), obstacles: None, home: None };
@@ -107,12 +107,12 @@ fn field_cut_by_a_zone(penalty: Option<f64>) -> PlanOutput {
 fn lines_cut_short_before_a_zone_cost_their_lost_coverage() {
     // east–west lines are fewest and shortest to fly, but the half of them that meet the zone
     // lose a turning radius and more at each side of it
-    let free = field_cut_by_a_zone(Some(0.0));
+    let free = field_cut_by_a_zone(json!({"planner": "line_gtsp", "coverage_penalty": 0.0}));
     let h = free.stats.sweep_heading_deg;
     assert!((h - 90.0).abs() < 20.0, "without a penalty: sweep heading {h}");
     assert!(free.stats.coverage_ratio < 0.95, "without a penalty: coverage {}", free.stats.coverage_ratio);
     // with the default penalty the lines run along the zone and only its end costs coverage
-    let paid = field_cut_by_a_zone(None);
+    let paid = field_cut_by_a_zone(json!({"planner": "line_gtsp"}));
     let h = paid.stats.sweep_heading_deg;
     assert!(h.min(180.0 - h) < 20.0, "with the penalty: sweep heading {h}");
     assert!(paid.stats.coverage_ratio >= 0.99, "with the penalty: coverage {}", paid.stats.coverage_ratio);
@@ -121,6 +121,17 @@ fn lines_cut_short_before_a_zone_cost_their_lost_coverage() {
         "penalty 0: {:.0} m, coverage {:.4}; default: {:.0} m, coverage {:.4}",
         free.stats.length_m, free.stats.coverage_ratio, paid.stats.length_m, paid.stats.coverage_ratio
     );
+}
+
+#[test]
+fn the_optimal_direction_is_the_shortest_that_covers_as_well_as_the_best() {
+    // boustrophedon's own rule (fewest lines) runs them east–west, into the zone
+    let own = field_cut_by_a_zone(json!({"planner": "boustrophedon"}));
+    let optimal = field_cut_by_a_zone(json!({"planner": "boustrophedon", "sweep_direction": "optimal"}));
+    let (c0, c1) = (own.stats.coverage_ratio, optimal.stats.coverage_ratio);
+    assert!(c1 >= 0.99 && c1 > c0 + 0.05, "coverage {c1} with the optimal direction, {c0} with the planner's own");
+    let h = optimal.stats.sweep_heading_deg;
+    assert!(h.min(180.0 - h) < 20.0, "optimal sweep heading {h}");
 }
 
 /// The built-in profiles with a battery no plan here exhausts: these tests are about geometry,

@@ -3,7 +3,7 @@
 //! the shortest clear Dubins word, or else Dubins hops along a visibility path laid far
 //! enough from the zones to turn in.
 
-use std::cmp::{Ordering as Order, Reverse};
+use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Arc, RwLock};
@@ -41,29 +41,6 @@ struct LegRow {
 const UNKNOWN: u8 = 0;
 const CLEAR: u8 = 1;
 const BLOCKED: u8 = 2;
-
-/// A via pose by the length of the connection through it, then by its index.
-struct Via(f64, usize);
-
-impl Ord for Via {
-    fn cmp(&self, other: &Self) -> Order {
-        self.0.total_cmp(&other.0).then(self.1.cmp(&other.1))
-    }
-}
-
-impl PartialOrd for Via {
-    fn partial_cmp(&self, other: &Self) -> Option<Order> {
-        Some(self.cmp(other))
-    }
-}
-
-impl PartialEq for Via {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Order::Equal
-    }
-}
-
-impl Eq for Via {}
 
 /// Headings a connection may pass a detour corner in.
 const VIA_HEADINGS: usize = 16;
@@ -186,10 +163,11 @@ impl Connector<'_> {
         }
         let out = self.legs(&self.legs_out, from, |via| shortest(from, via, r).length());
         let into = self.legs(&self.legs_in, to, |via| shortest(via, to, r).length());
-        // legs already known to be blocked (rows serve every connection of their pose) are left out
+        // legs already known to be blocked (rows serve every connection of their pose) are left
+        // out; lengths are never negative, so their bits order as they do
         let open = |row: &LegRow, k: usize| row.clear[k].load(Ordering::Relaxed) != BLOCKED;
-        let mut shortest_first: BinaryHeap<Reverse<Via>> = (0..self.via.len()).filter(|&k| open(&out, k) && open(&into, k)).map(|k| Reverse(Via(out.length[k] + into.length[k], k))).collect();
-        let k = std::iter::from_fn(|| shortest_first.pop()).map(|Reverse(Via(_, k))| k).find(|&k| {
+        let mut shortest_first: BinaryHeap<Reverse<(u64, usize)>> = (0..self.via.len()).filter(|&k| open(&out, k) && open(&into, k)).map(|k| Reverse(((out.length[k] + into.length[k]).to_bits(), k))).collect();
+        let k = std::iter::from_fn(|| shortest_first.pop()).map(|Reverse((_, k))| k).find(|&k| {
             let via = self.via[k];
             self.is_leg_clear(&out, k, || self.is_word_clear(shortest(from, via, r), via))
                 && self.is_leg_clear(&into, k, || self.is_word_clear(shortest(via, to, r), to))

@@ -239,7 +239,8 @@ fn fixed_wing_plans_respect_zones_and_turning_radius() {
             collect_positions(&m["area"], &mut pts);
             pts
         });
-        let spacing = spacing_for(to_local_mp(&frame, &m["area"]).unsigned_area());
+        let field = to_local_mp(&frame, &m["area"]);
+        let spacing = spacing_for(field.unsigned_area());
         let radius = spacing * 1.2;
         let nfz = m.get("no_fly_zones").filter(|v| !v.is_null());
         let mut planners = PLANNERS.to_vec();
@@ -254,16 +255,15 @@ fn fixed_wing_plans_respect_zones_and_turning_radius() {
         // judged away from them below
         let out = check_covering(&m["area"], nfz, &p, &name, if nfz.is_some() { 0.0 } else { 0.99 });
         if let Some(nfz) = nfz {
-            // lines stop at the margin (10 m by default), then draw back in steps of r/8 until a half circle
-            // (r ahead, 2r aside) fits; their swaths reach half a spacing further
+            // lines stop at the margin (10 m by default), then draw back in steps of r/8 until a
+            // half circle (r ahead, 2r aside) fits; their swaths reach half a spacing further
             let reach = 10.0 + 2.0 * radius + radius / 8.0 + spacing / 2.0;
-            let zones = to_local_mp(&frame, nfz);
-            let field = to_local_mp(&frame, &m["area"]);
-            let away = field.difference(&zones.buffer(reach));
-            let covered = away.intersection(&swaths(&out, &frame, spacing)).unsigned_area() / away.unsigned_area();
-            let share = away.unsigned_area() / field.unsigned_area();
+            let away = field.difference(&to_local_mp(&frame, nfz).buffer(reach));
+            let away_m2 = away.unsigned_area();
+            let covered = away.intersection(&swaths(&out, &frame, spacing)).unsigned_area() / away_m2;
+            let share = away_m2 / field.unsigned_area();
             eprintln!("{name}: coverage {:.4}; {covered:.4} of the {share:.2} more than {reach:.0} m from the zones", out.stats.coverage_ratio);
-            assert!(away.unsigned_area() == 0.0 || covered >= 0.99, "{name}: {covered:.4} covered away from the zones");
+            assert!(away_m2 == 0.0 || covered >= 0.99, "{name}: {covered:.4} covered away from the zones");
         }
         let pts: Vec<Coord> = out
             .trajectory

@@ -100,10 +100,7 @@ fn or_opt(m: &Matrix, succ: &[Vec<usize>], pred: &[Vec<usize>], tour: &mut Vec<u
     let mut queued = vec![false; n];
     let mut queue: VecDeque<usize> = VecDeque::new();
     for v in active {
-        if !queued[v] {
-            queued[v] = true;
-            queue.push_back(v);
-        }
+        enqueue(&mut queue, &mut queued, v);
     }
     while let Some(f) = queue.pop_front() {
         queued[f] = false;
@@ -132,15 +129,19 @@ fn or_opt(m: &Matrix, succ: &[Vec<usize>], pred: &[Vec<usize>], tour: &mut Vec<u
                     index(tour, &mut pos);
                     *total += delta;
                     for v in [p, q, a, b, f, l] {
-                        if !queued[v] {
-                            queued[v] = true;
-                            queue.push_back(v);
-                        }
+                        enqueue(&mut queue, &mut queued, v);
                     }
                     break 'chains;
                 }
             }
         }
+    }
+}
+
+fn enqueue(queue: &mut VecDeque<usize>, queued: &mut [bool], v: usize) {
+    if !queued[v] {
+        queued[v] = true;
+        queue.push_back(v);
     }
 }
 

@@ -270,6 +270,10 @@ mod tests {
         let n = 2 * lines.len();
         let dense = problem.assemble((0..n * n).map(|i| problem.connection(i / n, i % n)).collect(), None, None);
         assert!((dense.total(&solve(&dense)) - cost).abs() < 1e-9);
+        // the standard route of seeds 003 and 004, the ATSP search on the Noon–Bean
+        // transformation, finds the same turns
+        let standard = crate::route::noon_bean::solve(&inst, 100).expect("clusters kept together");
+        assert!((problem.cost_of(&inst, &standard) - cost).abs() < 1e-6, "{}", problem.cost_of(&inst, &standard));
         // boustrophedon order for comparison: 5 bulbs of 527.5 m
         let bous: Vec<usize> = (0..6).map(|k| 2 * k + k % 2).collect();
         assert!((problem.cost_of(&inst, &bous) - 3000.0 - 2637.6).abs() < 0.1);

@@ -140,26 +140,4 @@ mod tests {
             assert_eq!(inst.total(&seq), gtsp);
         }
     }
-
-    /// Spec §6 vector, solved the standard way: 6 lines × 500 m, spacing 75 m, r = 85 m, free
-    /// start and end; the ATSP search on the transformation finds the turns of 1 734.6 m.
-    #[test]
-    fn the_atsp_search_finds_the_best_skip_order() {
-        use crate::route::connect::Connector;
-        use crate::route::line_tour::{Line, LineProblem};
-        use crate::route::visibility::TransitPlanner;
-        use crate::turn::TurnModel;
-        use geo::{Coord, MultiPolygon};
-        let lines: Vec<Line> = (0..6).map(|i| Line { a: Coord { x: 0.0, y: 75.0 * i as f64 }, b: Coord { x: 500.0, y: 75.0 * i as f64 }, region: 0 }).collect();
-        let none = MultiPolygon(vec![]);
-        let transit = TransitPlanner::new(&none, &none);
-        let connector = Connector::new(TurnModel::Dubins(85.0), &transit, None);
-        let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
-        let inst = problem.instance();
-        let seq = solve(&inst, 100).expect("clusters kept together");
-        let mut lines_flown: Vec<usize> = seq.iter().map(|v| v / 2).collect();
-        lines_flown.sort();
-        assert_eq!(lines_flown, (0..6).collect::<Vec<_>>());
-        assert!((inst.total(&seq) - 3000.0 - 1734.6).abs() < 0.1, "{}", inst.total(&seq));
-    }
 }

@@ -4,18 +4,18 @@ WORKDIR /src
 COPY Cargo.toml Cargo.lock ./
 COPY src ./src
 COPY migrations ./migrations
+# the map page is built into the binary
+COPY static ./static
 RUN cargo build --release --locked --bin coverplan
 
-# Runtime stage: a small Debian with the binary, the map page and a non-root user.
+# Runtime stage: a small Debian with the binary (which carries the map page) and a non-root user.
 FROM debian:bookworm-slim
 RUN useradd --system --uid 10001 --home-dir /data coverplan \
     && mkdir -p /data && chown coverplan /data
 WORKDIR /app
 COPY --from=build /src/target/release/coverplan /usr/local/bin/coverplan
-COPY static ./static
 ENV COVERPLAN_ADDR=0.0.0.0:8080 \
-    COVERPLAN_DATABASE_URL=/data/coverplan.db \
-    COVERPLAN_STATIC_DIR=/app/static
+    COVERPLAN_DATABASE_URL=/data/coverplan.db
 USER coverplan
 VOLUME ["/data"]
 EXPOSE 8080

@@ -11,7 +11,8 @@ pub struct Config {
     pub addr: SocketAddr,
     pub database_url: String,
     pub workers: usize,
-    pub static_dir: PathBuf,
+    /// Folder to serve the page from instead of the copy embedded in the binary (page development).
+    pub static_dir: Option<PathBuf>,
     pub max_body_bytes: usize,
     pub limits: FieldLimits,
     /// How long running plans may take to finish at shutdown before they are requeued.
@@ -30,7 +31,7 @@ impl Config {
             addr,
             database_url: database_url.into(),
             workers: std::thread::available_parallelism().map(|n| n.get()).unwrap_or(2),
-            static_dir: PathBuf::from("static"),
+            static_dir: None,
             max_body_bytes: 5 * 1024 * 1024,
             limits: FieldLimits::default(),
             shutdown_grace: Duration::from_secs(30),

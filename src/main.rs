@@ -73,9 +73,10 @@ struct ServeArgs {
     /// Planning workers (default: the number of CPUs).
     #[arg(long, env = "COVERPLAN_WORKERS")]
     workers: Option<usize>,
-    /// Folder of the map page.
-    #[arg(long, env = "COVERPLAN_STATIC_DIR", default_value = "static")]
-    static_dir: PathBuf,
+    /// Serve the map page from this folder instead of the copy built into the binary (for
+    /// working on the page without rebuilding).
+    #[arg(long, env = "COVERPLAN_STATIC_DIR")]
+    static_dir: Option<PathBuf>,
     /// Largest field accepted, in hectares.
     #[arg(long, env = "COVERPLAN_MAX_AREA_HA", default_value_t = 10_000.0)]
     max_area_ha: f64,

@@ -15,6 +15,14 @@ if [ ! -x /usr/bin/chromium ]; then
 fi
 (cd tests/browser && npm ci --no-audit --no-fund)
 
-cargo test --workspace --all-targets --no-fail-fast
+for component in rustfmt clippy; do
+  rustup component list --installed 2>/dev/null | grep -q "^$component" || rustup component add "$component"
+done
+# style and lints first: they fail in seconds
+cargo fmt --all --check
+cargo clippy --workspace --all-targets --locked -- -D warnings
+cargo test --workspace --all-targets --locked --no-fail-fast
+# --all-targets leaves out the documentation examples
+cargo test --workspace --doc --locked
 # the map page in Chromium, against the server binary the line above built
 node tests/browser/map.test.mjs

@@ -110,41 +110,22 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
 /// seeds 003 and 004: the Noon–Bean transformation to an asymmetric TSP, solved by Or-opt and
 /// as many kicks.
 pub fn routing() -> String {
-    use crate::planner::geo::Coord;
-    use crate::planner::route::connect::Connector;
-    use crate::planner::route::gtsp::{kicks, solve};
-    use crate::planner::route::noon_bean;
-    use crate::planner::route::line_tour::{Line, LineProblem};
-    use crate::planner::route::visibility::TransitPlanner;
-    use crate::planner::turn::TurnModel;
     use std::fmt::Write;
-    let none = crate::planner::geo::MultiPolygon(vec![]);
-    let transit = TransitPlanner::new(&none, &none);
-    let connector = Connector::new(TurnModel::Dubins(50.0), &transit, None);
     let mut out = String::from("routing: parallel lines 1000 m long, 20 m apart, Dubins radius 50 m, free start and end\n\n");
     out.push_str("| lines | cost matrix ms | solve ms | total ms | length m | boustrophedon m | saved | Noon–Bean ATSP m | its solve ms |\n|------:|--------------:|---------:|---------:|---------:|----------------:|------:|-----------------:|-------------:|\n");
     for n in [100, 300, 600] {
-        let lines: Vec<Line> = (0..n).map(|i| Line { a: Coord { x: 0.0, y: 20.0 * i as f64 }, b: Coord { x: 1000.0, y: 20.0 * i as f64 }, region: 0 }).collect();
-        let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
-        let t0 = Instant::now();
-        let inst = problem.instance();
-        let t1 = Instant::now();
-        let seq = solve(&inst);
-        let t2 = Instant::now();
-        let boustrophedon: Vec<usize> = (0..n).map(|k| 2 * k + k % 2).collect();
-        let (length, reference) = (inst.total(&seq), inst.total(&boustrophedon));
-        let t3 = Instant::now();
-        let atsp = noon_bean::solve(&inst, kicks(n)).map_or(f64::NAN, |s| inst.total(&s));
-        let t4 = Instant::now();
-        let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1000.0;
+        let r = planner::routing_study::parallel_lines(n);
         let _ = writeln!(
             out,
-            "| {n:5} | {:13.1} | {:8.1} | {:8.1} | {length:8.0} | {reference:15.0} | {:4.1} % | {atsp:16.0} | {:12.1} |",
-            ms(t0, t1),
-            ms(t1, t2),
-            ms(t0, t2),
-            100.0 * (1.0 - length / reference),
-            ms(t3, t4)
+            "| {n:5} | {:13.1} | {:8.1} | {:8.1} | {:8.0} | {:15.0} | {:4.1} % | {:16.0} | {:12.1} |",
+            r.cost_matrix_ms,
+            r.solve_ms,
+            r.cost_matrix_ms + r.solve_ms,
+            r.length_m,
+            r.boustrophedon_m,
+            100.0 * (1.0 - r.length_m / r.boustrophedon_m),
+            r.noon_bean_m,
+            r.noon_bean_ms
         );
     }
     out

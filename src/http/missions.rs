@@ -10,7 +10,7 @@ use utoipa::{IntoParams, ToSchema};
 use super::AppState;
 use super::error::{ApiError, ApiJson, Problem};
 use crate::planner::{self, MissionGeometry};
-use crate::store::missions::{self, Mission, NewMission};
+use crate::store::missions::{self, Mission, MissionSummary, NewMission};
 
 #[derive(Debug, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
@@ -53,11 +53,28 @@ pub struct Page {
     pub limit: Option<i64>,
     /// default 0
     pub offset: Option<i64>,
+    /// `all` (default): whole missions; `summary`: id, name and times only, for pickers.
+    pub fields: Option<Fields>,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Fields {
+    All,
+    Summary,
+}
+
+/// Whole missions, or their summaries (`fields=summary`).
+#[derive(Debug, Serialize, ToSchema)]
+#[serde(untagged)]
+pub enum MissionItems {
+    Missions(Vec<Mission>),
+    Summaries(Vec<MissionSummary>),
 }
 
 #[derive(Debug, Serialize, ToSchema)]
 pub struct MissionPage {
-    pub items: Vec<Mission>,
+    pub items: MissionItems,
     pub total: i64,
     pub limit: i64,
     pub offset: i64,
@@ -82,7 +99,10 @@ pub async fn list(State(state): State<AppState>, Query(page): Query<Page>) -> Re
     if offset < 0 {
         return Err(ApiError::invalid("parameter_out_of_range", "offset", "offset must not be negative"));
     }
-    let (items, total) = missions::list(&state.db, limit, offset).await?;
+    let (items, total) = match page.fields.unwrap_or(Fields::All) {
+        Fields::All => missions::list(&state.db, limit, offset).await.map(|(m, n)| (MissionItems::Missions(m), n))?,
+        Fields::Summary => missions::list_summaries(&state.db, limit, offset).await.map(|(m, n)| (MissionItems::Summaries(m), n))?,
+    };
     Ok(Json(MissionPage { items, total, limit, offset }))
 }
 

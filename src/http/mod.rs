@@ -1,5 +1,9 @@
 //! The HTTP layer: one module per resource, one error type, the OpenAPI document.
+//!
+//! Every API route is declared with its OpenAPI entry (`routes!` reads the handler's
+//! `#[utoipa::path]`), so no route can go undocumented.
 
+pub mod assets;
 pub mod error;
 pub mod health;
 pub mod missions;
@@ -14,10 +18,12 @@ use std::sync::Arc;
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::http::StatusCode;
-use axum::routing::get;
+use axum::routing::any;
 use tower_http::services::ServeDir;
 use tower_http::trace::TraceLayer;
 use utoipa::OpenApi;
+use utoipa_axum::router::OpenApiRouter;
+use utoipa_axum::routes;
 use utoipa_swagger_ui::SwaggerUi;
 
 use crate::config::Config;
@@ -31,28 +37,32 @@ pub struct AppState {
     pub config: Arc<Config>,
 }
 
+/// Every documented route, with the document they make.
+pub fn api() -> OpenApiRouter<AppState> {
+    OpenApiRouter::with_openapi(openapi::ApiDoc::openapi())
+        .routes(routes!(health::healthz))
+        .routes(routes!(health::readyz))
+        .routes(routes!(missions::list, missions::create))
+        .routes(routes!(missions::get, missions::update, missions::delete))
+        .routes(routes!(plans::list, plans::create))
+        .routes(routes!(plans::get, plans::cancel))
+        .routes(routes!(plans::trajectory))
+        .routes(routes!(planners::list))
+        .routes(routes!(planners::cameras))
+        .routes(routes!(vehicles::list, vehicles::create))
+        .routes(routes!(vehicles::get, vehicles::update, vehicles::delete))
+        .routes(routes!(vehicles::estimate))
+        .routes(routes!(ui::config))
+}
+
 pub fn router(state: AppState) -> Router {
-    let api = Router::new()
-        .route("/missions", get(missions::list).post(missions::create))
-        .route("/missions/{id}", get(missions::get).put(missions::update).delete(missions::delete))
-        .route("/missions/{id}/plans", get(plans::list).post(plans::create))
-        .route("/plans/{id}", get(plans::get).delete(plans::cancel))
-        .route("/plans/{id}/trajectory", get(plans::trajectory))
-        .route("/planners", get(planners::list))
-        .route("/cameras", get(planners::cameras))
-        .route("/vehicles", get(vehicles::list).post(vehicles::create))
-        .route("/vehicles/{id}", get(vehicles::get).put(vehicles::update).delete(vehicles::delete))
-        .route("/estimates", axum::routing::post(vehicles::estimate))
-        .route("/ui-config", get(ui::config))
-        .fallback(|| async { error::ApiError::Client { status: StatusCode::NOT_FOUND, code: "no_route", detail: "no such API route".into(), pointer: None } });
-    let static_dir = ServeDir::new(&state.config.static_dir);
-    Router::new()
-        .route("/healthz", get(health::healthz))
-        .route("/readyz", get(health::readyz))
-        .nest("/api/v1", api)
-        .merge(SwaggerUi::new("/docs").url("/openapi.json", openapi::ApiDoc::openapi()))
-        .fallback_service(static_dir)
-        .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
-        .layer(TraceLayer::new_for_http())
-        .with_state(state)
+    let (api, document) = api().split_for_parts();
+    let no_route = || async { error::ApiError::Client { status: StatusCode::NOT_FOUND, code: "no_route", detail: "no such API route".into(), pointer: None } };
+    let router = Router::new().merge(api).route("/api/v1/{*rest}", any(no_route)).merge(SwaggerUi::new("/docs").url("/openapi.json", document));
+    // the page: embedded in the binary, or from a folder while developing it
+    let router = match &state.config.static_dir {
+        Some(dir) => router.fallback_service(ServeDir::new(dir)),
+        None => router.fallback(assets::embedded),
+    };
+    router.layer(DefaultBodyLimit::max(state.config.max_body_bytes)).layer(TraceLayer::new_for_http()).with_state(state)
 }

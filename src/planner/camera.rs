@@ -1,18 +1,17 @@
 //! Camera stage: from a sensor and quality targets to altitude, footprint, line spacing and
-//! photo spacing (camera spec §1–§3, §6).
+//! photo spacing (docs/methods.md, camera §1–§3, §6).
 //!
 //! The ground sample distance comes from the sensor width and is used for both image axes, as
 //! QGroundControl's `CameraCalc` does, so the figures match its survey calculator exactly
 //! (for square pixels this is the pinhole footprint of both axes).
 
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
 
-use super::error::InputError;
-use super::vehicle::check_range;
+use super::error::{InputError, check_range};
 
 /// How the camera is mounted: `landscape` puts the image width across the track.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Orientation {
     #[default]
@@ -21,7 +20,8 @@ pub enum Orientation {
 }
 
 /// A camera: a preset, or its figures (which override the preset's).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
     /// A camera from `GET /api/v1/cameras`.
@@ -48,7 +48,8 @@ pub struct Camera {
 }
 
 /// A camera that survey users own, with its data sheet figures.
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct CameraPreset {
     pub id: &'static str,
     pub name: &'static str,
@@ -174,7 +175,7 @@ impl Camera {
     }
 }
 
-/// Photo positions along a line of length `len`, from its start (camera spec §6, fitted mode):
+/// Photo positions along a line of length `len`, from its start (docs/methods.md, camera §6, fitted mode):
 /// the fewest photos no farther apart than `max_step` whose footprints (`footprint` long)
 /// are flush with both ends; one photo in the middle of a line shorter than a footprint.
 pub fn fitted_photo_offsets(len: f64, footprint: f64, max_step: f64) -> Vec<f64> {
@@ -200,7 +201,7 @@ mod tests {
 
     #[test]
     fn qgroundcontrol_parity() {
-        // camera spec §7 E1: QGroundControl's documentation camera at 25 cm/px, overlaps 70/70 %
+        // docs/methods.md, camera §7 E1: QGroundControl's documentation camera at 25 cm/px, overlaps 70/70 %
         let p = sensor(23.2, 15.4, 16.0, (5456, 3632)).plan(None, Some(25.0), 0.7, 0.7).unwrap();
         assert!(close(p.altitude_m, 940.6896551724138, 1e-9));
         assert!(close(p.footprint_across_m, 1364.0, 1e-9) && close(p.footprint_along_m, 908.0, 1e-9));

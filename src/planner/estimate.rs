@@ -3,9 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
-use utoipa::ToSchema;
 
-use super::energy::{PathEstimate, model_for};
+use super::energy::PathEstimate;
 use super::error::InputError;
 use super::field::check_position;
 use super::frame::LocalFrame;
@@ -15,12 +14,13 @@ use super::vehicle::{Vehicle, VehicleParams};
 /// Most waypoints one request may carry.
 pub const MAX_WAYPOINTS: usize = 100_000;
 
-#[derive(Debug, Clone, Deserialize, ToSchema)]
+#[derive(Debug, Clone, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct EstimateRequest {
     /// A GeoJSON LineString (or a Feature holding one); a third coordinate is the altitude.
     #[serde(default)]
-    #[schema(value_type = Option<Object>)]
+    #[cfg_attr(feature = "schema", schema(value_type = Option<Object>))]
     pub route: Option<Value>,
     /// Or the waypoints: `[longitude, latitude]` or `[longitude, latitude, altitude_m]`.
     #[serde(default)]
@@ -29,7 +29,8 @@ pub struct EstimateRequest {
     pub vehicle: VehicleParams,
 }
 
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct LegEstimate {
     /// Index of the waypoint the leg starts at.
     pub from: usize,
@@ -41,7 +42,8 @@ pub struct LegEstimate {
     pub energy_j: f64,
 }
 
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct RouteTotals {
     pub length_m: f64,
     /// Flight time and energy, climbing to the first waypoint's altitude and descending from
@@ -54,7 +56,8 @@ pub struct RouteTotals {
     pub battery_used: f64,
 }
 
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct RouteEstimate {
     pub vehicle: String,
     pub totals: RouteTotals,
@@ -99,7 +102,7 @@ pub fn estimate_route(req: &EstimateRequest, profiles: &[Vehicle]) -> Result<Rou
         }
         check_position(&[p[0], p[1]], &here)?;
         let z = p.get(2).copied().unwrap_or(0.0);
-        super::vehicle::check_range(z, -500.0, 10_000.0, &format!("{here}/2"), "m")?;
+        super::error::check_range(z, -500.0, 10_000.0, &format!("{here}/2"), "m")?;
         positions.push(([p[0], p[1]], z));
     }
     let frame = LocalFrame::centred_on(positions.iter().map(|(p, _)| *p));
@@ -112,7 +115,7 @@ pub fn estimate_route(req: &EstimateRequest, profiles: &[Vehicle]) -> Result<Rou
         // a zero-length leg (a pure climb) is kept as such: FlightPath drops it, so push by hand
         path.pieces.push(super::path::Piece { kind: PieceKind::Transit, points: vec![a, b], half_swath_m: 0.0, z: vec![w[0].1, w[1].1] });
     }
-    let model = model_for(&vehicle);
+    let model = vehicle.energy_model();
     // climb to the first waypoint's altitude, descend from the last one's
     let (takeoff_landing_s, takeoff_landing_j) = model.takeoff_landing(positions[0].1.max(0.0), positions[positions.len() - 1].1.max(0.0));
     let estimate = PathEstimate { pieces: model.pieces(&path), takeoff_landing_s, takeoff_landing_j };

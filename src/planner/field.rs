@@ -389,7 +389,7 @@ fn self_intersection(ring: &LineString) -> Option<Coord> {
 }
 
 /// Drops the closing vertex, repeated vertices (< 1 mm apart), spikes and collinear vertices
-/// (decomposition spec §3, steps 2–3). Each pass is linear; passes repeat only while a
+/// (docs/methods.md, decomposition §3, steps 2–3). Each pass is linear; passes repeat only while a
 /// removal makes a new vertex redundant.
 fn clean_ring(mut pts: Vec<Coord>) -> Vec<Coord> {
     pts.pop(); // closing vertex

@@ -1,25 +1,44 @@
 //! The planner: geometry in, plan out. Pure: no I/O, no async runtime, no database.
 //!
-//! Stages, one module each: [`frame`] (WGS84 ⇄ local metres) → [`field`] (validate,
-//! normalise) → [`decompose`] → [`sweep`] → [`turn`] and [`route`] → [`energy`] → [`metrics`] →
-//! [`export`]. [`planners`] composes them; its registry lists every planner offered.
+//! The stages, one module each, in the order a plan flows through them (a module uses only
+//! modules above it in this list, which `tests/architecture.rs` checks):
+//!
+//! - [`error`], [`geom`], [`frame`] (WGS84 ⇄ local metres), [`path`] (the flight path): the
+//!   vocabulary every stage shares;
+//! - `field`: parse, validate and normalise the mission;
+//! - `sweep`: parallel sweep lines over an area, and the width of a shape across a direction;
+//! - `decompose`: cells, each swept by `sweep`'s lines in its own direction;
+//! - `turn`: how the vehicle joins one line to the next (straight, Dubins), and climbs over
+//!   obstacles;
+//! - `route`: the order of cells and lines (GTSP) and transits around no-fly zones;
+//! - [`energy`]: time and energy of a path, one model per file;
+//! - [`vehicle`], [`camera`], [`params`]: the request's vehicle, camera and parameters;
+//! - `sortie`: splitting a plan that needs several batteries;
+//! - [`metrics`]: one measure of every plan, and the rule that chooses among plans;
+//! - [`planners`]: each composes the stages into a method; its registry lists every planner;
+//! - `export`: the trajectory as GeoJSON; [`estimate`]: a given route's time and energy;
+//! - [`routing_study`]: routing kept for comparison in the benchmark, not used by planners.
+//!
+//! The crate exports what the service and the CLI use; the stages in plain text are private.
 
 pub mod camera;
-pub mod decompose;
+mod decompose;
 pub mod energy;
 pub mod error;
 pub mod estimate;
-pub mod export;
-pub mod field;
+mod export;
+mod field;
 pub mod frame;
+pub mod geom;
 pub mod metrics;
 pub mod params;
 pub mod path;
 pub mod planners;
-pub mod route;
-pub mod sortie;
-pub mod sweep;
-pub mod turn;
+mod route;
+pub mod routing_study;
+mod sortie;
+mod sweep;
+mod turn;
 pub mod vehicle;
 
 use std::time::Instant;
@@ -36,7 +55,8 @@ pub use params::PlanParams;
 pub use planners::Progress;
 
 use field::Field;
-use path::{FlightPath, PieceKind, polyline_length};
+use geom::polyline_length;
+use path::{FlightPath, PieceKind};
 use planners::Problem;
 use route::connect::Connector;
 use route::visibility::TransitPlanner;
@@ -155,7 +175,7 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
     let planned = if resolved.optimal_direction { plan_every_direction(planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
     // climbs over obstacles are flown by every sortie, so they are priced when splitting
     let raised = |p: &FlightPath| obstacles.as_ref().map_or((p.clone(), 0.0), |obs| obs.raise(p));
-    let model = energy::model_for(&resolved.vehicle);
+    let model = resolved.vehicle.energy_model();
     let energy_of = |p: &FlightPath| model.estimate(&raised(p).0, resolved.altitude_m).energy_j();
     let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
     let budget = sortie::Budget {
@@ -204,7 +224,7 @@ pub fn unknown_planner(id: &str) -> InputError {
     InputError::new("unknown_planner", "/planner", format!("no planner named `{id}`; known: {}", known.join(", ")))
 }
 
-/// Photo positions on every sweep (camera spec §6, fitted mode), with the line's direction.
+/// Photo positions on every sweep (docs/methods.md, camera §6, fitted mode), with the line's direction.
 fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan) -> Vec<metrics::Photo> {
     let mut out = Vec::new();
     for p in path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep) {
@@ -229,21 +249,13 @@ const DIRECTION_STEP_DEG: f64 = 2.0;
 /// the plan.
 type Tried = (f64, f64, planners::PlannedPath);
 
-/// Plans with every sweep direction and keeps the shortest plan among those that cover the
-/// area as well as the best of them does, as `auto` chooses among planners (a fixed wing's
-/// shortest plan is often the one whose lines stop short of a no-fly zone); ties: the
-/// smaller angle.
+/// Plans with every sweep direction and keeps the shortest plan by [`metrics::best_covering`],
+/// the rule `auto` chooses planners by (a fixed wing's shortest plan is often the one whose
+/// lines stop short of a no-fly zone); ties: the smaller angle.
 fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, progress: &dyn Progress) -> Result<planners::PlannedPath, PlanError> {
     use rayon::prelude::*;
     let run = |angle: f64| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true).map(|p| (angle, metrics::covered_area(&p.path, problem.region), p));
-    let best = |tried: &[Tried]| -> usize {
-        let most = tried.iter().map(|t| t.1).fold(0.0, f64::max);
-        let length = |i: usize| tried[i].2.path.length();
-        (0..tried.len())
-            .filter(|&i| tried[i].1 >= most * (1.0 - planners::auto::COVERAGE_SLACK))
-            .min_by(|&i, &j| if (length(i) - length(j)).abs() <= 1e-9 { tried[i].0.total_cmp(&tried[j].0) } else { length(i).total_cmp(&length(j)) })
-            .expect("the best-covering plan qualifies")
-    };
+    let best = |tried: &[Tried]| metrics::best_covering(tried, |t| t.1, |t| t.2.path.length()).expect("at least one direction was tried");
     let grid: Vec<f64> = (0..(180.0 / DIRECTION_STEP_DEG) as usize).map(|k| (k as f64 * DIRECTION_STEP_DEG).to_radians()).collect();
     let mut tried: Vec<Tried> = Vec::with_capacity(grid.len() + 6);
     // a chunk per progress report, so that a cancelled job stops soon
@@ -258,6 +270,8 @@ fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, 
     let fine: Vec<f64> = [-1.5f64, -1.0, -0.5, 0.5, 1.0, 1.5].iter().map(|d| (around + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect();
     let refined: Vec<Result<Tried, PlanError>> = fine.par_iter().map(|&a| run(a)).collect();
     tried.extend(refined.into_iter().collect::<Result<Vec<_>, _>>()?);
+    // ties go to the smaller angle
+    tried.sort_by(|a, b| a.0.total_cmp(&b.0));
     let (sweep_angle, _, planned) = tried.swap_remove(best(&tried));
     Ok(planners::PlannedPath { sweep_angle, ..planned })
 }

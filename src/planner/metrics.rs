@@ -1,16 +1,15 @@
-//! Metrics stage: one measure of every plan, whichever planner made it (metrics spec §1–§4).
+//! Metrics stage: one measure of every plan, whichever planner made it (docs/methods.md, metrics §1–§4).
 
 use geo::{Area, BooleanOps, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon};
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
 
 use super::camera::CameraPlan;
 use super::energy::PathEstimate;
 use super::path::{FlightPath, PieceKind};
-use super::planners::Alternative;
 use super::sortie::SortieTotals;
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Stats {
     pub length_m: f64,
     pub sweep_length_m: f64,
@@ -61,6 +60,51 @@ pub struct Stats {
     /// Metres of sweep line flown above the survey altitude to clear obstacles (not imaged).
     #[serde(default)]
     pub lost_coverage_m: f64,
+}
+
+/// How another planner did on the same problem.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct Alternative {
+    pub planner: String,
+    /// Figures of its plan (without take-off and landing, the same for every planner).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration_s: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy_j: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coverage_ratio: Option<f64>,
+    /// Why it made no plan.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+/// A plan may cover this much less than the best-covering one and still be chosen.
+pub const COVERAGE_SLACK: f64 = 0.01;
+
+/// The rule by which `auto` chooses among planners and `sweep_direction: optimal` among
+/// directions: the cheapest candidate among those that cover within [`COVERAGE_SLACK`] of the
+/// best-covering one (a cheap plan that leaves ground unflown does not win). Costs within
+/// 1e-9 tie, and a tie goes to the earlier candidate. `None` when there are no candidates.
+///
+/// ```
+/// use coverplan_planner::metrics::best_covering;
+/// // (coverage, length): the shortest plan covers too little, the next one qualifies
+/// let plans = [(0.90, 800.0), (0.995, 1000.0), (1.0, 1200.0)];
+/// assert_eq!(best_covering(&plans, |p| p.0, |p| p.1), Some(1));
+/// assert_eq!(best_covering(&[] as &[(f64, f64)], |p| p.0, |p| p.1), None);
+/// ```
+pub fn best_covering<T>(candidates: &[T], coverage: impl Fn(&T) -> f64, cost: impl Fn(&T) -> f64) -> Option<usize> {
+    let most = candidates.iter().map(&coverage).fold(0.0, f64::max);
+    let mut best: Option<usize> = None;
+    for (i, c) in candidates.iter().enumerate() {
+        if coverage(c) >= most * (1.0 - COVERAGE_SLACK) && best.is_none_or(|b| cost(c) < cost(&candidates[b]) - 1e-9) {
+            best = Some(i);
+        }
+    }
+    best
 }
 
 /// The swath of a sweep piece as a polygon.

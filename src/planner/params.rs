@@ -1,15 +1,15 @@
 //! Plan parameters as clients send them, and their validated form.
 
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
 
 use super::camera::{Camera, CameraPlan};
-use super::error::InputError;
+use super::error::{InputError, check_range};
 use super::sweep::LineLayout;
-use super::vehicle::{Vehicle, VehicleParams, check_range};
+use super::vehicle::{Vehicle, VehicleParams};
 
 /// A position with a heading, as a compass bearing (degrees clockwise from north).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PoseParam {
     /// [longitude, latitude]
@@ -19,7 +19,8 @@ pub struct PoseParam {
 }
 
 /// Parameters of a plan.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PlanParams {
     /// Planner id, as listed by `GET /api/v1/planners`.
@@ -83,7 +84,8 @@ pub struct PlanParams {
     pub max_sorties: Option<u32>,
 }
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Objective {
     #[default]
@@ -92,7 +94,8 @@ pub enum Objective {
     Length,
 }
 
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum SweepDirection {
     #[default]

@@ -1,9 +1,12 @@
 //! The flown path: pieces of kind sweep, turn or transit, joined end to start.
 
 use geo::Coord;
+
+use crate::geom::{distance, polyline_length};
 use serde::Serialize;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, utoipa::ToSchema)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum PieceKind {
     /// A coverage line, flown at survey altitude with the sensor on.
@@ -41,14 +44,6 @@ impl Piece {
     pub fn end(&self) -> Coord {
         *self.points.last().expect("a piece has points")
     }
-}
-
-pub fn polyline_length(points: &[Coord]) -> f64 {
-    points.windows(2).map(|w| distance(w[0], w[1])).sum()
-}
-
-pub fn distance(a: Coord, b: Coord) -> f64 {
-    (a.x - b.x).hypot(a.y - b.y)
 }
 
 /// A path in flight order. Consecutive pieces share their end points exactly.

@@ -1,5 +1,5 @@
 //! Battery stage: a plan that needs more energy than one battery gives (minus its reserve) is
-//! split into sorties (energy spec §9, seed 000 §5.3). Each leaves home, flies a contiguous
+//! split into sorties (docs/methods.md, energy §9, seed 000 §5.3). Each leaves home, flies a contiguous
 //! run of the route's sweep lines and returns home; the next resumes where it stopped.
 //!
 //! The cut is greedy: each sortie takes as many lines as its battery allows, which gives the
@@ -9,14 +9,14 @@
 
 use geo::Coord;
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
 
 use super::error::{InputError, PlanError};
 use super::path::{FlightPath, PieceKind};
 use super::turn::dubins::Pose;
 
 /// The figures of one sortie.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct SortieTotals {
     /// 1-based, in flight order.
     pub sortie: usize,

@@ -1,5 +1,5 @@
 //! Sweep stage: parallel lines across a region, clipped to it and prolonged so that each
-//! line's whole swath reaches the boundary (decomposition spec §10.1, camera spec §5).
+//! line's whole swath reaches the boundary (docs/methods.md, decomposition §10.1, docs/methods.md, camera §5).
 
 use geo::{BooleanOps, BoundingRect, ConvexHull, Coord, MultiPolygon, Rect};
 
@@ -17,7 +17,7 @@ pub struct SweepSegment {
     pub hi: f64,
 }
 
-/// How lines are laid across a width (camera spec §4).
+/// How lines are laid across a width (docs/methods.md, camera §4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LineLayout {
     /// Largest distance between neighbouring lines.
@@ -299,7 +299,7 @@ mod tests {
 
     #[test]
     fn footprint_layout_refits_the_lines() {
-        // camera spec §7 E2 and E3: line counts and re-fitted spacing across a cell
+        // docs/methods.md, camera §7 E2 and E3: line counts and re-fitted spacing across a cell
         let e2 = LineLayout { spacing: 109.44 * 0.3, footprint: Some(109.44) };
         assert_eq!(e2.count(500.0), 13);
         let l = e2.lines(0.0, 500.0);

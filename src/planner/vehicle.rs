@@ -1,34 +1,25 @@
 //! Vehicles: profiles (built-in or stored by the service) and per-plan overrides.
 
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
 
 use super::energy::constant_power::PowerFigures;
 use super::energy::fixed_wing::Airframe;
 use super::energy::iem::IemCoefficients;
-use super::error::InputError;
+use super::energy::{EnergyModel, EnergyParams, Motion};
+use super::error::{InputError, check_range};
+use super::turn::TurnModel;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum VehicleKind {
     Multirotor,
     FixedWing,
 }
 
-/// The energy model of a profile and its parameters.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
-#[serde(tag = "model", content = "parameters", rename_all = "snake_case")]
-pub enum EnergyParams {
-    /// Seed 002's improved model: measured polynomials, speed kept through corners.
-    MultirotorIem(IemCoefficients),
-    /// Steady-flight physics with banked turns and climbs.
-    FixedWing(Airframe),
-    /// One power figure for the whole flight.
-    ConstantPower(PowerFigures),
-}
-
 /// The battery: its energy and the share kept in reserve at landing.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Battery {
     pub energy_wh: f64,
@@ -44,7 +35,8 @@ impl Battery {
 }
 
 /// A vehicle profile with every figure the planner needs.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Vehicle {
     /// Identifier: lower-case letters, digits, `_` and `-`.
@@ -119,7 +111,8 @@ fn default_profile(kind: Option<VehicleKind>) -> &'static str {
 }
 
 /// The vehicle part of a plan request: a profile, a kind, or both, with optional overrides.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct VehicleParams {
     /// Name of a profile, as listed by `GET /api/v1/vehicles`.
@@ -171,11 +164,21 @@ impl VehicleParams {
 
 impl Vehicle {
     /// How this vehicle turns: on the spot, or on Dubins paths of its turning radius.
-    pub fn turn_model(&self) -> crate::turn::TurnModel {
+    pub fn turn_model(&self) -> TurnModel {
         match self.kind {
-            VehicleKind::Multirotor => crate::turn::TurnModel::Straight,
-            VehicleKind::FixedWing => crate::turn::TurnModel::Dubins(self.turn_radius_m),
+            VehicleKind::Multirotor => TurnModel::Straight,
+            VehicleKind::FixedWing => TurnModel::Dubins(self.turn_radius_m),
         }
+    }
+
+    /// The energy model of this vehicle: its profile's model, flown at its speed and turns
+    /// (a multirotor stops at corners, decelerating and accelerating at `acceleration_mps2`).
+    pub fn energy_model(&self) -> Box<dyn EnergyModel + '_> {
+        let corner_stop_s = match self.kind {
+            VehicleKind::Multirotor => self.cruise_speed_mps / self.acceleration_mps2,
+            VehicleKind::FixedWing => 0.0,
+        };
+        self.energy.model(Motion { cruise_speed_mps: self.cruise_speed_mps, turn_radius_m: self.turn_radius_m, corner_stop_s })
     }
 
     /// Checks every figure; `at` is the JSON pointer of the profile in the request.
@@ -195,81 +198,13 @@ impl Vehicle {
         if self.kind == VehicleKind::FixedWing && self.turn_radius_m < 1.0 {
             return Err(InputError::new("turn_radius_too_small", format!("{at}/turn_radius_m"), "a fixed-wing aircraft needs a turning radius of at least 1 m"));
         }
-        let p = |field: &str| format!("{at}/energy/parameters/{field}");
-        let model_kind = match &self.energy {
-            EnergyParams::MultirotorIem(c) => {
-                for (field, poly) in [("level_power", &c.level_power), ("accel_power", &c.accel_power), ("decel_power", &c.decel_power)] {
-                    if poly.is_empty() || poly.len() > 12 || poly.iter().any(|k| !k.is_finite()) {
-                        return Err(InputError::new("invalid_energy_model", p(field), "a polynomial needs 1 to 12 finite coefficients, highest power first"));
-                    }
-                }
-                for (field, v, hi) in [
-                    ("decel_reference_mps", c.decel_reference_mps, 100.0),
-                    ("climb_rate_mps", c.climb_rate_mps, 50.0),
-                    ("climb_power_w", c.climb_power_w, 1e6),
-                    ("descent_rate_mps", c.descent_rate_mps, 50.0),
-                    ("descent_power_w", c.descent_power_w, 1e6),
-                    ("yaw_rate_deg_s", c.yaw_rate_deg_s, 3600.0),
-                    ("yaw_power_w", c.yaw_power_w, 1e6),
-                ] {
-                    check_range(v, 1e-3, hi, &p(field), "")?;
-                }
-                check_range(c.waypoint_hold_s, 0.0, 600.0, &p("waypoint_hold_s"), "s")?;
-                let knots_ok = !c.exit_speed_fraction.is_empty()
-                    && c.exit_speed_fraction.iter().all(|[a, f]| (0.0..=180.0).contains(a) && (0.0..=1.0).contains(f))
-                    && c.exit_speed_fraction.windows(2).all(|w| w[0][0] < w[1][0]);
-                if !knots_ok {
-                    return Err(InputError::new("invalid_energy_model", p("exit_speed_fraction"), "knots [angle 0..180°, fraction 0..1] with increasing angles"));
-                }
-                if (0..=12).any(|k| not_positive_at(&c.level_power, k as f64 * self.cruise_speed_mps / 12.0)) {
-                    return Err(InputError::new("invalid_energy_model", p("level_power"), "level power must be positive from 0 to the cruise speed"));
-                }
-                VehicleKind::Multirotor
-            }
-            EnergyParams::FixedWing(a) => {
-                for (field, v, lo, hi) in [
-                    ("mass_kg", a.mass_kg, 0.05, 1e4),
-                    ("wing_span_m", a.wing_span_m, 0.1, 100.0),
-                    ("wing_area_m2", a.wing_area_m2, 0.01, 1e3),
-                    ("drag_coefficient_zero_lift", a.drag_coefficient_zero_lift, 1e-4, 1.0),
-                    ("oswald_efficiency", a.oswald_efficiency, 0.1, 1.0),
-                    ("propulsive_efficiency", a.propulsive_efficiency, 0.05, 1.0),
-                    ("avionics_power_w", a.avionics_power_w, 0.0, 1e4),
-                    ("air_density_kg_m3", a.air_density_kg_m3, 0.1, 2.0),
-                    ("climb_rate_mps", a.climb_rate_mps, 0.1, 50.0),
-                ] {
-                    check_range(v, lo, hi, &p(field), "")?;
-                }
-                VehicleKind::FixedWing
-            }
-            EnergyParams::ConstantPower(f) => {
-                check_range(f.cruise_power_w, 1.0, 1e6, &p("cruise_power_w"), "W")?;
-                check_range(f.vertical_speed_mps, 0.1, 50.0, &p("vertical_speed_mps"), "m/s")?;
-                self.kind
-            }
-        };
-        if model_kind != self.kind {
+        self.energy.check(self.cruise_speed_mps, &format!("{at}/energy/parameters"))?;
+        let fits = self.energy.for_fixed_wing().is_none_or(|fixed_wing| fixed_wing == (self.kind == VehicleKind::FixedWing));
+        if !fits {
             return Err(InputError::new("vehicle_kind_mismatch", format!("{at}/energy/model"), "this energy model is for the other kind of vehicle"));
         }
         Ok(())
     }
-}
-
-/// True when the polynomial is zero or negative at `x`.
-fn not_positive_at(c: &[f64], x: f64) -> bool {
-    crate::energy::iem::polyval(c, x) <= 0.0
-}
-
-/// Checks that `value` is finite and within `[lo, hi]`.
-pub fn check_range(value: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<(), InputError> {
-    if !value.is_finite() || value < lo || value > hi {
-        return Err(InputError::new(
-            "parameter_out_of_range",
-            pointer,
-            format!("{value} is outside the accepted range [{lo}, {hi}] {unit}"),
-        ));
-    }
-    Ok(())
 }
 
 #[cfg(test)]

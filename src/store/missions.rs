@@ -2,8 +2,8 @@
 
 use serde::Serialize;
 use serde_json::Value;
-use sqlx::Row;
-use sqlx::sqlite::SqliteRow;
+use sqlx::FromRow;
+use sqlx::types::Json;
 use utoipa::ToSchema;
 
 use super::{Db, begin_write, new_id};
@@ -26,6 +26,15 @@ pub struct Mission {
     pub updated_at: String,
 }
 
+/// A mission without its geometry, for lists that show names.
+#[derive(Debug, Clone, Serialize, ToSchema, FromRow)]
+pub struct MissionSummary {
+    pub id: String,
+    pub name: String,
+    pub created_at: String,
+    pub updated_at: String,
+}
+
 /// What a client writes.
 #[derive(Debug, Clone)]
 pub struct NewMission {
@@ -36,80 +45,105 @@ pub struct NewMission {
     pub home: Option<[f64; 2]>,
 }
 
-fn from_row(r: &SqliteRow) -> Result<Mission, sqlx::Error> {
-    let json = |col: &str| -> Result<Option<Value>, sqlx::Error> {
-        let text: Option<String> = r.try_get(col)?;
-        text.map(|t| serde_json::from_str(&t).map_err(|e| sqlx::Error::Decode(Box::new(e)))).transpose()
+/// A row of `missions`.
+#[derive(FromRow)]
+struct MissionRow {
+    id: String,
+    name: String,
+    area: Json<Value>,
+    no_fly_zones: Option<Json<Value>>,
+    obstacles: Option<Json<Value>>,
+    home_lon: Option<f64>,
+    home_lat: Option<f64>,
+    created_at: String,
+    updated_at: String,
+}
+
+impl From<MissionRow> for Mission {
+    fn from(r: MissionRow) -> Self {
+        Mission {
+            id: r.id,
+            name: r.name,
+            area: r.area.0,
+            no_fly_zones: r.no_fly_zones.map(|j| j.0),
+            obstacles: r.obstacles.map(|j| j.0),
+            home: r.home_lon.zip(r.home_lat).map(|(lon, lat)| [lon, lat]),
+            created_at: r.created_at,
+            updated_at: r.updated_at,
+        }
+    }
+}
+
+macro_rules! columns {
+    () => {
+        "id, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at"
     };
-    let lon: Option<f64> = r.try_get("home_lon")?;
-    let lat: Option<f64> = r.try_get("home_lat")?;
-    Ok(Mission {
-        id: r.try_get("id")?,
-        name: r.try_get("name")?,
-        area: json("area")?.unwrap_or(Value::Null),
-        no_fly_zones: json("no_fly_zones")?,
-        obstacles: json("obstacles")?,
-        home: lon.zip(lat).map(|(a, b)| [a, b]),
-        created_at: r.try_get("created_at")?,
-        updated_at: r.try_get("updated_at")?,
-    })
 }
 
 pub async fn create(db: &Db, m: &NewMission) -> Result<Mission, sqlx::Error> {
     let id = new_id();
     let mut tx = begin_write(db).await?;
-    sqlx::query(concat!(
+    let row: MissionRow = sqlx::query_as(concat!(
         "INSERT INTO missions (id, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
-         VALUES (?, ?, ?, ?, ?, ?, ?, ", crate::sql_now!(), ", ", crate::sql_now!(), ")"
+         VALUES (?, ?, ?, ?, ?, ?, ?, ", crate::sql_now!(), ", ", crate::sql_now!(), ") RETURNING ", columns!()
     ))
     .bind(&id)
     .bind(&m.name)
-    .bind(m.area.to_string())
-    .bind(m.no_fly_zones.as_ref().map(Value::to_string))
-    .bind(m.obstacles.as_ref().map(Value::to_string))
+    .bind(Json(&m.area))
+    .bind(m.no_fly_zones.as_ref().map(Json))
+    .bind(m.obstacles.as_ref().map(Json))
     .bind(m.home.map(|h| h[0]))
     .bind(m.home.map(|h| h[1]))
-    .execute(&mut *tx)
+    .fetch_one(&mut *tx)
     .await?;
     tx.commit().await?;
-    Ok(get(db, &id).await?.expect("just inserted"))
+    Ok(row.into())
 }
 
 pub async fn get(db: &Db, id: &str) -> Result<Option<Mission>, sqlx::Error> {
-    sqlx::query("SELECT * FROM missions WHERE id = ?").bind(id).fetch_optional(db).await?.map(|r| from_row(&r)).transpose()
+    let row: Option<MissionRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions WHERE id = ?")).bind(id).fetch_optional(db).await?;
+    Ok(row.map(Into::into))
 }
 
 /// A page of missions, newest first, and the total count.
 pub async fn list(db: &Db, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
-    let rows = sqlx::query("SELECT * FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")
+    let rows: Vec<MissionRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?"))
         .bind(limit)
         .bind(offset)
         .fetch_all(db)
         .await?;
     let total: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM missions").fetch_one(db).await?;
-    Ok((rows.iter().map(from_row).collect::<Result<_, _>>()?, total))
+    Ok((rows.into_iter().map(Into::into).collect(), total))
+}
+
+/// A page of mission summaries, newest first, and the total count.
+pub async fn list_summaries(db: &Db, limit: i64, offset: i64) -> Result<(Vec<MissionSummary>, i64), sqlx::Error> {
+    let rows = sqlx::query_as("SELECT id, name, created_at, updated_at FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")
+        .bind(limit)
+        .bind(offset)
+        .fetch_all(db)
+        .await?;
+    let total: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM missions").fetch_one(db).await?;
+    Ok((rows, total))
 }
 
 /// Replaces a mission's content; `None` when there is no such mission.
 pub async fn update(db: &Db, id: &str, m: &NewMission) -> Result<Option<Mission>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    let done = sqlx::query(concat!(
-        "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ", crate::sql_now!(), " WHERE id = ?"
+    let row: Option<MissionRow> = sqlx::query_as(concat!(
+        "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ", crate::sql_now!(), " WHERE id = ? RETURNING ", columns!()
     ))
     .bind(&m.name)
-    .bind(m.area.to_string())
-    .bind(m.no_fly_zones.as_ref().map(Value::to_string))
-    .bind(m.obstacles.as_ref().map(Value::to_string))
+    .bind(Json(&m.area))
+    .bind(m.no_fly_zones.as_ref().map(Json))
+    .bind(m.obstacles.as_ref().map(Json))
     .bind(m.home.map(|h| h[0]))
     .bind(m.home.map(|h| h[1]))
     .bind(id)
-    .execute(&mut *tx)
+    .fetch_optional(&mut *tx)
     .await?;
     tx.commit().await?;
-    if done.rows_affected() == 0 {
-        return Ok(None);
-    }
-    get(db, id).await
+    Ok(row.map(Into::into))
 }
 
 /// Deletes a mission and its plans; false when there was none.

@@ -10,8 +10,8 @@ use std::str::FromStr;
 use std::time::Duration;
 
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePool, SqlitePoolOptions, SqliteSynchronous};
-use sqlx::migrate::{Migration, MigrationType, Migrator};
-use sqlx::{Sqlite, SqlSafeStr, Transaction};
+use sqlx::migrate::Migrator;
+use sqlx::{Sqlite, Transaction};
 
 pub type Db = SqlitePool;
 
@@ -23,21 +23,8 @@ macro_rules! sql_now {
     };
 }
 
-/// The schema migrations, embedded in the binary, in order.
-const MIGRATIONS: &[(i64, &str, &str)] = &[
-    (1, "init", include_str!("../../migrations/0001_init.sql")),
-    (2, "obstacles", include_str!("../../migrations/0002_obstacles.sql")),
-    (3, "vehicles", include_str!("../../migrations/0003_vehicles.sql")),
-];
-
-fn migrator() -> Migrator {
-    Migrator::with_migrations(
-        MIGRATIONS
-            .iter()
-            .map(|&(version, description, sql)| Migration::new(version, description.into(), MigrationType::Simple, sql.into_sql_str(), false))
-            .collect(),
-    )
-}
+/// The schema migrations of `migrations/`, embedded in the binary at build time.
+pub static MIGRATOR: Migrator = sqlx::migrate!("./migrations");
 
 /// Opens (creating it if missing) the database at `url` and runs the migrations.
 pub async fn connect(url: &str) -> Result<Db, sqlx::Error> {
@@ -48,7 +35,7 @@ pub async fn connect(url: &str) -> Result<Db, sqlx::Error> {
         .foreign_keys(true)
         .busy_timeout(Duration::from_secs(30));
     let pool = SqlitePoolOptions::new().max_connections(8).connect_with(options).await?;
-    migrator().run(&pool).await?;
+    MIGRATOR.run(&pool).await?;
     vehicles::insert_builtins(&pool).await?;
     Ok(pool)
 }

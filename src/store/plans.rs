@@ -2,8 +2,8 @@
 
 use serde::Serialize;
 use serde_json::Value;
-use sqlx::Row;
-use sqlx::sqlite::SqliteRow;
+use sqlx::FromRow;
+use sqlx::types::Json;
 use utoipa::ToSchema;
 
 use super::{Db, begin_write, new_id};
@@ -11,8 +11,9 @@ use super::{Db, begin_write, new_id};
 /// A job that was interrupted this many times is failed instead of requeued again.
 pub const MAX_ATTEMPTS: i64 = 3;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, ToSchema, sqlx::Type)]
 #[serde(rename_all = "snake_case")]
+#[sqlx(type_name = "TEXT", rename_all = "snake_case")]
 pub enum PlanStatus {
     Queued,
     Running,
@@ -22,16 +23,6 @@ pub enum PlanStatus {
 }
 
 impl PlanStatus {
-    fn parse(s: &str) -> PlanStatus {
-        match s {
-            "queued" => PlanStatus::Queued,
-            "running" => PlanStatus::Running,
-            "succeeded" => PlanStatus::Succeeded,
-            "failed" => PlanStatus::Failed,
-            _ => PlanStatus::Cancelled,
-        }
-    }
-
     pub fn is_final(self) -> bool {
         matches!(self, PlanStatus::Succeeded | PlanStatus::Failed | PlanStatus::Cancelled)
     }
@@ -57,23 +48,36 @@ pub struct Plan {
     pub finished_at: Option<String>,
 }
 
-fn from_row(r: &SqliteRow) -> Result<Plan, sqlx::Error> {
-    let json = |text: Option<String>| -> Result<Option<Value>, sqlx::Error> {
-        text.map(|t| serde_json::from_str(&t).map_err(|e| sqlx::Error::Decode(Box::new(e)))).transpose()
-    };
-    let status: String = r.try_get("status")?;
-    Ok(Plan {
-        id: r.try_get("id")?,
-        mission_id: r.try_get("mission_id")?,
-        status: PlanStatus::parse(&status),
-        progress: r.try_get("progress")?,
-        params: json(r.try_get("params")?)?.unwrap_or(Value::Null),
-        stats: json(r.try_get("stats")?)?,
-        error: r.try_get("error")?,
-        created_at: r.try_get("created_at")?,
-        started_at: r.try_get("started_at")?,
-        finished_at: r.try_get("finished_at")?,
-    })
+/// A row of `plans`, as listed.
+#[derive(FromRow)]
+struct PlanRow {
+    id: String,
+    mission_id: String,
+    status: PlanStatus,
+    progress: f64,
+    params: Json<Value>,
+    stats: Option<Json<Value>>,
+    error: Option<String>,
+    created_at: String,
+    started_at: Option<String>,
+    finished_at: Option<String>,
+}
+
+impl From<PlanRow> for Plan {
+    fn from(r: PlanRow) -> Self {
+        Plan {
+            id: r.id,
+            mission_id: r.mission_id,
+            status: r.status,
+            progress: r.progress,
+            params: r.params.0,
+            stats: r.stats.map(|j| j.0),
+            error: r.error,
+            created_at: r.created_at,
+            started_at: r.started_at,
+            finished_at: r.finished_at,
+        }
+    }
 }
 
 macro_rules! columns {
@@ -86,49 +90,51 @@ macro_rules! columns {
 pub async fn create(db: &Db, mission_id: &str, params: &Value, mission: &Value) -> Result<Plan, sqlx::Error> {
     let id = new_id();
     let mut tx = begin_write(db).await?;
-    sqlx::query(concat!(
-        "INSERT INTO plans (id, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, 'queued', ", crate::sql_now!(), ")"
+    let row: PlanRow = sqlx::query_as(concat!(
+        "INSERT INTO plans (id, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, 'queued', ", crate::sql_now!(), ") RETURNING ", columns!()
     ))
     .bind(&id)
     .bind(mission_id)
-    .bind(params.to_string())
-    .bind(mission.to_string())
-    .execute(&mut *tx)
+    .bind(Json(params))
+    .bind(Json(mission))
+    .fetch_one(&mut *tx)
     .await?;
     tx.commit().await?;
-    Ok(get(db, &id).await?.expect("just inserted"))
+    Ok(row.into())
 }
 
 pub async fn get(db: &Db, id: &str) -> Result<Option<Plan>, sqlx::Error> {
-    sqlx::query(concat!("SELECT ", columns!(), " FROM plans WHERE id = ?")).bind(id).fetch_optional(db).await?.map(|r| from_row(&r)).transpose()
+    let row: Option<PlanRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE id = ?")).bind(id).fetch_optional(db).await?;
+    Ok(row.map(Into::into))
 }
 
 pub async fn list_for_mission(db: &Db, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
-    let rows = sqlx::query(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? ORDER BY created_at DESC, rowid DESC"))
+    let rows: Vec<PlanRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? ORDER BY created_at DESC, rowid DESC"))
         .bind(mission_id)
         .fetch_all(db)
         .await?;
-    rows.iter().map(from_row).collect()
+    Ok(rows.into_iter().map(Into::into).collect())
 }
 
 /// The stored trajectory (GeoJSON text) and the plan's status.
 pub async fn trajectory(db: &Db, id: &str) -> Result<Option<(PlanStatus, Option<String>)>, sqlx::Error> {
-    let row = sqlx::query("SELECT status, trajectory FROM plans WHERE id = ?").bind(id).fetch_optional(db).await?;
-    row.map(|r| Ok((PlanStatus::parse(&r.try_get::<String, _>("status")?), r.try_get("trajectory")?))).transpose()
+    sqlx::query_as("SELECT status, trajectory FROM plans WHERE id = ?").bind(id).fetch_optional(db).await
 }
 
 /// A job taken off the queue.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, FromRow)]
 pub struct Job {
     pub id: String,
+    #[sqlx(json)]
     pub params: Value,
+    #[sqlx(json)]
     pub mission: Value,
 }
 
 /// Atomically takes the oldest queued plan and marks it running.
 pub async fn claim_next(db: &Db) -> Result<Option<Job>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    let row = sqlx::query(concat!(
+    let job = sqlx::query_as(concat!(
         "UPDATE plans SET status = 'running', progress = 0, started_at = ", crate::sql_now!(), ", attempts = attempts + 1
          WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1)
          RETURNING id, params, mission"
@@ -136,14 +142,7 @@ pub async fn claim_next(db: &Db) -> Result<Option<Job>, sqlx::Error> {
     .fetch_optional(&mut *tx)
     .await?;
     tx.commit().await?;
-    row.map(|r| {
-        let parse = |col: &str| -> Result<Value, sqlx::Error> {
-            let text: String = r.try_get(col)?;
-            serde_json::from_str(&text).map_err(|e| sqlx::Error::Decode(Box::new(e)))
-        };
-        Ok(Job { id: r.try_get("id")?, params: parse("params")?, mission: parse("mission")? })
-    })
-    .transpose()
+    Ok(job)
 }
 
 pub async fn set_progress(db: &Db, id: &str, progress: f64) -> Result<(), sqlx::Error> {
@@ -160,7 +159,7 @@ pub async fn succeed(db: &Db, id: &str, stats: &Value, trajectory: &str) -> Resu
         "UPDATE plans SET status = 'succeeded', progress = 1, stats = ?, trajectory = ?, finished_at = ", crate::sql_now!(), "
          WHERE id = ? AND status = 'running'"
     ))
-    .bind(stats.to_string())
+    .bind(Json(stats))
     .bind(trajectory)
     .bind(id)
     .execute(&mut *tx)
@@ -187,9 +186,9 @@ pub async fn cancel(db: &Db, id: &str) -> Result<Option<PlanStatus>, sqlx::Error
     .bind(id)
     .execute(&mut *tx)
     .await?;
-    let status: Option<String> = sqlx::query_scalar("SELECT status FROM plans WHERE id = ?").bind(id).fetch_optional(&mut *tx).await?;
+    let status = sqlx::query_scalar("SELECT status FROM plans WHERE id = ?").bind(id).fetch_optional(&mut *tx).await?;
     tx.commit().await?;
-    Ok(status.map(|s| PlanStatus::parse(&s)))
+    Ok(status)
 }
 
 /// Puts a running plan back in the queue (the worker stopped before finishing it).

@@ -2,7 +2,8 @@
 //! edits to them survive restarts; they cannot be deleted.
 
 use serde::Serialize;
-use sqlx::Row;
+use sqlx::FromRow;
+use sqlx::types::Json;
 use utoipa::ToSchema;
 
 use super::{Db, begin_write};
@@ -20,18 +21,25 @@ pub struct StoredVehicle {
     pub updated_at: String,
 }
 
-fn from_row(r: &sqlx::sqlite::SqliteRow) -> Result<StoredVehicle, sqlx::Error> {
-    let body: String = r.try_get("body")?;
-    Ok(StoredVehicle {
-        vehicle: serde_json::from_str(&body).map_err(|e| sqlx::Error::Decode(Box::new(e)))?,
-        builtin: r.try_get::<i64, _>("builtin")? != 0,
-        created_at: r.try_get("created_at")?,
-        updated_at: r.try_get("updated_at")?,
-    })
+/// A row of `vehicles`.
+#[derive(FromRow)]
+struct VehicleRow {
+    body: Json<Vehicle>,
+    builtin: bool,
+    created_at: String,
+    updated_at: String,
 }
 
-fn body(v: &Vehicle) -> String {
-    serde_json::to_string(v).expect("a vehicle serialises")
+impl From<VehicleRow> for StoredVehicle {
+    fn from(r: VehicleRow) -> Self {
+        StoredVehicle { vehicle: r.body.0, builtin: r.builtin, created_at: r.created_at, updated_at: r.updated_at }
+    }
+}
+
+macro_rules! columns {
+    () => {
+        "body, builtin, created_at, updated_at"
+    };
 }
 
 pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
@@ -39,7 +47,7 @@ pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
     for v in builtin_profiles() {
         sqlx::query(concat!("INSERT OR IGNORE INTO vehicles (id, builtin, body, created_at, updated_at) VALUES (?, 1, ?, ", sql_now!(), ", ", sql_now!(), ")"))
             .bind(&v.profile)
-            .bind(body(&v))
+            .bind(Json(&v))
             .execute(&mut *tx)
             .await?;
     }
@@ -47,7 +55,8 @@ pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
 }
 
 pub async fn list(db: &Db) -> Result<Vec<StoredVehicle>, sqlx::Error> {
-    sqlx::query("SELECT * FROM vehicles ORDER BY builtin DESC, id").fetch_all(db).await?.iter().map(from_row).collect()
+    let rows: Vec<VehicleRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM vehicles ORDER BY builtin DESC, id")).fetch_all(db).await?;
+    Ok(rows.into_iter().map(Into::into).collect())
 }
 
 /// Every profile, for resolving a plan's `vehicle.profile`.
@@ -56,33 +65,34 @@ pub async fn profiles(db: &Db) -> Result<Vec<Vehicle>, sqlx::Error> {
 }
 
 pub async fn get(db: &Db, id: &str) -> Result<Option<StoredVehicle>, sqlx::Error> {
-    sqlx::query("SELECT * FROM vehicles WHERE id = ?").bind(id).fetch_optional(db).await?.as_ref().map(from_row).transpose()
+    let row: Option<VehicleRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ?")).bind(id).fetch_optional(db).await?;
+    Ok(row.map(Into::into))
 }
 
 /// Inserts a new profile; `None` when its id is taken.
 pub async fn create(db: &Db, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    let done = sqlx::query(concat!("INSERT OR IGNORE INTO vehicles (id, builtin, body, created_at, updated_at) VALUES (?, 0, ?, ", sql_now!(), ", ", sql_now!(), ")"))
-        .bind(&v.profile)
-        .bind(body(v))
-        .execute(&mut *tx)
-        .await?;
+    let row: Option<VehicleRow> = sqlx::query_as(concat!(
+        "INSERT OR IGNORE INTO vehicles (id, builtin, body, created_at, updated_at) VALUES (?, 0, ?, ", sql_now!(), ", ", sql_now!(), ") RETURNING ", columns!()
+    ))
+    .bind(&v.profile)
+    .bind(Json(v))
+    .fetch_optional(&mut *tx)
+    .await?;
     tx.commit().await?;
-    if done.rows_affected() == 0 {
-        return Ok(None);
-    }
-    get(db, &v.profile).await
+    Ok(row.map(Into::into))
 }
 
 /// Replaces a profile's figures; `None` when there is no such profile.
 pub async fn update(db: &Db, id: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    let done = sqlx::query(concat!("UPDATE vehicles SET body = ?, updated_at = ", sql_now!(), " WHERE id = ?")).bind(body(v)).bind(id).execute(&mut *tx).await?;
+    let row: Option<VehicleRow> = sqlx::query_as(concat!("UPDATE vehicles SET body = ?, updated_at = ", sql_now!(), " WHERE id = ? RETURNING ", columns!()))
+        .bind(Json(v))
+        .bind(id)
+        .fetch_optional(&mut *tx)
+        .await?;
     tx.commit().await?;
-    if done.rows_affected() == 0 {
-        return Ok(None);
-    }
-    get(db, id).await
+    Ok(row.map(Into::into))
 }
 
 pub enum Deleted {

@@ -1,6 +1,8 @@
 // The map page end to end: the real server (a fresh database, no map tiles) and Debian's
 // Chromium driven by playwright-core. Draws a field and a home point, plans it, compares two
-// planners, and reopens the mission from its link. Run by tests/run_all.sh after the build.
+// planners, and reopens the mission from its link with every parameter. The server runs from
+// a folder of its own, serving the page built into the binary. Run by tests/run_all.sh after
+// the build.
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync } from 'node:fs';
 import net from 'node:net';
@@ -29,7 +31,7 @@ async function waitFor(check, what, ms = 30000) {
 const dir = mkdtempSync(path.join(os.tmpdir(), 'coverplan-browser-'));
 const port = await freePort();
 const base = `http://127.0.0.1:${port}`;
-const server = spawn(binary, ['serve', '--addr', `127.0.0.1:${port}`, '--database-url', path.join(dir, 'page.db'), '--static-dir', path.join(root, 'static'), '--workers', '2', '--tile-url', ''], { stdio: ['ignore', 'inherit', 'inherit'] });
+const server = spawn(binary, ['serve', '--addr', `127.0.0.1:${port}`, '--database-url', path.join(dir, 'page.db'), '--workers', '2', '--tile-url', ''], { cwd: dir, stdio: ['ignore', 'inherit', 'inherit'] });
 let browser;
 try {
   await waitFor(async () => (await fetch(`${base}/healthz`)).ok, 'the server');
@@ -80,6 +82,11 @@ try {
   assert.ok(sweeps >= 5, `${sweeps} sweep lines drawn`);
   assert.ok(await page.$$eval('.arrow', (a) => a.length) >= 5, 'direction arrows');
   assert.match(await page.textContent('td[data-figure=coverage]'), /%/);
+  // the energy chart counts on across sorties instead of restarting at each
+  const sorties = Number(await page.textContent('td[data-figure=sorties]'));
+  assert.ok(sorties >= 2, `${sorties} sorties: the field should need several batteries`);
+  const chart = await page.evaluate(() => window.coverplan.state.chart.map((p) => p.e));
+  assert.ok(chart.every((e, i) => i === 0 || e >= chart[i - 1]), 'energy used never goes down along the path');
   const download = await page.getAttribute('#download', 'href');
   assert.ok((await fetch(base + download)).ok, 'the download link serves the trajectory');
 
@@ -96,11 +103,32 @@ try {
   const cells = await page.$$eval('#figures tbody tr:first-child td', (t) => t.map((x) => x.textContent));
   assert.deepEqual(cells.slice(1), ['e_spiral', 'boustrophedon']);
 
-  // a shared link reopens the mission with its latest plan
+  // a camera plan from a start pose with a heading, then the shared link restores all of it
+  await page.selectOption('#planner', 'boustrophedon');
+  await page.selectOption('#camera', { index: 1 });
+  const camera = await page.inputValue('#camera');
+  await page.fill('#altitude', '60');
+  await page.fill('#side-overlap', '0.6');
+  await page.fill('#front-overlap', '0.75');
+  await page.selectOption('#draw-kind', 'start');
+  await page.fill('#pose-heading', '90');
+  await page.click('#draw');
+  await page.mouse.click(...at(-140, 100));
+  await waitFor(() => page.evaluate(() => !!window.coverplan.state.poses.start), 'the start marker');
+  await page.click('#plan');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the camera plan', 60000);
   await page.goto(`${base}/?mission=${missionId}`);
   await page.waitForSelector('body[data-ready=true]');
   await page.waitForSelector('td[data-figure=length]');
-  assert.equal(await page.inputValue('#planner'), 'e_spiral');
+  const restored = {
+    planner: await page.inputValue('#planner'),
+    camera: await page.inputValue('#camera'),
+    altitude: await page.inputValue('#altitude'),
+    side: await page.inputValue('#side-overlap'),
+    front: await page.inputValue('#front-overlap'),
+    start: await page.evaluate(() => { const m = window.coverplan.state.poses.start; return m && m.cpHeading; }),
+  };
+  assert.deepEqual(restored, { planner: 'boustrophedon', camera, altitude: '60', side: '0.6', front: '0.75', start: 90 });
   await page.screenshot({ path: path.join(os.tmpdir(), 'coverplan-page.png') });
   // a phone-sized screen: the map and the form are both there
   await page.setViewportSize({ width: 390, height: 844 });

@@ -7,8 +7,8 @@
 //! Working at line resolution gives exactly the cells that lawnmower lines can fill, with
 //! holes and no-fly zones of any shape, and no degenerate zero-width cells.
 //!
-//! Each cell is then swept in its own best direction where that shortens it (decomposition
-//! spec §8): the cell's area is re-swept in the direction of its fewest lines and the result
+//! Each cell is then swept in its own best direction where that shortens it (docs/methods.md,
+//! decomposition §8): the cell's area is re-swept in the direction of its fewest lines and the result
 //! kept when it is one cell again and shorter.
 
 use geo::{BooleanOps, MultiPolygon};
@@ -109,7 +109,7 @@ mod tests {
 
     #[test]
     fn square_with_a_hole_gives_four_cells() {
-        // the decomposition spec's test case: [0,100]² with the hole [30,70]²
+        // the docs/methods.md, decomposition's test case: [0,100]² with the hole [30,70]²
         let region = MultiPolygon(vec![polygon!(
             exterior: [(x: 0., y: 0.), (x: 100., y: 0.), (x: 100., y: 100.), (x: 0., y: 100.)],
             interiors: [[(x: 30., y: 30.), (x: 30., y: 70.), (x: 70., y: 70.), (x: 70., y: 30.)]],

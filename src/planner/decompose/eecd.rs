@@ -1,11 +1,12 @@
-//! EECD (seed 000 §3.2.2, after Li et al. 2011; decomposition spec §7): repeatedly make the cut,
+//! EECD (seed 000 §3.2.2, after Li et al. 2011; docs/methods.md, decomposition §7): repeatedly make the cut,
 //! from a reflex vertex along any edge direction, that minimises the summed widths of the two
 //! pieces; then merge neighbours with the same sweep direction whose union stays monotone.
 
-use geo::{BooleanOps, Coord, MultiPolygon, Polygon};
+use geo::{Area, BooleanOps, Coord, MultiPolygon, Polygon};
 
 use super::naive::{Cut, convex_pieces, naive_cut, simple_parts};
-use super::polygon::{closed, is_monotone, min_width_of, open_ring, points_inside, ray_hit, signed_area, split};
+use super::polygon::{closed, is_monotone, min_width_of, open_ring, points_inside, ray_hit, split};
+use crate::geom::signed_area;
 use super::{Cell, CoverageArea, Decomposition, sort_cells, sweep_pieces};
 
 pub struct Eecd;
@@ -83,7 +84,7 @@ fn merge_monotone(mut pieces: Vec<Polygon>) -> Vec<Polygon> {
                 let union = MultiPolygon(vec![pieces[i].clone()]).union(&MultiPolygon(vec![pieces[j].clone()]));
                 let [merged] = union.0.as_slice() else { continue };
                 let ring = open_ring(merged.exterior());
-                let larger = if signed_area(&open_ring(pieces[i].exterior())) >= signed_area(&open_ring(pieces[j].exterior())) { di } else { dj };
+                let larger = if pieces[i].unsigned_area() >= pieces[j].unsigned_area() { di } else { dj };
                 if merged.interiors().is_empty() && is_monotone(&ring, larger) {
                     pieces[i] = Polygon::new(closed(&super::polygon::clean(ring)), vec![]);
                     pieces.remove(j);

@@ -1,5 +1,5 @@
 //! The energy-aware sweep of Di Franco and Buttazzo (seed 000 §3.2.3; the E-BF baseline of seed
-//! 002), in the polygon-difference form of decomposition spec §9.2: lines parallel to the
+//! 002), in the polygon-difference form of docs/methods.md, decomposition §9.2: lines parallel to the
 //! longest edge, starting from it, flown as one main run while each line overlaps the last;
 //! what the run leaves uncovered splits into pockets, each swept the same way, recursively.
 
@@ -95,7 +95,7 @@ mod tests {
 
     #[test]
     fn a_u_is_one_main_run_and_one_pocket() {
-        // decomposition spec §9.2's example
+        // docs/methods.md, decomposition §9.2's example
         let u = MultiPolygon(vec![polygon![
             (x: 0., y: 0.), (x: 300., y: 0.), (x: 300., y: 200.), (x: 200., y: 200.),
             (x: 200., y: 80.), (x: 100., y: 80.), (x: 100., y: 200.), (x: 0., y: 200.)

@@ -1,5 +1,5 @@
 //! Decompose stage: split the area to cover into cells that can each be flown back and forth,
-//! every cell with its own sweep direction and lines (decomposition spec §6–§9).
+//! every cell with its own sweep direction and lines (docs/methods.md, decomposition §6–§9).
 
 pub mod boustrophedon;
 pub mod eecd;
@@ -9,7 +9,7 @@ pub mod polygon;
 
 use geo::{BooleanOps, Coord, LineString, MultiPolygon, Polygon};
 
-use super::path::distance;
+use super::geom::distance;
 use super::sweep::{LineLayout, SweepSegment, from_sweep_frame, sweep};
 
 /// A cell: one segment on each of a run of consecutive lines of direction `angle`.

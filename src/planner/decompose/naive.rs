@@ -1,4 +1,4 @@
-//! Naive convex decomposition (seed 000 §3.2.1, decomposition spec §6): cut at each reflex
+//! Naive convex decomposition (seed 000 §3.2.1, docs/methods.md, decomposition §6): cut at each reflex
 //! vertex along the extension of one of its edges, the shorter cut of the two, until every
 //! piece is convex; each piece is then swept across its width.
 
@@ -60,7 +60,7 @@ pub fn convex_pieces(ring: Vec<Coord>, choose: impl Fn(&[Coord], usize) -> Optio
 }
 
 /// Rings without holes that together make up the region: polygons without holes as they are;
-/// a polygon with holes split first into its boustrophedon cells (spec §6.3), at the
+/// a polygon with holes split first into its boustrophedon cells (docs/methods.md, decomposition §6), at the
 /// direction of its narrowest width.
 pub fn simple_parts(region: &MultiPolygon, layout: LineLayout) -> Vec<Vec<Coord>> {
     let mut out = Vec::new();
@@ -84,7 +84,8 @@ pub fn simple_parts(region: &MultiPolygon, layout: LineLayout) -> Vec<Vec<Coord>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::decompose::polygon::{reflex_vertices, signed_area};
+    use crate::decompose::polygon::reflex_vertices;
+    use crate::geom::signed_area;
 
     #[test]
     fn pieces_are_convex_and_keep_the_area() {

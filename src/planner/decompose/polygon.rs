@@ -1,14 +1,16 @@
-//! Polygon primitives of the convex decompositions (decomposition spec §4, §6.2, §7): width by
+//! Polygon primitives of the convex decompositions (docs/methods.md, decomposition §4, §6.2, §7): width by
 //! the hull, reflex vertices, rays to the boundary, splitting along a chord, monotonicity.
 //!
 //! Rings here are open vertex lists (no closing point), counter-clockwise.
 
 use geo::{ConvexHull, Coord, LineString, MultiPoint, Point};
 
+use crate::geom;
 use crate::sweep::width_across;
 
+/// Cross product of two vectors.
 fn cross(a: Coord, b: Coord) -> f64 {
-    a.x * b.y - a.y * b.x
+    geom::cross(Coord { x: 0.0, y: 0.0 }, a, b)
 }
 
 /// Angle from `a` to `b` counter-clockwise, in [0, 2π).
@@ -152,12 +154,6 @@ pub fn clean(mut ring: Vec<Coord>) -> Vec<Coord> {
     }
 }
 
-/// Signed area (positive when counter-clockwise).
-pub fn signed_area(ring: &[Coord]) -> f64 {
-    let n = ring.len();
-    (0..n).map(|i| cross(ring[i], ring[(i + 1) % n])).sum::<f64>() / 2.0
-}
-
 /// True when every line of direction `angle` meets the ring's inside in one interval: the
 /// offsets across the lines have exactly one minimum and one maximum around the ring.
 pub fn is_monotone(ring: &[Coord], angle: f64) -> bool {
@@ -186,6 +182,7 @@ pub fn closed(ring: &[Coord]) -> LineString {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::signed_area;
 
     fn ring(pts: &[(f64, f64)]) -> Vec<Coord> {
         pts.iter().map(|&(x, y)| Coord { x, y }).collect()
@@ -193,7 +190,7 @@ mod tests {
 
     #[test]
     fn widths_match_the_spec_vectors() {
-        // decomposition spec §4: (points, width, direction in degrees)
+        // docs/methods.md, decomposition §4: (points, width, direction in degrees)
         let cases: [(&[(f64, f64)], f64, f64); 4] = [
             (&[(0., 0.), (4., 0.), (0., 3.)], 2.4, 143.13),
             (&[(0., 0.), (500., 0.), (500., 200.), (0., 200.)], 200.0, 0.0),

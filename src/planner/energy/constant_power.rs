@@ -5,13 +5,13 @@
 //! and descend at `vertical_speed_mps`, at the same power.
 
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
 
 use super::{EnergyModel, PieceEstimate, heading_change};
+use crate::error::{InputError, check_range};
 use crate::path::FlightPath;
-use crate::vehicle::{Vehicle, VehicleKind};
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PowerFigures {
     /// Electrical power drawn in flight.
@@ -20,20 +20,26 @@ pub struct PowerFigures {
     pub vertical_speed_mps: f64,
 }
 
+impl PowerFigures {
+    /// Checks the figures; `at` is the JSON pointer of the parameters.
+    pub fn check(&self, at: &str) -> Result<(), InputError> {
+        check_range(self.cruise_power_w, 1.0, 1e6, &format!("{at}/cruise_power_w"), "W")?;
+        check_range(self.vertical_speed_mps, 0.1, 50.0, &format!("{at}/vertical_speed_mps"), "m/s")
+    }
+}
+
 pub struct ConstantPower<'a> {
-    pub vehicle: &'a Vehicle,
     pub power: &'a PowerFigures,
+    pub speed_mps: f64,
+    /// Seconds a full stop at a corner adds (0: corners are flown through).
+    pub corner_stop_s: f64,
 }
 
 const CORNER_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 impl EnergyModel for ConstantPower<'_> {
     fn pieces(&self, path: &FlightPath) -> Vec<PieceEstimate> {
-        let v = self.vehicle.cruise_speed_mps;
-        let stop_s = match self.vehicle.kind {
-            VehicleKind::Multirotor => v / self.vehicle.acceleration_mps2,
-            VehicleKind::FixedWing => 0.0,
-        };
+        let (v, stop_s) = (self.speed_mps, self.corner_stop_s);
         let n = path.pieces.len();
         let mut stops = vec![0.0f64; n]; // in units of one full stop
         for (i, piece) in path.pieces.iter().enumerate() {
@@ -74,7 +80,8 @@ impl EnergyModel for ConstantPower<'_> {
 mod tests {
     use super::*;
     use crate::path::PieceKind;
-    use crate::vehicle::{EnergyParams, builtin_profiles};
+    use crate::energy::EnergyParams;
+    use crate::vehicle::builtin_profiles;
     use geo::Coord;
 
     #[test]
@@ -89,7 +96,7 @@ mod tests {
         let mut bent = FlightPath::default();
         bent.push(PieceKind::Sweep, vec![c(0.0, 0.0), c(100.0, 0.0)], 5.0);
         bent.push(PieceKind::Turn, vec![c(100.0, 0.0), c(100.0, 100.0)], 0.0);
-        let m = ConstantPower { vehicle: v, power };
+        let m = ConstantPower { power, speed_mps: v.cruise_speed_mps, corner_stop_s: v.cruise_speed_mps / v.acceleration_mps2 };
         let t_straight = m.estimate(&straight, None).duration_s();
         let t_bent = m.estimate(&bent, None).duration_s();
         let stop = v.cruise_speed_mps / v.acceleration_mps2;

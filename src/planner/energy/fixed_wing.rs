@@ -1,4 +1,4 @@
-//! Fixed-wing energy from the physics of steady flight (energy spec §8): parasitic and induced
+//! Fixed-wing energy from the physics of steady flight (docs/methods.md, energy §8): parasitic and induced
 //! power over an electrical efficiency, the induced part growing with the load factor of a
 //! banked turn, climbs paying for the height gained.
 //!
@@ -6,14 +6,16 @@
 //! aircraft like seed 004's. Replace it with the airframe's own figures.
 
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
 
 use super::{EnergyModel, PieceEstimate, heading_change};
-use crate::path::{FlightPath, distance};
+use crate::error::{InputError, check_range};
+use crate::geom::distance;
+use crate::path::FlightPath;
 
 const G: f64 = 9.81;
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Airframe {
     pub mass_kg: f64,
@@ -47,6 +49,24 @@ impl Default for Airframe {
 }
 
 impl Airframe {
+    /// Checks every figure; `at` is the JSON pointer of the airframe.
+    pub fn check(&self, at: &str) -> Result<(), InputError> {
+        for (field, v, lo, hi) in [
+            ("mass_kg", self.mass_kg, 0.05, 1e4),
+            ("wing_span_m", self.wing_span_m, 0.1, 100.0),
+            ("wing_area_m2", self.wing_area_m2, 0.01, 1e3),
+            ("drag_coefficient_zero_lift", self.drag_coefficient_zero_lift, 1e-4, 1.0),
+            ("oswald_efficiency", self.oswald_efficiency, 0.1, 1.0),
+            ("propulsive_efficiency", self.propulsive_efficiency, 0.05, 1.0),
+            ("avionics_power_w", self.avionics_power_w, 0.0, 1e4),
+            ("air_density_kg_m3", self.air_density_kg_m3, 0.1, 2.0),
+            ("climb_rate_mps", self.climb_rate_mps, 0.1, 50.0),
+        ] {
+            check_range(v, lo, hi, &format!("{at}/{field}"), "")?;
+        }
+        Ok(())
+    }
+
     /// Electrical power at airspeed `v`, load factor `n` and vertical speed `v_z`.
     pub fn power_w(&self, v: f64, n: f64, v_z: f64) -> f64 {
         let (rho, s) = (self.air_density_kg_m3, self.wing_area_m2);

@@ -1,4 +1,4 @@
-//! The improved energy model (IEM) of seed 002 for multirotors (energy spec §1–§4): every
+//! The improved energy model (IEM) of seed 002 for multirotors (docs/methods.md, energy §1–§4): every
 //! straight leg is flown at its own energy-optimal speed, accelerating from the speed kept
 //! through the previous corner and slowing to the speed the next corner allows.
 //!
@@ -6,13 +6,14 @@
 //! airframe needs its own identification.
 
 use serde::{Deserialize, Serialize};
-use utoipa::ToSchema;
 
 use super::{EnergyModel, Leg, PieceEstimate, legs, spread_over_pieces};
+use crate::error::{InputError, check_range};
 use crate::path::FlightPath;
 
 /// Measured polynomials and rates of a multirotor (polynomials highest power first).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct IemCoefficients {
     /// Power in steady level flight against speed, W(m/s).
@@ -46,7 +47,7 @@ fn yes() -> bool {
 }
 
 impl IemCoefficients {
-    /// The 3DR IRIS of seed 002 (energy spec §1).
+    /// The 3DR IRIS of seed 002 (docs/methods.md, energy §1).
     pub fn iris() -> Self {
         IemCoefficients {
             level_power: vec![3.683806457168736e-03, 2.254081880192812e-02, -6.962411567465551e-01, 3.2981881218628495e-01, 2.212786072982807e+02],
@@ -110,6 +111,39 @@ impl IemCoefficients {
     pub fn hover_power_w(&self) -> f64 {
         polyval(&self.level_power, 0.0)
     }
+
+    /// Checks the coefficients for legs flown up to `cruise_speed_mps`; `at` is the JSON
+    /// pointer of the coefficients.
+    pub fn check(&self, cruise_speed_mps: f64, at: &str) -> Result<(), InputError> {
+        let p = |field: &str| format!("{at}/{field}");
+        for (field, poly) in [("level_power", &self.level_power), ("accel_power", &self.accel_power), ("decel_power", &self.decel_power)] {
+            if poly.is_empty() || poly.len() > 12 || poly.iter().any(|k| !k.is_finite()) {
+                return Err(InputError::new("invalid_energy_model", p(field), "a polynomial needs 1 to 12 finite coefficients, highest power first"));
+            }
+        }
+        for (field, v, hi) in [
+            ("decel_reference_mps", self.decel_reference_mps, 100.0),
+            ("climb_rate_mps", self.climb_rate_mps, 50.0),
+            ("climb_power_w", self.climb_power_w, 1e6),
+            ("descent_rate_mps", self.descent_rate_mps, 50.0),
+            ("descent_power_w", self.descent_power_w, 1e6),
+            ("yaw_rate_deg_s", self.yaw_rate_deg_s, 3600.0),
+            ("yaw_power_w", self.yaw_power_w, 1e6),
+        ] {
+            check_range(v, 1e-3, hi, &p(field), "")?;
+        }
+        check_range(self.waypoint_hold_s, 0.0, 600.0, &p("waypoint_hold_s"), "s")?;
+        let knots_ok = !self.exit_speed_fraction.is_empty()
+            && self.exit_speed_fraction.iter().all(|[a, f]| (0.0..=180.0).contains(a) && (0.0..=1.0).contains(f))
+            && self.exit_speed_fraction.windows(2).all(|w| w[0][0] < w[1][0]);
+        if !knots_ok {
+            return Err(InputError::new("invalid_energy_model", p("exit_speed_fraction"), "knots [angle 0..180°, fraction 0..1] with increasing angles"));
+        }
+        if (0..=12).any(|k| polyval(&self.level_power, k as f64 * cruise_speed_mps / 12.0) <= 0.0) {
+            return Err(InputError::new("invalid_energy_model", p("level_power"), "level power must be positive from 0 to the cruise speed"));
+        }
+        Ok(())
+    }
 }
 
 pub fn polyval(c: &[f64], x: f64) -> f64 {
@@ -155,7 +189,7 @@ impl IemCoefficients {
         Some((energy, (v - v_in).abs() + d2 / v + v * (1.0 - p)))
     }
 
-    /// The leg at its energy-optimal cruise speed, at most `cap` (energy spec §3).
+    /// The leg at its energy-optimal cruise speed, at most `cap` (docs/methods.md, energy §3).
     pub fn leg(&self, d: f64, v_in: f64, p: f64, cap: f64) -> LegFlight {
         if d < (1.0 - p * p) * v_in * v_in / 2.0 {
             let v_out = (v_in * v_in - 2.0 * d).max(0.0).sqrt();
@@ -258,7 +292,7 @@ impl EnergyModel for Iem<'_> {
 mod tests {
     use super::*;
 
-    /// Energy spec §3 test vectors: (v_in, d, heading change or None = stop, E, t, v*, v_out).
+    /// Reference legs of the improved model (docs/methods.md, energy §3): (v_in, d, heading change or None = stop, E, t, v*, v_out).
     const VECTORS: [(f64, f64, Option<f64>, f64, f64, f64, f64); 7] = [
         (0.0, 100.0, None, 4371.6, 20.62, 7.800, 0.0),
         (0.0, 100.0, Some(90.0), 3707.3, 17.71, 7.800, 3.865),
@@ -270,7 +304,7 @@ mod tests {
     ];
 
     #[test]
-    fn legs_match_the_spec_vectors() {
+    fn legs_match_the_reference_vectors() {
         let c = IemCoefficients::iris();
         for (v_in, d, turn, e, t, v, v_out) in VECTORS {
             let p = turn.map_or(0.0, |a| c.exit_fraction(a));

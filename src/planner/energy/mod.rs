@@ -1,18 +1,79 @@
 //! Energy/time stage: speed, duration and energy of every piece of a flight path, one model
 //! per file: [`iem`] (measured multirotor), [`fixed_wing`] (physics of steady flight),
-//! [`constant_power`] (a single power figure). [`model_for`] picks the vehicle's.
+//! [`constant_power`] (a single power figure). [`EnergyParams::model`] builds a profile's.
+//!
+//! The models take plain numbers (their own figures and the speed, turning radius and corner
+//! stop of the flight) and check their own figures, so that they know nothing of vehicles.
 
 pub mod constant_power;
 pub mod fixed_wing;
 pub mod iem;
 
-use serde::Serialize;
-use utoipa::ToSchema;
+use serde::{Deserialize, Serialize};
 
+use super::error::InputError;
 use super::path::FlightPath;
-use super::vehicle::{EnergyParams, Vehicle};
+use constant_power::PowerFigures;
+use fixed_wing::Airframe;
+use iem::IemCoefficients;
 
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, ToSchema)]
+/// The energy model of a vehicle profile and its parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(tag = "model", content = "parameters", rename_all = "snake_case")]
+pub enum EnergyParams {
+    /// Seed 002's improved model: measured polynomials, speed kept through corners.
+    MultirotorIem(IemCoefficients),
+    /// Steady-flight physics with banked turns and climbs.
+    FixedWing(Airframe),
+    /// One power figure for the whole flight.
+    ConstantPower(PowerFigures),
+}
+
+/// How the vehicle flies, as far as the models need to know.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Motion {
+    /// The fastest any leg is flown.
+    pub cruise_speed_mps: f64,
+    /// The tightest turn (fixed wing); sharper joints are flown as arcs of this radius.
+    pub turn_radius_m: f64,
+    /// Seconds a full stop at a corner adds to flying through it (0 when the vehicle does not
+    /// stop); used by the constant-power model.
+    pub corner_stop_s: f64,
+}
+
+impl EnergyParams {
+    /// The model with these parameters.
+    pub fn model(&self, motion: Motion) -> Box<dyn EnergyModel + '_> {
+        match self {
+            EnergyParams::MultirotorIem(c) => Box::new(iem::Iem { coefficients: c, max_speed_mps: motion.cruise_speed_mps }),
+            EnergyParams::FixedWing(a) => Box::new(fixed_wing::FixedWing { airframe: a, speed_mps: motion.cruise_speed_mps, turn_radius_m: motion.turn_radius_m }),
+            EnergyParams::ConstantPower(p) => Box::new(constant_power::ConstantPower { power: p, speed_mps: motion.cruise_speed_mps, corner_stop_s: motion.corner_stop_s }),
+        }
+    }
+
+    /// Checks every figure; `at` is the JSON pointer of the parameters in the request.
+    pub fn check(&self, cruise_speed_mps: f64, at: &str) -> Result<(), InputError> {
+        match self {
+            EnergyParams::MultirotorIem(c) => c.check(cruise_speed_mps, at),
+            EnergyParams::FixedWing(a) => a.check(at),
+            EnergyParams::ConstantPower(p) => p.check(at),
+        }
+    }
+
+    /// `Some(true)` for a fixed-wing model, `Some(false)` for a multirotor one, `None` for a
+    /// model that fits either.
+    pub fn for_fixed_wing(&self) -> Option<bool> {
+        match self {
+            EnergyParams::MultirotorIem(_) => Some(false),
+            EnergyParams::FixedWing(_) => Some(true),
+            EnergyParams::ConstantPower(_) => None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct PieceEstimate {
     /// Cruise speed (the fastest leg's, where a piece has several).
     pub speed_mps: f64,
@@ -56,15 +117,6 @@ pub trait EnergyModel {
     }
 }
 
-/// The energy model of `vehicle`.
-pub fn model_for(vehicle: &Vehicle) -> Box<dyn EnergyModel + '_> {
-    match &vehicle.energy {
-        EnergyParams::MultirotorIem(c) => Box::new(iem::Iem { coefficients: c, max_speed_mps: vehicle.cruise_speed_mps }),
-        EnergyParams::FixedWing(a) => Box::new(fixed_wing::FixedWing { airframe: a, speed_mps: vehicle.cruise_speed_mps, turn_radius_m: vehicle.turn_radius_m }),
-        EnergyParams::ConstantPower(p) => Box::new(constant_power::ConstantPower { vehicle, power: p }),
-    }
-}
-
 /// Heading change in radians (0..π) at the joint of `a→b` and `b→c`.
 pub fn heading_change(a: geo::Coord, b: geo::Coord, c: geo::Coord) -> f64 {
     let (u, v) = (b - a, c - b);
@@ -86,7 +138,7 @@ pub struct Leg {
     pub spans: Vec<(usize, f64)>,
 }
 
-/// Joints straighter than this are flown through: the legs merge (energy spec §4).
+/// Joints straighter than this are flown through: the legs merge (docs/methods.md, energy §4).
 const COLLINEAR_DEG: f64 = 0.5;
 
 /// The path as legs between its corners.
@@ -187,7 +239,7 @@ mod tests {
             p
         };
         for v in builtin_profiles() {
-            let m = model_for(&v);
+            let m = v.energy_model();
             let e = |p: &FlightPath| m.estimate(p, Some(30.0)).energy_j();
             assert!(e(&square_path(200.0)) > e(&square_path(100.0)), "{}", v.profile);
             if matches!(v.energy, EnergyParams::MultirotorIem(_)) {

@@ -3,7 +3,7 @@
 
 use super::{PlannedPath, Planner, Problem, Progress, connect, no_sweep_lines};
 use crate::decompose::{Cell, CoverageArea, Decomposition, boustrophedon::Boustrophedon, eecd::Eecd, energy_aware::EnergyAware, naive::Naive};
-use crate::error::PlanError;
+use crate::error::{InputError, PlanError};
 use crate::path::{FlightPath, PieceKind};
 use crate::route::line_tour::Line;
 use crate::route::{CellOrder, CellVisit, RouteContext, cell_tour::CellTour, nearest_cell::NearestCell};
@@ -15,6 +15,9 @@ pub struct CellPlanner {
     pub direction_rule: &'static str,
     pub decomposition: &'static dyn Decomposition,
     pub order: &'static dyn CellOrder,
+    /// Why a fixed-wing aircraft is refused, for a planner whose method is a multirotor's
+    /// (a fixed wing's lines are ordered on Dubins costs, which would make it another's twin).
+    pub multirotor_only: Option<&'static str>,
 }
 
 pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
@@ -25,6 +28,7 @@ pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
     direction_rule: "the direction with the fewest lines for the decomposition, then each cell's own fewest-lines direction where shorter",
     decomposition: &Boustrophedon,
     order: &CellTour,
+    multirotor_only: None,
 };
 
 pub static NAIVE: CellPlanner = CellPlanner {
@@ -34,6 +38,7 @@ pub static NAIVE: CellPlanner = CellPlanner {
     direction_rule: "each cell across its narrowest width",
     decomposition: &Naive,
     order: &NearestCell,
+    multirotor_only: None,
 };
 
 pub static EECD: CellPlanner = CellPlanner {
@@ -44,6 +49,7 @@ pub static EECD: CellPlanner = CellPlanner {
     direction_rule: "each cell across its narrowest width",
     decomposition: &Eecd,
     order: &CellTour,
+    multirotor_only: None,
 };
 
 pub static ENERGY_AWARE: CellPlanner = CellPlanner {
@@ -53,14 +59,20 @@ pub static ENERGY_AWARE: CellPlanner = CellPlanner {
     direction_rule: "parallel to the longest edge (of the field, then of each pocket)",
     decomposition: &EnergyAware,
     order: &CellTour,
+    multirotor_only: None,
 };
 
 pub static E_BF: CellPlanner = CellPlanner {
     id: "e_bf",
-    description: "Energy-aware back-and-forth as seed 002 compares it with E-Spiral: the energy_aware geometry         (lines parallel to the longest edge, pockets the same way) flown in a fixed nearest-first order, each         leg at its energy-optimal speed.",
+    description: "Energy-aware back-and-forth as seed 002 compares it with E-Spiral: the energy_aware geometry \
+        (lines parallel to the longest edge, pockets the same way) flown in a fixed nearest-first order, each \
+        leg at its energy-optimal speed. Multirotor only.",
     direction_rule: "parallel to the longest edge (of the field, then of each pocket)",
     decomposition: &EnergyAware,
     order: &NearestCell,
+    multirotor_only: Some(
+        "e_bf is seed 002's multirotor method (a fixed nearest-first order); for a fixed-wing aircraft use energy_aware: the same lines, ordered on Dubins turns",
+    ),
 };
 
 impl Planner for CellPlanner {
@@ -77,6 +89,9 @@ impl Planner for CellPlanner {
     }
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
+        if let (Some(why), TurnModel::Dubins(_)) = (self.multirotor_only, problem.connector.turn) {
+            return Err(InputError::new("planner_not_applicable", "/vehicle/kind", why).into());
+        }
         let area = CoverageArea { region: problem.region, keep_out: problem.keep_out, layout: problem.layout, angle: problem.sweep_angle };
         let cells = self.decomposition.cells(&area);
         if cells.is_empty() {
@@ -122,7 +137,7 @@ pub fn fly(cells: &[Cell], tour: &[CellVisit], problem: &Problem<'_>) -> Result<
     Ok(path)
 }
 
-/// Fixed wing: the cells' lines ordered one by one on Dubins costs (routing spec §1, line
+/// Fixed wing: the cells' lines ordered one by one on Dubins costs (docs/methods.md, routing §1, line
 /// level), each cell a region the route may leave and re-enter.
 fn fly_line_level(cells: &[Cell], problem: &Problem<'_>) -> Result<FlightPath, PlanError> {
     let lines: Vec<Line> = problem.flyable(cells.iter().enumerate().flat_map(|(region, cell)| {

@@ -1,4 +1,4 @@
-//! E-Spiral (seed 002 §4.1, multirotor planners spec §1): rings that follow the field's
+//! E-Spiral (seed 002 §4.1, docs/methods.md, multirotor planners §1): rings that follow the field's
 //! boundary inwards, one swath apart, so that corners are wide and a multirotor keeps much of
 //! its speed through them. Each ring is the field inset by mitred offsets (the "inner
 //! side-lines" of the thesis); a ring that splits becomes one spiral per part; what the last
@@ -13,7 +13,8 @@ use geo::{Area, Buffer, Coord, MultiPolygon, Polygon};
 
 use super::{PlannedPath, Planner, Problem, Progress, connect, no_sweep_lines};
 use crate::error::{InputError, PlanError};
-use crate::path::{FlightPath, PieceKind, distance};
+use crate::geom::distance;
+use crate::path::{FlightPath, PieceKind};
 use crate::vehicle::VehicleKind;
 
 pub struct ESpiral;

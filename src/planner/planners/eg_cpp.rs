@@ -1,9 +1,9 @@
-//! EG-CPP (seed 002 §4.2, multirotor planners spec §3): a grid of photo positions over the
+//! EG-CPP (seed 002 §4.2, docs/methods.md, multirotor planners §3): a grid of photo positions over the
 //! area, wavefront labels from a start cell, and a depth-first search that always moves to
 //! the unvisited neighbours with the highest label, minimising an energy cost with branch
 //! and bound. Every valid cell is tried as the start, in parallel.
 //!
-//! The search cost is the spec's additive one (energy spec §5): each straight run costs the
+//! The search cost is the additive one (docs/methods.md, energy §5): each straight run costs the
 //! rest-to-rest energy of its length (the measured OEM table of seed 002), each heading change
 //! 6.117 J per degree. The bound prunes with `continue`, not with the published code's
 //! `return`, which dropped the remaining siblings too. The search is exponential: it is
@@ -16,17 +16,18 @@ use rayon::prelude::*;
 
 use super::{PlannedPath, Planner, Problem, Progress, connect};
 use crate::error::{InputError, PlanError};
-use crate::path::{FlightPath, PieceKind, distance};
+use crate::geom::distance;
+use crate::path::{FlightPath, PieceKind};
 use crate::vehicle::VehicleKind;
 
 pub struct EgCpp;
 
-/// Largest grid searched exhaustively (the spec's `max_grid_cells`).
+/// Largest grid searched exhaustively (`max_grid_cells`).
 pub const MAX_GRID_CELLS: usize = 60;
 /// Search nodes one start cell may expand before the instance is refused.
 pub const MAX_EXPANSIONS: u64 = 3_000_000;
 
-/// Rest-to-rest energy of a straight run (seed 002's OEM table, energy spec §7): (m, J).
+/// Rest-to-rest energy of a straight run (seed 002's OEM table, docs/methods.md, energy §7): (m, J).
 const REST_TO_REST: [(f64, f64); 22] = [
     (0.0, 0.0),
     (1.0, 539.4),
@@ -96,7 +97,7 @@ impl Grid {
             (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) })
         });
         let footprint = problem.layout.footprint.unwrap_or(problem.layout.spacing);
-        // camera spec §4a: outer footprints flush with the box, spacing re-fitted
+        // docs/methods.md, camera §4a: outer footprints flush with the box, spacing re-fitted
         let axis = |width: f64| -> (usize, f64) {
             let n = ((width - footprint).max(0.0) / problem.layout.spacing).ceil() as usize + 1;
             let spacing = if n > 1 { (width - footprint) / (n - 1) as f64 } else { 0.0 };
@@ -214,7 +215,7 @@ impl Search<'_> {
             .iter()
             .filter(|&&(j, _, _)| free(j) && self.label[j] == top)
             .map(|&(j, m, len)| {
-                // spec Eqs. 14–15: a straight continuation re-prices the whole run
+                // seed 002 Eqs. 14–15: a straight continuation re-prices the whole run
                 let (delta, run) = match last_move {
                     Some(prev) if prev == m => (run_energy(run_m + len) - run_energy(run_m), run_m + len),
                     Some(prev) => (turn_energy(prev, m) + run_energy(len), len),

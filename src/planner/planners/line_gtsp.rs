@@ -1,4 +1,4 @@
-//! `line_gtsp` (seed 004, routing spec §6): every sweep line of every field is a cluster of its
+//! `line_gtsp` (seed 004, docs/methods.md, routing §6): every sweep line of every field is a cluster of its
 //! two directions, connections are Dubins paths for a fixed-wing aircraft (straight transits
 //! for a multirotor), and one generalised TSP over all lines gives the order, from the start
 //! pose to the end pose. With `allow_reentry` the route may leave a field and come back.
@@ -228,7 +228,7 @@ impl Search<'_> {
     }
 
     /// The best heading per group: every combination on the 2° grid when they are few;
-    /// otherwise a coarser grid first (spec §6.4), the 2° neighbours of its best, then one
+    /// otherwise a coarser grid first (docs/methods.md, routing §6), the 2° neighbours of its best, then one
     /// group at a time over its whole 2° list until the best combination stands. Last, 0.5°
     /// around the best three.
     fn best_choice(&self, progress: &dyn Progress) -> Result<(Vec<f64>, Vec<usize>), PlanError> {

@@ -9,9 +9,9 @@ pub mod line_gtsp;
 
 use geo::{Coord, MultiPolygon};
 use serde::Serialize;
-use utoipa::ToSchema;
 
 use super::error::PlanError;
+use super::metrics::Alternative;
 use super::path::{FlightPath, PieceKind};
 use super::route::connect::Connector;
 use super::route::line_tour::{Line, LineProblem, Terminal};
@@ -73,24 +73,6 @@ impl PlannedPath {
     }
 }
 
-/// How another planner did on the same problem.
-#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize, ToSchema)]
-pub struct Alternative {
-    pub planner: String,
-    /// Figures of its plan (without take-off and landing, the same for every planner).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub length_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub duration_s: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub energy_j: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub coverage_ratio: Option<f64>,
-    /// Why it made no plan.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub error: Option<String>,
-}
-
 impl Problem<'_> {
     /// The stretch of each line the vehicle can fly (see [`Connector::turnable`]); lines with
     /// nothing left are dropped, and the coverage metric shows what that loses.
@@ -135,10 +117,12 @@ pub trait Planner: Send + Sync {
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError>;
 }
 
+/// Every planner the service offers, in the order listed to users.
+static REGISTRY: &[&dyn Planner] = &[&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &E_BF, &ESpiral, &EgCpp, &LineGtsp, &Auto];
+
 /// Every planner the service offers.
 pub fn registry() -> &'static [&'static dyn Planner] {
-    static REGISTRY: [&dyn Planner; 9] = [&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &E_BF, &ESpiral, &EgCpp, &LineGtsp, &Auto];
-    &REGISTRY
+    REGISTRY
 }
 
 pub fn find(id: &str) -> Option<&'static dyn Planner> {
@@ -146,7 +130,8 @@ pub fn find(id: &str) -> Option<&'static dyn Planner> {
 }
 
 /// A parameter that planners accept, for `GET /api/v1/planners`.
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct ParameterInfo {
     pub name: &'static str,
     #[serde(rename = "type")]

@@ -1,4 +1,4 @@
-//! Cell order as a generalised TSP (routing spec §1): each cell is a cluster of its four
+//! Cell order as a generalised TSP (docs/methods.md, routing §1): each cell is a cluster of its four
 //! entry variants; a connection costs the length of the shortest transit around the no-fly
 //! zones from one variant's exit to the next one's entry; a variant costs its own lines and
 //! turns. Solved by [`super::gtsp`].
@@ -54,7 +54,7 @@ impl CellOrder for CellTour {
 mod tests {
     use super::*;
     use crate::decompose::boustrophedon::cells_of;
-    use crate::path::distance;
+    use crate::geom::distance;
     use crate::route::nearest_cell::NearestCell;
     use crate::route::visibility::TransitPlanner;
     use crate::sweep::{LineLayout, sweep};

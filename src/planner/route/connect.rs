@@ -1,4 +1,4 @@
-//! Connections between poses that never enter a no-fly zone, turn arcs included (Dubins spec
+//! Connections between poses that never enter a no-fly zone, turn arcs included (docs/methods.md, dubins
 //! §9): straight transits on the visibility graph for a multirotor; for a fixed-wing aircraft
 //! the shortest clear Dubins word, or else Dubins hops along a visibility path laid far
 //! enough from the zones to turn in.
@@ -10,7 +10,7 @@ use std::sync::{Arc, RwLock};
 
 use geo::{Coord, Rect};
 
-use super::visibility::{TransitPlanner, bounding};
+use super::visibility::TransitPlanner;
 use crate::turn::dubins::{DubinsPath, Pose, all_words, shortest};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
 
@@ -71,14 +71,14 @@ impl Connector<'_> {
     pub fn length(&self, from: Pose, to: Pose) -> f64 {
         match self.turn {
             TurnModel::Straight => match self.transit.path(from.coord(), to.coord()) {
-                Some(p) => crate::path::polyline_length(&p),
+                Some(p) => crate::geom::polyline_length(&p),
                 None => f64::INFINITY,
             },
             TurnModel::Dubins(r) => {
                 if !self.transit.any_wall_in(&reach(from, to, r)) {
                     return TurnModel::Dubins(r).length(from, to);
                 }
-                self.path(from, to).map_or(f64::INFINITY, |p| crate::path::polyline_length(&p))
+                self.path(from, to).map_or(f64::INFINITY, |p| crate::geom::polyline_length(&p))
             }
         }
     }
@@ -90,7 +90,7 @@ impl Connector<'_> {
     /// turns anywhere: the line is kept whole.
     pub fn turnable(&self, a: Coord, b: Coord) -> Option<(Coord, Coord)> {
         let TurnModel::Dubins(r) = self.turn else { return Some((a, b)) };
-        let length = crate::path::distance(a, b);
+        let length = crate::geom::distance(a, b);
         if length == 0.0 {
             return None;
         }
@@ -223,7 +223,7 @@ impl Connector<'_> {
 /// A box that holds every Dubins word between the two poses: each part stays within 4r of
 /// the start or the end, or on the way between them.
 fn reach(from: Pose, to: Pose, r: f64) -> Rect {
-    let bb = bounding(&[from.coord(), to.coord()]).expect("two points");
+    let bb = Rect::new(from.coord(), to.coord());
     let m = Coord { x: 4.0 * r, y: 4.0 * r };
     Rect::new(bb.min() - m, bb.max() + m)
 }
@@ -255,7 +255,7 @@ mod tests {
         assert!(transit.is_polyline_clear(&pts));
         assert_eq!(pts[0], a.coord());
         assert_eq!(*pts.last().unwrap(), b.coord());
-        assert!((c.length(a, b) - crate::path::polyline_length(&pts)).abs() < 1e-9);
+        assert!((c.length(a, b) - crate::geom::polyline_length(&pts)).abs() < 1e-9);
         assert!(c.length(a, b) >= free - 1.0);
         // a zone on the far side of the bulb: another word or a detour is flown
         let (a2, b2) = (Pose::new(-200.0, 0.0, 0.0), Pose::new(-200.0, 75.0, std::f64::consts::PI));

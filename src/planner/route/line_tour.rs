@@ -1,4 +1,4 @@
-//! Line-level routing (routing spec §1, §6; seed 004): every sweep line is a cluster of its two
+//! Line-level routing (docs/methods.md, routing §1, §6; seed 004): every sweep line is a cluster of its two
 //! flight directions, connections cost the length of the flyable path from the end of one line
 //! to the start of the next (Dubins for a fixed-wing aircraft), and the order is a generalised
 //! TSP solved by [`super::gtsp`]. Lines carry the region (field or cell) they belong to; without
@@ -22,7 +22,7 @@ pub struct Line {
 
 impl Line {
     pub fn length(&self) -> f64 {
-        crate::path::distance(self.a, self.b)
+        crate::geom::distance(self.a, self.b)
     }
 }
 
@@ -150,7 +150,7 @@ impl LineProblem<'_> {
             .into_par_iter()
             .map(|u| {
                 let from = exit(self.lines, u).coord();
-                let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| (crate::path::distance(from, entries[v]), v)).collect();
+                let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| (crate::geom::distance(from, entries[v]), v)).collect();
                 if near.len() > CANDIDATES {
                     near.select_nth_unstable_by(CANDIDATES, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
                     near.truncate(CANDIDATES);
@@ -272,7 +272,7 @@ mod tests {
         assert!((dense.total(&solve(&dense)) - cost).abs() < 1e-9);
         // the standard route of seeds 003 and 004, the ATSP search on the Noon–Bean
         // transformation, finds the same turns
-        let standard = crate::route::noon_bean::solve(&inst, 100).expect("clusters kept together");
+        let standard = crate::routing_study::noon_bean::solve(&inst, 100).expect("clusters kept together");
         assert!((problem.cost_of(&inst, &standard) - cost).abs() < 1e-6, "{}", problem.cost_of(&inst, &standard));
         // boustrophedon order for comparison: 5 bulbs of 527.5 m
         let bous: Vec<usize> = (0..6).map(|k| 2 * k + k % 2).collect();

@@ -1,16 +1,14 @@
 //! Route stage: the order in which cells are flown, and transits between them.
 //!
 //! [`CellOrder`] implementations: [`nearest_cell::NearestCell`] (greedy, seed 000) and
-//! [`cell_tour::CellTour`] (generalised TSP over the cells' entry variants, routing spec §1–§4,
+//! [`cell_tour::CellTour`] (generalised TSP over the cells' entry variants, docs/methods.md, routing §1–§4,
 //! solved by [`gtsp`]).
 
-pub mod atsp;
 pub mod cell_tour;
 pub mod connect;
 pub mod gtsp;
 pub mod line_tour;
 pub mod nearest_cell;
-pub mod noon_bean;
 pub mod visibility;
 
 use geo::Coord;

@@ -6,7 +6,7 @@ use geo::Coord;
 
 use super::{CellOrder, CellVisit, RouteContext};
 use crate::decompose::Cell;
-use crate::path::distance;
+use crate::geom::distance;
 
 pub struct NearestCell;
 

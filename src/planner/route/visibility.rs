@@ -1,4 +1,4 @@
-//! Shortest transits around no-fly zones on a visibility graph (decomposition spec §10.5).
+//! Shortest transits around no-fly zones on a visibility graph (docs/methods.md, decomposition §10.5).
 //!
 //! Nodes are the convex corners of the no-fly zones grown by the margin; a straight leg is
 //! allowed when it does not enter the zones grown by half the margin, so a path that runs
@@ -7,9 +7,9 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use geo::{Coord, LineString, MultiPolygon, Polygon, Rect};
+use geo::{BoundingRect, Coord, Intersects, LineString, MultiPolygon, Polygon, Rect};
 
-use crate::path::distance;
+use crate::geom::{bounding, cross, distance, point_in_ring, signed_area};
 
 pub struct TransitPlanner {
     /// Rings a leg may not enter, with their bounding boxes.
@@ -23,7 +23,7 @@ impl TransitPlanner {
     /// `corners`: the zones grown by the margin (their convex vertices become nodes);
     /// `walls`: the zones a leg may not enter.
     pub fn new(corners: &MultiPolygon, walls: &MultiPolygon) -> Self {
-        let walls: Vec<(Rect, Vec<Coord>)> = walls.iter().flat_map(rings).map(|r| (bbox(&r), r)).collect();
+        let walls: Vec<(Rect, Vec<Coord>)> = walls.iter().flat_map(rings).collect();
         let mut nodes = Vec::new();
         for poly in corners {
             for ring in std::iter::once(poly.exterior()).chain(poly.interiors()) {
@@ -139,7 +139,7 @@ impl TransitPlanner {
     /// True when the segment `a`–`b` does not enter the interior of any wall.
     pub fn is_clear(&self, a: Coord, b: Coord) -> bool {
         let seg = Rect::new(a, b);
-        self.walls.iter().all(|(bb, ring)| !rects_overlap(bb, &seg) || !segment_enters(a, b, ring))
+        self.walls.iter().all(|(bb, ring)| !bb.intersects(&seg) || !segment_enters(a, b, ring))
     }
 
     /// The corners a transit may bend around.
@@ -163,7 +163,7 @@ impl TransitPlanner {
 
     /// True when some wall's bounding box overlaps `rect`.
     pub fn any_wall_in(&self, rect: &Rect) -> bool {
-        self.walls.iter().any(|(bb, _)| rects_overlap(bb, rect))
+        self.walls.iter().any(|(bb, _)| bb.intersects(rect))
     }
 
     fn inside_wall(&self, p: Coord) -> bool {
@@ -188,28 +188,9 @@ impl PartialOrd for State {
     }
 }
 
-fn rings(p: &Polygon) -> Vec<Vec<Coord>> {
-    std::iter::once(p.exterior()).chain(p.interiors()).map(|r| r.0.clone()).collect()
-}
-
-fn bbox(r: &[Coord]) -> Rect {
-    bounding(r).expect("a ring has points")
-}
-
-/// Bounding box of some points.
-pub fn bounding(points: &[Coord]) -> Option<Rect> {
-    let first = *points.first()?;
-    let (mut lo, mut hi) = (first, first);
-    for c in points {
-        lo = Coord { x: lo.x.min(c.x), y: lo.y.min(c.y) };
-        hi = Coord { x: hi.x.max(c.x), y: hi.y.max(c.y) };
-    }
-    Some(Rect::new(lo, hi))
-}
-
-/// True when the two boxes share a point.
-pub fn rects_overlap(a: &Rect, b: &Rect) -> bool {
-    a.min().x <= b.max().x && b.min().x <= a.max().x && a.min().y <= b.max().y && b.min().y <= a.max().y
+/// Every ring of the polygon with its bounding box.
+fn rings(p: &Polygon) -> Vec<(Rect, Vec<Coord>)> {
+    std::iter::once(p.exterior()).chain(p.interiors()).filter_map(|r| Some((r.bounding_rect()?, r.0.clone()))).collect()
 }
 
 /// Vertices where the polygon's interior angle is below 180° (seen from the free side, these
@@ -226,15 +207,6 @@ fn convex_corners(ring: &LineString) -> Vec<Coord> {
         })
         .map(|i| pts[i])
         .collect()
-}
-
-fn signed_area(pts: &[Coord]) -> f64 {
-    let n = pts.len();
-    (0..n).map(|i| pts[i].x * pts[(i + 1) % n].y - pts[(i + 1) % n].x * pts[i].y).sum::<f64>() / 2.0
-}
-
-fn cross(o: Coord, a: Coord, b: Coord) -> f64 {
-    (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)
 }
 
 /// Does the open segment a–b pass through the interior of the closed ring?
@@ -282,18 +254,6 @@ fn on_ring(p: Coord, ring: &[Coord]) -> bool {
         let q = Coord { x: a.x + ab.x * t, y: a.y + ab.y * t };
         (p.x - q.x).hypot(p.y - q.y) < 1e-7
     })
-}
-
-/// Crossing-number test; points on the boundary may go either way.
-pub fn point_in_ring(p: Coord, ring: &[Coord]) -> bool {
-    let mut inside = false;
-    for w in ring.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-            inside = !inside;
-        }
-    }
-    inside
 }
 
 #[cfg(test)]

@@ -1,14 +1,14 @@
-//! Climbing over obstacles (Dubins spec §7.3, seed 003): obstacles are prisms (footprint and
+//! Climbing over obstacles (docs/methods.md, dubins §7.3, seed 003): obstacles are prisms (footprint and
 //! top height) that may be overflown but not flown through. The horizontal path is kept; its
 //! altitude profile is the lowest one that clears every obstacle by the clearance and climbs
 //! and descends within the angle limit. Where the profile leaves the survey altitude on a
 //! sweep line, that part of the line images nothing: the coverage lost is counted, and
 //! routing adds it, times a penalty, to the connection that causes it.
 
-use geo::{Buffer, Coord, Polygon, Rect};
+use geo::{BoundingRect, Buffer, Coord, Intersects, Polygon, Rect};
 
-use crate::path::{FlightPath, Piece, PieceKind, distance};
-use crate::route::visibility::{bounding, point_in_ring, rects_overlap};
+use crate::geom::{distance, point_in_ring};
+use crate::path::{FlightPath, Piece, PieceKind};
 
 /// Spacing of the altitude samples along the path.
 pub const STEP_M: f64 = 1.0;
@@ -31,10 +31,7 @@ impl Obstacles {
         let prisms = footprints
             .iter()
             .flat_map(|(poly, height)| {
-                poly.buffer(clearance_m).0.into_iter().map(move |p| {
-                    let ring = p.exterior().0.clone();
-                    (bounding(&ring).expect("a ring has points"), ring, height + clearance_m)
-                })
+                poly.buffer(clearance_m).0.into_iter().filter_map(move |p| Some((p.exterior().bounding_rect()?, p.exterior().0.clone(), height + clearance_m)))
             })
             .collect();
         Self { prisms, survey_altitude_m, slope: max_climb_deg.to_radians().tan(), penalty }
@@ -48,7 +45,7 @@ impl Obstacles {
     fn required(&self, p: Coord) -> f64 {
         self.prisms
             .iter()
-            .filter(|(bb, ring, _)| p.x >= bb.min().x && p.x <= bb.max().x && p.y >= bb.min().y && p.y <= bb.max().y && point_in_ring(p, ring))
+            .filter(|(bb, ring, _)| bb.intersects(&p) && point_in_ring(p, ring))
             .map(|(_, _, top)| *top)
             .fold(self.survey_altitude_m, f64::max)
     }
@@ -63,7 +60,7 @@ impl Obstacles {
     pub fn near(&self, rect: &Rect) -> bool {
         let m = Coord { x: self.reach_m(), y: self.reach_m() };
         let grown = Rect::new(rect.min() - m, rect.max() + m);
-        self.prisms.iter().any(|(bb, _, top)| *top > self.survey_altitude_m && rects_overlap(bb, &grown))
+        self.prisms.iter().any(|(bb, _, top)| *top > self.survey_altitude_m && bb.intersects(&grown))
     }
 
     /// The lowest profile over points `STEP_M` apart: at least the required altitude, and
@@ -142,7 +139,7 @@ impl Obstacles {
                 }
                 let (points, heights) = simplify(&samples[start..=end], &z[start..=end]);
                 let part = if raised {
-                    lost += crate::path::polyline_length(&points);
+                    lost += crate::geom::polyline_length(&points);
                     Piece { kind: PieceKind::Transit, points, half_swath_m: 0.0, z: heights }
                 } else {
                     Piece { points, z: heights, ..piece.clone() }

@@ -1,16 +1,11 @@
 //! Shortest paths of a Dubins vehicle (forward only, turning radius at least `r`) between two
-//! poses: the six words LSL, RSR, LSR, RSL, RLR, LRL in closed form (Dubins spec §3), their
+//! poses: the six words LSL, RSR, LSR, RSL, RLR, LRL in closed form (docs/methods.md, dubins §3), their
 //! sampling into polylines (§8), and the turn-pattern closed forms used as test references (§5).
 //!
 //! Angles here are math headings: radians counter-clockwise from east (local +x). The API
-//! speaks compass bearings; [`crate::params::bearing_to_math`] converts at the boundary.
+//! speaks compass bearings, which the parameters stage converts at the boundary.
 //!
-//! ```
-//! use coverplan_planner::turn::dubins::{Pose, shortest};
-//! // U-turn onto a line 170 m to the left with r = 85 m: exactly a half circle
-//! let path = shortest(Pose::new(0.0, 0.0, 0.0), Pose::new(0.0, 170.0, std::f64::consts::PI), 85.0);
-//! assert!((path.length() - std::f64::consts::PI * 85.0).abs() < 1e-6);
-//! ```
+//! `u_turns_between_parallel_lines` below checks the words against the turn patterns.
 
 use std::f64::consts::{PI, TAU};
 
@@ -183,11 +178,6 @@ pub fn shortest(q0: Pose, q1: Pose, r: f64) -> DubinsPath {
         .expect("LSL or RSR is always feasible")
 }
 
-/// Length of the shortest path, without building it.
-pub fn shortest_length(q0: Pose, q1: Pose, r: f64) -> f64 {
-    shortest(q0, q1, r).length()
-}
-
 /// The pose reached after `s` metres of `part`, from `from`.
 fn advance(from: Pose, part: Part, s: f64, r: f64) -> Pose {
     match part {
@@ -222,11 +212,6 @@ impl DubinsPath {
     pub fn segments(&self) -> [(Part, f64); 3] {
         let parts = self.word.parts();
         [0, 1, 2].map(|i| (parts[i], self.params[i] * self.radius))
-    }
-
-    /// The pose where the path ends (by following its parts).
-    pub fn end_pose(&self) -> Pose {
-        self.segments().iter().fold(self.start, |q, &(part, s)| advance(q, part, s, self.radius))
     }
 
     /// A box that holds the whole path: each arc's circle and each straight's ends. Cheap
@@ -284,9 +269,27 @@ impl DubinsPath {
     }
 }
 
-/// Turn between antiparallel lines `d` apart with aligned ends (spec §5): U-turn when
-/// `d ≥ 2r`, Ω-turn ("bulb") below.
-pub fn parallel_turn_length(d: f64, r: f64) -> f64 {
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+/// Length of the shortest path, without building it.
+fn shortest_length(q0: Pose, q1: Pose, r: f64) -> f64 {
+    shortest(q0, q1, r).length()
+}
+
+impl DubinsPath {
+    /// The pose where the path ends (by following its parts).
+    fn end_pose(&self) -> Pose {
+        self.segments().iter().fold(self.start, |q, &(part, s)| advance(q, part, s, self.radius))
+    }
+
+}
+
+/// Turn between antiparallel lines `d` apart with aligned ends in closed form, the
+/// reference the words are checked against: U-turn when `d ≥ 2r`, Ω-turn ("bulb") below.
+fn parallel_turn_length(d: f64, r: f64) -> f64 {
     if d >= 2.0 * r {
         PI * r + (d - 2.0 * r)
     } else {
@@ -294,11 +297,6 @@ pub fn parallel_turn_length(d: f64, r: f64) -> f64 {
         r * (3.0 * PI - 4.0 * eta)
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
 
     fn deg(p: (f64, f64, f64)) -> Pose {
         Pose::new(p.0, p.1, p.2.to_radians())
@@ -311,7 +309,7 @@ mod tests {
 
     #[test]
     fn u_turns_between_parallel_lines() {
-        // (r, d, length) from the spec's table
+        // (r, d, length): U-turns between parallel lines d apart, in closed form
         let cases = [
             (85.0, 0.0, 623.08),
             (85.0, 75.0, 527.53),

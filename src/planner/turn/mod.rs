@@ -10,7 +10,7 @@ use geo::Coord;
 
 use dubins::{Pose, shortest};
 
-/// Chord tolerance of sampled arcs in the output (Dubins spec §8).
+/// Chord tolerance of sampled arcs in the output (docs/methods.md, dubins §8).
 pub const CHORD_TOLERANCE_M: f64 = 0.2;
 
 #[derive(Debug, Clone, Copy, PartialEq)]

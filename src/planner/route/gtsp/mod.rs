@@ -1,4 +1,4 @@
-//! Generalised travelling-salesman path (routing spec §2–§4): visit one node of every cluster,
+//! Generalised travelling-salesman path (docs/methods.md, routing §2–§4): visit one node of every cluster,
 //! from an optional start to an optional end, at least cost.
 //!
 //! Exact by [`held_karp`] when the clusters are few. Otherwise a greedy tour, improved by
@@ -211,11 +211,6 @@ fn neighbours(inst: &Instance) -> (Vec<usize>, Neighbours) {
 /// Greedy from the start: the cheapest next node of an unvisited cluster, looked for among
 /// the neighbours first. Without a start, a few first clusters are tried and the cheapest
 /// result kept.
-pub fn greedy(inst: &Instance) -> Vec<usize> {
-    let (of, nb) = neighbours(inst);
-    greedy_with(inst, &nb, &of)
-}
-
 fn greedy_with(inst: &Instance, nb: &Neighbours, of: &[usize]) -> Vec<usize> {
     let m = inst.clusters.len();
     let run = |first: Option<usize>| -> Vec<usize> {
@@ -355,6 +350,12 @@ fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The greedy tour alone, a bound the searches must meet.
+        fn greedy(inst: &Instance) -> Vec<usize> {
+        let (of, nb) = neighbours(inst);
+        greedy_with(inst, &nb, &of)
+    }
     use proptest::prelude::*;
 
     /// Directed segments on random lines, as clusters of their two directions; straight

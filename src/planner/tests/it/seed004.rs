@@ -1,4 +1,4 @@
-//! Seed 004's real missions (Appendix A; routing spec §6.4): fixed wing, turning radius 85 m,
+//! Seed 004's real missions (Appendix A; docs/methods.md, routing §6.4): fixed wing, turning radius 85 m,
 //! 75 m lines, start and end heading 68° (compass), planned by `line_gtsp` through the public
 //! entry point, from WGS84 GeoJSON. The planned lengths must not exceed the thesis's, coverage
 //! must be full, and the lengths must not change when the mission is moved or rotated.

@@ -6,7 +6,7 @@
 
 use std::collections::VecDeque;
 
-use super::gtsp::Rng;
+use crate::route::gtsp::Rng;
 
 /// Cheapest successors and predecessors kept per node.
 const NEIGHBOURS: usize = 10;

@@ -1,6 +1,6 @@
 //! The worker pool: a panicking planner fails its plan, and the worker lives on.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 use std::time::Duration;

@@ -1,21 +1,50 @@
 //! Properties of plans over every fixture field and over generated fields: no error, no
 //! panic, coverage, no metre inside a no-fly zone, sweeps near the field, valid GeoJSON,
-//! the same output for the same input.
+//! the same output for the same input. Every planner of the registry is checked, so a new
+//! planner is checked as soon as it is registered.
 
-mod common;
+use crate::common;
 
 use coverplan::planner::frame::LocalFrame;
-use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanOutput, PlanParams};
+use coverplan::planner::planners::registry;
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams};
 use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Polygon, Point};
 use proptest::prelude::*;
 use serde_json::{Value, json};
 
 fn plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> PlanOutput {
-    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, home: None };
-    planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true).unwrap_or_else(|e| panic!("planning failed: {e}"))
+    try_plan(area, nfz, params).unwrap_or_else(|| panic!("{} refused the field", params.planner))
 }
 
-const PLANNERS: [&str; 4] = ["boustrophedon", "naive", "eecd", "energy_aware"];
+/// The plan, or `None` when the planner refuses the mission as outside its method (its
+/// documented `planner_not_applicable`, such as a spiral around holes); any other error fails.
+fn try_plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Option<PlanOutput> {
+    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, home: None };
+    match planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true) {
+        Ok(out) => Some(out),
+        Err(PlanError::Input(e)) if e.code == "planner_not_applicable" => None,
+        Err(e) => panic!("{} failed: {e}", params.planner),
+    }
+}
+
+/// Every planner of the registry.
+fn planners() -> Vec<&'static str> {
+    registry().iter().map(|p| p.id()).collect()
+}
+
+/// The share of the area a planner's plans must cover. Sweep-line planners cover all of it but
+/// the corners their swaths cannot reach; the others are checked against the figure their
+/// method reaches by the swath metric (a sweep's rectangle), with the reason.
+fn coverage_floor(planner: &str, with_zones: bool) -> f64 {
+    match planner {
+        // rings inset by the spacing leave slivers at sharp corners and in the centre
+        "e_spiral" => 0.85,
+        // a grid of cells the width of the spacing: cells cut by the boundary count half
+        "eg_cpp" => 0.80,
+        _ if with_zones => 0.98,
+        _ => 0.99,
+    }
+}
 
 fn params(planner: &str, spacing: f64, heading: Option<f64>) -> PlanParams {
     PlanParams { planner: planner.into(), line_spacing_m: Some(spacing), heading_deg: heading, ..PlanParams::default() }
@@ -28,14 +57,14 @@ fn camera_params(planner: &str, spacing: f64, heading: Option<f64>) -> PlanParam
     PlanParams { planner: planner.into(), camera: Some(camera), altitude_m: Some(spacing / 0.45), heading_deg: heading, ..PlanParams::default() }
 }
 
-/// The properties every plan must have.
-fn check(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str) {
-    check_covering(area, nfz, p, name, if nfz.is_some() { 0.98 } else { 0.99 });
+/// The properties every plan must have; false when the planner refused the field.
+fn check(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str) -> bool {
+    check_covering(area, nfz, p, name, coverage_floor(&p.planner, nfz.is_some())).is_some()
 }
 
-/// Checks the plan of `area` and returns it.
-fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str, min_coverage: f64) -> PlanOutput {
-    let out = plan(area, nfz, p);
+/// Checks the plan of `area` and returns it (`None`: the planner refused the field).
+fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str, min_coverage: f64) -> Option<PlanOutput> {
+    let out = try_plan(area, nfz, p)?;
     let s = &out.stats;
     assert!(s.coverage_ratio >= min_coverage, "{name}: coverage {}", s.coverage_ratio);
     if let Some(photo) = s.photo_coverage_ratio {
@@ -80,7 +109,7 @@ fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str,
             }
         }
     }
-    out
+    Some(out)
 }
 
 fn collect_positions(v: &Value, out: &mut Vec<[f64; 2]>) {
@@ -129,7 +158,11 @@ fn every_fixture_field_is_planned_correctly() {
     }
     files.sort();
     assert!(files.len() >= 69);
-    for f in &files {
+    // each field by four planners of the registry in turn, so that every planner meets fields
+    // of every kind and the suite stays within CI's time
+    let all = planners();
+    let mut planned = vec![0; all.len()];
+    for (i, f) in files.iter().enumerate() {
         let m = common::fixture(f);
         let frame = LocalFrame::centred_on({
             let mut pts = Vec::new();
@@ -139,13 +172,19 @@ fn every_fixture_field_is_planned_correctly() {
         let area = to_local_mp(&frame, &m["area"]).unsigned_area();
         let spacing = spacing_for(area);
         let nfz = m.get("no_fly_zones").filter(|v| !v.is_null());
-        // every planner, the holes as holes only (overflown), then as no-fly zones too
-        for planner in PLANNERS {
-            check(&m["area"], None, &params(planner, spacing, None), &format!("{f} by {planner}"));
+        // the holes as holes only (overflown), then as no-fly zones too
+        for k in (0..4).map(|j| (i + j) % all.len()) {
+            let planner = all[k];
+            let mut ok = check(&m["area"], None, &params(planner, spacing, None), &format!("{f} by {planner}"));
             if nfz.is_some() {
-                check(&m["area"], nfz, &params(planner, spacing, None), &format!("{f} with no-fly zones by {planner}"));
+                ok |= check(&m["area"], nfz, &params(planner, spacing, None), &format!("{f} with no-fly zones by {planner}"));
             }
+            planned[k] += usize::from(ok);
         }
+    }
+    for (planner, n) in all.iter().zip(&planned) {
+        eprintln!("{planner}: {n} fields planned");
+        assert!(*n >= 5, "{planner} planned only {n} fixture fields");
     }
 }
 
@@ -154,9 +193,10 @@ fn real_fields_are_covered_to_99_percent_in_any_direction() {
     for f in ["ee-field-3-holes", "nl-parcel-17ha", "nl-parcel-b", "us-field-two-cells", "us-field-two-cells-1"] {
         let m = common::fixture(&format!("real-fields/{f}.json"));
         for heading in [0.0, 33.0, 90.0, 147.0] {
-            for planner in PLANNERS {
-                let out = plan(&m["area"], None, &params(planner, 10.0, Some(heading)));
-                assert!(out.stats.coverage_ratio >= 0.99, "{f} at {heading}° by {planner}: {}", out.stats.coverage_ratio);
+            for planner in planners() {
+                let Some(out) = try_plan(&m["area"], None, &params(planner, 10.0, Some(heading))) else { continue };
+                let floor = coverage_floor(planner, false);
+                assert!(out.stats.coverage_ratio >= floor, "{f} at {heading}° by {planner}: {}", out.stats.coverage_ratio);
             }
         }
     }
@@ -204,7 +244,7 @@ proptest! {
         lines in 5.0..30.0f64,
         heading in prop::option::of(0.0..180.0f64),
         holes_are_nfz in any::<bool>(),
-        planner in prop::sample::select(PLANNERS.to_vec()),
+        planner in prop::sample::select(planners()),
         with_camera in any::<bool>(),
     ) {
         let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
@@ -223,13 +263,21 @@ fn circumradius(a: Coord, b: Coord, c: Coord) -> f64 {
     if cross < 1e-9 { f64::INFINITY } else { ab * bc * ca / (2.0 * cross) }
 }
 
-/// Fixed wing over the generated fields, holes as no-fly zones: every planner (and
-/// `line_gtsp`) covers the field away from the zones, never enters a zone (turn arcs
-/// included, checked by sampling in `check`), and never turns tighter than the radius along
-/// the whole path.
+/// Fixed wing over the generated fields, holes as no-fly zones: every planner that flies a
+/// fixed wing covers the field away from the zones, never enters a zone (turn arcs included,
+/// checked by sampling in `check`), and never turns tighter than the radius along the whole
+/// path. The planners take the fields in turn.
 #[test]
 fn fixed_wing_plans_respect_zones_and_turning_radius() {
     let index: Value = serde_json::from_str(&std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/random-fields/index.json")).unwrap()).unwrap();
+    let fixed_wing = |planner: &str, spacing: f64, radius: f64| -> PlanParams {
+        serde_json::from_value(json!({"planner": planner, "line_spacing_m": spacing, "vehicle": {"kind": "fixed_wing", "turn_radius_m": radius}})).unwrap()
+    };
+    // the planners that fly a fixed wing: the others refuse it, whatever the field
+    let (square, _) = star_field(5.0, 45.0, 300.0, &[1.0; 4], &[0.0; 4], 0);
+    let flying: Vec<&str> = planners().into_iter().filter(|p| try_plan(&square, None, &fixed_wing(p, 30.0, 36.0)).is_some()).collect();
+    eprintln!("planners that fly a fixed wing: {flying:?}");
+    assert!(flying.len() >= 5 && flying.contains(&"line_gtsp"), "{flying:?}");
     let mut planned = 0;
     for (k, entry) in index.as_array().unwrap().iter().enumerate().filter(|(k, _)| k % 4 == 0) {
         let f = format!("random-fields/{}", entry["file"].as_str().unwrap());
@@ -243,17 +291,12 @@ fn fixed_wing_plans_respect_zones_and_turning_radius() {
         let spacing = spacing_for(field.unsigned_area());
         let radius = spacing * 1.2;
         let nfz = m.get("no_fly_zones").filter(|v| !v.is_null());
-        let mut planners = PLANNERS.to_vec();
-        planners.push("line_gtsp");
-        let planner = planners[k / 4 % planners.len()];
-        let p: PlanParams = serde_json::from_value(json!({
-            "planner": planner, "line_spacing_m": spacing, "vehicle": {"kind": "fixed_wing", "turn_radius_m": radius},
-        }))
-        .unwrap();
+        let planner = flying[k / 4 % flying.len()];
+        let p = fixed_wing(planner, spacing, radius);
         let name = format!("{f} by {planner}, fixed wing r = {radius:.1} m");
         // near the zones a fixed wing cannot fly what it could not turn back from: coverage is
         // judged away from them below
-        let out = check_covering(&m["area"], nfz, &p, &name, if nfz.is_some() { 0.0 } else { 0.99 });
+        let out = check_covering(&m["area"], nfz, &p, &name, if nfz.is_some() { 0.0 } else { 0.99 }).unwrap_or_else(|| panic!("{name}: refused"));
         if let Some(nfz) = nfz {
             // lines stop at the margin (10 m by default), then draw back in steps of r/8 until a
             // half circle (r ahead, 2r aside) fits; their swaths reach half a spacing further

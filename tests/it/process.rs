@@ -1,11 +1,10 @@
-//! The `coverplan` binary as operators run it: killed mid-job, stopped with SIGTERM, benchmarking.
-
-mod common;
+//! The `coverplan` binary as operators run it: started outside the repository, killed
+//! mid-job, stopped with SIGTERM, benchmarking.
 
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use common::{fresh_db_path, mission_body};
+use crate::common::{fresh_db_path, mission_body};
 use serde_json::{Value, json};
 
 fn free_port() -> u16 {
@@ -18,8 +17,10 @@ struct Server {
 }
 
 fn start(db: &std::path::Path, port: u16, delay_ms: u64) -> Server {
+    // started away from the repository: the binary carries its page
     let child = Command::new(env!("CARGO_BIN_EXE_coverplan"))
         .arg("serve")
+        .current_dir(db.parent().expect("the database is in a folder"))
         .env("COVERPLAN_ADDR", format!("127.0.0.1:{port}"))
         .env("COVERPLAN_DATABASE_URL", db)
         .env("COVERPLAN_WORKERS", "1")
@@ -73,6 +74,28 @@ async fn queue_plan(client: &reqwest::Client, base: &str) -> String {
         .await
         .unwrap();
     p["id"].as_str().unwrap().to_owned()
+}
+
+#[tokio::test]
+async fn the_binary_serves_its_page_from_any_working_directory() {
+    let db = fresh_db_path();
+    let mut server = start(&db, free_port(), 0);
+    let client = reqwest::Client::new();
+    for (path, kind, needle) in [("/", "text/html", "<html"), ("/app.js", "javascript", "import"), ("/vendor/leaflet/leaflet.js", "javascript", "Leaflet")] {
+        let r = client.get(format!("{}{path}", server.base)).send().await.unwrap();
+        assert_eq!(r.status(), 200, "{path}");
+        let content_type = r.headers()["content-type"].to_str().unwrap().to_owned();
+        let etag = r.headers()["etag"].clone();
+        assert!(content_type.contains(kind), "{path}: {content_type}");
+        assert!(r.text().await.unwrap().contains(needle), "{path}");
+        // a browser that has the file revalidates it without downloading it again
+        let again = client.get(format!("{}{path}", server.base)).header("if-none-match", etag).send().await.unwrap();
+        assert_eq!(again.status(), 304, "{path}");
+    }
+    let missing = client.get(format!("{}/no-such-page.html", server.base)).send().await.unwrap();
+    assert_eq!(missing.status(), 404);
+    server.child.kill().unwrap();
+    server.child.wait().unwrap();
 }
 
 #[tokio::test]

@@ -43,7 +43,6 @@ impl TestApp {
         let addr = listener.local_addr().unwrap();
         let mut config = Config::new(addr, format!("sqlite://{}", db_path.display()));
         config.workers = 2;
-        config.static_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("static");
         config.shutdown_grace = Duration::from_secs(5);
         adjust(&mut config);
         let (stop, stopped) = oneshot::channel::<()>();

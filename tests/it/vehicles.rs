@@ -1,9 +1,8 @@
 //! Vehicle profiles and route estimates end to end: `/api/v1/vehicles` and
 //! `/api/v1/estimates`, and a plan that names a stored profile and is split into sorties.
 
-mod common;
 
-use common::{TestApp, mission_body};
+use crate::common::{TestApp, mission_body};
 use serde_json::{Value, json};
 
 async fn put(app: &TestApp, path: &str, body: &Value) -> (u16, Value) {

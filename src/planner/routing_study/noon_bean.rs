@@ -1,8 +1,9 @@
-//! Noon–Bean transformation (routing spec §5): a GTSP over two-node clusters becomes an
+//! Noon–Bean transformation (Noon and Bean 1993; seed 004 §4.2.2): a GTSP over two-node clusters becomes an
 //! asymmetric TSP whose optimal tours are the GTSP's optimal paths plus `(clusters − 1)·M`,
 //! for external ATSP solvers such as LKH (seeds 003 and 004 solve their instances this way)
 //! and for [`solve`], the built-in ATSP search on it, which `coverplan bench --routing`
-//! compares with the direct search of [`super::gtsp`].
+//! compares with the direct search of [`crate::route::gtsp`]. No planner uses it: the direct
+//! search is shorter and, from 300 lines on, faster (README, "Routing").
 //!
 //! Row-shift convention: the flown node is the one through which the tour enters its
 //! cluster; the tour then steps to the partner for free and leaves from it, paying the cost
@@ -10,7 +11,7 @@
 //! convention and is not exact; the tests below check this one against brute force.
 
 use super::atsp::{self, Matrix};
-use super::gtsp::Instance;
+use crate::route::gtsp::Instance;
 
 /// An ATSP over the instance's nodes plus a start node `n` and an end node `n + 1`.
 pub struct Atsp {
@@ -99,7 +100,7 @@ mod tests {
         out
     }
 
-    /// Routing spec §5's mandatory check: 200 random 3-cluster instances with integer costs
+    /// the Noon–Bean check (docs/methods.md, routing §5): 200 random 3-cluster instances with integer costs
     /// 1–100; the brute-force ATSP optimum minus `2·M` is the brute-force GTSP optimum, and
     /// the optimal ATSP tour reads back as an optimal GTSP sequence.
     #[test]

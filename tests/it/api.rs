@@ -1,8 +1,6 @@
 //! The HTTP API end to end, against the real server on port 0 with a fresh SQLite file.
 
-mod common;
-
-use common::{TestApp, fresh_db_path, mission_body};
+use crate::common::{TestApp, fresh_db_path, mission_body};
 use serde_json::{Value, json};
 
 fn square(lon: f64, lat: f64, d: f64) -> Value {
@@ -200,6 +198,15 @@ async fn missions_can_be_listed_updated_and_deleted() {
     let (_, page) = app.get("/api/v1/missions?limit=2&offset=1").await;
     assert_eq!(page["total"], 5);
     assert_eq!(page["items"].as_array().unwrap().len(), 2);
+    assert!(page["items"][0]["area"].is_object());
+    // the page's picker asks for names only: no geometry crosses the wire
+    let (_, names) = app.get("/api/v1/missions?limit=2&offset=1&fields=summary").await;
+    assert_eq!(names["total"], 5);
+    let first = names["items"][0].as_object().unwrap();
+    let mut keys: Vec<&str> = first.keys().map(String::as_str).collect();
+    keys.sort_unstable();
+    assert_eq!(keys, ["created_at", "id", "name", "updated_at"]);
+    assert_eq!(first["id"], page["items"][0]["id"]);
     let r = app.client.put(app.url(&format!("/api/v1/missions/{}", ids[0]))).json(&json!({"name": "renamed", "area": polygon(vec![square(6.0, 52.0, 0.01)]), "home": [6.0, 52.0]})).send().await.unwrap();
     assert_eq!(r.status(), 200);
     let (_, m) = app.get(&format!("/api/v1/missions/{}", ids[0])).await;

@@ -1,0 +1,89 @@
+//! Small plane-geometry helpers on bare coordinates, shared by every stage.
+//!
+//! `geo` does the work on its own types (`Area`, `BoundingRect`, `Contains`, `Intersects`);
+//! these are for the hot loops that hold open vertex lists (`&[Coord]`) and would otherwise
+//! build a `LineString` per call.
+
+use geo::{Coord, Rect};
+
+/// Euclidean distance between two points.
+///
+/// ```
+/// use coverplan_planner::geo::Coord;
+/// use coverplan_planner::geom::distance;
+/// assert_eq!(distance(Coord { x: 0.0, y: 0.0 }, Coord { x: 3.0, y: 4.0 }), 5.0);
+/// ```
+pub fn distance(a: Coord, b: Coord) -> f64 {
+    (a.x - b.x).hypot(a.y - b.y)
+}
+
+/// Length of a polyline.
+pub fn polyline_length(points: &[Coord]) -> f64 {
+    points.windows(2).map(|w| distance(w[0], w[1])).sum()
+}
+
+/// Cross product of `a − o` and `b − o`: positive when `o → a → b` turns counter-clockwise.
+pub fn cross(o: Coord, a: Coord, b: Coord) -> f64 {
+    (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)
+}
+
+/// Signed area of an open ring (no closing point): positive when counter-clockwise.
+///
+/// ```
+/// use coverplan_planner::geo::Coord;
+/// use coverplan_planner::geom::signed_area;
+/// let square = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)].map(|(x, y)| Coord { x, y });
+/// assert_eq!(signed_area(&square), 4.0);
+/// ```
+pub fn signed_area(ring: &[Coord]) -> f64 {
+    let n = ring.len();
+    let origin = Coord { x: 0.0, y: 0.0 };
+    (0..n).map(|i| cross(origin, ring[i], ring[(i + 1) % n])).sum::<f64>() / 2.0
+}
+
+/// Bounding box of some points, `None` when there are none.
+pub fn bounding(points: &[Coord]) -> Option<Rect> {
+    let first = *points.first()?;
+    let (lo, hi) = points.iter().fold((first, first), |(lo, hi), c| (Coord { x: lo.x.min(c.x), y: lo.y.min(c.y) }, Coord { x: hi.x.max(c.x), y: hi.y.max(c.y) }));
+    Some(Rect::new(lo, hi))
+}
+
+/// Crossing-number test of `p` against a closed ring; points on the boundary may go either way.
+pub fn point_in_ring(p: Coord, ring: &[Coord]) -> bool {
+    let mut inside = false;
+    for w in ring.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn c(x: f64, y: f64) -> Coord {
+        Coord { x, y }
+    }
+
+    #[test]
+    fn orientation_signs_agree() {
+        let ccw = [c(0.0, 0.0), c(1.0, 0.0), c(0.0, 1.0)];
+        assert!(cross(ccw[0], ccw[1], ccw[2]) > 0.0);
+        assert!(signed_area(&ccw) > 0.0);
+        let cw: Vec<Coord> = ccw.iter().rev().copied().collect();
+        assert!(signed_area(&cw) < 0.0);
+    }
+
+    #[test]
+    fn points_inside_and_outside_a_closed_ring() {
+        let ring = [c(0.0, 0.0), c(4.0, 0.0), c(4.0, 4.0), c(0.0, 4.0), c(0.0, 0.0)];
+        assert!(point_in_ring(c(1.0, 1.0), &ring));
+        assert!(!point_in_ring(c(5.0, 1.0), &ring));
+        let bb = bounding(&ring).expect("points");
+        assert_eq!((bb.min(), bb.max()), (c(0.0, 0.0), c(4.0, 4.0)));
+        assert!(bounding(&[]).is_none());
+    }
+}

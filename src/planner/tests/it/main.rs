@@ -1,0 +1,6 @@
+//! The planner's integration tests, in one binary: they use the crate as the service does.
+
+mod architecture;
+mod energy_planners;
+mod obstacles;
+mod seed004;

@@ -1,0 +1,17 @@
+// The map and what is drawn on it, shared by the mission, plan and result parts.
+
+export const map = L.map('map', { zoomControl: true }).setView([51.5, 6.06], 15);
+L.control.scale({ imperial: false }).addTo(map);
+
+export const state = {
+  missionId: null,
+  fields: L.featureGroup().addTo(map), // polygons with holes
+  zones: L.featureGroup().addTo(map),
+  obstacles: L.featureGroup().addTo(map),
+  poses: { home: null, start: null, end: null },
+  result: null, // { layer, photos, fc, stats, params }
+  compared: null,
+  planId: null,
+};
+
+window.coverplan = { map, state }; // for the browser test and the curious

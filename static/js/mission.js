@@ -1,0 +1,195 @@
+// The mission: drawing fields, holes, zones, obstacles and poses; GeoJSON in and out;
+// saving, listing and dropped files.
+
+import { $, api, escapeHtml, status } from './api.js';
+import { map, state } from './map.js';
+
+const styles = {
+  field: { color: '#2e7d32', weight: 2, fillOpacity: 0.1 },
+  nfz: { color: '#c62828', weight: 2, fillOpacity: 0.25, dashArray: '4 3' },
+  obstacle: { color: '#6d4c41', weight: 2, fillOpacity: 0.3 },
+};
+
+// ---- drawing ----
+map.pm.setGlobalOptions({ allowSelfIntersection: false, snappable: true });
+
+function addPolygon(kind, latlngs, height) {
+  const layer = L.polygon(latlngs, styles[kind]);
+  layer.cpKind = kind;
+  if (kind === 'obstacle') {
+    layer.cpHeight = height;
+    layer.bindTooltip(`${height} m`);
+  }
+  (kind === 'field' ? state.fields : kind === 'nfz' ? state.zones : state.obstacles).addLayer(layer);
+  return layer;
+}
+
+/** Adds `ring` as a hole of the field that contains it. */
+function cutHole(ring) {
+  const inside = state.fields.getLayers().find((f) => ring.every((p) => f.getBounds().contains(p)));
+  if (!inside) return status('a hole must be drawn inside a field', true);
+  const rings = inside.getLatLngs();
+  inside.setLatLngs([...rings, ring]);
+}
+
+function poseIcon(kind, heading) {
+  const glyph = kind === 'home' ? '⌂' : heading == null ? (kind === 'start' ? 'S' : 'E') : '➤';
+  const rotate = kind !== 'home' && heading != null ? `transform: rotate(${heading - 90}deg);` : '';
+  return L.divIcon({ className: 'pose', html: `<div title="${kind}" style="${rotate}">${glyph}</div>`, iconSize: [18, 18] });
+}
+
+export function setPose(kind, latlng, heading) {
+  if (state.poses[kind]) map.removeLayer(state.poses[kind]);
+  const m = L.marker(latlng, { icon: poseIcon(kind, heading), draggable: true, title: kind });
+  m.cpHeading = heading;
+  state.poses[kind] = m.addTo(map);
+}
+
+$('draw').onclick = () => {
+  const kind = $('draw-kind').value;
+  if (['home', 'start', 'end'].includes(kind)) {
+    map.pm.enableDraw('Marker', { markerStyle: { icon: poseIcon(kind, null) } });
+  } else {
+    map.pm.enableDraw('Polygon', { pathOptions: styles[kind === 'hole' ? 'field' : kind] });
+  }
+};
+
+map.on('pm:create', (e) => {
+  const kind = $('draw-kind').value;
+  map.removeLayer(e.layer);
+  if (e.shape === 'Marker') {
+    const h = $('pose-heading').value;
+    setPose(kind, e.layer.getLatLng(), kind === 'home' || h === '' ? null : Number(h));
+  } else if (kind === 'hole') {
+    cutHole(e.layer.getLatLngs()[0]);
+  } else {
+    addPolygon(kind, e.layer.getLatLngs(), Number($('obstacle-height').value));
+  }
+});
+
+function syncDrawInputs() {
+  const kind = $('draw-kind').value;
+  $('height-box').hidden = kind !== 'obstacle';
+  $('heading-box').hidden = !['start', 'end'].includes(kind);
+}
+$('draw-kind').onchange = syncDrawInputs;
+syncDrawInputs();
+
+export function clearMission() {
+  state.fields.clearLayers();
+  state.zones.clearLayers();
+  state.obstacles.clearLayers();
+  for (const k of Object.keys(state.poses)) {
+    if (state.poses[k]) map.removeLayer(state.poses[k]);
+    state.poses[k] = null;
+  }
+  state.missionId = null;
+}
+
+// ---- mission ⇄ GeoJSON ----
+const ringOf = (latlngs) => {
+  const r = latlngs.map((p) => [p.lng, p.lat]);
+  r.push(r[0]);
+  return r;
+};
+const polygonOf = (layer) => {
+  const rings = layer.getLatLngs();
+  const list = Array.isArray(rings[0]) ? rings : [rings];
+  return list.map(ringOf);
+};
+const multi = (group) => {
+  const polys = group.getLayers().map(polygonOf);
+  return polys.length ? { type: 'MultiPolygon', coordinates: polys } : null;
+};
+
+function missionBody() {
+  const area = multi(state.fields);
+  if (!area) throw new Error('draw at least one field first');
+  const obstacles = state.obstacles.getLayers().map((l) => ({
+    type: 'Feature', properties: { height_m: l.cpHeight }, geometry: { type: 'Polygon', coordinates: polygonOf(l) },
+  }));
+  const home = state.poses.home && state.poses.home.getLatLng();
+  return {
+    name: $('mission-name').value || 'Unnamed field',
+    area,
+    no_fly_zones: multi(state.zones),
+    obstacles: obstacles.length ? { type: 'FeatureCollection', features: obstacles } : null,
+    home: home ? [home.lng, home.lat] : null,
+  };
+}
+
+/** Polygons (with holes) of any GeoJSON geometry, Feature or FeatureCollection, as Leaflet rings. */
+function polygonsOf(g) {
+  if (!g) return [];
+  const toLatLngs = (poly) => poly.map((ring) => ring.slice(0, -1).map(([lng, lat]) => L.latLng(lat, lng)));
+  switch (g.type) {
+    case 'FeatureCollection': return g.features.flatMap((f) => polygonsOf(f));
+    case 'Feature': return polygonsOf(g.geometry).map((p) => Object.assign(p, { properties: g.properties || {} }));
+    case 'Polygon': return [toLatLngs(g.coordinates)];
+    case 'MultiPolygon': return g.coordinates.map(toLatLngs);
+    default: return [];
+  }
+}
+
+export function drawMission(m) {
+  clearMission();
+  state.missionId = m.id || null;
+  $('mission-name').value = m.name || 'New field';
+  polygonsOf(m.area).forEach((p) => addPolygon('field', p));
+  polygonsOf(m.no_fly_zones).forEach((p) => addPolygon('nfz', p));
+  polygonsOf(m.obstacles).forEach((p) => addPolygon('obstacle', p, (p.properties && p.properties.height_m) || 20));
+  if (m.home) setPose('home', L.latLng(m.home[1], m.home[0]), null);
+  if (state.fields.getLayers().length) map.fitBounds(state.fields.getBounds(), { padding: [20, 20] });
+}
+
+export async function saveMission() {
+  const body = missionBody();
+  const m = state.missionId ? await api('PUT', `/api/v1/missions/${state.missionId}`, body) : await api('POST', '/api/v1/missions', body);
+  state.missionId = m.id;
+  history.replaceState(null, '', `/?mission=${m.id}`);
+  await listMissions();
+  return m;
+}
+$('save').onclick = () => saveMission().then((m) => status(`saved as ${m.id}`)).catch((e) => status(e.message, true));
+
+export async function listMissions() {
+  const page = await api('GET', '/api/v1/missions?limit=100&fields=summary');
+  const sel = $('missions');
+  sel.innerHTML = '<option value="">—</option>' + page.items.map((m) => `<option value="${m.id}">${escapeHtml(m.name)}</option>`).join('');
+  if (state.missionId) sel.value = state.missionId;
+}
+
+// ---- files dropped on the map ----
+function kmlToGeoJson(text) {
+  const doc = new DOMParser().parseFromString(text, 'application/xml');
+  const ring = (el) => el.textContent.trim().split(/\s+/).map((t) => t.split(',').slice(0, 2).map(Number));
+  const polys = [...doc.getElementsByTagName('Polygon')].map((p) => {
+    const outer = p.getElementsByTagName('outerBoundaryIs')[0];
+    const inner = [...p.getElementsByTagName('innerBoundaryIs')];
+    return [outer, ...inner].map((b) => ring(b.getElementsByTagName('coordinates')[0]));
+  });
+  return { type: 'MultiPolygon', coordinates: polys };
+}
+
+const mapEl = $('map');
+mapEl.addEventListener('dragover', (e) => e.preventDefault());
+mapEl.addEventListener('drop', async (e) => {
+  e.preventDefault();
+  const file = e.dataTransfer.files[0];
+  if (!file) return;
+  try {
+    const text = await file.text();
+    const data = /\.kml$/i.test(file.name) || text.trimStart().startsWith('<') ? kmlToGeoJson(text) : JSON.parse(text);
+    if (data.area) {
+      drawMission({ ...data, id: null });
+    } else {
+      const polys = polygonsOf(data);
+      if (!polys.length) throw new Error('no polygon in this file');
+      polys.forEach((p) => addPolygon('field', p));
+      map.fitBounds(state.fields.getBounds(), { padding: [20, 20] });
+    }
+    status(`loaded ${file.name}`);
+  } catch (err) {
+    status(`${file.name}: ${err.message}`, true);
+  }
+});

@@ -1,0 +1,111 @@
+// The parameters form (from the API's lists), the request it makes, and the planning loop.
+
+import { $, api, escapeHtml, status } from './api.js';
+import { state } from './map.js';
+import { saveMission, setPose } from './mission.js';
+import { keepForComparison, showPlan } from './result.js';
+
+// ---- the parameter form, from the API's lists ----
+export async function fillForm() {
+  const [planners, vehicles, cameras] = await Promise.all([api('GET', '/api/v1/planners'), api('GET', '/api/v1/vehicles'), api('GET', '/api/v1/cameras')]);
+  $('planner').innerHTML = planners.map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}">${p.id}</option>`).join('');
+  $('vehicle').innerHTML = vehicles.map((v) => `<option value="${v.profile}" title="${escapeHtml(v.description)}">${v.profile} (${v.kind.replace('_', ' ')})</option>`).join('');
+  $('vehicle').value = 'generic_multirotor';
+  $('camera').innerHTML += cameras.map((c) => `<option value="${c.id}">${escapeHtml(c.name || c.id)}</option>`).join('');
+  syncForm();
+}
+
+function syncForm() {
+  const camera = $('camera').value !== '';
+  $('spacing-box').hidden = camera;
+  $('fixed-heading-box').hidden = $('direction').value !== 'fixed';
+  $('objective-box').hidden = $('planner').value !== 'auto';
+}
+['camera', 'direction', 'planner'].forEach((id) => $(id).addEventListener('change', syncForm));
+
+const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
+
+export function planParams() {
+  const p = { planner: $('planner').value, vehicle: { profile: $('vehicle').value } };
+  if ($('camera').value) {
+    p.camera = { preset: $('camera').value };
+    p.side_overlap = num('side-overlap');
+    p.front_overlap = num('front-overlap');
+    if (num('gsd') !== undefined) p.gsd_cm = num('gsd');
+  } else {
+    p.line_spacing_m = num('spacing');
+  }
+  if (num('altitude') !== undefined && p.gsd_cm === undefined) p.altitude_m = num('altitude');
+  if ($('direction').value === 'fixed') p.heading_deg = num('fixed-heading');
+  if ($('direction').value === 'optimal') p.sweep_direction = 'optimal';
+  if (p.planner === 'auto') p.objective = $('objective').value;
+  for (const kind of ['start', 'end']) {
+    const m = state.poses[kind];
+    if (m) {
+      const at = m.getLatLng();
+      p[kind] = { position: [at.lng, at.lat] };
+      if (m.cpHeading != null) p[kind].heading_deg = m.cpHeading;
+    }
+  }
+  return p;
+}
+
+/** Puts a plan's parameters back in the form and on the map, so that a shared link shows
+ * exactly what was planned. */
+export function restoreParams(p) {
+  if (!p) return;
+  const set = (id, v) => { if (v !== undefined && v !== null) $(id).value = v; };
+  set('planner', p.planner);
+  set('vehicle', p.vehicle && p.vehicle.profile);
+  $('camera').value = (p.camera && p.camera.preset) || '';
+  set('spacing', p.line_spacing_m);
+  set('altitude', p.altitude_m);
+  set('gsd', p.gsd_cm);
+  set('side-overlap', p.side_overlap);
+  set('front-overlap', p.front_overlap);
+  $('direction').value = p.heading_deg !== undefined ? 'fixed' : p.sweep_direction === 'optimal' ? 'optimal' : 'planner';
+  set('fixed-heading', p.heading_deg);
+  set('objective', p.objective);
+  for (const kind of ['start', 'end']) {
+    const pose = p[kind];
+    if (pose && pose.position) setPose(kind, L.latLng(pose.position[1], pose.position[0]), pose.heading_deg ?? null);
+  }
+  syncForm();
+}
+
+// ---- planning ----
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+$('plan').onclick = async () => {
+  try {
+    $('plan').disabled = true;
+    await saveMission();
+    const queued = await api('POST', `/api/v1/missions/${state.missionId}/plans`, planParams());
+    state.planId = queued.id;
+    $('cancel').disabled = false;
+    $('progress').hidden = false;
+    let plan = queued;
+    while (['queued', 'running'].includes(plan.status)) {
+      $('progress').value = plan.progress || 0;
+      status(`${plan.status}…`);
+      await sleep(300);
+      plan = await api('GET', `/api/v1/plans/${queued.id}`);
+    }
+    if (plan.status === 'succeeded') {
+      if ($('compare').checked && state.result) keepForComparison();
+      await showPlan(plan);
+      status(`planned in ${Math.round(plan.stats.planning_time_ms)} ms`);
+    } else {
+      status(plan.status === 'failed' ? `failed: ${plan.error}` : plan.status, plan.status === 'failed');
+    }
+  } catch (e) {
+    status(e.message, true);
+  } finally {
+    $('plan').disabled = false;
+    $('cancel').disabled = true;
+    $('progress').hidden = true;
+    state.planId = null;
+  }
+};
+
+$('cancel').onclick = () => state.planId && api('DELETE', `/api/v1/plans/${state.planId}`).catch((e) => status(e.message, true));

@@ -1,0 +1,147 @@
+// The result: the trajectory on the map, the figures table and the speed and energy chart.
+
+import { $, api } from './api.js';
+import { map, state } from './map.js';
+
+// ---- the result ----
+const kindStyle = {
+  sweep: { color: '#1565c0', weight: 3 },
+  turn: { color: '#ef6c00', weight: 2 },
+  transit: { color: '#6a1b9a', weight: 2, dashArray: '6 4' },
+};
+
+function bearing(a, b) {
+  const rad = Math.PI / 180;
+  const y = Math.sin((b[0] - a[0]) * rad) * Math.cos(b[1] * rad);
+  const x = Math.cos(a[1] * rad) * Math.sin(b[1] * rad) - Math.sin(a[1] * rad) * Math.cos(b[1] * rad) * Math.cos((b[0] - a[0]) * rad);
+  return (Math.atan2(y, x) / rad + 360) % 360;
+}
+
+function drawTrajectory(fc, faded) {
+  const group = L.featureGroup();
+  const lines = fc.features.filter((f) => f.geometry.type === 'LineString');
+  L.geoJSON({ type: 'FeatureCollection', features: lines }, {
+    style: (f) => ({ ...kindStyle[f.properties.kind], opacity: faded ? 0.35 : 0.9 }),
+    onEachFeature: (f, layer) => layer.bindTooltip(`${f.properties.kind} ${f.properties.length_m} m, ${f.properties.speed_mps} m/s, sortie ${f.properties.sortie}`),
+  }).addTo(group);
+  if (!faded) {
+    // flight direction on every sweep
+    for (const f of lines.filter((f) => f.properties.kind === 'sweep')) {
+      const c = f.geometry.coordinates;
+      const a = c[0], b = c[c.length - 1];
+      const mid = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
+      const icon = L.divIcon({ className: 'arrow', html: `<div style="transform: rotate(${bearing(a, b) - 90}deg)">➤</div>`, iconSize: [14, 14] });
+      L.marker([mid[1], mid[0]], { icon, interactive: false }).addTo(group);
+    }
+    if (lines.length) {
+      const first = lines[0].geometry.coordinates[0];
+      const lastLine = lines[lines.length - 1].geometry.coordinates;
+      const last = lastLine[lastLine.length - 1];
+      L.circleMarker([first[1], first[0]], { radius: 7, color: '#1b5e20', fillOpacity: 1 }).bindTooltip('start').addTo(group);
+      L.circleMarker([last[1], last[0]], { radius: 7, color: '#b71c1c', fillOpacity: 1 }).bindTooltip('end').addTo(group);
+    }
+  }
+  const photos = L.featureGroup();
+  for (const f of fc.features.filter((f) => f.properties.kind === 'photos')) {
+    f.geometry.coordinates.forEach((c) => L.circleMarker([c[1], c[0]], { radius: 2, color: '#37474f' }).addTo(photos));
+  }
+  return { layer: group.addTo(map), photos };
+}
+
+export function clearResult() {
+  for (const r of [state.result, state.compared]) {
+    if (r) { map.removeLayer(r.layer); map.removeLayer(r.photos); }
+  }
+  state.result = null;
+  state.compared = null;
+  $('download').hidden = true;
+  renderFigures();
+  drawChart();
+}
+
+export function keepForComparison() {
+  if (state.compared) { map.removeLayer(state.compared.layer); map.removeLayer(state.compared.photos); }
+  map.removeLayer(state.result.layer);
+  map.removeLayer(state.result.photos);
+  state.compared = { ...state.result, ...drawTrajectory(state.result.fc, true) };
+  state.result = null;
+}
+
+export async function showPlan(plan) {
+  const fc = await api('GET', `/api/v1/plans/${plan.id}/trajectory`);
+  if (state.result) { map.removeLayer(state.result.layer); map.removeLayer(state.result.photos); }
+  state.result = { ...drawTrajectory(fc, false), fc, stats: plan.stats, params: plan.params };
+  $('download').href = `/api/v1/plans/${plan.id}/trajectory`;
+  $('download').download = `plan-${plan.id}.geojson`;
+  $('download').hidden = false;
+  togglePhotos();
+  renderFigures();
+  drawChart();
+}
+
+function togglePhotos() {
+  const r = state.result;
+  if (!r) return;
+  if ($('show-photos').checked) r.photos.addTo(map); else map.removeLayer(r.photos);
+}
+$('show-photos').onchange = togglePhotos;
+
+const figureRows = [
+  ['planner', (s, p) => s.planner || (p && p.planner)],
+  ['length', (s) => `${(s.length_m / 1000).toFixed(2)} km`],
+  ['flight time', (s) => `${(s.duration_s / 60).toFixed(1)} min`],
+  ['energy', (s) => `${s.energy_wh.toFixed(1)} Wh`],
+  ['coverage', (s) => `${(100 * s.coverage_ratio).toFixed(1)} %`],
+  ['efficiency', (s) => `${(100 * s.efficiency).toFixed(1)} %`],
+  ['turns', (s) => s.turns],
+  ['sorties', (s) => s.sorties],
+  ['photos', (s) => s.photos],
+];
+
+function renderFigures() {
+  const a = state.result, b = state.compared;
+  $('col-b').hidden = !b;
+  $('figures').tBodies[0].innerHTML = a
+    ? figureRows.map(([name, f]) => `<tr><td>${name}</td><td data-figure="${name}">${f(a.stats, a.params)}</td>${b ? `<td>${f(b.stats, b.params)}</td>` : ''}</tr>`).join('')
+    : '';
+}
+
+/** Speed and energy used against the distance flown. */
+export function drawChart() {
+  const canvas = $('chart');
+  const ctx = canvas.getContext('2d');
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  if (!state.result) return;
+  const lines = state.result.fc.features.filter((f) => f.geometry.type === 'LineString');
+  // energy as a running total over the whole plan: each sortie's own count restarts at zero
+  const points = [];
+  let d = 0;
+  let e = 0;
+  for (const f of lines) {
+    points.push({ d, v: f.properties.speed_mps, e });
+    d += f.properties.length_m;
+    e += f.properties.energy_j;
+    points.push({ d, v: f.properties.speed_mps, e });
+  }
+  state.chart = points; // read by the browser test
+  if (!points.length || d === 0) return;
+  const w = canvas.width, h = canvas.height, pad = 18;
+  const vmax = Math.max(...points.map((p) => p.v), 1);
+  const emax = Math.max(...points.map((p) => p.e), 1);
+  const x = (p) => pad + (p.d / d) * (w - 2 * pad);
+  const plot = (key, max, color) => {
+    ctx.strokeStyle = color;
+    ctx.beginPath();
+    points.forEach((p, i) => { const y = h - pad - (p[key] / max) * (h - 2 * pad); i ? ctx.lineTo(x(p), y) : ctx.moveTo(x(p), y); });
+    ctx.stroke();
+  };
+  ctx.strokeStyle = '#9aa59d';
+  ctx.strokeRect(pad, pad, w - 2 * pad, h - 2 * pad);
+  plot('v', vmax, '#1565c0');
+  plot('e', emax, '#c62828');
+  ctx.fillStyle = '#333';
+  ctx.font = '10px system-ui';
+  ctx.fillText(`${vmax.toFixed(1)} m/s`, pad + 2, pad - 4);
+  ctx.fillText(`${(emax / 3600).toFixed(1)} Wh`, w - pad - 50, pad - 4);
+  ctx.fillText(`${(d / 1000).toFixed(2)} km`, w - pad - 40, h - 4);
+}

@@ -1,0 +1,11 @@
+//! The service's integration tests, in one binary so that the service is linked once:
+//! each module starts the real application (port 0, a fresh database) or the real binary.
+
+mod api;
+mod common;
+mod jobs;
+mod openapi;
+mod planner_properties;
+mod process;
+mod repository;
+mod vehicles;

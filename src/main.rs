@@ -102,10 +102,7 @@ struct ServeArgs {
 }
 
 fn main() -> ExitCode {
-    tracing_subscriber::fmt()
-        .with_env_filter(tracing_subscriber::EnvFilter::try_from_env("COVERPLAN_LOG").unwrap_or_else(|_| "info".into()))
-        .with_writer(std::io::stderr)
-        .init();
+    tracing_subscriber::fmt().with_env_filter(tracing_subscriber::EnvFilter::try_from_env("COVERPLAN_LOG").unwrap_or_else(|_| "info".into())).with_writer(std::io::stderr).init();
     let result = match Cli::parse().command {
         Command::Serve(args) => serve(args),
         Command::Plan { mission, params, out } => plan(&mission, params.as_deref(), out.as_deref()),
@@ -117,9 +114,7 @@ fn main() -> ExitCode {
             print!("{}", coverplan::bench::routing());
             Ok(())
         }
-        Command::Bench { data, planner, repeats, .. } => {
-            coverplan::bench::run(&data, planner.as_deref(), repeats).map(|table| print!("{table}"))
-        }
+        Command::Bench { data, planner, repeats, .. } => coverplan::bench::run(&data, planner.as_deref(), repeats).map(|table| print!("{table}")),
         Command::Openapi => {
             print!("{}", coverplan::http::openapi::document());
             Ok(())
@@ -195,7 +190,12 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
     let s = &output.stats;
     eprintln!(
         "{:.0} m, {:.0} s, {:.0} kJ, coverage {:.2} %, {} turns, {:.1} ms",
-        s.length_m, s.duration_s, s.energy_j / 1000.0, s.coverage_ratio * 100.0, s.turns, s.planning_time_ms
+        s.length_m,
+        s.duration_s,
+        s.energy_j / 1000.0,
+        s.coverage_ratio * 100.0,
+        s.turns,
+        s.planning_time_ms
     );
     Ok(())
 }

@@ -20,11 +20,7 @@ pub async fn run(config: Config, shutdown: impl Future<Output = ()> + Send + 'st
 }
 
 /// Serves on `listener`; returns the bound address and the outcome once stopped.
-pub async fn serve(
-    listener: TcpListener,
-    config: Config,
-    shutdown: impl Future<Output = ()> + Send + 'static,
-) -> anyhow::Result<(SocketAddr, anyhow::Result<()>)> {
+pub async fn serve(listener: TcpListener, config: Config, shutdown: impl Future<Output = ()> + Send + 'static) -> anyhow::Result<(SocketAddr, anyhow::Result<()>)> {
     let addr = listener.local_addr()?;
     let db = store::connect(&config.database_url).await?;
     let (requeued, failed) = store::plans::recover_interrupted(&db).await?;

@@ -88,7 +88,9 @@ pub fn run(fields_per_row: usize) -> String {
             }
         }
     }
-    out.push_str("\nEG-CPP: rectangles of n × 4 cells 20 m apart, every start cell searched (IRIS)\n\n| cells | plan ms | energy kJ | result |\n|------:|--------:|----------:|:-------|\n");
+    out.push_str(
+        "\nEG-CPP: rectangles of n × 4 cells 20 m apart, every start cell searched (IRIS)\n\n| cells | plan ms | energy kJ | result |\n|------:|--------:|----------:|:-------|\n",
+    );
     for columns in (4..=12).map(|c| c as f64) {
         let (w, h) = (20.0 * columns, 80.0);
         let area = geojson(&[[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]]);

@@ -93,7 +93,12 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
             let p95 = quantile(&mut r.times_ms, 0.95);
             out.push_str(&format!(
                 "| {:>5} | {:>6} | {:>7} | {:>9.2} | {:>6.2} | {:>13.0} | {:>9} | {:>15.3} | {:>12.4} |\n",
-                r.holes, n, r.refused / repeats.max(1), median, p95, mean(&r.lengths_m),
+                r.holes,
+                n,
+                r.refused / repeats.max(1),
+                median,
+                p95,
+                mean(&r.lengths_m),
                 if r.vs_reference.is_empty() { "-".to_string() } else { format!("{:.3}", mean(&r.vs_reference)) },
                 mean(&r.efficiency),
                 r.coverage.iter().copied().fold(f64::INFINITY, f64::min)

@@ -29,7 +29,12 @@ pub struct Problem {
 #[derive(Debug)]
 pub enum ApiError {
     /// 4xx with a code, a detail and maybe a pointer.
-    Client { status: StatusCode, code: &'static str, detail: String, pointer: Option<String> },
+    Client {
+        status: StatusCode,
+        code: &'static str,
+        detail: String,
+        pointer: Option<String>,
+    },
     Internal(String),
 }
 
@@ -76,12 +81,7 @@ impl IntoResponse for ApiError {
             ApiError::Client { status, code, detail, pointer } => problem_response(status, code, detail, pointer),
             ApiError::Internal(message) => {
                 tracing::error!(%message, "internal error");
-                problem_response(
-                    StatusCode::INTERNAL_SERVER_ERROR,
-                    "internal",
-                    "the server could not complete the request; it has been logged".into(),
-                    None,
-                )
+                problem_response(StatusCode::INTERNAL_SERVER_ERROR, "internal", "the server could not complete the request; it has been logged".into(), None)
             }
         }
     }
@@ -95,12 +95,7 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
     type Rejection = ApiError;
 
     async fn from_request(req: Request, state: &S) -> Result<Self, Self::Rejection> {
-        let is_json = req
-            .headers()
-            .get(header::CONTENT_TYPE)
-            .and_then(|v| v.to_str().ok())
-            .map(|v| v.starts_with("application/json") || v.contains("+json"))
-            .unwrap_or(false);
+        let is_json = req.headers().get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).map(|v| v.starts_with("application/json") || v.contains("+json")).unwrap_or(false);
         if !is_json {
             return Err(ApiError::Client {
                 status: StatusCode::UNSUPPORTED_MEDIA_TYPE,
@@ -117,12 +112,8 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
                 ApiError::Client { status: StatusCode::BAD_REQUEST, code: "unreadable_body", detail: e.body_text(), pointer: None }
             }
         })?;
-        let malformed = |e: serde_json::Error| ApiError::Client {
-            status: StatusCode::BAD_REQUEST,
-            code: "malformed_json",
-            detail: format!("the body is not valid JSON: {e}"),
-            pointer: None,
-        };
+        let malformed =
+            |e: serde_json::Error| ApiError::Client { status: StatusCode::BAD_REQUEST, code: "malformed_json", detail: format!("the body is not valid JSON: {e}"), pointer: None };
         let mut de = serde_json::Deserializer::from_slice(&bytes);
         let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
             let pointer = json_pointer(e.path());

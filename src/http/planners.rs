@@ -18,12 +18,7 @@ pub struct PlannerInfo {
 
 #[utoipa::path(get, path = "/api/v1/planners", tag = "planners", responses((status = 200, body = Vec<PlannerInfo>)))]
 pub async fn list() -> Json<Vec<PlannerInfo>> {
-    Json(
-        registry()
-            .iter()
-            .map(|p| PlannerInfo { id: p.id(), description: p.description(), direction_rule: p.direction_rule(), parameters: common_parameters() })
-            .collect(),
-    )
+    Json(registry().iter().map(|p| PlannerInfo { id: p.id(), description: p.description(), direction_rule: p.direction_rule(), parameters: common_parameters() }).collect())
 }
 
 /// Camera presets, for `camera: {"preset": id}`.

@@ -9,8 +9,8 @@ use serde_json::json;
 use super::AppState;
 use super::error::{ApiError, ApiJson, Problem};
 use crate::planner::{self, MissionGeometry, PlanParams};
-use crate::store::{missions, vehicles};
 use crate::store::plans::{self, Plan, PlanStatus};
+use crate::store::{missions, vehicles};
 
 #[utoipa::path(post, path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)), request_body = PlanParams,
     responses((status = 202, body = Plan, description = "queued"), (status = 404, body = Problem), (status = 422, body = Problem)))]
@@ -50,13 +50,10 @@ pub async fn get(State(state): State<AppState>, Path(id): Path<String>) -> Resul
 pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>) -> Result<Response, ApiError> {
     match plans::trajectory(&state.db, &id).await? {
         None => Err(ApiError::not_found("plan", &id)),
-        Some((PlanStatus::Succeeded, Some(geojson))) => {
-            Ok(([(header::CONTENT_TYPE, "application/geo+json")], geojson).into_response())
+        Some((PlanStatus::Succeeded, Some(geojson))) => Ok(([(header::CONTENT_TYPE, "application/geo+json")], geojson).into_response()),
+        Some((status, _)) => {
+            Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", json!(status).as_str().unwrap_or("?"))))
         }
-        Some((status, _)) => Err(ApiError::conflict(
-            "trajectory_not_available",
-            format!("the plan is {}; a trajectory exists only once it has succeeded", json!(status).as_str().unwrap_or("?")),
-        )),
     }
 }
 

@@ -20,8 +20,7 @@ pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress) -> Result<Plan
 
 /// Runs a stored job with the real planner.
 pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress) -> Result<PlanOutput, PlanError> {
-    let params: PlanParams = serde_json::from_value(job.params.clone())
-        .map_err(|e| PlanError::Infeasible(format!("stored parameters are unreadable: {e}")))?;
+    let params: PlanParams = serde_json::from_value(job.params.clone()).map_err(|e| PlanError::Infeasible(format!("stored parameters are unreadable: {e}")))?;
     let home = job.mission.get("home").and_then(|h| serde_json::from_value::<[f64; 2]>(h.clone()).ok());
     let mission = MissionGeometry {
         area: job.mission.get("area").unwrap_or(&Value::Null),
@@ -57,15 +56,8 @@ pub struct JobQueue {
 impl JobQueue {
     /// Starts `workers` workers.
     pub fn start(db: Db, workers: usize, runner: Runner, start_delay: Duration) -> (Arc<JobQueue>, Vec<JoinHandle<()>>) {
-        let queue = Arc::new(JobQueue {
-            db,
-            runner,
-            wake: Notify::new(),
-            running: Mutex::new(HashMap::new()),
-            stopping: watch::channel(false).0,
-            alive: AtomicUsize::new(0),
-            start_delay,
-        });
+        let queue =
+            Arc::new(JobQueue { db, runner, wake: Notify::new(), running: Mutex::new(HashMap::new()), stopping: watch::channel(false).0, alive: AtomicUsize::new(0), start_delay });
         let handles = (0..workers.max(1))
             .map(|_| {
                 let q = queue.clone();
@@ -186,11 +178,7 @@ impl JobQueue {
             Ok(Ok(Err(PlanError::Cancelled))) => Ok(()),
             Ok(Ok(Err(e))) => plans::fail(&self.db, &id, &e.to_string()).await,
             Ok(Err(panic)) => {
-                let what = panic
-                    .downcast_ref::<&str>()
-                    .map(|s| s.to_string())
-                    .or_else(|| panic.downcast_ref::<String>().cloned())
-                    .unwrap_or_else(|| "unknown cause".into());
+                let what = panic.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| panic.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown cause".into());
                 tracing::error!(plan = %id, panic = %what, "planner panicked");
                 plans::fail(&self.db, &id, &format!("internal error in the planner ({what}); the plan was not made")).await
             }

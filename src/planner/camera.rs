@@ -136,11 +136,7 @@ impl Camera {
                 2.0 * (hfov_from_dfov(fov, w, h).to_radians() / 2.0).tan() / w
             }
             _ => {
-                return Err(InputError::new(
-                    "camera_incomplete",
-                    "/camera",
-                    "describe the lens one way: sensor_width_mm with focal_length_mm, or hfov_deg, or dfov_deg",
-                ));
+                return Err(InputError::new("camera_incomplete", "/camera", "describe the lens one way: sensor_width_mm with focal_length_mm, or hfov_deg, or dfov_deg"));
             }
         };
         Ok((per_m, w, h))

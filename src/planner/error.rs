@@ -26,11 +26,7 @@ impl fmt::Display for InputError {
 /// Checks that `value` is finite and within `[lo, hi]`.
 pub fn check_range(value: f64, lo: f64, hi: f64, pointer: &str, unit: &str) -> Result<(), InputError> {
     if !value.is_finite() || value < lo || value > hi {
-        return Err(InputError::new(
-            "parameter_out_of_range",
-            pointer,
-            format!("{value} is outside the accepted range [{lo}, {hi}] {unit}"),
-        ));
+        return Err(InputError::new("parameter_out_of_range", pointer, format!("{value} is outside the accepted range [{lo}, {hi}] {unit}")));
     }
     Ok(())
 }

@@ -77,18 +77,9 @@ impl Field {
         }
         let vertices: usize = area.iter().chain(&nfz).chain(obstacles.iter().map(|o| &o.0)).flat_map(|p| &p.rings).map(|r| r.positions.len()).sum();
         if vertices > limits.max_vertices {
-            return Err(InputError::new(
-                "too_many_vertices",
-                "/area",
-                format!("the mission has {vertices} vertices; the limit is {}", limits.max_vertices),
-            ));
+            return Err(InputError::new("too_many_vertices", "/area", format!("the mission has {vertices} vertices; the limit is {}", limits.max_vertices)));
         }
-        let all_points = area
-            .iter()
-            .chain(&nfz)
-            .flat_map(|p| &p.rings)
-            .flat_map(|r| r.positions.iter().copied())
-            .chain(mission.home);
+        let all_points = area.iter().chain(&nfz).flat_map(|p| &p.rings).flat_map(|r| r.positions.iter().copied()).chain(mission.home);
         let frame = LocalFrame::centred_on(all_points);
         let to_local = |raw: &RawPolygon| local_polygon(&frame, raw, limits);
         let area_polys = area.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
@@ -99,28 +90,16 @@ impl Field {
         for (i, a) in area_mp.0.iter().enumerate() {
             for b in &area_mp.0[i + 1..] {
                 if a.intersection(b).unsigned_area() > 1e-6 * a.unsigned_area().max(1.0) {
-                    return Err(InputError::new(
-                        "overlapping_fields",
-                        area[i].pointer.clone(),
-                        "this field overlaps another field of the same mission",
-                    ));
+                    return Err(InputError::new("overlapping_fields", area[i].pointer.clone(), "this field overlaps another field of the same mission"));
                 }
             }
         }
         let total = area_mp.unsigned_area();
         if total < limits.min_area_m2 {
-            return Err(InputError::new(
-                "area_too_small",
-                "/area",
-                format!("the area to cover is {total:.1} m²; at least {} m² is needed", limits.min_area_m2),
-            ));
+            return Err(InputError::new("area_too_small", "/area", format!("the area to cover is {total:.1} m²; at least {} m² is needed", limits.min_area_m2)));
         }
         if total > limits.max_area_ha * 10_000.0 {
-            return Err(InputError::new(
-                "area_too_large",
-                "/area",
-                format!("the area is {:.0} ha; the limit is {} ha", total / 10_000.0, limits.max_area_ha),
-            ));
+            return Err(InputError::new("area_too_large", "/area", format!("the area is {:.0} ha; the limit is {} ha", total / 10_000.0, limits.max_area_ha)));
         }
         let home = mission.home.map(|h| frame.to_local(h[0], h[1]));
         let nfz_mp = MultiPolygon(nfz_polys);
@@ -136,15 +115,9 @@ impl Field {
 /// Polygon, MultiPolygon, Feature or FeatureCollection of those, as raw rings.
 fn parse_polygons(value: &Value, pointer: &str) -> Result<Vec<RawPolygon>, InputError> {
     if value.get("crs").is_some() {
-        return Err(InputError::new(
-            "crs_not_supported",
-            format!("{pointer}/crs"),
-            "a `crs` member is not allowed (RFC 7946): send WGS84 longitude/latitude",
-        ));
+        return Err(InputError::new("crs_not_supported", format!("{pointer}/crs"), "a `crs` member is not allowed (RFC 7946): send WGS84 longitude/latitude"));
     }
-    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| {
-        InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}"))
-    })?;
+    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
     let mut out = Vec::new();
     match geojson {
         GeoJson::Geometry(g) => push_geometry(&g.value, pointer, &mut out)?,
@@ -174,7 +147,10 @@ fn parse_obstacles(value: &Value, pointer: &str) -> Result<Vec<(RawPolygon, f64)
     let mut out = Vec::new();
     for (f, fp) in features {
         let hp = format!("{fp}/properties/height_m");
-        let height = f.property("height_m").and_then(Value::as_f64).ok_or_else(|| InputError::new("obstacle_height_missing", hp.clone(), "each obstacle needs its height above ground in metres as `height_m`"))?;
+        let height = f
+            .property("height_m")
+            .and_then(Value::as_f64)
+            .ok_or_else(|| InputError::new("obstacle_height_missing", hp.clone(), "each obstacle needs its height above ground in metres as `height_m`"))?;
         if !(height > 0.0 && height <= MAX_OBSTACLE_HEIGHT_M) {
             return Err(InputError::new("parameter_out_of_range", hp, format!("{height} is outside the accepted range (0, {MAX_OBSTACLE_HEIGHT_M}] m")));
         }
@@ -203,11 +179,7 @@ fn push_geometry(g: &GeometryValue, pointer: &str, out: &mut Vec<RawPolygon>) ->
             }
         }
         other => {
-            return Err(InputError::new(
-                "unsupported_geometry",
-                pointer,
-                format!("expected a Polygon or MultiPolygon, found a {}", other.type_name()),
-            ));
+            return Err(InputError::new("unsupported_geometry", pointer, format!("expected a Polygon or MultiPolygon, found a {}", other.type_name())));
         }
     }
     Ok(())
@@ -249,30 +221,19 @@ pub fn check_position(p: &[f64; 2], pointer: &str) -> Result<(), InputError> {
         return Err(InputError::new("invalid_position", pointer, "coordinates must be finite numbers"));
     }
     if lat.abs() > 90.0 {
-        let (code, hint) = if lon.abs() <= 90.0 {
-            ("coordinates_look_swapped", "; positions are [longitude, latitude]: these look swapped")
-        } else {
-            ("coordinate_out_of_range", "")
-        };
+        let (code, hint) =
+            if lon.abs() <= 90.0 { ("coordinates_look_swapped", "; positions are [longitude, latitude]: these look swapped") } else { ("coordinate_out_of_range", "") };
         return Err(InputError::new(code, pointer, format!("latitude {lat} is outside [-90, 90]{hint}")));
     }
     if lon.abs() > 180.0 {
-        return Err(InputError::new(
-            "coordinate_out_of_range",
-            pointer,
-            format!("longitude {lon} is outside [-180, 180]"),
-        ));
+        return Err(InputError::new("coordinate_out_of_range", pointer, format!("longitude {lon} is outside [-180, 180]")));
     }
     Ok(())
 }
 
 fn check_ring(positions: &[[f64; 2]], pointer: &str) -> Result<(), InputError> {
     if positions.len() < 4 {
-        return Err(InputError::new(
-            "ring_too_short",
-            pointer,
-            format!("a ring needs at least 4 positions (3 distinct, then the first again); this one has {}", positions.len()),
-        ));
+        return Err(InputError::new("ring_too_short", pointer, format!("a ring needs at least 4 positions (3 distinct, then the first again); this one has {}", positions.len())));
     }
     if positions.first() != positions.last() {
         return Err(InputError::new("ring_not_closed", pointer, "the ring is not closed: its last position must repeat the first"));
@@ -354,9 +315,7 @@ fn validate(polygon: &Polygon, raw: &RawPolygon, frame: &LocalFrame) -> Result<(
         InvalidPolygon::IntersectingRingsOnALine(a, _) | InvalidPolygon::IntersectingRingsOnAnArea(a, _) => {
             ("rings_intersect", ring_pointer(&a), format!("rings of this polygon cross or overlap: {first}"))
         }
-        InvalidPolygon::TooFewPointsInRing(role) | InvalidPolygon::NonFiniteCoord(role, _) => {
-            ("degenerate_ring", ring_pointer(&role), first.to_string())
-        }
+        InvalidPolygon::TooFewPointsInRing(role) | InvalidPolygon::NonFiniteCoord(role, _) => ("degenerate_ring", ring_pointer(&role), first.to_string()),
     };
     Err(InputError::new(code, pointer, detail))
 }
@@ -463,7 +422,8 @@ mod tests {
         let e = parse(json!({"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.1, 95.0], [5.1, 52.1], [5.0, 52.0]]]})).unwrap_err();
         assert_eq!(e.pointer, "/area/coordinates/0/1");
         assert_eq!(e.code, "coordinates_look_swapped");
-        let e = parse(json!({"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[5.0, 52.0], [185.0, 52.0], [5.1, 52.1], [5.0, 52.0]]]}})).unwrap_err();
+        let e = parse(json!({"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[5.0, 52.0], [185.0, 52.0], [5.1, 52.1], [5.0, 52.0]]]}}))
+            .unwrap_err();
         assert_eq!(e.pointer, "/area/geometry/coordinates/0/1");
         assert_eq!(e.code, "coordinate_out_of_range");
     }

@@ -43,8 +43,7 @@ impl LocalFrame {
 
     /// [lon, lat] in degrees to local metres.
     pub fn to_local(&self, lon: f64, lat: f64) -> Coord {
-        let (s12, azi1, _azi2, _a12): (f64, f64, f64, f64) =
-            Geodesic::wgs84().inverse(self.origin_lat, self.origin_lon, lat, lon);
+        let (s12, azi1, _azi2, _a12): (f64, f64, f64, f64) = Geodesic::wgs84().inverse(self.origin_lat, self.origin_lon, lat, lon);
         let azi = azi1.to_radians();
         Coord { x: s12 * azi.sin(), y: s12 * azi.cos() }
     }
@@ -56,8 +55,7 @@ impl LocalFrame {
             return [self.origin_lon, self.origin_lat];
         }
         let azimuth = c.x.atan2(c.y).to_degrees();
-        let (lat, lon): (f64, f64) =
-            Geodesic::wgs84().direct(self.origin_lat, self.origin_lon, azimuth, distance);
+        let (lat, lon): (f64, f64) = Geodesic::wgs84().direct(self.origin_lat, self.origin_lon, azimuth, distance);
         [normalize_lon(lon), lat]
     }
 }

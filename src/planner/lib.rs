@@ -43,13 +43,13 @@ pub mod vehicle;
 
 use std::time::Instant;
 
-use geo::{Area, BooleanOps, Buffer, Contains, Coord, MultiPolygon};
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
+use geo::{Area, BooleanOps, Buffer, Contains, Coord, MultiPolygon};
 
-/// The geometry types of the planner's interface.
-pub use geo;
 pub use error::{InputError, PlanError};
 pub use field::{FieldLimits, MissionGeometry};
+/// The geometry types of the planner's interface.
+pub use geo;
 pub use metrics::Stats;
 pub use params::PlanParams;
 pub use planners::Progress;
@@ -104,11 +104,7 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
     let field = Field::parse(mission, limits)?;
     let sweep_km = field.area.unsigned_area() / resolved.line_spacing_m / 1000.0;
     if sweep_km > MAX_SWEEP_KM {
-        return Err(InputError::new(
-            "plan_too_long",
-            "/line_spacing_m",
-            format!("this spacing needs about {sweep_km:.0} km of sweep lines; the limit is {MAX_SWEEP_KM} km"),
-        ));
+        return Err(InputError::new("plan_too_long", "/line_spacing_m", format!("this spacing needs about {sweep_km:.0} km of sweep lines; the limit is {MAX_SWEEP_KM} km")));
     }
     let keep_out = grow(&field.no_fly_zones, resolved.nfz_margin_m);
     let walls = grow(&field.no_fly_zones, resolved.nfz_margin_m / 2.0);
@@ -124,7 +120,11 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
         Ok(c)
     };
     if !field.obstacles.is_empty() && resolved.altitude_m.is_none() {
-        return Err(InputError::new("altitude_missing", "/altitude_m", "the mission has obstacles: give the flight altitude (altitude_m, or a camera with gsd_cm) so that the plan can climb over them"));
+        return Err(InputError::new(
+            "altitude_missing",
+            "/altitude_m",
+            "the mission has obstacles: give the flight altitude (altitude_m, or a camera with gsd_cm) so that the plan can climb over them",
+        ));
     }
     let start = resolved.start.map(|p| local(p, "/start/position")).transpose()?.or(field.home);
     let end = resolved.end.map(|p| local(p, "/end/position")).transpose()?.or(field.home);
@@ -152,9 +152,10 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         TurnModel::Straight => None,
     };
     let connector = Connector::new(turn, &transit, detour.as_ref());
-    let obstacles = resolved.altitude_m.filter(|_| !field.obstacles.is_empty()).map(|altitude| {
-        Obstacles::new(&field.obstacles, altitude, resolved.obstacle_clearance_m, resolved.max_climb_deg, resolved.coverage_penalty)
-    });
+    let obstacles = resolved
+        .altitude_m
+        .filter(|_| !field.obstacles.is_empty())
+        .map(|altitude| Obstacles::new(&field.obstacles, altitude, resolved.obstacle_clearance_m, resolved.max_climb_deg, resolved.coverage_penalty));
     let problem = Problem {
         region: &region,
         keep_out: &keep_out,
@@ -178,13 +179,7 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
     let model = resolved.vehicle.energy_model();
     let energy_of = |p: &FlightPath| model.estimate(&raised(p).0, resolved.altitude_m).energy_j();
     let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
-    let budget = sortie::Budget {
-        home: field.home,
-        usable_j: resolved.vehicle.battery.usable_j(),
-        max_sorties: resolved.max_sorties,
-        connect: &connect,
-        energy: &energy_of,
-    };
+    let budget = sortie::Budget { home: field.home, usable_j: resolved.vehicle.battery.usable_j(), max_sorties: resolved.max_sorties, connect: &connect, energy: &energy_of };
     let mut lost_coverage_m = 0.0;
     let sorties: Vec<FlightPath> = budget
         .split(&planned.path)?
@@ -210,7 +205,14 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         cells: planned.cells,
         photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
     });
-    let trajectory = export::feature_collection(&field.frame, &sorties, &estimates, resolved.altitude_m, resolved.vehicle.battery.usable_j(), photos.as_deref().map(metrics::photo_points).as_deref());
+    let trajectory = export::feature_collection(
+        &field.frame,
+        &sorties,
+        &estimates,
+        resolved.altitude_m,
+        resolved.vehicle.battery.usable_j(),
+        photos.as_deref().map(metrics::photo_points).as_deref(),
+    );
     stats.lost_coverage_m = lost_coverage_m;
     stats.planner = planned.planner.unwrap_or(planner.id()).to_string();
     stats.alternatives = planned.alternatives;
@@ -234,10 +236,11 @@ fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan) -> Vec<metric
             continue;
         }
         let heading = (b.y - a.y).atan2(b.x - a.x);
-        out.extend(camera::fitted_photo_offsets(len, camera.footprint_along_m, camera.photo_spacing_m).into_iter().map(|t| metrics::Photo {
-            at: Coord { x: a.x + (b.x - a.x) * t / len, y: a.y + (b.y - a.y) * t / len },
-            heading,
-        }));
+        out.extend(
+            camera::fitted_photo_offsets(len, camera.footprint_along_m, camera.photo_spacing_m)
+                .into_iter()
+                .map(|t| metrics::Photo { at: Coord { x: a.x + (b.x - a.x) * t / len, y: a.y + (b.y - a.y) * t / len }, heading }),
+        );
     }
     out
 }

@@ -111,10 +111,7 @@ pub fn line_count(w: f64, s: f64) -> usize {
 /// Directions of the hull's edges (mod π) and a 1° grid: where the width function's minima
 /// and the line counts' steps lie.
 pub fn candidate_directions(hull: &[Coord]) -> Vec<f64> {
-    let mut candidates: Vec<f64> = hull
-        .windows(2)
-        .map(|w| (w[1].y - w[0].y).atan2(w[1].x - w[0].x).rem_euclid(std::f64::consts::PI))
-        .collect();
+    let mut candidates: Vec<f64> = hull.windows(2).map(|w| (w[1].y - w[0].y).atan2(w[1].x - w[0].x).rem_euclid(std::f64::consts::PI)).collect();
     candidates.extend((0..180).map(|d| (d as f64).to_radians()));
     candidates
 }
@@ -151,12 +148,7 @@ pub fn sweep(region: &MultiPolygon, keep_out: &MultiPolygon, angle: f64, layout:
         .enumerate()
         .map(|(i, (offset, lo, hi))| {
             let band = Rect::new(Coord { x: x0, y: lo }, Coord { x: x1, y: hi });
-            let extents: Vec<(f64, f64)> = rotated
-                .intersection(&band.to_polygon())
-                .iter()
-                .filter_map(|p| p.bounding_rect())
-                .map(|r| (r.min().x, r.max().x))
-                .collect();
+            let extents: Vec<(f64, f64)> = rotated.intersection(&band.to_polygon()).iter().filter_map(|p| p.bounding_rect()).map(|r| (r.min().x, r.max().x)).collect();
             segments_on(SweepSegment { line: i, offset, a: 0.0, b: 0.0, lo, hi }, extents, &keep_out)
         })
         .collect::<Vec<_>>();
@@ -184,11 +176,7 @@ fn segments_on(line: SweepSegment, mut extents: Vec<(f64, f64)>, keep_out: &Mult
 fn gap_fills(rotated: &MultiPolygon, keep_out: &MultiPolygon, lines: &[Vec<SweepSegment>], spacing: f64, first_index: usize) -> Vec<SweepSegment> {
     use geo::{Area, Polygon};
     let half = spacing / 2.0;
-    let strips: Vec<Polygon> = lines
-        .iter()
-        .flatten()
-        .map(|s| Rect::new(Coord { x: s.a, y: s.lo }, Coord { x: s.b, y: s.hi }).to_polygon())
-        .collect();
+    let strips: Vec<Polygon> = lines.iter().flatten().map(|s| Rect::new(Coord { x: s.a, y: s.lo }, Coord { x: s.b, y: s.hi }).to_polygon()).collect();
     let covered = geo::unary_union(&strips);
     let uncovered = rotated.difference(&covered);
     let mut out = Vec::new();
@@ -199,12 +187,7 @@ fn gap_fills(rotated: &MultiPolygon, keep_out: &MultiPolygon, lines: &[Vec<Sweep
         for j in 0..k {
             let offset = bb.min().y + step * (j as f64 + 0.5);
             let band = Rect::new(Coord { x: bb.min().x - 1.0, y: offset - half }, Coord { x: bb.max().x + 1.0, y: offset + half });
-            let extents = piece
-                .intersection(&band.to_polygon())
-                .iter()
-                .filter_map(|p| p.bounding_rect())
-                .map(|r| (r.min().x, r.max().x))
-                .collect();
+            let extents = piece.intersection(&band.to_polygon()).iter().filter_map(|p| p.bounding_rect()).map(|r| (r.min().x, r.max().x)).collect();
             let line = SweepSegment { line: first_index + out.len(), offset, a: 0.0, b: 0.0, lo: offset - half, hi: offset + half };
             out.extend(segments_on(line, extents, keep_out));
         }

@@ -183,9 +183,7 @@ impl Vehicle {
 
     /// Checks every figure; `at` is the JSON pointer of the profile in the request.
     pub fn validate(&self, at: &str) -> Result<(), InputError> {
-        let id_ok = !self.profile.is_empty()
-            && self.profile.len() <= 64
-            && self.profile.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_' || b == b'-');
+        let id_ok = !self.profile.is_empty() && self.profile.len() <= 64 && self.profile.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_' || b == b'-');
         if !id_ok {
             return Err(InputError::new("invalid_profile_id", format!("{at}/profile"), "1 to 64 characters: lower-case letters, digits, `_` and `-`"));
         }

@@ -85,7 +85,12 @@ pub async fn create(db: &Db, m: &NewMission) -> Result<Mission, sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let row: MissionRow = sqlx::query_as(concat!(
         "INSERT INTO missions (id, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
-         VALUES (?, ?, ?, ?, ?, ?, ?, ", crate::sql_now!(), ", ", crate::sql_now!(), ") RETURNING ", columns!()
+         VALUES (?, ?, ?, ?, ?, ?, ?, ",
+        crate::sql_now!(),
+        ", ",
+        crate::sql_now!(),
+        ") RETURNING ",
+        columns!()
     ))
     .bind(&id)
     .bind(&m.name)
@@ -107,11 +112,8 @@ pub async fn get(db: &Db, id: &str) -> Result<Option<Mission>, sqlx::Error> {
 
 /// A page of missions, newest first, and the total count.
 pub async fn list(db: &Db, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
-    let rows: Vec<MissionRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?"))
-        .bind(limit)
-        .bind(offset)
-        .fetch_all(db)
-        .await?;
+    let rows: Vec<MissionRow> =
+        sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")).bind(limit).bind(offset).fetch_all(db).await?;
     let total: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM missions").fetch_one(db).await?;
     Ok((rows.into_iter().map(Into::into).collect(), total))
 }
@@ -131,7 +133,10 @@ pub async fn list_summaries(db: &Db, limit: i64, offset: i64) -> Result<(Vec<Mis
 pub async fn update(db: &Db, id: &str, m: &NewMission) -> Result<Option<Mission>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let row: Option<MissionRow> = sqlx::query_as(concat!(
-        "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ", crate::sql_now!(), " WHERE id = ? RETURNING ", columns!()
+        "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ",
+        crate::sql_now!(),
+        " WHERE id = ? RETURNING ",
+        columns!()
     ))
     .bind(&m.name)
     .bind(Json(&m.area))

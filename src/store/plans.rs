@@ -91,7 +91,10 @@ pub async fn create(db: &Db, mission_id: &str, params: &Value, mission: &Value) 
     let id = new_id();
     let mut tx = begin_write(db).await?;
     let row: PlanRow = sqlx::query_as(concat!(
-        "INSERT INTO plans (id, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, 'queued', ", crate::sql_now!(), ") RETURNING ", columns!()
+        "INSERT INTO plans (id, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, 'queued', ",
+        crate::sql_now!(),
+        ") RETURNING ",
+        columns!()
     ))
     .bind(&id)
     .bind(mission_id)
@@ -109,10 +112,8 @@ pub async fn get(db: &Db, id: &str) -> Result<Option<Plan>, sqlx::Error> {
 }
 
 pub async fn list_for_mission(db: &Db, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
-    let rows: Vec<PlanRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? ORDER BY created_at DESC, rowid DESC"))
-        .bind(mission_id)
-        .fetch_all(db)
-        .await?;
+    let rows: Vec<PlanRow> =
+        sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? ORDER BY created_at DESC, rowid DESC")).bind(mission_id).fetch_all(db).await?;
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
@@ -135,7 +136,9 @@ pub struct Job {
 pub async fn claim_next(db: &Db) -> Result<Option<Job>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let job = sqlx::query_as(concat!(
-        "UPDATE plans SET status = 'running', progress = 0, started_at = ", crate::sql_now!(), ", attempts = attempts + 1
+        "UPDATE plans SET status = 'running', progress = 0, started_at = ",
+        crate::sql_now!(),
+        ", attempts = attempts + 1
          WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1)
          RETURNING id, params, mission"
     ))
@@ -156,7 +159,9 @@ pub async fn set_progress(db: &Db, id: &str, progress: f64) -> Result<(), sqlx::
 pub async fn succeed(db: &Db, id: &str, stats: &Value, trajectory: &str) -> Result<(), sqlx::Error> {
     let mut tx = begin_write(db).await?;
     sqlx::query(concat!(
-        "UPDATE plans SET status = 'succeeded', progress = 1, stats = ?, trajectory = ?, finished_at = ", crate::sql_now!(), "
+        "UPDATE plans SET status = 'succeeded', progress = 1, stats = ?, trajectory = ?, finished_at = ",
+        crate::sql_now!(),
+        "
          WHERE id = ? AND status = 'running'"
     ))
     .bind(Json(stats))
@@ -180,12 +185,10 @@ pub async fn fail(db: &Db, id: &str, error: &str) -> Result<(), sqlx::Error> {
 /// Cancels a queued or running plan. Returns its status afterwards (`None`: no such plan).
 pub async fn cancel(db: &Db, id: &str) -> Result<Option<PlanStatus>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    sqlx::query(concat!(
-        "UPDATE plans SET status = 'cancelled', finished_at = ", crate::sql_now!(), " WHERE id = ? AND status IN ('queued', 'running')"
-    ))
-    .bind(id)
-    .execute(&mut *tx)
-    .await?;
+    sqlx::query(concat!("UPDATE plans SET status = 'cancelled', finished_at = ", crate::sql_now!(), " WHERE id = ? AND status IN ('queued', 'running')"))
+        .bind(id)
+        .execute(&mut *tx)
+        .await?;
     let status = sqlx::query_scalar("SELECT status FROM plans WHERE id = ?").bind(id).fetch_optional(&mut *tx).await?;
     tx.commit().await?;
     Ok(status)
@@ -194,10 +197,7 @@ pub async fn cancel(db: &Db, id: &str) -> Result<Option<PlanStatus>, sqlx::Error
 /// Puts a running plan back in the queue (the worker stopped before finishing it).
 pub async fn requeue(db: &Db, id: &str) -> Result<(), sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    sqlx::query("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL WHERE id = ? AND status = 'running'")
-        .bind(id)
-        .execute(&mut *tx)
-        .await?;
+    sqlx::query("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL WHERE id = ? AND status = 'running'").bind(id).execute(&mut *tx).await?;
     tx.commit().await
 }
 
@@ -207,7 +207,9 @@ pub async fn requeue(db: &Db, id: &str) -> Result<(), sqlx::Error> {
 pub async fn recover_interrupted(db: &Db) -> Result<(u64, u64), sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let failed = sqlx::query(concat!(
-        "UPDATE plans SET status = 'failed', finished_at = ", crate::sql_now!(), ",
+        "UPDATE plans SET status = 'failed', finished_at = ",
+        crate::sql_now!(),
+        ",
             error = 'the server stopped during this plan ' || attempts || ' times; it was not retried again'
          WHERE status = 'running' AND attempts >= ?"
     ))
@@ -215,10 +217,7 @@ pub async fn recover_interrupted(db: &Db) -> Result<(u64, u64), sqlx::Error> {
     .execute(&mut *tx)
     .await?
     .rows_affected();
-    let requeued = sqlx::query("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL WHERE status = 'running'")
-        .execute(&mut *tx)
-        .await?
-        .rows_affected();
+    let requeued = sqlx::query("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL WHERE status = 'running'").execute(&mut *tx).await?.rows_affected();
     tx.commit().await?;
     Ok((requeued, failed))
 }

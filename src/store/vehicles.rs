@@ -73,7 +73,12 @@ pub async fn get(db: &Db, id: &str) -> Result<Option<StoredVehicle>, sqlx::Error
 pub async fn create(db: &Db, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let row: Option<VehicleRow> = sqlx::query_as(concat!(
-        "INSERT OR IGNORE INTO vehicles (id, builtin, body, created_at, updated_at) VALUES (?, 0, ?, ", sql_now!(), ", ", sql_now!(), ") RETURNING ", columns!()
+        "INSERT OR IGNORE INTO vehicles (id, builtin, body, created_at, updated_at) VALUES (?, 0, ?, ",
+        sql_now!(),
+        ", ",
+        sql_now!(),
+        ") RETURNING ",
+        columns!()
     ))
     .bind(&v.profile)
     .bind(Json(v))

@@ -99,12 +99,27 @@ async fn bad_input_gets_a_precise_problem_and_nothing_is_stored() {
     }
     many.push(many[0].clone());
     let cases: Vec<(Value, u16, &str, Option<&str>)> = vec![
-        (json!({"name": "x", "area": {"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.01, 52.0], [5.01, 52.01], [5.0, 52.01]]]}}), 422, "ring_not_closed", Some("/area/coordinates/0")),
+        (
+            json!({"name": "x", "area": {"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.01, 52.0], [5.01, 52.01], [5.0, 52.01]]]}}),
+            422,
+            "ring_not_closed",
+            Some("/area/coordinates/0"),
+        ),
         (json!({"name": "x", "area": polygon(vec![json!([[5.0, 52.0], [5.01, 52.0], [5.0, 52.0]])])}), 422, "ring_too_short", Some("/area/coordinates/0")),
         (json!({"name": "x", "area": polygon(vec![bowtie])}), 422, "self_intersection", Some("/area/coordinates/0")),
         (json!({"name": "x", "area": polygon(vec![good.clone(), square(5.02, 52.0, 0.001)])}), 422, "hole_outside_shell", Some("/area/coordinates/1")),
-        (json!({"name": "x", "area": polygon(vec![json!([[5.0, 52.0], [5.01, 52.0], [5.01, 91.0], [5.0, 52.0]])])}), 422, "coordinates_look_swapped", Some("/area/coordinates/0/2")),
-        (json!({"name": "x", "area": polygon(vec![json!([[5.0, 52.0], [190.0, 52.0], [5.01, 52.01], [5.0, 52.0]])])}), 422, "coordinate_out_of_range", Some("/area/coordinates/0/1")),
+        (
+            json!({"name": "x", "area": polygon(vec![json!([[5.0, 52.0], [5.01, 52.0], [5.01, 91.0], [5.0, 52.0]])])}),
+            422,
+            "coordinates_look_swapped",
+            Some("/area/coordinates/0/2"),
+        ),
+        (
+            json!({"name": "x", "area": polygon(vec![json!([[5.0, 52.0], [190.0, 52.0], [5.01, 52.01], [5.0, 52.0]])])}),
+            422,
+            "coordinate_out_of_range",
+            Some("/area/coordinates/0/1"),
+        ),
         (json!({"name": "x", "area": polygon(vec![json!([[5.0, 52.0], ["5.01", 52.0], [5.01, 52.01], [5.0, 52.0]])])}), 422, "invalid_geojson", Some("/area")),
         (json!({"name": "x", "area": polygon(vec![json!([[5.0, 52.0], [5.01, 52.0], [5.02, 52.0], [5.0, 52.0]])])}), 422, "degenerate_ring", Some("/area/coordinates/0")),
         (json!({"name": "x", "area": polygon(vec![square(5.0, 52.0, 0.00001)])}), 422, "area_too_small", Some("/area")),
@@ -129,9 +144,7 @@ async fn bad_input_gets_a_precise_problem_and_nothing_is_stored() {
         }
     }
     // malformed JSON, NaN, wrong media type, oversized body
-    let raw = |body: &'static str, ctype: &'static str| {
-        app.client.post(app.url("/api/v1/missions")).header("content-type", ctype).body(body).send()
-    };
+    let raw = |body: &'static str, ctype: &'static str| app.client.post(app.url("/api/v1/missions")).header("content-type", ctype).body(body).send();
     for (body, ctype, status) in [
         ("{\"name\": ", "application/json", 400),
         ("{\"name\": \"x\", \"area\": {\"type\": \"Polygon\", \"coordinates\": [[[NaN, 1]]]}}", "application/json", 400),
@@ -207,7 +220,13 @@ async fn missions_can_be_listed_updated_and_deleted() {
     keys.sort_unstable();
     assert_eq!(keys, ["created_at", "id", "name", "updated_at"]);
     assert_eq!(first["id"], page["items"][0]["id"]);
-    let r = app.client.put(app.url(&format!("/api/v1/missions/{}", ids[0]))).json(&json!({"name": "renamed", "area": polygon(vec![square(6.0, 52.0, 0.01)]), "home": [6.0, 52.0]})).send().await.unwrap();
+    let r = app
+        .client
+        .put(app.url(&format!("/api/v1/missions/{}", ids[0])))
+        .json(&json!({"name": "renamed", "area": polygon(vec![square(6.0, 52.0, 0.01)]), "home": [6.0, 52.0]}))
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 200);
     let (_, m) = app.get(&format!("/api/v1/missions/{}", ids[0])).await;
     assert_eq!((m["name"].as_str().unwrap(), m["home"].clone()), ("renamed", json!([6.0, 52.0])));

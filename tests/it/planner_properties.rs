@@ -8,7 +8,7 @@ use crate::common;
 use coverplan::planner::frame::LocalFrame;
 use coverplan::planner::planners::registry;
 use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams};
-use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Polygon, Point};
+use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Point, Polygon};
 use proptest::prelude::*;
 use serde_json::{Value, json};
 
@@ -130,9 +130,11 @@ fn to_local_mp(frame: &LocalFrame, v: &Value) -> MultiPolygon {
         polys
             .iter()
             .map(|rings| {
-                let mut rings = rings.as_array().unwrap().iter().map(|r| {
-                    LineString::from(r.as_array().unwrap().iter().map(|c| frame.to_local(c[0].as_f64().unwrap(), c[1].as_f64().unwrap())).collect::<Vec<_>>())
-                });
+                let mut rings = rings
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|r| LineString::from(r.as_array().unwrap().iter().map(|c| frame.to_local(c[0].as_f64().unwrap(), c[1].as_f64().unwrap())).collect::<Vec<_>>()));
                 let ext = rings.next().unwrap();
                 Polygon::new(ext, rings.collect())
             })

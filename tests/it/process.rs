@@ -33,12 +33,7 @@ fn start(db: &std::path::Path, port: u16, delay_ms: u64) -> Server {
         .unwrap();
     let server = Server { child, base: format!("http://127.0.0.1:{port}") };
     for _ in 0..400 {
-        let ok = Command::new(env!("CARGO_BIN_EXE_coverplan"))
-            .args(["healthcheck", "--addr", &format!("127.0.0.1:{port}")])
-            .stderr(Stdio::null())
-            .status()
-            .unwrap()
-            .success();
+        let ok = Command::new(env!("CARGO_BIN_EXE_coverplan")).args(["healthcheck", "--addr", &format!("127.0.0.1:{port}")]).stderr(Stdio::null()).status().unwrap().success();
         if ok {
             return server;
         }
@@ -64,15 +59,8 @@ async fn wait_status(client: &reqwest::Client, base: &str, plan: &str, want: &st
 
 async fn queue_plan(client: &reqwest::Client, base: &str) -> String {
     let m: Value = client.post(format!("{base}/api/v1/missions")).json(&mission_body("real-fields/nl-parcel-b.json")).send().await.unwrap().json().await.unwrap();
-    let p: Value = client
-        .post(format!("{base}/api/v1/missions/{}/plans", m["id"].as_str().unwrap()))
-        .json(&json!({"line_spacing_m": 20}))
-        .send()
-        .await
-        .unwrap()
-        .json()
-        .await
-        .unwrap();
+    let p: Value =
+        client.post(format!("{base}/api/v1/missions/{}/plans", m["id"].as_str().unwrap())).json(&json!({"line_spacing_m": 20})).send().await.unwrap().json().await.unwrap();
     p["id"].as_str().unwrap().to_owned()
 }
 
@@ -144,7 +132,11 @@ fn the_routing_benchmark_prints_its_table() {
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     // | lines | matrix ms | solve ms | total ms | length | boustrophedon | saved | Noon–Bean | ms |
-    let rows: Vec<Vec<String>> = text.lines().filter(|l| l.starts_with("| ") && l[2..].trim_start().starts_with(|c: char| c.is_ascii_digit())).map(|l| l.split('|').map(|c| c.trim().to_string()).collect()).collect();
+    let rows: Vec<Vec<String>> = text
+        .lines()
+        .filter(|l| l.starts_with("| ") && l[2..].trim_start().starts_with(|c: char| c.is_ascii_digit()))
+        .map(|l| l.split('|').map(|c| c.trim().to_string()).collect())
+        .collect();
     assert_eq!(rows.iter().map(|r| r[1].as_str()).collect::<Vec<_>>(), ["100", "300", "600"], "{text}");
     for r in &rows {
         let number = |i: usize| r[i].parse::<f64>().unwrap_or_else(|_| panic!("column {i} of {r:?}"));

@@ -1,7 +1,6 @@
 //! Vehicle profiles and route estimates end to end: `/api/v1/vehicles` and
 //! `/api/v1/estimates`, and a plan that names a stored profile and is split into sorties.
 
-
 use crate::common::{TestApp, mission_body};
 use serde_json::{Value, json};
 

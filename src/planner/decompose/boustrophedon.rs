@@ -69,10 +69,7 @@ pub fn cells_of(pattern: &SweepPattern) -> Vec<Cell> {
         let mut next_open: Vec<(Cell, usize)> = Vec::new();
         let mut continued = vec![false; line.len()];
         for (mut c, pi) in open.drain(..) {
-            let successor = (degree_prev[pi] == 1)
-                .then(|| line.iter().position(|q| overlaps(&prev[pi], q)))
-                .flatten()
-                .filter(|&qi| degree_next[qi] == 1);
+            let successor = (degree_prev[pi] == 1).then(|| line.iter().position(|q| overlaps(&prev[pi], q))).flatten().filter(|&qi| degree_next[qi] == 1);
             match successor {
                 Some(qi) => {
                     c.segments.push(line[qi]);

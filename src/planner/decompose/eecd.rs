@@ -6,8 +6,8 @@ use geo::{Area, BooleanOps, Coord, MultiPolygon, Polygon};
 
 use super::naive::{Cut, convex_pieces, naive_cut, simple_parts};
 use super::polygon::{closed, is_monotone, min_width_of, open_ring, points_inside, ray_hit, split};
-use crate::geom::signed_area;
 use super::{Cell, CoverageArea, Decomposition, sort_cells, sweep_pieces};
+use crate::geom::signed_area;
 
 pub struct Eecd;
 
@@ -19,8 +19,7 @@ const MERGE_TOLERANCE: f64 = std::f64::consts::PI / 180.0;
 impl Decomposition for Eecd {
     fn cells(&self, area: &CoverageArea<'_>) -> Vec<Cell> {
         let min_area = area.layout.spacing * area.layout.spacing * 0.01;
-        let convex: Vec<Vec<Coord>> =
-            simple_parts(area.region, area.layout).into_iter().flat_map(|ring| convex_pieces(ring, |r, i| min_width_sum_cut(r, i, min_area))).collect();
+        let convex: Vec<Vec<Coord>> = simple_parts(area.region, area.layout).into_iter().flat_map(|ring| convex_pieces(ring, |r, i| min_width_sum_cut(r, i, min_area))).collect();
         let pieces = merge_monotone(convex.into_iter().map(|r| Polygon::new(closed(&r), vec![])).collect());
         let mut cells = sweep_pieces(&pieces, area);
         sort_cells(&mut cells);
@@ -117,7 +116,9 @@ mod tests {
 
     #[test]
     fn merge_joins_aligned_neighbours_only_when_monotone() {
-        let sq = |x0: f64, y0: f64, w: f64, h: f64| Polygon::new(closed(&[Coord { x: x0, y: y0 }, Coord { x: x0 + w, y: y0 }, Coord { x: x0 + w, y: y0 + h }, Coord { x: x0, y: y0 + h }]), vec![]);
+        let sq = |x0: f64, y0: f64, w: f64, h: f64| {
+            Polygon::new(closed(&[Coord { x: x0, y: y0 }, Coord { x: x0 + w, y: y0 }, Coord { x: x0 + w, y: y0 + h }, Coord { x: x0, y: y0 + h }]), vec![])
+        };
         // two 100 × 10 slabs side by side along x merge into one 200 × 10 slab
         assert_eq!(merge_monotone(vec![sq(0., 0., 100., 10.), sq(100., 0., 100., 10.)]).len(), 1);
         // slabs with different directions stay apart

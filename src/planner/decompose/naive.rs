@@ -12,11 +12,8 @@ pub struct Naive;
 
 impl Decomposition for Naive {
     fn cells(&self, area: &CoverageArea<'_>) -> Vec<Cell> {
-        let pieces: Vec<Polygon> = simple_parts(area.region, area.layout)
-            .into_iter()
-            .flat_map(|ring| convex_pieces(ring, naive_cut))
-            .map(|r| Polygon::new(closed(&r), vec![]))
-            .collect();
+        let pieces: Vec<Polygon> =
+            simple_parts(area.region, area.layout).into_iter().flat_map(|ring| convex_pieces(ring, naive_cut)).map(|r| Polygon::new(closed(&r), vec![])).collect();
         let mut cells = sweep_pieces(&pieces, area);
         sort_cells(&mut cells);
         cells
@@ -30,11 +27,7 @@ pub type Cut = (usize, usize, Coord);
 pub fn naive_cut(ring: &[Coord], i: usize) -> Option<Cut> {
     let n = ring.len();
     let (p, v, q) = (ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n]);
-    [v - p, v - q]
-        .into_iter()
-        .filter_map(|d| ray_hit(ring, i, d))
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map(|(_, j, hit)| (i, j, hit))
+    [v - p, v - q].into_iter().filter_map(|d| ray_hit(ring, i, d)).min_by(|x, y| x.0.total_cmp(&y.0)).map(|(_, j, hit)| (i, j, hit))
 }
 
 /// Cuts the ring at its reflex vertices with `choose` until the pieces are convex. A piece the

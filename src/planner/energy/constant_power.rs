@@ -79,8 +79,8 @@ impl EnergyModel for ConstantPower<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::path::PieceKind;
     use crate::energy::EnergyParams;
+    use crate::path::PieceKind;
     use crate::vehicle::builtin_profiles;
     use geo::Coord;
 

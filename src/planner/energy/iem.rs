@@ -51,14 +51,7 @@ impl IemCoefficients {
     pub fn iris() -> Self {
         IemCoefficients {
             level_power: vec![3.683806457168736e-03, 2.254081880192812e-02, -6.962411567465551e-01, 3.2981881218628495e-01, 2.212786072982807e+02],
-            accel_power: vec![
-                2.0278506913465286e-05,
-                1.4859611872955931e-02,
-                -4.6042074697189045e-01,
-                5.152279814553939,
-                -2.1182532841734336e+01,
-                2.3359704981556033e+02,
-            ],
+            accel_power: vec![2.0278506913465286e-05, 1.4859611872955931e-02, -4.6042074697189045e-01, 5.152279814553939, -2.1182532841734336e+01, 2.3359704981556033e+02],
             decel_power: vec![1.072166051486935e-02, -4.9382831070964694e-01, 8.343857073684925, -5.7737401560222374e+01, 3.4187228951032466e+02],
             decel_reference_mps: 15.0,
             climb_rate_mps: 2.0912162162162167,
@@ -274,13 +267,7 @@ impl EnergyModel for Iem<'_> {
     fn pieces(&self, path: &FlightPath) -> Vec<PieceEstimate> {
         let legs = legs(path);
         let flown = self.fly(&legs);
-        spread_over_pieces(path, &legs, &flown, |f| PieceEstimate {
-            speed_mps: f.cruise_mps,
-            duration_s: f.duration_s,
-            energy_j: f.energy_j,
-            v_in_mps: 0.0,
-            v_out_mps: f.v_out,
-        })
+        spread_over_pieces(path, &legs, &flown, |f| PieceEstimate { speed_mps: f.cruise_mps, duration_s: f.duration_s, energy_j: f.energy_j, v_in_mps: 0.0, v_out_mps: f.v_out })
     }
 
     fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64) {

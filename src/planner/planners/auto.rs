@@ -61,8 +61,9 @@ impl Planner for Auto {
                 Err(e) => alternatives.push(Alternative { planner: id.into(), length_m: None, duration_s: None, energy_j: None, coverage_ratio: None, error: Some(e.to_string()) }),
             }
         }
-        let best = best_covering(&scored, |s| s.2, |s| s.1)
-            .ok_or_else(|| PlanError::Infeasible(format!("no planner could plan this mission: {}", alternatives.iter().filter_map(|a| a.error.as_deref()).collect::<Vec<_>>().join("; "))))?;
+        let best = best_covering(&scored, |s| s.2, |s| s.1).ok_or_else(|| {
+            PlanError::Infeasible(format!("no planner could plan this mission: {}", alternatives.iter().filter_map(|a| a.error.as_deref()).collect::<Vec<_>>().join("; ")))
+        })?;
         let (id, _, _, planned) = scored.swap_remove(best);
         alternatives.retain(|a| a.planner != id);
         Ok(PlannedPath { planner: Some(id), alternatives, ..planned })

@@ -25,8 +25,8 @@ use rayon::prelude::*;
 use super::{PlannedPath, Planner, Problem, Progress, no_sweep_lines};
 use crate::error::PlanError;
 use crate::path::{FlightPath, PieceKind};
-use crate::route::gtsp::{self, Instance};
 use crate::route::connect::Connector;
+use crate::route::gtsp::{self, Instance};
 use crate::route::line_tour::{Line, LineProblem};
 use crate::route::visibility::TransitPlanner;
 use crate::sweep::{candidate_directions, from_sweep_frame, sweep, width_across};
@@ -287,7 +287,13 @@ impl Search<'_> {
     /// turning room before no-fly zones (lines cut short or dropped).
     fn field_lines(&self, region: usize, h: f64) -> (Vec<Line>, f64) {
         let pattern = sweep(&self.fields[region], self.problem.keep_out, h, self.problem.layout);
-        let whole: Vec<Line> = pattern.lines.iter().flatten().chain(&pattern.gap_fills).map(|s| Line { a: from_sweep_frame(h, s.a, s.offset), b: from_sweep_frame(h, s.b, s.offset), region }).collect();
+        let whole: Vec<Line> = pattern
+            .lines
+            .iter()
+            .flatten()
+            .chain(&pattern.gap_fills)
+            .map(|s| Line { a: from_sweep_frame(h, s.a, s.offset), b: from_sweep_frame(h, s.b, s.offset), region })
+            .collect();
         let flown = self.problem.flyable(whole.iter().copied());
         let metres = |lines: &[Line]| lines.iter().map(Line::length).sum::<f64>();
         let lost_m = (metres(&whole) - metres(&flown)).max(0.0);
@@ -450,7 +456,8 @@ impl Search<'_> {
         // real costs may exceed ranking costs: solve again while an unsettled combination
         // reaches the top
         loop {
-            let open: Vec<(usize, Vec<f64>)> = ranking.ranked.iter().enumerate().take(self.finalists).filter(|(_, r)| r.seq.is_none()).map(|(i, r)| (i, self.per_field(&r.choice))).collect();
+            let open: Vec<(usize, Vec<f64>)> =
+                ranking.ranked.iter().enumerate().take(self.finalists).filter(|(_, r)| r.seq.is_none()).map(|(i, r)| (i, self.per_field(&r.choice))).collect();
             if open.is_empty() {
                 break;
             }
@@ -498,4 +505,3 @@ pub fn fly_lines(route: &LineProblem<'_>, seq: &[usize], half_swath: f64) -> Res
     }
     Ok(path)
 }
-

@@ -12,13 +12,13 @@ use serde::Serialize;
 
 use super::error::PlanError;
 use super::metrics::Alternative;
+use super::params::Objective;
 use super::path::{FlightPath, PieceKind};
 use super::route::connect::Connector;
 use super::route::line_tour::{Line, LineProblem, Terminal};
 use super::route::visibility::TransitPlanner;
 use super::sweep::LineLayout;
 use super::turn::climb::Obstacles;
-use super::params::Objective;
 use super::vehicle::Vehicle;
 use auto::Auto;
 use cell_planner::{BOUSTROPHEDON, E_BF, EECD, ENERGY_AWARE, NAIVE};
@@ -144,14 +144,22 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
     let p = |name, kind, description| ParameterInfo { name, kind, description };
     vec![
         p("line_spacing_m", "number", "distance between sweep lines, 0.5 to 2000 m (or give a camera)"),
-        p("camera", "object", "{preset} from GET /api/v1/cameras, or sensor_width_mm + focal_length_mm (or hfov_deg or dfov_deg), image_width_px, image_height_px; orientation landscape|portrait"),
+        p(
+            "camera",
+            "object",
+            "{preset} from GET /api/v1/cameras, or sensor_width_mm + focal_length_mm (or hfov_deg or dfov_deg), image_width_px, image_height_px; orientation landscape|portrait",
+        ),
         p("altitude_m", "number", "flight altitude above ground (with a camera: or gsd_cm)"),
         p("gsd_cm", "number", "wanted ground sample distance in cm/px; sets the altitude"),
         p("side_overlap", "number", "overlap of neighbouring lines' images, 0 to 0.95 (default 0.7)"),
         p("front_overlap", "number", "overlap of images along a line, 0 to 0.95 (default 0.8)"),
         p("heading_deg", "number", "compass bearing of the sweep lines; absent: the planner chooses"),
         p("sweep_direction", "string", "planner (default): the planner's own rule; optimal: every direction tried, the shortest plan kept"),
-        p("vehicle", "object", "{profile} from GET /api/v1/vehicles, or {kind: multirotor|fixed_wing}, with overrides cruise_speed_mps, turn_radius_m, battery_wh, battery_reserve; fixed wing flies Dubins turns"),
+        p(
+            "vehicle",
+            "object",
+            "{profile} from GET /api/v1/vehicles, or {kind: multirotor|fixed_wing}, with overrides cruise_speed_mps, turn_radius_m, battery_wh, battery_reserve; fixed wing flies Dubins turns",
+        ),
         p("objective", "string", "auto only: energy (default), time or length"),
         p("max_sorties", "integer", "most sorties when one battery is not enough, 1 to 100 (default 20); needs the mission's home"),
         p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts and its compass heading (default: home, heading free)"),
@@ -163,12 +171,9 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
 
 /// Appends a connection from the end of `path` to `to`, around no-fly zones when needed.
 pub fn connect(path: &mut FlightPath, kind: PieceKind, from: Coord, to: Coord, transit: &TransitPlanner) -> Result<(), PlanError> {
-    let points = transit.path(from, to).ok_or_else(|| {
-        PlanError::Infeasible(format!(
-            "no path outside the no-fly zones joins ({:.1}, {:.1}) to ({:.1}, {:.1}) in the local frame",
-            from.x, from.y, to.x, to.y
-        ))
-    })?;
+    let points = transit
+        .path(from, to)
+        .ok_or_else(|| PlanError::Infeasible(format!("no path outside the no-fly zones joins ({:.1}, {:.1}) to ({:.1}, {:.1}) in the local frame", from.x, from.y, to.x, to.y)))?;
     let kind = if points.len() > 2 { PieceKind::Transit } else { kind };
     path.push(kind, points, 0.0);
     Ok(())

@@ -117,20 +117,26 @@ impl Connector<'_> {
         [1.0, -1.0].into_iter().any(|side: f64| {
             let centre = at + Coord { x: -out.y, y: out.x } * (side * r);
             let phase = (at.y - centre.y).atan2(at.x - centre.x);
-            let arc: Vec<Coord> = (0..=16).map(|k| {
-                let phi = phase + side * std::f64::consts::PI * k as f64 / 16.0;
-                centre + Coord { x: phi.cos(), y: phi.sin() } * r
-            }).collect();
+            let arc: Vec<Coord> = (0..=16)
+                .map(|k| {
+                    let phi = phase + side * std::f64::consts::PI * k as f64 / 16.0;
+                    centre + Coord { x: phi.cos(), y: phi.sin() } * r
+                })
+                .collect();
             self.transit.is_polyline_clear(&arc)
         })
     }
 
     /// A box that holds every connection between the two poses that has no detour.
     pub fn reach(&self, from: Pose, to: Pose) -> Rect {
-        reach(from, to, match self.turn {
-            TurnModel::Dubins(r) => r,
-            TurnModel::Straight => 0.0,
-        })
+        reach(
+            from,
+            to,
+            match self.turn {
+                TurnModel::Dubins(r) => r,
+                TurnModel::Straight => 0.0,
+            },
+        )
     }
 
     /// The shortest Dubins word that stays clear of the walls, as points.
@@ -166,11 +172,11 @@ impl Connector<'_> {
         // legs already known to be blocked (rows serve every connection of their pose) are left
         // out; lengths are never negative, so their bits order as they do
         let open = |row: &LegRow, k: usize| row.clear[k].load(Ordering::Relaxed) != BLOCKED;
-        let mut shortest_first: BinaryHeap<Reverse<(u64, usize)>> = (0..self.via.len()).filter(|&k| open(&out, k) && open(&into, k)).map(|k| Reverse(((out.length[k] + into.length[k]).to_bits(), k))).collect();
+        let mut shortest_first: BinaryHeap<Reverse<(u64, usize)>> =
+            (0..self.via.len()).filter(|&k| open(&out, k) && open(&into, k)).map(|k| Reverse(((out.length[k] + into.length[k]).to_bits(), k))).collect();
         let k = std::iter::from_fn(|| shortest_first.pop()).map(|Reverse((_, k))| k).find(|&k| {
             let via = self.via[k];
-            self.is_leg_clear(&out, k, || self.is_word_clear(shortest(from, via, r), via))
-                && self.is_leg_clear(&into, k, || self.is_word_clear(shortest(via, to, r), to))
+            self.is_leg_clear(&out, k, || self.is_word_clear(shortest(from, via, r), via)) && self.is_leg_clear(&into, k, || self.is_word_clear(shortest(via, to, r), to))
         })?;
         let mut points = word_points(shortest(from, self.via[k], r), self.via[k]);
         points.extend_from_slice(&word_points(shortest(self.via[k], to, r), to)[1..]);

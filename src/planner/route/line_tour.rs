@@ -105,18 +105,26 @@ impl LineProblem<'_> {
 
     /// From the start to the entry of each node (`None` without a start).
     pub fn start_costs(&self) -> Option<Vec<f64>> {
-        self.start.map(|s| (0..2 * self.lines.len()).map(|v| {
-            let e = entry(self.lines, v);
-            self.connector.length(s.towards(e.coord()), e)
-        }).collect())
+        self.start.map(|s| {
+            (0..2 * self.lines.len())
+                .map(|v| {
+                    let e = entry(self.lines, v);
+                    self.connector.length(s.towards(e.coord()), e)
+                })
+                .collect()
+        })
     }
 
     /// From the exit of each node to the end (`None` without an end).
     pub fn end_costs(&self) -> Option<Vec<f64>> {
-        self.end.map(|t| (0..2 * self.lines.len()).map(|v| {
-            let x = exit(self.lines, v);
-            self.connector.length(x, t.from(x.coord()))
-        }).collect())
+        self.end.map(|t| {
+            (0..2 * self.lines.len())
+                .map(|v| {
+                    let x = exit(self.lines, v);
+                    self.connector.length(x, t.from(x.coord()))
+                })
+                .collect()
+        })
     }
 
     /// The GTSP instance: clusters of two directed nodes, node costs, connection costs, and
@@ -282,7 +290,13 @@ mod tests {
     #[test]
     fn the_bound_counts_the_region_changes_a_tour_without_reentries_makes() {
         // three lines in each of two fields side by side, flown without re-entries
-        let lines: Vec<Line> = (0..6).map(|i| Line { a: Coord { x: 600.0 * (i / 3) as f64, y: 75.0 * (i % 3) as f64 }, b: Coord { x: 600.0 * (i / 3) as f64 + 400.0, y: 75.0 * (i % 3) as f64 }, region: i / 3 }).collect();
+        let lines: Vec<Line> = (0..6)
+            .map(|i| Line {
+                a: Coord { x: 600.0 * (i / 3) as f64, y: 75.0 * (i % 3) as f64 },
+                b: Coord { x: 600.0 * (i / 3) as f64 + 400.0, y: 75.0 * (i % 3) as f64 },
+                region: i / 3,
+            })
+            .collect();
         let none = MultiPolygon(vec![]);
         let transit = TransitPlanner::new(&none, &none);
         let connector = Connector::new(TurnModel::Dubins(85.0), &transit, None);

@@ -52,12 +52,7 @@ impl CellOrder for NearestCell {
         if ctx.start.is_some() || cells.len() > SEARCH_FIRST_CELL_UP_TO {
             return greedy(None).1;
         }
-        (0..cells.len())
-            .flat_map(CellVisit::variants)
-            .map(|v| greedy(Some(v)))
-            .min_by(|x, y| x.0.total_cmp(&y.0))
-            .map(|(_, t)| t)
-            .expect("at least one cell")
+        (0..cells.len()).flat_map(CellVisit::variants).map(|v| greedy(Some(v))).min_by(|x, y| x.0.total_cmp(&y.0)).map(|(_, t)| t).expect("at least one cell")
     }
 }
 

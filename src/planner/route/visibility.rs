@@ -83,11 +83,7 @@ impl TransitPlanner {
         let clear: Vec<Vec<bool>> = points.par_iter().map(|&a| points.iter().map(|&b| self.is_clear(a, b)).collect()).collect();
         let blocked = clear.iter().any(|row| row.iter().any(|c| !c));
         // nodes seen from each point, only needed when some pair is blocked
-        let seen: Vec<Vec<(usize, f64)>> = if blocked {
-            points.par_iter().map(|&p| self.seen_from(p)).collect()
-        } else {
-            Vec::new()
-        };
+        let seen: Vec<Vec<(usize, f64)>> = if blocked { points.par_iter().map(|&p| self.seen_from(p)).collect() } else { Vec::new() };
         (0..points.len())
             .into_par_iter()
             .map(|i| {
@@ -96,15 +92,7 @@ impl TransitPlanner {
                     return points.iter().map(|&b| distance(points[i], b)).collect();
                 }
                 let (dist, _) = self.dijkstra(&seen[i]);
-                (0..points.len())
-                    .map(|j| {
-                        if row[j] {
-                            distance(points[i], points[j])
-                        } else {
-                            seen[j].iter().map(|&(w, d)| dist[w] + d).fold(f64::INFINITY, f64::min)
-                        }
-                    })
-                    .collect()
+                (0..points.len()).map(|j| if row[j] { distance(points[i], points[j]) } else { seen[j].iter().map(|&(w, d)| dist[w] + d).fold(f64::INFINITY, f64::min) }).collect()
             })
             .collect()
     }

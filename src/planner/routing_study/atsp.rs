@@ -154,18 +154,24 @@ mod tests {
     #[test]
     fn finds_the_round_trip_on_a_circle() {
         let n = 40;
-        let pts: Vec<(f64, f64)> = (0..n).map(|k| {
-            let a = (k * 17 % n) as f64 * std::f64::consts::TAU / n as f64;
-            (a.cos() * 100.0, a.sin() * 100.0)
-        }).collect();
+        let pts: Vec<(f64, f64)> = (0..n)
+            .map(|k| {
+                let a = (k * 17 % n) as f64 * std::f64::consts::TAU / n as f64;
+                (a.cos() * 100.0, a.sin() * 100.0)
+            })
+            .collect();
         // going counter-clockwise is cheap, clockwise twice as dear
-        let cost: Vec<f64> = (0..n * n).map(|i| {
-            let (u, v) = (i / n, i % n);
-            if u == v { return f64::INFINITY }
-            let d = (pts[u].0 - pts[v].0).hypot(pts[u].1 - pts[v].1);
-            let ccw = pts[u].0 * pts[v].1 - pts[u].1 * pts[v].0 > 0.0;
-            if ccw { d } else { 2.0 * d }
-        }).collect();
+        let cost: Vec<f64> = (0..n * n)
+            .map(|i| {
+                let (u, v) = (i / n, i % n);
+                if u == v {
+                    return f64::INFINITY;
+                }
+                let d = (pts[u].0 - pts[v].0).hypot(pts[u].1 - pts[v].1);
+                let ccw = pts[u].0 * pts[v].1 - pts[u].1 * pts[v].0 > 0.0;
+                if ccw { d } else { 2.0 * d }
+            })
+            .collect();
         let m = Matrix { size: n, cost };
         let tour = solve(&m, 0, 200);
         let mut sorted = tour.clone();

@@ -29,7 +29,13 @@ pub fn to_atsp(inst: &Instance) -> Atsp {
     let d = |u: usize, w: usize| inst.c(u, w) + inst.node_cost[w];
     let start = |w: usize| inst.from_start.as_ref().map_or(0.0, |f| f[w]) + inst.node_cost[w];
     let end = |u: usize| inst.to_end.as_ref().map_or(0.0, |t| t[u]);
-    let largest = (0..n).flat_map(|u| (0..n).map(move |w| (u, w))).filter(|&(u, w)| u != w && inst.reverse[u] != w).map(|(u, w)| d(u, w)).chain((0..n).map(start)).chain((0..n).map(end)).fold(0.0f64, f64::max);
+    let largest = (0..n)
+        .flat_map(|u| (0..n).map(move |w| (u, w)))
+        .filter(|&(u, w)| u != w && inst.reverse[u] != w)
+        .map(|(u, w)| d(u, w))
+        .chain((0..n).map(start))
+        .chain((0..n).map(end))
+        .fold(0.0f64, f64::max);
     let big_m = (inst.clusters.len() as f64 + 2.0) * largest.max(1.0);
     let mut cost = vec![f64::INFINITY; size * size];
     for u in 0..n {

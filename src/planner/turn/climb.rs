@@ -43,11 +43,7 @@ impl Obstacles {
 
     /// Highest altitude the aircraft may not go below at `p`.
     fn required(&self, p: Coord) -> f64 {
-        self.prisms
-            .iter()
-            .filter(|(bb, ring, _)| bb.intersects(&p) && point_in_ring(p, ring))
-            .map(|(_, _, top)| *top)
-            .fold(self.survey_altitude_m, f64::max)
+        self.prisms.iter().filter(|(bb, ring, _)| bb.intersects(&p) && point_in_ring(p, ring)).map(|(_, _, top)| *top).fold(self.survey_altitude_m, f64::max)
     }
 
     /// Horizontal distance a climb from the survey altitude to the highest obstacle needs.

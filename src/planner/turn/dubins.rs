@@ -160,10 +160,7 @@ pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
     let (alpha, beta) = (mod2pi(q0.theta - phi), mod2pi(q1.theta - phi));
     let ((sa, ca), (sb, cb)) = (alpha.sin_cos(), beta.sin_cos());
     let n = Normalised { alpha, beta, d: dist / r, sa, ca, sb, cb, cab: ca * cb + sa * sb };
-    Word::ALL
-        .iter()
-        .filter_map(|&word| word_params(word, &n).map(|params| DubinsPath { start: q0, radius: r, word, params }))
-        .collect()
+    Word::ALL.iter().filter_map(|&word| word_params(word, &n).map(|params| DubinsPath { start: q0, radius: r, word, params })).collect()
 }
 
 /// The shortest path from `q0` to `q1` with radius `r > 0`; ties go to the first word of
@@ -274,29 +271,28 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-/// Length of the shortest path, without building it.
-fn shortest_length(q0: Pose, q1: Pose, r: f64) -> f64 {
-    shortest(q0, q1, r).length()
-}
-
-impl DubinsPath {
-    /// The pose where the path ends (by following its parts).
-    fn end_pose(&self) -> Pose {
-        self.segments().iter().fold(self.start, |q, &(part, s)| advance(q, part, s, self.radius))
+    /// Length of the shortest path, without building it.
+    fn shortest_length(q0: Pose, q1: Pose, r: f64) -> f64 {
+        shortest(q0, q1, r).length()
     }
 
-}
-
-/// Turn between antiparallel lines `d` apart with aligned ends in closed form, the
-/// reference the words are checked against: U-turn when `d ≥ 2r`, Ω-turn ("bulb") below.
-fn parallel_turn_length(d: f64, r: f64) -> f64 {
-    if d >= 2.0 * r {
-        PI * r + (d - 2.0 * r)
-    } else {
-        let eta = (d / 2.0 + r).atan2((4.0 * r * r - ((d + 2.0 * r) / 2.0).powi(2)).sqrt());
-        r * (3.0 * PI - 4.0 * eta)
+    impl DubinsPath {
+        /// The pose where the path ends (by following its parts).
+        fn end_pose(&self) -> Pose {
+            self.segments().iter().fold(self.start, |q, &(part, s)| advance(q, part, s, self.radius))
+        }
     }
-}
+
+    /// Turn between antiparallel lines `d` apart with aligned ends in closed form, the
+    /// reference the words are checked against: U-turn when `d ≥ 2r`, Ω-turn ("bulb") below.
+    fn parallel_turn_length(d: f64, r: f64) -> f64 {
+        if d >= 2.0 * r {
+            PI * r + (d - 2.0 * r)
+        } else {
+            let eta = (d / 2.0 + r).atan2((4.0 * r * r - ((d + 2.0 * r) / 2.0).powi(2)).sqrt());
+            r * (3.0 * PI - 4.0 * eta)
+        }
+    }
 
     fn deg(p: (f64, f64, f64)) -> Pose {
         Pose::new(p.0, p.1, p.2.to_radians())

@@ -136,7 +136,11 @@ mod tests {
         permutations(&mut (0..5).collect(), &mut perms, &mut Vec::new());
         for _ in 0..50 {
             let a: Vec<f64> = (0..25).map(|_| next()).collect();
-            let best = perms.iter().filter(|p| p.iter().enumerate().all(|(i, &j)| i != j)).map(|p| p.iter().enumerate().map(|(i, &j)| a[i * 5 + j]).sum::<f64>()).fold(f64::INFINITY, f64::min);
+            let best = perms
+                .iter()
+                .filter(|p| p.iter().enumerate().all(|(i, &j)| i != j))
+                .map(|p| p.iter().enumerate().map(|(i, &j)| a[i * 5 + j]).sum::<f64>())
+                .fold(f64::INFINITY, f64::min);
             assert!((assignment(&a) - best).abs() < 1e-9, "{} vs {best}", assignment(&a));
         }
     }

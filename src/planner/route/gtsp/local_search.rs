@@ -218,11 +218,8 @@ impl Tour<'_, '_> {
             let (p, q) = (self.at(i as isize - 1), self.at((i + len) as isize));
             let inner = |c: &[usize]| c.iter().map(|&v| inst.node_cost[v]).sum::<f64>() + c.windows(2).map(|x| inst.c(x[0], x[1])).sum::<f64>();
             let removed = inst.link(p, Some(chain[0])) + inst.link(Some(chain[len - 1]), q) - inst.link(p, q) + inner(&chain);
-            let options: Vec<Vec<usize>> = if len == 1 {
-                inst.clusters[self.of[chain[0]]].iter().map(|&v| vec![v]).collect()
-            } else {
-                vec![chain.clone(), chain.iter().rev().map(|&v| rev[v]).collect()]
-            };
+            let options: Vec<Vec<usize>> =
+                if len == 1 { inst.clusters[self.of[chain[0]]].iter().map(|&v| vec![v]).collect() } else { vec![chain.clone(), chain.iter().rev().map(|&v| rev[v]).collect()] };
             // the rest of the sequence without the chain, by index
             let rest_len = m - len;
             let rest_at = |k: isize| -> Option<usize> {

@@ -45,12 +45,7 @@ pub struct LazyCosts<'a> {
 impl<'a> Costs<'a> {
     /// Costs of `n` nodes computed by `compute` when first asked for, `known` ones kept.
     pub fn lazy(n: usize, known: KnownCosts, compute: impl Fn(usize, usize) -> f64 + 'a) -> Self {
-        let lazy = LazyCosts {
-            n,
-            table: if n <= LAZY_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() },
-            map: RefCell::default(),
-            compute: Box::new(compute),
-        };
+        let lazy = LazyCosts { n, table: if n <= LAZY_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() }, map: RefCell::default(), compute: Box::new(compute) };
         for ((u, v), c) in known {
             lazy.keep(u, v, c);
         }
@@ -237,13 +232,7 @@ fn greedy_with(inst: &Instance, nb: &Neighbours, of: &[usize]) -> Vec<usize> {
         return run(None);
     }
     let firsts = if m <= 100 { 24 } else { 4 };
-    inst.clusters
-        .iter()
-        .take(firsts)
-        .flatten()
-        .map(|&f| run(Some(f)))
-        .min_by(|a, b| inst.total(a).total_cmp(&inst.total(b)))
-        .unwrap_or_else(|| run(None))
+    inst.clusters.iter().take(firsts).flatten().map(|&f| run(Some(f))).min_by(|a, b| inst.total(a).total_cmp(&inst.total(b))).unwrap_or_else(|| run(None))
 }
 
 /// The best node of each cluster for the cluster order of `seq` (a shortest path through
@@ -261,11 +250,8 @@ pub fn optimise_clusters(inst: &Instance, seq: &[usize]) -> Vec<usize> {
                 c.push(inst.start(w) + inst.node_cost[w]);
                 f.push(0);
             } else {
-                let (best_i, best) = layers[k - 1]
-                    .iter()
-                    .enumerate()
-                    .map(|(i, &u)| (i, cost[k - 1][i] + inst.c(u, w)))
-                    .fold((0, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc });
+                let (best_i, best) =
+                    layers[k - 1].iter().enumerate().map(|(i, &u)| (i, cost[k - 1][i] + inst.c(u, w))).fold((0, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc });
                 c.push(best + inst.node_cost[w]);
                 f.push(best_i);
             }
@@ -274,10 +260,7 @@ pub fn optimise_clusters(inst: &Instance, seq: &[usize]) -> Vec<usize> {
         from.push(f);
     }
     let last = layers.len() - 1;
-    let mut i = (0..layers[last].len())
-        .map(|i| (i, cost[last][i] + inst.end(layers[last][i])))
-        .fold((0, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc })
-        .0;
+    let mut i = (0..layers[last].len()).map(|i| (i, cost[last][i] + inst.end(layers[last][i]))).fold((0, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc }).0;
     let mut out = vec![0; layers.len()];
     for k in (0..layers.len()).rev() {
         out[k] = layers[k][i];
@@ -314,11 +297,7 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
             starts.push(optimise_clusters(inst, &order));
         }
     }
-    starts
-        .into_iter()
-        .map(|s| iterated_local_search(inst, &nb, &of, s, &mut rng))
-        .min_by(|a, b| inst.total(a).total_cmp(&inst.total(b)))
-        .expect("at least the greedy start")
+    starts.into_iter().map(|s| iterated_local_search(inst, &nb, &of, s, &mut rng)).min_by(|a, b| inst.total(a).total_cmp(&inst.total(b))).expect("at least the greedy start")
 }
 
 fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: Vec<usize>, rng: &mut Rng) -> Vec<usize> {
@@ -352,7 +331,7 @@ mod tests {
     use super::*;
 
     /// The greedy tour alone, a bound the searches must meet.
-        fn greedy(inst: &Instance) -> Vec<usize> {
+    fn greedy(inst: &Instance) -> Vec<usize> {
         let (of, nb) = neighbours(inst);
         greedy_with(inst, &nb, &of)
     }

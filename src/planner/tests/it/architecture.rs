@@ -9,8 +9,25 @@ use std::path::Path;
 
 /// The top-level modules, lowest first, as `lib.rs` lists them.
 const LAYERS: &[&str] = &[
-    "error", "geom", "frame", "path", "field", "sweep", "decompose", "turn", "route", "energy", "vehicle", "camera", "params", "sortie", "metrics", "planners", "export",
-    "estimate", "routing_study",
+    "error",
+    "geom",
+    "frame",
+    "path",
+    "field",
+    "sweep",
+    "decompose",
+    "turn",
+    "route",
+    "energy",
+    "vehicle",
+    "camera",
+    "params",
+    "sortie",
+    "metrics",
+    "planners",
+    "export",
+    "estimate",
+    "routing_study",
 ];
 
 /// Module path of a source file relative to the crate root (`route/gtsp/mod.rs` → route, gtsp).
@@ -160,11 +177,10 @@ fn every_stage_uses_only_the_stages_below_it() {
 
 #[test]
 fn the_check_sees_a_cycle() {
-    let edges: BTreeMap<String, BTreeSet<String>> =
-        [("a", "b"), ("b", "c"), ("c", "a"), ("c", "d")].iter().fold(BTreeMap::new(), |mut m, (f, t)| {
-            m.entry(f.to_string()).or_insert_with(BTreeSet::new).insert(t.to_string());
-            m
-        });
+    let edges: BTreeMap<String, BTreeSet<String>> = [("a", "b"), ("b", "c"), ("c", "a"), ("c", "d")].iter().fold(BTreeMap::new(), |mut m, (f, t)| {
+        m.entry(f.to_string()).or_insert_with(BTreeSet::new).insert(t.to_string());
+        m
+    });
     assert_eq!(find_cycle(&edges), Some(vec!["a".into(), "b".into(), "c".into(), "a".into()]));
     assert_eq!(named_modules("{metrics::Stats, planners::{self, registry}}"), vec!["metrics".to_string(), "planners".into()]);
 }

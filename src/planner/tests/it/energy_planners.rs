@@ -46,7 +46,13 @@ fn the_spiral_saves_energy_on_regular_polygons_and_does_not_lose_on_rectangles()
         let field = regular(n, 400.0, 0.3);
         let (spiral, bf) = (energy(&field, "e_spiral"), energy(&field, "e_bf"));
         let saving = 1.0 - spiral.stats.energy_j / bf.stats.energy_j;
-        eprintln!("{n} vertices: e_spiral {:.0} J, e_bf {:.0} J, saving {:.1} %, spiral coverage {:.4}", spiral.stats.energy_j, bf.stats.energy_j, 100.0 * saving, spiral.stats.coverage_ratio);
+        eprintln!(
+            "{n} vertices: e_spiral {:.0} J, e_bf {:.0} J, saving {:.1} %, spiral coverage {:.4}",
+            spiral.stats.energy_j,
+            bf.stats.energy_j,
+            100.0 * saving,
+            spiral.stats.coverage_ratio
+        );
         assert!(saving > 0.0, "{n} vertices: the spiral costs more ({:.1} %)", 100.0 * saving);
         // the swath metric counts each ring edge's rectangle: the mitre beyond each ring corner,
         // h²·tan(φ/2) for a turn of φ, stays uncovered (measured 0.970 to 0.975 here)
@@ -136,7 +142,13 @@ fn a_field_four_batteries_large_is_flown_in_sorties_within_budget() {
         let first = mine.first().unwrap().geometry.as_ref().unwrap();
         let last = mine.last().unwrap().geometry.as_ref().unwrap();
         let ends = |g: &geojson::Geometry, at_end: bool| match &g.value {
-            geojson::GeometryValue::LineString { coordinates } => if at_end { coordinates.last().unwrap().clone() } else { coordinates[0].clone() },
+            geojson::GeometryValue::LineString { coordinates } => {
+                if at_end {
+                    coordinates.last().unwrap().clone()
+                } else {
+                    coordinates[0].clone()
+                }
+            }
             _ => panic!("a line"),
         };
         let home = point(-20.0, -20.0);

@@ -32,7 +32,8 @@ fn mission(sides: &[&str], penalty: f64) -> (PlanOutput, Vec<Polygon>, LocalFram
             _ => strip(-100., -30., 650., -20.),
         })
         .collect();
-    let features: Vec<Value> = obstacles.iter().map(|o| json!({"type": "Feature", "properties": {"height_m": HEIGHT}, "geometry": {"type": "Polygon", "coordinates": ring(&frame, o)}})).collect();
+    let features: Vec<Value> =
+        obstacles.iter().map(|o| json!({"type": "Feature", "properties": {"height_m": HEIGHT}, "geometry": {"type": "Polygon", "coordinates": ring(&frame, o)}})).collect();
     let area = json!({"type": "Polygon", "coordinates": ring(&frame, &field)});
     let obstacles_json = json!({"type": "FeatureCollection", "features": features});
     let params: PlanParams = serde_json::from_value(json!({

@@ -103,10 +103,10 @@ impl Field {
         }
         let home = mission.home.map(|h| frame.to_local(h[0], h[1]));
         let nfz_mp = MultiPolygon(nfz_polys);
-        if let Some(h) = home {
-            if nfz_mp.contains(&h) {
-                return Err(InputError::new("home_in_no_fly_zone", "/home", "the home point lies inside a no-fly zone"));
-            }
+        if let Some(h) = home
+            && nfz_mp.contains(&h)
+        {
+            return Err(InputError::new("home_in_no_fly_zone", "/home", "the home point lies inside a no-fly zone"));
         }
         Ok(Field { frame, area: area_mp, no_fly_zones: nfz_mp, obstacles, home })
     }
@@ -300,22 +300,22 @@ fn validate(polygon: &Polygon, raw: &RawPolygon, frame: &LocalFrame) -> Result<(
     let first = problems;
     let (code, pointer, detail) = match &first {
         InvalidPolygon::SelfIntersection(role) => {
-            let ring = ring_of(polygon, &role);
+            let ring = ring_of(polygon, role);
             let at = self_intersection(ring)
                 .map(|c| {
                     let ll = frame.to_wgs84(c);
                     format!(" near [{:.7}, {:.7}]", ll[0], ll[1])
                 })
                 .unwrap_or_default();
-            ("self_intersection", ring_pointer(&role), format!("the ring crosses itself{at}"))
+            ("self_intersection", ring_pointer(role), format!("the ring crosses itself{at}"))
         }
         InvalidPolygon::InteriorRingNotContainedInExteriorRing(role) => {
-            ("hole_outside_shell", ring_pointer(&role), "this hole is not inside its polygon's exterior ring".to_owned())
+            ("hole_outside_shell", ring_pointer(role), "this hole is not inside its polygon's exterior ring".to_owned())
         }
         InvalidPolygon::IntersectingRingsOnALine(a, _) | InvalidPolygon::IntersectingRingsOnAnArea(a, _) => {
-            ("rings_intersect", ring_pointer(&a), format!("rings of this polygon cross or overlap: {first}"))
+            ("rings_intersect", ring_pointer(a), format!("rings of this polygon cross or overlap: {first}"))
         }
-        InvalidPolygon::TooFewPointsInRing(role) | InvalidPolygon::NonFiniteCoord(role, _) => ("degenerate_ring", ring_pointer(&role), first.to_string()),
+        InvalidPolygon::TooFewPointsInRing(role) | InvalidPolygon::NonFiniteCoord(role, _) => ("degenerate_ring", ring_pointer(role), first.to_string()),
     };
     Err(InputError::new(code, pointer, detail))
 }

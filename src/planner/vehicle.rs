@@ -140,10 +140,10 @@ impl VehicleParams {
             let known: Vec<&str> = profiles.iter().map(|p| p.profile.as_str()).collect();
             InputError::new("unknown_vehicle_profile", "/vehicle/profile", format!("no vehicle profile named `{name}`; known: {}", known.join(", ")))
         })?;
-        if let Some(kind) = self.kind {
-            if kind != v.kind {
-                return Err(InputError::new("vehicle_kind_mismatch", "/vehicle/kind", format!("profile `{}` is not of this kind", v.profile)));
-            }
+        if let Some(kind) = self.kind
+            && kind != v.kind
+        {
+            return Err(InputError::new("vehicle_kind_mismatch", "/vehicle/kind", format!("profile `{}` is not of this kind", v.profile)));
         }
         if let Some(s) = self.cruise_speed_mps {
             v.cruise_speed_mps = s;

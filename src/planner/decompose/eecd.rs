@@ -69,8 +69,9 @@ fn merge_monotone(mut pieces: Vec<Polygon>) -> Vec<Polygon> {
         (Some(x), Some(y)) => x.min().x <= y.max().x + 1e-6 && y.min().x <= x.max().x + 1e-6 && x.min().y <= y.max().y + 1e-6 && y.min().y <= x.max().y + 1e-6,
         _ => false,
     };
-    let mut first = 0;
+    let mut restart_at = 0;
     'again: loop {
+        let first = restart_at;
         for i in first..pieces.len() {
             for j in i + 1..pieces.len() {
                 if !touch(&pieces[i], &pieces[j]) {
@@ -88,7 +89,7 @@ fn merge_monotone(mut pieces: Vec<Polygon>) -> Vec<Polygon> {
                     pieces[i] = Polygon::new(closed(&super::polygon::clean(ring)), vec![]);
                     pieces.remove(j);
                     // earlier pieces are not retried against the union: a missed merge costs length, never coverage
-                    first = i;
+                    restart_at = i;
                     continue 'again;
                 }
             }

@@ -191,7 +191,8 @@ mod tests {
     #[test]
     fn widths_match_the_spec_vectors() {
         // docs/methods.md, decomposition §4: (points, width, direction in degrees)
-        let cases: [(&[(f64, f64)], f64, f64); 4] = [
+        type Case<'a> = (&'a [(f64, f64)], f64, f64);
+        let cases: [Case; 4] = [
             (&[(0., 0.), (4., 0.), (0., 3.)], 2.4, 143.13),
             (&[(0., 0.), (500., 0.), (500., 200.), (0., 200.)], 200.0, 0.0),
             (&[(50., 122.), (396., 271.), (477., 676.), (-62., 520.)], 409.8, 23.3),

@@ -197,10 +197,10 @@ impl IemCoefficients {
         let step = hi / SAMPLES as f64;
         let candidates = (1..=SAMPLES).map(|k| k as f64 * step).chain(std::iter::once(hi));
         for v in candidates {
-            if let Some(e) = energy(v) {
-                if best.is_none_or(|(_, b)| e < b) {
-                    best = Some((v, e));
-                }
+            if let Some(e) = energy(v)
+                && best.is_none_or(|(_, b)| e < b)
+            {
+                best = Some((v, e));
             }
         }
         let Some((mut v, mut e)) = best else {
@@ -280,7 +280,8 @@ mod tests {
     use super::*;
 
     /// Reference legs of the improved model (docs/methods.md, energy §3): (v_in, d, heading change or None = stop, E, t, v*, v_out).
-    const VECTORS: [(f64, f64, Option<f64>, f64, f64, f64, f64); 7] = [
+    type Vector = (f64, f64, Option<f64>, f64, f64, f64, f64);
+    const VECTORS: [Vector; 7] = [
         (0.0, 100.0, None, 4371.6, 20.62, 7.800, 0.0),
         (0.0, 100.0, Some(90.0), 3707.3, 17.71, 7.800, 3.865),
         (0.0, 100.0, Some(45.0), 3542.2, 16.98, 7.800, 5.798),

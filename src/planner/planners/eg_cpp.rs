@@ -239,8 +239,11 @@ impl Search<'_> {
     }
 }
 
+/// A tour's cost and its cells in flight order.
+type Tour = (f64, Vec<usize>);
+
 /// The cheapest tour from `start`, with its cost; `Err` when the budget ran out.
-fn tour_from(grid: &Grid, start: usize) -> Result<Option<(f64, Vec<usize>)>, ()> {
+fn tour_from(grid: &Grid, start: usize) -> Result<Option<Tour>, ()> {
     let mut s = Search { grid, label: grid.labels(start), start, path: vec![start], best: f64::INFINITY, best_path: Vec::new(), expansions: 0 };
     s.search(1u64 << start, 0.0, 0.0, None)?;
     Ok(s.best.is_finite().then_some((s.best, s.best_path)))
@@ -270,7 +273,7 @@ impl Planner for EgCpp {
             return Err(super::no_sweep_lines());
         }
         let from_start = |i: usize| problem.start.map_or(0.0, |s| run_energy(distance(s, grid.centres[i])));
-        let tours: Vec<Result<Option<(f64, Vec<usize>)>, ()>> = (0..grid.centres.len()).into_par_iter().map(|i| tour_from(&grid, i)).collect();
+        let tours: Vec<Result<Option<Tour>, ()>> = (0..grid.centres.len()).into_par_iter().map(|i| tour_from(&grid, i)).collect();
         if !progress.report(0.8) {
             return Err(PlanError::Cancelled);
         }

@@ -33,6 +33,9 @@ use crate::sweep::{candidate_directions, from_sweep_frame, sweep, width_across};
 
 pub struct LineGtsp;
 
+/// A combination solved in full: its node sequence and its total cost.
+type Solved = (Vec<usize>, f64);
+
 /// Grid of the heading search, degrees.
 const GRID_DEG: f64 = 2.0;
 /// Refinement around the best combinations: ±1.5° in 0.5° steps.
@@ -322,7 +325,7 @@ impl Search<'_> {
 
     /// The combination (a heading per field) solved in full on the real connections: its
     /// node sequence and the solver's total plus the penalty for its lost sweep.
-    fn solve_in_full(&self, tables: &Tables, combo: &[f64]) -> Option<(Vec<usize>, f64)> {
+    fn solve_in_full(&self, tables: &Tables, combo: &[f64]) -> Option<Solved> {
         let solved = |inst: Instance| {
             let seq = gtsp::solve(&inst);
             let cost = inst.total(&seq) + self.penalty(tables, combo);
@@ -461,7 +464,7 @@ impl Search<'_> {
             if open.is_empty() {
                 break;
             }
-            let solved: Vec<(usize, Option<(Vec<usize>, f64)>)> = open.into_par_iter().map(|(i, combo)| (i, self.solve_in_full(tables, &combo))).collect();
+            let solved: Vec<(usize, Option<Solved>)> = open.into_par_iter().map(|(i, combo)| (i, self.solve_in_full(tables, &combo))).collect();
             for (i, result) in solved {
                 let (seq, cost) = result.unwrap_or((Vec::new(), f64::INFINITY));
                 ranking.ranked[i].cost = cost;

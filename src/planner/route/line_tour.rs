@@ -29,7 +29,7 @@ impl Line {
 /// Entry pose of node `v`.
 pub fn entry(lines: &[Line], v: usize) -> Pose {
     let l = &lines[v / 2];
-    let (p, q) = if v % 2 == 0 { (l.a, l.b) } else { (l.b, l.a) };
+    let (p, q) = if v.is_multiple_of(2) { (l.a, l.b) } else { (l.b, l.a) };
     Pose::at(p, (q.y - p.y).atan2(q.x - p.x))
 }
 
@@ -37,7 +37,7 @@ pub fn entry(lines: &[Line], v: usize) -> Pose {
 pub fn exit(lines: &[Line], v: usize) -> Pose {
     let e = entry(lines, v);
     let l = &lines[v / 2];
-    let q = if v % 2 == 0 { l.b } else { l.a };
+    let q = if v.is_multiple_of(2) { l.b } else { l.a };
     Pose::at(q, e.theta)
 }
 

@@ -150,10 +150,11 @@ impl Tour<'_, '_> {
         };
         for &w in near {
             let j = self.pos[self.of[w]];
-            if j >= i && self.seq[j] == self.inst.reverse[w] {
-                if let Some(t) = self.reverse(i, j) {
-                    return Some(t);
-                }
+            if j >= i
+                && self.seq[j] == self.inst.reverse[w]
+                && let Some(t) = self.reverse(i, j)
+            {
+                return Some(t);
             }
         }
         None
@@ -168,10 +169,11 @@ impl Tour<'_, '_> {
         };
         for &y in near {
             let i = self.pos[self.of[y]];
-            if i <= j && self.seq[i] == y {
-                if let Some(t) = self.reverse(i, j) {
-                    return Some(t);
-                }
+            if i <= j
+                && self.seq[i] == y
+                && let Some(t) = self.reverse(i, j)
+            {
+                return Some(t);
             }
         }
         None

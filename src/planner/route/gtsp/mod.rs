@@ -339,7 +339,9 @@ mod tests {
 
     /// Directed segments on random lines, as clusters of their two directions; straight
     /// connections, so costs have the reversal symmetry.
-    fn segments_instance(seg: &[((f64, f64), (f64, f64))], with_start: bool) -> Instance<'static> {
+    type Segment = ((f64, f64), (f64, f64));
+
+    fn segments_instance(seg: &[Segment], with_start: bool) -> Instance<'static> {
         let mut entry = Vec::new();
         let mut exit = Vec::new();
         for &(a, b) in seg {

@@ -163,7 +163,7 @@ proptest! {
 
     /// Generated convex and concave fields (seed 002's sizes): the spiral covers them.
     #[test]
-    fn the_spiral_covers_generated_fields(n in 6usize..=10, diameter in 200.0f64..600.0, spikes in proptest::collection::vec(0.0f64..0.4, 10), turn in 0.0f64..6.28) {
+    fn the_spiral_covers_generated_fields(n in 6usize..=10, diameter in 200.0f64..600.0, spikes in proptest::collection::vec(0.0f64..0.4, 10), turn in 0.0f64..std::f64::consts::TAU) {
         let field: Vec<(f64, f64)> = regular(n, diameter, turn).into_iter().zip(&spikes).map(|((x, y), s)| (x * (1.0 - s), y * (1.0 - s))).collect();
         let out = run(&field, None, None, json!({"planner": "e_spiral", "line_spacing_m": 20, "vehicle": {"profile": "iris"}}), &profiles(1e5)).unwrap();
         // sharp corners of spiky fields leave larger mitres uncovered (see above)

@@ -54,6 +54,7 @@ pub struct Page {
     /// default 0
     pub offset: Option<i64>,
     /// `all` (default): whole missions; `summary`: id, name and times only, for pickers.
+    #[param(inline)]
     pub fields: Option<Fields>,
 }
 
@@ -80,7 +81,7 @@ pub struct MissionPage {
     pub offset: i64,
 }
 
-#[utoipa::path(post, path = "/api/v1/missions", tag = "missions", request_body = MissionRequest,
+#[utoipa::path(post, operation_id = "create_mission", path = "/api/v1/missions", tag = "missions", request_body = MissionRequest,
     responses((status = 201, body = Mission), (status = 422, body = Problem, content_type = "application/problem+json"),
               (status = 400, body = Problem), (status = 413, body = Problem)))]
 pub async fn create(State(state): State<AppState>, ApiJson(req): ApiJson<MissionRequest>) -> Result<(StatusCode, Json<Mission>), ApiError> {
@@ -88,7 +89,7 @@ pub async fn create(State(state): State<AppState>, ApiJson(req): ApiJson<Mission
     Ok((StatusCode::CREATED, Json(missions::create(&state.db, &new).await?)))
 }
 
-#[utoipa::path(get, path = "/api/v1/missions", tag = "missions", params(Page),
+#[utoipa::path(get, operation_id = "list_missions", path = "/api/v1/missions", tag = "missions", params(Page),
     responses((status = 200, body = MissionPage), (status = 422, body = Problem)))]
 pub async fn list(State(state): State<AppState>, Query(page): Query<Page>) -> Result<Json<MissionPage>, ApiError> {
     let limit = page.limit.unwrap_or(20);
@@ -106,20 +107,20 @@ pub async fn list(State(state): State<AppState>, Query(page): Query<Page>) -> Re
     Ok(Json(MissionPage { items, total, limit, offset }))
 }
 
-#[utoipa::path(get, path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
+#[utoipa::path(get, operation_id = "get_mission", path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
     responses((status = 200, body = Mission), (status = 404, body = Problem)))]
 pub async fn get(State(state): State<AppState>, Path(id): Path<String>) -> Result<Json<Mission>, ApiError> {
     missions::get(&state.db, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
 }
 
-#[utoipa::path(put, path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)), request_body = MissionRequest,
+#[utoipa::path(put, operation_id = "update_mission", path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)), request_body = MissionRequest,
     responses((status = 200, body = Mission), (status = 404, body = Problem), (status = 422, body = Problem)))]
 pub async fn update(State(state): State<AppState>, Path(id): Path<String>, ApiJson(req): ApiJson<MissionRequest>) -> Result<Json<Mission>, ApiError> {
     let new = req.validate(&state)?;
     missions::update(&state.db, &id, &new).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
 }
 
-#[utoipa::path(delete, path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
+#[utoipa::path(delete, operation_id = "delete_mission", path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
     responses((status = 204, description = "deleted, with its plans"), (status = 404, body = Problem)))]
 pub async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> Result<StatusCode, ApiError> {
     for plan in crate::store::plans::list_for_mission(&state.db, &id).await? {

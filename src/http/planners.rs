@@ -16,13 +16,13 @@ pub struct PlannerInfo {
     pub parameters: Vec<ParameterInfo>,
 }
 
-#[utoipa::path(get, path = "/api/v1/planners", tag = "planners", responses((status = 200, body = Vec<PlannerInfo>)))]
+#[utoipa::path(get, operation_id = "list_planners", path = "/api/v1/planners", tag = "planners", responses((status = 200, body = Vec<PlannerInfo>)))]
 pub async fn list() -> Json<Vec<PlannerInfo>> {
     Json(registry().iter().map(|p| PlannerInfo { id: p.id(), description: p.description(), direction_rule: p.direction_rule(), parameters: common_parameters() }).collect())
 }
 
 /// Camera presets, for `camera: {"preset": id}`.
-#[utoipa::path(get, path = "/api/v1/cameras", tag = "planners", responses((status = 200, body = Vec<CameraPreset>)))]
+#[utoipa::path(get, operation_id = "list_cameras", path = "/api/v1/cameras", tag = "planners", responses((status = 200, body = Vec<CameraPreset>)))]
 pub async fn cameras() -> Json<&'static [CameraPreset]> {
     Json(PRESETS)
 }

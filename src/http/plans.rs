@@ -12,7 +12,7 @@ use crate::planner::{self, MissionGeometry, PlanParams};
 use crate::store::plans::{self, Plan, PlanStatus};
 use crate::store::{missions, vehicles};
 
-#[utoipa::path(post, path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)), request_body = PlanParams,
+#[utoipa::path(post, operation_id = "create_plan", path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)), request_body = PlanParams,
     responses((status = 202, body = Plan, description = "queued"), (status = 404, body = Problem), (status = 422, body = Problem)))]
 pub async fn create(State(state): State<AppState>, Path(mission_id): Path<String>, ApiJson(params): ApiJson<PlanParams>) -> Result<(StatusCode, Json<Plan>), ApiError> {
     let mission = missions::get(&state.db, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
@@ -29,20 +29,20 @@ pub async fn create(State(state): State<AppState>, Path(mission_id): Path<String
     Ok((StatusCode::ACCEPTED, Json(plan)))
 }
 
-#[utoipa::path(get, path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)),
+#[utoipa::path(get, operation_id = "list_plans", path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, body = Vec<Plan>, description = "newest first"), (status = 404, body = Problem)))]
 pub async fn list(State(state): State<AppState>, Path(mission_id): Path<String>) -> Result<Json<Vec<Plan>>, ApiError> {
     missions::get(&state.db, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
     Ok(Json(plans::list_for_mission(&state.db, &mission_id).await?))
 }
 
-#[utoipa::path(get, path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
+#[utoipa::path(get, operation_id = "get_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, body = Plan), (status = 404, body = Problem)))]
 pub async fn get(State(state): State<AppState>, Path(id): Path<String>) -> Result<Json<Plan>, ApiError> {
     plans::get(&state.db, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("plan", &id))
 }
 
-#[utoipa::path(get, path = "/api/v1/plans/{id}/trajectory", tag = "plans", params(("id" = String, Path)),
+#[utoipa::path(get, operation_id = "get_trajectory", path = "/api/v1/plans/{id}/trajectory", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, description = "GeoJSON FeatureCollection (RFC 7946) of LineStrings in flight order, \
         `properties.kind` = sweep | turn | transit, with length_m, duration_s, energy_j, speed_mps; a MultiPoint \
         of kind `photos` when a camera was given", content_type = "application/geo+json", body = Object),
@@ -57,7 +57,7 @@ pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>) -
     }
 }
 
-#[utoipa::path(delete, path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
+#[utoipa::path(delete, operation_id = "cancel_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, body = Plan, description = "cancelled (or already finished: its status says which)"), (status = 404, body = Problem)))]
 pub async fn cancel(State(state): State<AppState>, Path(id): Path<String>) -> Result<Json<Plan>, ApiError> {
     plans::cancel(&state.db, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;

@@ -14,7 +14,7 @@ pub struct UiConfig {
     pub tile_attribution: Option<String>,
 }
 
-#[utoipa::path(get, path = "/api/v1/ui-config", tag = "planners", responses((status = 200, body = UiConfig)))]
+#[utoipa::path(get, operation_id = "get_ui_config", path = "/api/v1/ui-config", tag = "planners", responses((status = 200, body = UiConfig)))]
 pub async fn config(State(state): State<AppState>) -> Json<UiConfig> {
     Json(UiConfig { tile_url: state.config.tile_url.clone(), tile_attribution: state.config.tile_attribution.clone() })
 }

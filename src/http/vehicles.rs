@@ -11,18 +11,18 @@ use crate::planner::estimate::{EstimateRequest, RouteEstimate, estimate_route};
 use crate::planner::vehicle::Vehicle;
 use crate::store::vehicles::{self, Deleted, StoredVehicle};
 
-#[utoipa::path(get, path = "/api/v1/vehicles", tag = "vehicles", responses((status = 200, body = Vec<StoredVehicle>, description = "built-ins first")))]
+#[utoipa::path(get, operation_id = "list_vehicles", path = "/api/v1/vehicles", tag = "vehicles", responses((status = 200, body = Vec<StoredVehicle>, description = "built-ins first")))]
 pub async fn list(State(state): State<AppState>) -> Result<Json<Vec<StoredVehicle>>, ApiError> {
     Ok(Json(vehicles::list(&state.db).await?))
 }
 
-#[utoipa::path(get, path = "/api/v1/vehicles/{id}", tag = "vehicles", params(("id" = String, Path)),
+#[utoipa::path(get, operation_id = "get_vehicle", path = "/api/v1/vehicles/{id}", tag = "vehicles", params(("id" = String, Path)),
     responses((status = 200, body = StoredVehicle), (status = 404, body = Problem)))]
 pub async fn get(State(state): State<AppState>, Path(id): Path<String>) -> Result<Json<StoredVehicle>, ApiError> {
     vehicles::get(&state.db, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("vehicle profile", &id))
 }
 
-#[utoipa::path(post, path = "/api/v1/vehicles", tag = "vehicles", request_body = Vehicle,
+#[utoipa::path(post, operation_id = "create_vehicle", path = "/api/v1/vehicles", tag = "vehicles", request_body = Vehicle,
     responses((status = 201, body = StoredVehicle), (status = 409, body = Problem, description = "the id is taken"), (status = 422, body = Problem)))]
 pub async fn create(State(state): State<AppState>, ApiJson(vehicle): ApiJson<Vehicle>) -> Result<(StatusCode, Json<StoredVehicle>), ApiError> {
     vehicle.validate("")?;
@@ -32,7 +32,7 @@ pub async fn create(State(state): State<AppState>, ApiJson(vehicle): ApiJson<Veh
     Ok((StatusCode::CREATED, Json(stored)))
 }
 
-#[utoipa::path(put, path = "/api/v1/vehicles/{id}", tag = "vehicles", params(("id" = String, Path)), request_body = Vehicle,
+#[utoipa::path(put, operation_id = "update_vehicle", path = "/api/v1/vehicles/{id}", tag = "vehicles", params(("id" = String, Path)), request_body = Vehicle,
     responses((status = 200, body = StoredVehicle), (status = 404, body = Problem), (status = 422, body = Problem)))]
 pub async fn update(State(state): State<AppState>, Path(id): Path<String>, ApiJson(vehicle): ApiJson<Vehicle>) -> Result<Json<StoredVehicle>, ApiError> {
     if vehicle.profile != id {
@@ -42,7 +42,7 @@ pub async fn update(State(state): State<AppState>, Path(id): Path<String>, ApiJs
     vehicles::update(&state.db, &id, &vehicle).await?.map(Json).ok_or_else(|| ApiError::not_found("vehicle profile", &id))
 }
 
-#[utoipa::path(delete, path = "/api/v1/vehicles/{id}", tag = "vehicles", params(("id" = String, Path)),
+#[utoipa::path(delete, operation_id = "delete_vehicle", path = "/api/v1/vehicles/{id}", tag = "vehicles", params(("id" = String, Path)),
     responses((status = 204, description = "deleted"), (status = 404, body = Problem), (status = 409, body = Problem, description = "a built-in profile")))]
 pub async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> Result<StatusCode, ApiError> {
     match vehicles::delete(&state.db, &id).await? {
@@ -52,7 +52,7 @@ pub async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> Re
     }
 }
 
-#[utoipa::path(post, path = "/api/v1/estimates", tag = "vehicles", request_body = EstimateRequest,
+#[utoipa::path(post, operation_id = "estimate_route", path = "/api/v1/estimates", tag = "vehicles", request_body = EstimateRequest,
     responses((status = 200, body = RouteEstimate, description = "totals and each leg"), (status = 422, body = Problem)))]
 pub async fn estimate(State(state): State<AppState>, ApiJson(request): ApiJson<EstimateRequest>) -> Result<Json<RouteEstimate>, ApiError> {
     let profiles = vehicles::profiles(&state.db).await?;

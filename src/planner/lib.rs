@@ -1,7 +1,8 @@
 //! The planner: geometry in, plan out. Pure: no I/O, no async runtime, no database.
 //!
 //! The stages, one module each, in the order a plan flows through them (a module uses only
-//! modules above it in this list, which `tests/architecture.rs` checks):
+//! modules above it in this list, which `tests/it/architecture.rs` checks; this root composes
+//! them all):
 //!
 //! - [`error`], [`geom`], [`frame`] (WGS84 ⇄ local metres), [`path`] (the flight path): the
 //!   vocabulary every stage shares;

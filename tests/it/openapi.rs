@@ -12,6 +12,32 @@ fn committed_openapi_document_is_current() {
     assert!(committed == generated, "openapi/openapi.json is stale: run `UPDATE_OPENAPI=1 cargo test --test it openapi`");
 }
 
+#[test]
+fn operation_ids_are_unique() {
+    let doc: serde_json::Value = serde_json::from_str(&coverplan::http::openapi::document()).unwrap();
+    let mut ids: Vec<&str> = doc["paths"].as_object().unwrap().values().flat_map(|item| item.as_object().unwrap().values().filter_map(|op| op["operationId"].as_str())).collect();
+    let count = ids.len();
+    ids.sort_unstable();
+    ids.dedup();
+    assert_eq!(ids.len(), count, "client generators need one name per operation: {ids:?}");
+}
+
+#[test]
+fn every_schema_reference_resolves() {
+    let text = coverplan::http::openapi::document();
+    let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let schemas = doc["components"]["schemas"].as_object().unwrap();
+    let prefix = "\"#/components/schemas/";
+    let mut refs = 0;
+    for (at, _) in text.match_indices(prefix) {
+        let rest = &text[at + prefix.len()..];
+        let name = &rest[..rest.find('"').unwrap()];
+        assert!(schemas.contains_key(name), "the document refers to a schema `{name}` it does not define");
+        refs += 1;
+    }
+    assert!(refs > 20, "{refs} references");
+}
+
 /// Routes are declared with their documentation (`routes!`), so every route is in the
 /// document; this checks the other way: every documented operation is served by the real app
 /// (a random id for path parameters, an empty body), never answered "no such route".

@@ -16,6 +16,14 @@ struct Server {
     base: String,
 }
 
+impl Server {
+    /// SIGKILL: no chance to clean up.
+    fn kill(&mut self) {
+        self.child.kill().unwrap();
+        self.child.wait().unwrap();
+    }
+}
+
 fn start(db: &std::path::Path, port: u16, delay_ms: u64) -> Server {
     // started away from the repository: the binary carries its page
     let child = Command::new(env!("CARGO_BIN_EXE_coverplan"))
@@ -82,8 +90,7 @@ async fn the_binary_serves_its_page_from_any_working_directory() {
     }
     let missing = client.get(format!("{}/no-such-page.html", server.base)).send().await.unwrap();
     assert_eq!(missing.status(), 404);
-    server.child.kill().unwrap();
-    server.child.wait().unwrap();
+    server.kill();
 }
 
 #[tokio::test]
@@ -94,16 +101,14 @@ async fn a_job_running_when_the_process_is_killed_completes_after_restart() {
     let mut server = start(&db, port, 60_000);
     let plan = queue_plan(&client, &server.base).await;
     wait_status(&client, &server.base, &plan, "running").await;
-    server.child.kill().unwrap(); // SIGKILL: no chance to clean up
-    server.child.wait().unwrap();
+    server.kill();
 
     let mut server = start(&db, port, 0);
     let client = reqwest::Client::new(); // the old one pools a connection to the dead process
     wait_status(&client, &server.base, &plan, "succeeded").await;
     let r = client.get(format!("{}/api/v1/plans/{plan}/trajectory", server.base)).send().await.unwrap();
     assert_eq!(r.status(), 200);
-    server.child.kill().unwrap();
-    server.child.wait().unwrap();
+    server.kill();
 }
 
 #[tokio::test]
@@ -122,8 +127,7 @@ async fn sigterm_requeues_unfinished_work_and_exits_cleanly() {
     let mut server = start(&db, port, 0);
     let client = reqwest::Client::new(); // the old one pools a connection to the dead process
     wait_status(&client, &server.base, &plan, "succeeded").await;
-    server.child.kill().unwrap();
-    server.child.wait().unwrap();
+    server.kill();
 }
 
 #[test]

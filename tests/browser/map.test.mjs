@@ -72,6 +72,7 @@ try {
 
   // plan it
   await page.selectOption('#planner', 'boustrophedon');
+  await page.selectOption('#vehicle', 'iris'); // a small battery: the plan needs several sorties
   await page.fill('#spacing', '20');
   await page.click('#plan');
   await page.waitForSelector('td[data-figure=length]', { timeout: 60000 });

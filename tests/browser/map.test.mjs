@@ -116,6 +116,8 @@ try {
   await page.click('#draw');
   await page.mouse.click(...at(-140, 100));
   await waitFor(() => page.evaluate(() => !!window.coverplan.state.poses.start), 'the start marker');
+  // the last plan's "planned in …" is still shown: clear it, so that only this plan's counts
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
   await page.click('#plan');
   await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the camera plan', 60000);
   await page.goto(`${base}/?mission=${missionId}`);

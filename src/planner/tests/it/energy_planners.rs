@@ -172,3 +172,19 @@ proptest! {
         prop_assert!(out.stats.energy_j > 0.0 && out.stats.sweep_lines > 0);
     }
 }
+
+/// For a fixed wing, e_bf's fixed nearest-first order gives way to line-level routing on Dubins
+/// costs, which would make it energy_aware's twin: it is refused, with the planner to use.
+#[test]
+fn e_bf_is_refused_for_a_fixed_wing_and_energy_aware_plans_it() {
+    let field = [(0.0, 0.0), (600.0, 0.0), (600.0, 300.0), (0.0, 300.0)];
+    let fixed_wing = |planner: &str| json!({"planner": planner, "line_spacing_m": 40, "vehicle": {"kind": "fixed_wing", "turn_radius_m": 30}});
+    let Err(PlanError::Input(e)) = run(&field, None, None, fixed_wing("e_bf"), &profiles(1e5)) else { panic!("e_bf planned a fixed wing") };
+    assert_eq!((e.code, e.pointer.as_str()), ("planner_not_applicable", "/vehicle/kind"));
+    assert!(e.detail.contains("energy_aware"), "{}", e.detail);
+    let out = run(&field, None, None, fixed_wing("energy_aware"), &profiles(1e5)).expect("energy_aware flies a fixed wing");
+    assert!(out.stats.coverage_ratio >= 0.99, "{}", out.stats.coverage_ratio);
+    // for a multirotor both plan, each in its own order
+    let multirotor = |planner: &str| json!({"planner": planner, "line_spacing_m": 40, "vehicle": {"profile": "iris"}});
+    assert!(run(&field, None, None, multirotor("e_bf"), &profiles(1e5)).is_ok());
+}

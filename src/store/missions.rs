@@ -110,11 +110,16 @@ pub async fn get(db: &Db, id: &str) -> Result<Option<Mission>, sqlx::Error> {
     Ok(row.map(Into::into))
 }
 
+/// How many missions there are, for the pages' totals.
+async fn count(db: &Db) -> Result<i64, sqlx::Error> {
+    sqlx::query_scalar("SELECT COUNT(*) FROM missions").fetch_one(db).await
+}
+
 /// A page of missions, newest first, and the total count.
 pub async fn list(db: &Db, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
     let rows: Vec<MissionRow> =
         sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")).bind(limit).bind(offset).fetch_all(db).await?;
-    let total: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM missions").fetch_one(db).await?;
+    let total = count(db).await?;
     Ok((rows.into_iter().map(Into::into).collect(), total))
 }
 
@@ -125,7 +130,7 @@ pub async fn list_summaries(db: &Db, limit: i64, offset: i64) -> Result<(Vec<Mis
         .bind(offset)
         .fetch_all(db)
         .await?;
-    let total: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM missions").fetch_one(db).await?;
+    let total = count(db).await?;
     Ok((rows, total))
 }
 

@@ -93,14 +93,20 @@ async fn the_binary_serves_its_page_from_any_working_directory() {
     server.kill();
 }
 
-#[tokio::test]
-async fn a_job_running_when_the_process_is_killed_completes_after_restart() {
+/// A server (on a fresh database) whose only worker holds a plan running for a minute.
+async fn a_server_with_a_running_plan() -> (std::path::PathBuf, u16, Server, String) {
     let db = fresh_db_path();
     let port = free_port();
+    let server = start(&db, port, 60_000);
     let client = reqwest::Client::new();
-    let mut server = start(&db, port, 60_000);
     let plan = queue_plan(&client, &server.base).await;
     wait_status(&client, &server.base, &plan, "running").await;
+    (db, port, server, plan)
+}
+
+#[tokio::test]
+async fn a_job_running_when_the_process_is_killed_completes_after_restart() {
+    let (db, port, mut server, plan) = a_server_with_a_running_plan().await;
     server.kill();
 
     let mut server = start(&db, port, 0);
@@ -113,12 +119,7 @@ async fn a_job_running_when_the_process_is_killed_completes_after_restart() {
 
 #[tokio::test]
 async fn sigterm_requeues_unfinished_work_and_exits_cleanly() {
-    let db = fresh_db_path();
-    let port = free_port();
-    let client = reqwest::Client::new();
-    let mut server = start(&db, port, 60_000);
-    let plan = queue_plan(&client, &server.base).await;
-    wait_status(&client, &server.base, &plan, "running").await;
+    let (db, port, mut server, plan) = a_server_with_a_running_plan().await;
     let pid = server.child.id().to_string();
     assert!(Command::new("kill").args(["-TERM", &pid]).status().unwrap().success());
     let exit = tokio::task::spawn_blocking(move || server.child.wait().unwrap()).await.unwrap();

@@ -4,8 +4,8 @@
 //! modules above it in this list, which `tests/it/architecture.rs` checks; this root composes
 //! them all):
 //!
-//! - [`error`], [`geom`], [`frame`] (WGS84 ⇄ local metres), [`path`] (the flight path): the
-//!   vocabulary every stage shares;
+//! - [`error`], `archive` (zips and XML from outside, read with limits), [`geom`], [`frame`]
+//!   (WGS84 ⇄ local metres), [`path`] (the flight path): the vocabulary every stage shares;
 //! - `field`: parse, validate and normalise the mission;
 //! - `sweep`: parallel sweep lines over an area, and the width of a shape across a direction;
 //! - `decompose`: cells, each swept by `sweep`'s lines in its own direction;
@@ -17,20 +17,24 @@
 //! - `sortie`: splitting a plan that needs several batteries;
 //! - [`metrics`]: one measure of every plan, and the rule that chooses among plans;
 //! - [`planners`]: each composes the stages into a method; its registry lists every planner;
-//! - `export`: the trajectory as GeoJSON; [`estimate`]: a given route's time and energy;
+//! - [`export`]: the trajectory as GeoJSON, and the files of flight planners, Google Earth and
+//!   farm terminals written from it; [`import`]: missions read from such files;
+//!   [`estimate`]: a given route's time and energy;
 //! - [`routing_study`]: routing kept for comparison in the benchmark, not used by planners.
 //!
 //! The crate exports what the service and the CLI use; the stages in plain text are private.
 
+mod archive;
 pub mod camera;
 mod decompose;
 pub mod energy;
 pub mod error;
 pub mod estimate;
-mod export;
+pub mod export;
 mod field;
 pub mod frame;
 pub mod geom;
+pub mod import;
 pub mod metrics;
 pub mod params;
 pub mod path;
@@ -206,7 +210,7 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         cells: planned.cells,
         photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
     });
-    let trajectory = export::feature_collection(
+    let trajectory = export::geojson::feature_collection(
         &field.frame,
         &sorties,
         &estimates,

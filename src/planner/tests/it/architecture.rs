@@ -10,6 +10,7 @@ use std::path::Path;
 /// The top-level modules, lowest first, as `lib.rs` lists them.
 const LAYERS: &[&str] = &[
     "error",
+    "archive",
     "geom",
     "frame",
     "path",
@@ -26,6 +27,7 @@ const LAYERS: &[&str] = &[
     "metrics",
     "planners",
     "export",
+    "import",
     "estimate",
     "routing_study",
 ];

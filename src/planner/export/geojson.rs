@@ -1,12 +1,15 @@
-//! Export stage: the flight path as an RFC 7946 FeatureCollection in flight order.
+//! The flight path as an RFC 7946 FeatureCollection in flight order: the trajectory every
+//! other format is written from.
 
 use geo::Coord;
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, Position};
 use serde_json::json;
 
-use super::energy::PathEstimate;
-use super::frame::LocalFrame;
-use super::path::FlightPath;
+use super::{ExportJob, Exporter};
+use crate::energy::PathEstimate;
+use crate::error::InputError;
+use crate::frame::LocalFrame;
+use crate::path::FlightPath;
 
 fn round(v: f64, decimals: i32) -> f64 {
     let f = 10f64.powi(decimals);
@@ -71,4 +74,22 @@ pub fn feature_collection(
         features.push(feature(GeometryValue::MultiPoint { coordinates: coords }, json!({"kind": "photos", "count": photos.len()})));
     }
     FeatureCollection { bbox: None, features, foreign_members: None }
+}
+
+/// The trajectory as stored.
+pub struct GeoJsonFile;
+
+impl Exporter for GeoJsonFile {
+    fn id(&self) -> &'static str {
+        "geojson"
+    }
+    fn media_type(&self) -> &'static str {
+        "application/geo+json"
+    }
+    fn extension(&self) -> &'static str {
+        ".geojson"
+    }
+    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
+        Ok(serde_json::to_vec(job.trajectory).expect("JSON"))
+    }
 }

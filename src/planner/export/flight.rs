@@ -1,0 +1,157 @@
+//! The flown path as exporters read it: the trajectory's pieces in WGS84, sortie by sortie.
+
+use geojson::{FeatureCollection, GeometryValue};
+use serde_json::Value;
+
+use crate::error::InputError;
+use crate::path::PieceKind;
+
+/// One flown piece: its kind, its points `[lon, lat, altitude above home]` and its speed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FlownPiece {
+    pub kind: PieceKind,
+    pub points: Vec<[f64; 3]>,
+    pub speed_mps: f64,
+}
+
+/// The pieces of each sortie in flight order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flight {
+    pub sorties: Vec<Vec<FlownPiece>>,
+}
+
+impl Flight {
+    /// Reads the LineString features of kind sweep, turn or transit; points without a height
+    /// are flown at `altitude_m`.
+    pub fn from_trajectory(trajectory: &FeatureCollection, altitude_m: f64) -> Result<Flight, InputError> {
+        let mut sorties: Vec<Vec<FlownPiece>> = Vec::new();
+        for (i, feature) in trajectory.features.iter().enumerate() {
+            let property = |key: &str| feature.properties.as_ref().and_then(|p| p.get(key));
+            let kind = match property("kind").and_then(Value::as_str) {
+                Some("sweep") => PieceKind::Sweep,
+                Some("turn") => PieceKind::Turn,
+                Some("transit") => PieceKind::Transit,
+                _ => continue,
+            };
+            let Some(GeometryValue::LineString { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) else {
+                return Err(InputError::new("invalid_trajectory", format!("/features/{i}/geometry"), "a flown piece must be a LineString"));
+            };
+            let points = coordinates.iter().map(|p| [p[0], p[1], p.as_slice().get(2).copied().unwrap_or(altitude_m)]).collect();
+            let sortie = property("sortie").and_then(Value::as_u64).unwrap_or(1).max(1) as usize;
+            if sortie > sorties.len() {
+                sorties.resize(sortie, Vec::new());
+            }
+            let speed_mps = property("speed_mps").and_then(Value::as_f64).unwrap_or(0.0);
+            sorties[sortie - 1].push(FlownPiece { kind, points, speed_mps });
+        }
+        sorties.retain(|s| !s.is_empty());
+        if sorties.is_empty() {
+            return Err(InputError::new("invalid_trajectory", "/features", "the trajectory has no flown piece"));
+        }
+        Ok(Flight { sorties })
+    }
+}
+
+/// The points a vehicle is sent to, in order, each with the piece it ends and whether it lies
+/// inside a turn's arc: every point of every piece, once (consecutive pieces share their ends),
+/// with the arcs of fixed-wing turns thinned to one point per `arc_step_deg` of heading
+/// change, keeping the tangent points (docs/methods.md, interop §4).
+pub fn waypoints(pieces: &[FlownPiece], arc_step_deg: Option<f64>) -> Vec<Waypoint> {
+    let mut out: Vec<Waypoint> = Vec::new();
+    for (index, piece) in pieces.iter().enumerate() {
+        let keep = match (piece.kind, arc_step_deg) {
+            (PieceKind::Turn, Some(step)) => thin_arc(&piece.points, step),
+            _ => vec![true; piece.points.len()],
+        };
+        for (k, (p, kept)) in piece.points.iter().zip(keep).enumerate() {
+            if !kept || out.last().is_some_and(|w| w.position == *p) {
+                continue;
+            }
+            let on_arc = piece.kind == PieceKind::Turn && arc_step_deg.is_some() && k > 0 && k + 1 < piece.points.len();
+            out.push(Waypoint { position: *p, piece: index, on_arc });
+        }
+    }
+    out
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Waypoint {
+    /// `[lon, lat, altitude above home]`
+    pub position: [f64; 3],
+    /// Index of the piece this point belongs to (the first one that has it).
+    pub piece: usize,
+    pub on_arc: bool,
+}
+
+/// Which points of a densified turn to keep: both ends, every point where one part of the
+/// turn meets the next (arc and straight: there the chord length changes, or the turn changes
+/// side), and on an arc a point whenever the heading has changed by `step_deg` since the last
+/// one kept.
+fn thin_arc(points: &[[f64; 3]], step_deg: f64) -> Vec<bool> {
+    let n = points.len();
+    let mut keep = vec![true; n];
+    if n < 3 {
+        return keep;
+    }
+    // a plane scaled by the latitude's cosine: good enough for angles and length ratios
+    let cos = points[0][1].to_radians().cos();
+    let delta = |i: usize| ((points[i + 1][0] - points[i][0]) * cos, points[i + 1][1] - points[i][1]);
+    let mut since = 0.0;
+    for i in 1..n - 1 {
+        let (a, b) = (delta(i - 1), delta(i));
+        let turn = (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1).to_degrees();
+        let (la, lb) = (a.0.hypot(a.1), b.0.hypot(b.1));
+        let next_turn = (i + 2 < n).then(|| {
+            let c = delta(i + 1);
+            b.0 * c.1 - b.1 * c.0
+        });
+        let part_ends = (la - lb).abs() > 0.01 * la.max(lb) || next_turn.is_some_and(|t| t * turn < 0.0);
+        since += turn.abs();
+        keep[i] = part_ends || since >= step_deg - 1e-9;
+        if keep[i] {
+            since = 0.0;
+        }
+    }
+    keep
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn arc(n: usize, degrees: f64) -> Vec<[f64; 3]> {
+        (0..=n).map(|k| (k as f64 / n as f64 * degrees).to_radians()).map(|a| [1e-3 * a.cos(), 1e-3 * a.sin(), 50.0]).collect()
+    }
+
+    #[test]
+    fn thinning_keeps_ends_and_steps() {
+        // 180° sampled every 5°: 15° steps keep every third point, and both ends
+        let points = arc(36, 180.0);
+        let keep = thin_arc(&points, 15.0);
+        assert!(keep[0] && keep[36]);
+        let kept: Vec<usize> = (0..=36).filter(|&i| keep[i]).collect();
+        assert!(kept.windows(2).all(|w| w[1] - w[0] <= 3), "{kept:?}");
+        assert!(kept.len() <= 14, "{kept:?}");
+    }
+
+    #[test]
+    fn thinning_keeps_tangent_points() {
+        // 20° of arc, then a straight: the tangent point (index 4) stays although only 5° of
+        // heading changed since the point kept at 15°
+        let mut points = arc(4, 20.0);
+        let end = points[4];
+        let heading = 110f64.to_radians();
+        points.push([end[0] + 1e-3 * heading.cos(), end[1] + 1e-3 * heading.sin(), 50.0]);
+        let keep = thin_arc(&points, 15.0);
+        assert!(keep[4] && keep[5], "{keep:?}");
+        assert!(!keep[1] && !keep[2], "{keep:?}");
+    }
+
+    #[test]
+    fn shared_ends_appear_once() {
+        let a = FlownPiece { kind: PieceKind::Sweep, points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]], speed_mps: 5.0 };
+        let b = FlownPiece { kind: PieceKind::Turn, points: vec![[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]], speed_mps: 5.0 };
+        let w = waypoints(&[a, b], None);
+        assert_eq!(w.iter().map(|w| w.piece).collect::<Vec<_>>(), vec![0, 0, 1]);
+    }
+}

@@ -1,0 +1,155 @@
+//! ISO 11783-10 TaskData for farm software and tractor terminals (docs/methods.md, interop §6):
+//! a zip with `TASKDATA/TASKDATA.XML` holding one partfield per field (its boundary with the
+//! holes as interior rings, the no-fly zones as obstacle polygons), a task per partfield, and
+//! the sweep lines as guidance: per sweep direction a guidance group with a reference AB line
+//! and every swath as its own AB line, the line width being the line spacing. Written with
+//! quick-xml: no Rust crate writes ISOXML.
+
+use geo::{Centroid, Contains, GeodesicArea, LineString, Point};
+
+use super::xml::Xml;
+use super::{ExportJob, Exporter, number};
+use crate::archive;
+use crate::error::InputError;
+use crate::path::PieceKind;
+
+pub struct TaskData;
+
+/// `PLN` types (ISO 11783-10, the ADAPT ISOv4Plugin enumerations).
+pub const PLN_PARTFIELD_BOUNDARY: &str = "1";
+pub const PLN_OBSTACLE: &str = "6";
+/// `LSG` types.
+pub const LSG_EXTERIOR: &str = "1";
+pub const LSG_INTERIOR: &str = "2";
+pub const LSG_GUIDANCE_PATTERN: &str = "5";
+/// `PNT` types: other, guidance reference A and B.
+const PNT_OTHER: &str = "2";
+const PNT_GUIDANCE_A: &str = "6";
+const PNT_GUIDANCE_B: &str = "7";
+/// `GPN` type AB; propagation to both sides.
+const GPN_AB: &str = "1";
+const PROPAGATE_BOTH: &str = "1";
+
+impl Exporter for TaskData {
+    fn id(&self) -> &'static str {
+        "isoxml"
+    }
+    fn media_type(&self) -> &'static str {
+        "application/zip"
+    }
+    fn extension(&self) -> &'static str {
+        "-taskdata.zip"
+    }
+    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
+        Ok(archive::zip(&[("TASKDATA/TASKDATA.XML".to_owned(), task_data(job))]))
+    }
+}
+
+/// A sweep line `[lon, lat]` from start to end.
+type Line = [[f64; 2]; 2];
+
+fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
+    let fields = &job.outlines.fields.0;
+    let field_of = |p: Point| fields.iter().position(|f| f.contains(&p)).unwrap_or(0);
+    let lines: Vec<Line> = job
+        .flight
+        .sorties
+        .iter()
+        .flatten()
+        .filter(|p| p.kind == PieceKind::Sweep)
+        .map(|p| {
+            let (a, b) = (p.points[0], p.points[p.points.len() - 1]);
+            [[a[0], a[1]], [b[0], b[1]]]
+        })
+        .collect();
+    let width_mm = (job.settings.line_spacing_m * 1000.0).round().to_string();
+    let mut x = Xml::new();
+    x.open(
+        "ISO11783_TaskData",
+        &[("VersionMajor", "4"), ("VersionMinor", "3"), ("ManagementSoftwareManufacturer", "coverplan"), ("ManagementSoftwareVersion", env!("CARGO_PKG_VERSION")), ("DataTransferOrigin", "1")],
+    );
+    let (mut group_id, mut pattern_id) = (0, 0);
+    for (k, field) in fields.iter().enumerate() {
+        let id = format!("PFD{}", k + 1);
+        let area = field.geodesic_area_unsigned().round().to_string();
+        let designator = if fields.len() == 1 { job.name.to_owned() } else { format!("{} {}", job.name, k + 1) };
+        x.open("PFD", &[("A", &id), ("C", &designator), ("D", &area)]);
+        x.open("PLN", &[("A", PLN_PARTFIELD_BOUNDARY), ("B", "Boundary")]);
+        ring(&mut x, LSG_EXTERIOR, field.exterior());
+        for hole in field.interiors() {
+            ring(&mut x, LSG_INTERIOR, hole);
+        }
+        x.close("PLN");
+        for (z, zone) in job.outlines.no_fly_zones.0.iter().enumerate() {
+            if zone.centroid().map_or(k, field_of) == k {
+                x.open("PLN", &[("A", PLN_OBSTACLE), ("B", &format!("No-fly zone {}", z + 1))]);
+                ring(&mut x, LSG_EXTERIOR, zone.exterior());
+                x.close("PLN");
+            }
+        }
+        let mine: Vec<Line> = lines.iter().copied().filter(|l| field_of(Point::new((l[0][0] + l[1][0]) / 2.0, (l[0][1] + l[1][1]) / 2.0)) == k).collect();
+        for (bearing, swaths) in by_direction(&mine) {
+            group_id += 1;
+            x.open("GGP", &[("A", &format!("GGP{group_id}")), ("B", &format!("Sweep lines {}°", number(bearing, 1)))]);
+            let reference = swaths[0];
+            let count = (swaths.len() - 1).to_string();
+            pattern_id += 1;
+            let heading = number(bearing, 2);
+            let attributes = [("C", GPN_AB), ("E", PROPAGATE_BOTH), ("G", heading.as_str()), ("N", count.as_str()), ("O", count.as_str())];
+            guidance(&mut x, pattern_id, "AB reference", &attributes, &reference, &width_mm);
+            for (s, swath) in swaths.iter().enumerate() {
+                pattern_id += 1;
+                guidance(&mut x, pattern_id, &format!("Swath {}", s + 1), &[("C", GPN_AB), ("E", "4"), ("G", heading.as_str())], swath, &width_mm);
+            }
+            x.close("GGP");
+        }
+        x.close("PFD");
+    }
+    for k in 0..fields.len() {
+        x.empty("TSK", &[("A", &format!("TSK{}", k + 1)), ("B", &format!("Coverage {}", k + 1)), ("E", &format!("PFD{}", k + 1)), ("G", "1")]);
+    }
+    x.close("ISO11783_TaskData");
+    x.finish()
+}
+
+/// The lines grouped by compass bearing modulo 180° (within half a degree), in order of first
+/// appearance, with the group's bearing.
+fn by_direction(lines: &[Line]) -> Vec<(f64, Vec<Line>)> {
+    let mut groups: Vec<(f64, Vec<Line>)> = Vec::new();
+    for line in lines {
+        let cos = line[0][1].to_radians().cos();
+        let bearing = ((line[1][0] - line[0][0]) * cos).atan2(line[1][1] - line[0][1]).to_degrees().rem_euclid(180.0);
+        let near = |b: f64| {
+            let d = (b - bearing).rem_euclid(180.0);
+            d.min(180.0 - d) < 0.5
+        };
+        match groups.iter_mut().find(|g| near(g.0)) {
+            Some(g) => g.1.push(*line),
+            None => groups.push((bearing, vec![*line])),
+        }
+    }
+    groups
+}
+
+fn guidance(x: &mut Xml, id: usize, designator: &str, attributes: &[(&str, &str)], line: &Line, width_mm: &str) {
+    let id = format!("GPN{id}");
+    let mut all = vec![("A", id.as_str()), ("B", designator)];
+    all.extend_from_slice(attributes);
+    x.open("GPN", &all).open("LSG", &[("A", LSG_GUIDANCE_PATTERN), ("C", width_mm)]);
+    point(x, PNT_GUIDANCE_A, line[0]);
+    point(x, PNT_GUIDANCE_B, line[1]);
+    x.close("LSG").close("GPN");
+}
+
+/// A ring without its closing point (implicit in ISOXML).
+fn ring(x: &mut Xml, kind: &str, ring: &LineString) {
+    x.open("LSG", &[("A", kind)]);
+    for c in &ring.0[..ring.0.len() - 1] {
+        point(x, PNT_OTHER, [c.x, c.y]);
+    }
+    x.close("LSG");
+}
+
+fn point(x: &mut Xml, kind: &str, [lon, lat]: [f64; 2]) {
+    x.empty("PNT", &[("A", kind), ("C", &number(lat, 9)), ("D", &number(lon, 9))]);
+}

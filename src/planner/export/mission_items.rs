@@ -1,0 +1,157 @@
+//! MAVLink mission items of one sortie, shared by the QGroundControl `.plan` and the
+//! `QGC WPL 110` file (docs/methods.md, interop §4): take-off, a speed change wherever the speed
+//! changes, a waypoint at every line end and turn point, the camera triggered by distance on
+//! sweeps only, and a return to launch (or a landing, without a home) at the end.
+
+use super::flight::{FlownPiece, waypoints};
+use super::{Firmware, FlightSettings};
+use crate::path::PieceKind;
+use crate::vehicle::VehicleKind;
+
+pub const NAV_WAYPOINT: u16 = 16;
+pub const NAV_RETURN_TO_LAUNCH: u16 = 20;
+pub const NAV_LAND: u16 = 21;
+pub const NAV_TAKEOFF: u16 = 22;
+pub const DO_CHANGE_SPEED: u16 = 178;
+pub const DO_SET_CAM_TRIGG_DIST: u16 = 206;
+
+/// `MAV_FRAME_MISSION`: a command without a position.
+pub const FRAME_MISSION: u8 = 2;
+/// `MAV_FRAME_GLOBAL_RELATIVE_ALT`: altitude above home.
+pub const FRAME_RELATIVE: u8 = 3;
+
+/// Heading change between two waypoints kept on a fixed-wing turn.
+pub const ARC_STEP_DEG: f64 = 15.0;
+/// Minimum pitch during a fixed-wing take-off.
+const TAKEOFF_PITCH_DEG: f64 = 15.0;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct MissionItem {
+    pub command: u16,
+    pub frame: u8,
+    /// p1 to p4; `None` is "no change" (NaN).
+    pub params: [Option<f64>; 4],
+    /// `[lat, lon, altitude above home]` for commands that have a position.
+    pub position: Option<[f64; 3]>,
+}
+
+impl MissionItem {
+    fn command(command: u16, params: [f64; 4]) -> Self {
+        MissionItem { command, frame: FRAME_MISSION, params: params.map(Some), position: None }
+    }
+
+    fn at(command: u16, params: [Option<f64>; 4], lon_lat_alt: [f64; 3]) -> Self {
+        MissionItem { command, frame: FRAME_RELATIVE, params, position: Some([lon_lat_alt[1], lon_lat_alt[0], lon_lat_alt[2]]) }
+    }
+}
+
+/// `MAV_TYPE` of the vehicle.
+pub fn mav_type(kind: VehicleKind) -> u8 {
+    match kind {
+        VehicleKind::FixedWing => 1,
+        VehicleKind::Multirotor => 2,
+    }
+}
+
+/// `MAV_AUTOPILOT` of the firmware.
+pub fn mav_autopilot(firmware: Firmware) -> u8 {
+    match firmware {
+        Firmware::Ardupilot => 3,
+        Firmware::Px4 => 12,
+    }
+}
+
+/// Where the sortie takes off: home, or the start of its first piece.
+pub fn launch(pieces: &[FlownPiece], home: Option<[f64; 2]>) -> [f64; 2] {
+    home.unwrap_or_else(|| {
+        let p = pieces[0].points[0];
+        [p[0], p[1]]
+    })
+}
+
+/// The items of one sortie, in order.
+pub fn mission_items(pieces: &[FlownPiece], settings: &FlightSettings, home: Option<[f64; 2]>) -> Vec<MissionItem> {
+    let fixed_wing = settings.kind == VehicleKind::FixedWing;
+    // ArduPilot ignores a waypoint's yaw; PX4 reads 0 as "face north", NaN as "keep"
+    let keep_yaw = match settings.firmware {
+        Firmware::Ardupilot => Some(0.0),
+        Firmware::Px4 => None,
+    };
+    let [lon, lat] = launch(pieces, home);
+    let pitch = if fixed_wing { TAKEOFF_PITCH_DEG } else { 0.0 };
+    let mut items = vec![MissionItem::at(NAV_TAKEOFF, [Some(pitch), Some(0.0), Some(0.0), keep_yaw], [lon, lat, settings.altitude_m])];
+    // airspeed for fixed wings, ground speed for multirotors
+    let speed_type = if fixed_wing { 0.0 } else { 1.0 };
+    let arc_radius = (settings.turn_radius_m / 4.0).min(10.0);
+    let points = waypoints(pieces, fixed_wing.then_some(ARC_STEP_DEG));
+    let mut speed = f64::NAN;
+    for (k, w) in points.iter().enumerate() {
+        let piece = &pieces[w.piece];
+        if (piece.speed_mps - speed).abs() > 0.05 && piece.speed_mps > 0.0 {
+            speed = piece.speed_mps;
+            items.push(MissionItem::command(DO_CHANGE_SPEED, [speed_type, speed, -1.0, 0.0]));
+        }
+        let sweep_end = piece.kind == PieceKind::Sweep && points.get(k + 1).is_none_or(|n| n.piece != w.piece);
+        let sweep_start = piece.kind == PieceKind::Sweep && k > 0 && points[k - 1].piece != w.piece;
+        if let (Some(distance), true) = (settings.trigger_distance_m, sweep_start) {
+            // the previous waypoint is the line's start: trigger now and every `distance` metres
+            items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [distance, 0.0, 1.0, 0.0]));
+        }
+        let acceptance = if w.on_arc { arc_radius } else { 0.0 };
+        items.push(MissionItem::at(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w.position));
+        if settings.trigger_distance_m.is_some() && sweep_end && k > 0 {
+            items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
+        }
+    }
+    match home {
+        Some(_) => items.push(MissionItem::command(NAV_RETURN_TO_LAUNCH, [0.0; 4])),
+        None => {
+            let last = points.last().map_or([lon, lat, 0.0], |w| w.position);
+            items.push(MissionItem::at(NAV_LAND, [Some(0.0), Some(0.0), Some(0.0), keep_yaw], [last[0], last[1], 0.0]));
+        }
+    }
+    items
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+/// The positions of the `NAV_WAYPOINT` items, `[lat, lon]`, for tests of every flight format.
+fn waypoint_positions(items: &[MissionItem]) -> Vec<[f64; 2]> {
+    items.iter().filter(|i| i.command == NAV_WAYPOINT).filter_map(|i| i.position).map(|p| [p[0], p[1]]).collect()
+}
+
+    fn piece(kind: PieceKind, points: &[[f64; 2]], speed: f64) -> FlownPiece {
+        FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed }
+    }
+
+    fn settings(trigger: Option<f64>) -> FlightSettings {
+        FlightSettings { kind: VehicleKind::Multirotor, firmware: Firmware::Px4, altitude_m: 40.0, cruise_speed_mps: 8.0, turn_radius_m: 0.0, line_spacing_m: 20.0, trigger_distance_m: trigger }
+    }
+
+    #[test]
+    fn camera_runs_on_sweeps_only() {
+        let pieces = [
+            piece(PieceKind::Transit, &[[0.0, 0.0], [1.0, 0.0]], 8.0),
+            piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0),
+            piece(PieceKind::Turn, &[[2.0, 0.0], [2.0, 1.0]], 3.0),
+            piece(PieceKind::Sweep, &[[2.0, 1.0], [1.0, 1.0]], 6.0),
+        ];
+        let items = mission_items(&pieces, &settings(Some(12.0)), Some([0.0, 0.0]));
+        let commands: Vec<u16> = items.iter().map(|i| i.command).collect();
+        assert_eq!(commands, vec![22, 178, 16, 16, 178, 206, 16, 206, 178, 16, 178, 206, 16, 206, 20]);
+        assert_eq!(items[5].params[0], Some(12.0));
+        // lat, lon order
+        assert_eq!(items[6].position, Some([0.0, 2.0, 40.0]));
+        assert_eq!(waypoint_positions(&items), vec![[0.0, 0.0], [0.0, 1.0], [0.0, 2.0], [1.0, 2.0], [1.0, 1.0]]);
+    }
+
+    #[test]
+    fn lands_without_home() {
+        let items = mission_items(&[piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0)], &settings(None), None);
+        assert_eq!(items.first().unwrap().position, Some([0.0, 1.0, 40.0]));
+        assert_eq!(items.last().unwrap().command, NAV_LAND);
+        assert_eq!(items.last().unwrap().position, Some([0.0, 2.0, 0.0]));
+    }
+}

@@ -1,0 +1,178 @@
+//! Export stage: the plan in the files other tools load, one format per file.
+//!
+//! Every format is written from the trajectory as stored (WGS84 GeoJSON, [`geojson`]) and the
+//! mission, so a finished plan can be written in any format without planning it again. Adding a
+//! format means adding a file with an [`Exporter`] and a line in [`EXPORTERS`].
+//! Conventions (coordinate order, winding, altitude reference) follow docs/methods.md, interop.
+
+mod flight;
+pub mod geojson;
+mod isoxml;
+mod kml;
+mod mission_items;
+mod qgc_plan;
+mod wpl;
+mod wpml;
+mod xml;
+
+use geo::{MapCoords, MultiPolygon};
+use serde::Deserialize;
+
+use super::archive;
+use super::error::{InputError, check_range};
+use super::field::{Field, FieldLimits, MissionGeometry};
+use super::params::PlanParams;
+use super::vehicle::{Vehicle, VehicleKind};
+pub use flight::{Flight, FlownPiece};
+
+/// The autopilot a flight file is written for: it decides the vehicle's home item and how
+/// "keep the heading" is said.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum Firmware {
+    #[default]
+    Ardupilot,
+    Px4,
+}
+
+/// Choices of the caller that are not part of the plan.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ExportOptions {
+    pub firmware: Firmware,
+    /// Flight altitude above home for formats that need one, when the plan has none.
+    pub altitude_m: Option<f64>,
+}
+
+/// Altitude above home written in flight files of plans made without an altitude or a camera.
+pub const DEFAULT_ALTITUDE_M: f64 = 50.0;
+
+/// What a plan is exported from: the mission as stored, the parameters and vehicles it was
+/// planned with, and its trajectory.
+pub struct ExportRequest<'a> {
+    pub name: &'a str,
+    pub mission: MissionGeometry<'a>,
+    pub params: &'a PlanParams,
+    pub profiles: &'a [Vehicle],
+    pub trajectory: &'a ::geojson::FeatureCollection,
+    pub options: ExportOptions,
+}
+
+/// A written file.
+#[derive(Debug, Clone)]
+pub struct ExportFile {
+    pub file_name: String,
+    pub media_type: &'static str,
+    pub bytes: Vec<u8>,
+}
+
+/// The mission's outlines in WGS84 (x = longitude, y = latitude): exteriors counter-clockwise,
+/// holes clockwise.
+pub struct Outlines {
+    pub fields: MultiPolygon,
+    pub no_fly_zones: MultiPolygon,
+    pub home: Option<[f64; 2]>,
+}
+
+/// How the vehicle flies the exported path.
+#[derive(Debug, Clone, Copy)]
+pub struct FlightSettings {
+    pub kind: VehicleKind,
+    pub firmware: Firmware,
+    /// Above home, metres.
+    pub altitude_m: f64,
+    pub cruise_speed_mps: f64,
+    pub turn_radius_m: f64,
+    pub line_spacing_m: f64,
+    /// Distance between photos on sweeps, when a camera was given.
+    pub trigger_distance_m: Option<f64>,
+}
+
+/// Everything an exporter writes from.
+pub struct ExportJob<'a> {
+    pub name: &'a str,
+    pub outlines: Outlines,
+    pub flight: Flight,
+    pub settings: FlightSettings,
+    pub trajectory: &'a ::geojson::FeatureCollection,
+}
+
+/// One file format.
+pub trait Exporter: Sync {
+    /// The `format` query value.
+    fn id(&self) -> &'static str;
+    fn media_type(&self) -> &'static str;
+    /// File name ending, with its dot.
+    fn extension(&self) -> &'static str;
+    /// A format that describes one flight: a plan of several sorties becomes a zip of one
+    /// file per sortie.
+    fn one_flight_per_file(&self) -> bool {
+        false
+    }
+    /// Writes the file; `sortie` (0-based) limits a one-flight format to that sortie.
+    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError>;
+}
+
+/// Every export format, in the order the page's menu lists them.
+pub static EXPORTERS: &[&dyn Exporter] = &[&geojson::GeoJsonFile, &qgc_plan::QgcPlan, &wpl::WaypointList, &kml::Kml, &kml::Kmz, &wpml::Wpml, &isoxml::TaskData];
+
+pub fn find(id: &str) -> Option<&'static dyn Exporter> {
+    EXPORTERS.iter().copied().find(|e| e.id() == id)
+}
+
+/// The `format` values, for messages and documents.
+pub fn format_ids() -> Vec<&'static str> {
+    EXPORTERS.iter().map(|e| e.id()).collect()
+}
+
+/// A file name made of the mission's name: letters, digits, `-` and `_` only.
+pub fn file_stem(name: &str) -> String {
+    let stem: String = name.trim().chars().take(80).map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+    let stem = stem.trim_matches('_');
+    if stem.is_empty() { "mission".to_owned() } else { stem.to_owned() }
+}
+
+/// Writes a plan in `format`.
+pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, InputError> {
+    let exporter = find(format).ok_or_else(|| InputError::new("unknown_format", "format", format!("no export format `{format}`; known: {}", format_ids().join(", "))))?;
+    let job = prepare(request)?;
+    let stem = file_stem(request.name);
+    let sorties = job.flight.sorties.len();
+    if !exporter.one_flight_per_file() || sorties <= 1 {
+        let bytes = exporter.write(&job, 0)?;
+        return Ok(ExportFile { file_name: format!("{stem}{}", exporter.extension()), media_type: exporter.media_type(), bytes });
+    }
+    let files = (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{}", k + 1, exporter.extension()), exporter.write(&job, k)?))).collect::<Result<Vec<_>, InputError>>()?;
+    Ok(ExportFile { file_name: format!("{stem}-{}-sorties.zip", exporter.id()), media_type: "application/zip", bytes: archive::zip(&files) })
+}
+
+fn prepare<'a>(request: &ExportRequest<'a>) -> Result<ExportJob<'a>, InputError> {
+    let resolved = request.params.resolve(request.profiles)?;
+    // the mission was validated when stored: its own limits, not the service's current ones
+    let unlimited = FieldLimits { max_area_ha: f64::INFINITY, max_vertices: usize::MAX, max_radius_km: f64::INFINITY, min_area_m2: 0.0 };
+    let field = Field::parse(&request.mission, &unlimited)?;
+    let to_wgs84 = |p: &MultiPolygon| p.map_coords(|c| field.frame.to_wgs84(c).into());
+    let outlines = Outlines { fields: to_wgs84(&field.area), no_fly_zones: to_wgs84(&field.no_fly_zones), home: request.mission.home };
+    if let Some(a) = request.options.altitude_m {
+        check_range(a, 1.0, 10_000.0, "altitude_m", "m above home")?;
+    }
+    let altitude_m = request.options.altitude_m.or(resolved.altitude_m).unwrap_or(DEFAULT_ALTITUDE_M);
+    let settings = FlightSettings {
+        kind: resolved.vehicle.kind,
+        firmware: request.options.firmware,
+        altitude_m,
+        cruise_speed_mps: resolved.vehicle.cruise_speed_mps,
+        turn_radius_m: resolved.vehicle.turn_radius_m,
+        line_spacing_m: resolved.line_spacing_m,
+        trigger_distance_m: resolved.camera.map(|c| c.photo_spacing_m),
+    };
+    let flight = Flight::from_trajectory(request.trajectory, altitude_m)?;
+    Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory: request.trajectory })
+}
+
+/// `v` rounded to `decimals` places, as text without trailing zeros.
+pub(crate) fn number(v: f64, decimals: usize) -> String {
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.') } else { &s };
+    if s == "-0" { "0".to_owned() } else { s.to_owned() }
+}

@@ -1,0 +1,85 @@
+//! QGroundControl `.plan` (JSON): the sortie as plain `SimpleItem`s, the fields as an
+//! inclusion fence and the no-fly zones as exclusion fences (docs/methods.md, interop §3).
+//! Written by hand with serde_json: no crate writes this format.
+
+use geo::{LineString, Winding};
+use serde_json::{Value, json};
+
+use super::mission_items::{self, FRAME_MISSION, MissionItem, launch, mav_autopilot, mav_type};
+use super::{ExportJob, Exporter};
+use crate::error::InputError;
+
+pub struct QgcPlan;
+
+/// `AltitudeMode` 1: relative to home.
+const ALTITUDE_RELATIVE: u8 = 1;
+
+impl Exporter for QgcPlan {
+    fn id(&self) -> &'static str {
+        "plan"
+    }
+    fn media_type(&self) -> &'static str {
+        "application/json"
+    }
+    fn extension(&self) -> &'static str {
+        ".plan"
+    }
+    fn one_flight_per_file(&self) -> bool {
+        true
+    }
+
+    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
+        let pieces = &job.flight.sorties[sortie];
+        let s = &job.settings;
+        let items = mission_items::mission_items(pieces, s, job.outlines.home);
+        let [lon, lat] = launch(pieces, job.outlines.home);
+        let items: Vec<Value> = items.iter().enumerate().map(|(k, item)| simple_item(item, k + 1)).collect();
+        let mut fences: Vec<Value> = job.outlines.fields.0.iter().map(|p| fence(p.exterior(), true)).collect();
+        fences.extend(job.outlines.no_fly_zones.0.iter().map(|p| fence(p.exterior(), false)));
+        let plan = json!({
+            "fileType": "Plan",
+            "version": 1,
+            "groundStation": "coverplan",
+            "mission": {
+                "version": 2,
+                "firmwareType": mav_autopilot(s.firmware),
+                "vehicleType": mav_type(s.kind),
+                "cruiseSpeed": s.cruise_speed_mps,
+                "hoverSpeed": s.cruise_speed_mps,
+                "globalPlanAltitudeMode": ALTITUDE_RELATIVE,
+                "plannedHomePosition": [lat, lon, 0.0],
+                "items": items,
+            },
+            "geoFence": {"version": 2, "circles": [], "polygons": fences},
+            "rallyPoints": {"version": 2, "points": []},
+        });
+        Ok((serde_json::to_string_pretty(&plan).expect("JSON") + "\n").into_bytes())
+    }
+}
+
+fn simple_item(item: &MissionItem, jump_id: usize) -> Value {
+    let [lat, lon, alt] = item.position.unwrap_or([0.0; 3]);
+    let params: Vec<Value> = item.params.iter().map(|p| p.map_or(Value::Null, |v| json!(v))).chain([json!(lat), json!(lon), json!(alt)]).collect();
+    let mut value = json!({
+        "type": "SimpleItem",
+        "autoContinue": true,
+        "command": item.command,
+        "doJumpId": jump_id,
+        "frame": item.frame,
+        "params": params,
+    });
+    if item.frame != FRAME_MISSION {
+        value["Altitude"] = json!(alt);
+        value["AltitudeMode"] = json!(ALTITUDE_RELATIVE);
+        value["AMSLAltAboveTerrain"] = Value::Null;
+    }
+    value
+}
+
+/// A fence polygon, clockwise as QGroundControl documents them, `[lat, lon]`, not closed.
+fn fence(ring: &LineString, inclusion: bool) -> Value {
+    let mut ring = ring.clone();
+    ring.make_cw_winding();
+    let points: Vec<Value> = ring.0[..ring.0.len() - 1].iter().map(|c| json!([c.y, c.x])).collect();
+    json!({"inclusion": inclusion, "polygon": points, "version": 1})
+}

@@ -1,0 +1,120 @@
+//! DJI WPML: a KMZ holding `wpmz/template.kml` and `wpmz/waylines.wpml`, the waypoint route
+//! that DJI Pilot 2 opens: heights relative to the take-off point, a speed per waypoint, and on
+//! each sweep a photo every trigger distance (an action group over the line's waypoints).
+//! Written with quick-xml: no crate writes WPML.
+
+use super::flight::waypoints;
+use super::xml::Xml;
+use super::{ExportJob, Exporter, number};
+use crate::archive;
+use crate::error::InputError;
+use crate::path::PieceKind;
+use crate::vehicle::VehicleKind;
+
+pub struct Wpml;
+
+const NAMESPACE: &str = "http://www.dji.com/wpmz/1.0.6";
+/// Mavic 3 Enterprise and its wide camera (DJI's `droneEnumValue` 77, `payloadEnumValue` 66).
+const DRONE: (&str, &str) = ("77", "0");
+const PAYLOAD: &str = "66";
+/// DJI's speed range for waypoint routes, m/s.
+const SPEED_RANGE: (f64, f64) = (1.0, 15.0);
+
+impl Exporter for Wpml {
+    fn id(&self) -> &'static str {
+        "wpml"
+    }
+    fn media_type(&self) -> &'static str {
+        "application/vnd.google-earth.kmz"
+    }
+    fn extension(&self) -> &'static str {
+        ".kmz"
+    }
+    fn one_flight_per_file(&self) -> bool {
+        true
+    }
+
+    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
+        if job.settings.kind != VehicleKind::Multirotor {
+            return Err(InputError::new("format_not_applicable", "format", "DJI WPML routes are flown by DJI multirotors; export a fixed-wing plan as `plan` or `waypoints`"));
+        }
+        let template = document(job, sortie, false);
+        let waylines = document(job, sortie, true);
+        Ok(archive::zip(&[("wpmz/template.kml".to_owned(), template), ("wpmz/waylines.wpml".to_owned(), waylines)]))
+    }
+}
+
+/// `template.kml` (`executable` false) or `waylines.wpml` (true): the same route, in the two
+/// vocabularies DJI uses for them.
+fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
+    let s = &job.settings;
+    let pieces = &job.flight.sorties[sortie];
+    let points = waypoints(pieces, None);
+    let speed = |k: usize| pieces[points[k].piece].speed_mps.clamp(SPEED_RANGE.0, SPEED_RANGE.1);
+    let cruise = number(s.cruise_speed_mps.clamp(SPEED_RANGE.0, SPEED_RANGE.1), 2);
+    let mut x = Xml::new();
+    x.open("kml", &[("xmlns", "http://www.opengis.net/kml/2.2"), ("xmlns:wpml", NAMESPACE)]).open("Document", &[]);
+    if !executable {
+        x.leaf("wpml:author", "coverplan");
+    }
+    x.open("wpml:missionConfig", &[])
+        .leaf("wpml:flyToWaylineMode", "safely")
+        .leaf("wpml:finishAction", if job.outlines.home.is_some() { "goHome" } else { "autoLand" })
+        .leaf("wpml:exitOnRCLost", "executeLostAction")
+        .leaf("wpml:executeRCLostAction", "goBack")
+        .leaf("wpml:takeOffSecurityHeight", &number(s.altitude_m.clamp(1.2, 1500.0), 2))
+        .leaf("wpml:globalTransitionalSpeed", &cruise);
+    x.open("wpml:droneInfo", &[]).leaf("wpml:droneEnumValue", DRONE.0).leaf("wpml:droneSubEnumValue", DRONE.1).close("wpml:droneInfo");
+    x.open("wpml:payloadInfo", &[]).leaf("wpml:payloadEnumValue", PAYLOAD).leaf("wpml:payloadPositionIndex", "0").close("wpml:payloadInfo");
+    x.close("wpml:missionConfig");
+    x.open("Folder", &[]);
+    if executable {
+        x.leaf("wpml:templateId", "0").leaf("wpml:executeHeightMode", "relativeToStartPoint").leaf("wpml:waylineId", "0").leaf("wpml:autoFlightSpeed", &cruise);
+    } else {
+        x.leaf("wpml:templateType", "waypoint").leaf("wpml:templateId", "0");
+        x.open("wpml:waylineCoordinateSysParam", &[]).leaf("wpml:coordinateMode", "WGS84").leaf("wpml:heightMode", "relativeToStartPoint").close("wpml:waylineCoordinateSysParam");
+        x.leaf("wpml:autoFlightSpeed", &cruise).leaf("wpml:globalHeight", &number(s.altitude_m, 2)).leaf("wpml:caliFlightEnable", "0").leaf("wpml:gimbalPitchMode", "manual");
+        x.open("wpml:globalWaypointHeadingParam", &[]).leaf("wpml:waypointHeadingMode", "followWayline").close("wpml:globalWaypointHeadingParam");
+        x.leaf("wpml:globalWaypointTurnMode", "toPointAndStopWithDiscontinuityCurvature").leaf("wpml:globalUseStraightLine", "1");
+    }
+    let mut group = 0;
+    for (k, w) in points.iter().enumerate() {
+        let [lon, lat, altitude] = w.position;
+        x.open("Placemark", &[]).open("Point", &[]).leaf("coordinates", &format!("{},{}", number(lon, 8), number(lat, 8))).close("Point");
+        x.leaf("wpml:index", &k.to_string());
+        if executable {
+            x.leaf("wpml:executeHeight", &number(altitude, 2)).leaf("wpml:waypointSpeed", &number(speed(k), 2));
+            x.open("wpml:waypointHeadingParam", &[]).leaf("wpml:waypointHeadingMode", "followWayline").close("wpml:waypointHeadingParam");
+            x.open("wpml:waypointTurnParam", &[])
+                .leaf("wpml:waypointTurnMode", "toPointAndStopWithDiscontinuityCurvature")
+                .leaf("wpml:waypointTurnDampingDist", "0")
+                .close("wpml:waypointTurnParam");
+        } else {
+            x.leaf("wpml:height", &number(altitude, 2)).leaf("wpml:useGlobalHeight", "0").leaf("wpml:waypointSpeed", &number(speed(k), 2)).leaf("wpml:useGlobalSpeed", "0");
+            x.leaf("wpml:useGlobalHeadingParam", "1").leaf("wpml:useGlobalTurnParam", "1");
+        }
+        x.leaf("wpml:useStraightLine", "1");
+        // a sweep starts here when the next waypoint ends a sweep piece
+        let sweep_end = points.get(k + 1).filter(|n| n.piece != w.piece && pieces[n.piece].kind == PieceKind::Sweep);
+        if let (Some(distance), Some(_)) = (s.trigger_distance_m, sweep_end) {
+            photo_group(&mut x, group, k, distance);
+            group += 1;
+        }
+        x.close("Placemark");
+    }
+    x.close("Folder").close("Document").close("kml");
+    x.finish()
+}
+
+/// Photos every `distance` metres from waypoint `start` to the next one.
+fn photo_group(x: &mut Xml, id: usize, start: usize, distance: f64) {
+    x.open("wpml:actionGroup", &[])
+        .leaf("wpml:actionGroupId", &id.to_string())
+        .leaf("wpml:actionGroupStartIndex", &start.to_string())
+        .leaf("wpml:actionGroupEndIndex", &(start + 1).to_string())
+        .leaf("wpml:actionGroupMode", "sequence");
+    x.open("wpml:actionTrigger", &[]).leaf("wpml:actionTriggerType", "multipleDistance").leaf("wpml:actionTriggerParam", &number(distance, 2)).close("wpml:actionTrigger");
+    x.open("wpml:action", &[]).leaf("wpml:actionId", "0").leaf("wpml:actionActuatorFunc", "takePhoto");
+    x.open("wpml:actionActuatorFuncParam", &[]).leaf("wpml:payloadPositionIndex", "0").close("wpml:actionActuatorFuncParam");
+    x.close("wpml:action").close("wpml:actionGroup");
+}

@@ -1,0 +1,193 @@
+//! Fields that come in as files: GeoJSON, KML and KMZ, shapefile zips, ISOXML TaskData and
+//! QGroundControl `.plan`, one format per file. Each reads polygons in WGS84 and says what it
+//! took as fields, holes, no-fly zones and obstacles, and what it dropped and why; the result is
+//! a mission document the field stage then validates like any other.
+//!
+//! Archives and XML are read through [`crate::archive`], which refuses zip bombs and XML
+//! entities before a parser sees them.
+
+mod geojson;
+mod isoxml;
+mod kml;
+mod qgc_plan;
+mod shapefile;
+
+use geo::{LineString, Polygon, Winding};
+use serde::Serialize;
+use serde_json::{Value, json};
+
+use super::archive;
+use super::error::InputError;
+use super::field::check_position;
+
+/// What a file held, in WGS84 (x = longitude, y = latitude).
+#[derive(Debug, Default)]
+pub struct Collected {
+    pub name: Option<String>,
+    pub fields: Vec<Polygon>,
+    pub no_fly_zones: Vec<Polygon>,
+    /// Footprints with their height above ground, metres.
+    pub obstacles: Vec<(Polygon, f64)>,
+    pub home: Option<[f64; 2]>,
+    pub warnings: Vec<String>,
+}
+
+/// A mission document made from a file, as `POST /api/v1/missions` takes it, and what was left
+/// out of the file.
+#[derive(Debug, Clone, Serialize)]
+pub struct ImportedMission {
+    pub name: Option<String>,
+    /// A GeoJSON MultiPolygon, exteriors counter-clockwise.
+    pub area: Value,
+    pub no_fly_zones: Option<Value>,
+    pub obstacles: Option<Value>,
+    pub home: Option<[f64; 2]>,
+    pub warnings: Vec<String>,
+}
+
+/// One file format.
+pub trait Importer: Sync {
+    /// The `format` query value.
+    fn id(&self) -> &'static str;
+    /// Reads the file; refusals name the part of the file that is wrong.
+    fn read(&self, bytes: &[u8]) -> Result<Collected, InputError>;
+}
+
+/// Every import format.
+pub static IMPORTERS: &[&dyn Importer] = &[&geojson::GeoJsonFile, &kml::Kml, &kml::Kmz, &shapefile::ShapefileZip, &isoxml::TaskData, &qgc_plan::QgcPlan];
+
+pub fn format_ids() -> Vec<&'static str> {
+    IMPORTERS.iter().map(|i| i.id()).collect()
+}
+
+/// The format of a file, from its content: zips by the files they hold, XML by its root, JSON
+/// by its `fileType`.
+pub fn sniff(bytes: &[u8]) -> Option<&'static str> {
+    if archive::is_zip(bytes) {
+        let files = archive::unzip(bytes).ok()?;
+        let has = |end: &str| files.iter().any(|(name, _)| name.to_ascii_lowercase().ends_with(end));
+        return if has(".shp") {
+            Some("shapefile")
+        } else if has("taskdata.xml") {
+            Some("isoxml")
+        } else if has(".kml") {
+            Some("kmz")
+        } else {
+            None
+        };
+    }
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]);
+    let head = head.trim_start_matches('\u{feff}').trim_start();
+    if head.starts_with('<') {
+        return Some(if head.contains("ISO11783_TaskData") { "isoxml" } else { "kml" });
+    }
+    if head.starts_with('{') {
+        let is_plan = serde_json::from_slice::<Value>(bytes).ok().is_some_and(|v| v.get("fileType").and_then(Value::as_str) == Some("Plan"));
+        return Some(if is_plan { "plan" } else { "geojson" });
+    }
+    None
+}
+
+/// Reads `bytes` as `format` (or the format [`sniff`] finds, when `None`).
+pub fn import(format: Option<&str>, bytes: &[u8]) -> Result<ImportedMission, InputError> {
+    let known = || format_ids().join(", ");
+    if bytes.is_empty() {
+        return Err(InputError::new("empty_file", "/", "the file is empty"));
+    }
+    let format = match format {
+        Some(f) => f,
+        None => sniff(bytes).ok_or_else(|| InputError::new("unknown_format", "format", format!("the file's format is not recognised; give `format`, one of {}", known())))?,
+    };
+    let importer = IMPORTERS.iter().find(|i| i.id() == format).ok_or_else(|| InputError::new("unknown_format", "format", format!("no import format `{format}`; known: {}", known())))?;
+    let collected = importer.read(bytes)?;
+    if collected.fields.is_empty() {
+        return Err(InputError::new("empty_geometry", "/", format!("the file holds no field polygon{}", reasons(&collected.warnings))));
+    }
+    let polygons = |ps: &[Polygon]| json!({"type": "MultiPolygon", "coordinates": ps.iter().map(polygon_coordinates).collect::<Vec<_>>()});
+    let obstacles = (!collected.obstacles.is_empty()).then(|| {
+        let features: Vec<Value> = collected
+            .obstacles
+            .iter()
+            .map(|(p, h)| json!({"type": "Feature", "properties": {"height_m": h}, "geometry": {"type": "Polygon", "coordinates": polygon_coordinates(p)}}))
+            .collect();
+        json!({"type": "FeatureCollection", "features": features})
+    });
+    Ok(ImportedMission {
+        name: collected.name,
+        area: polygons(&collected.fields),
+        no_fly_zones: (!collected.no_fly_zones.is_empty()).then(|| polygons(&collected.no_fly_zones)),
+        obstacles,
+        home: collected.home,
+        warnings: collected.warnings,
+    })
+}
+
+fn reasons(warnings: &[String]) -> String {
+    if warnings.is_empty() { String::new() } else { format!(" ({})", warnings.join("; ")) }
+}
+
+/// GeoJSON rings of a polygon by the right-hand rule.
+fn polygon_coordinates(p: &Polygon) -> Value {
+    let ring = |r: &LineString, ccw: bool| {
+        let mut r = r.clone();
+        if ccw { r.make_ccw_winding() } else { r.make_cw_winding() }
+        r.coords().map(|c| json!([c.x, c.y])).collect::<Vec<_>>()
+    };
+    let mut rings = vec![ring(p.exterior(), true)];
+    rings.extend(p.interiors().iter().map(|h| ring(h, false)));
+    json!(rings)
+}
+
+/// A closed ring from `[lon, lat]` points (closed when the file leaves it open), checked: at
+/// least three distinct points, each a valid position. `part` names where it came from.
+pub(crate) fn ring(points: Vec<[f64; 2]>, part: &str) -> Result<LineString, InputError> {
+    for p in &points {
+        check_position(p, part)?;
+    }
+    let mut points = points;
+    points.dedup();
+    if points.len() > 1 && points.first() == points.last() {
+        points.pop();
+    }
+    if points.len() < 3 {
+        return Err(InputError::new("empty_geometry", part, "a ring needs at least three distinct points"));
+    }
+    let mut ring: LineString = points.into_iter().map(|[x, y]| geo::Coord { x, y }).collect();
+    ring.close();
+    Ok(ring)
+}
+
+/// The kind a name or type attribute gives a polygon: no-fly zone, obstacle, or field.
+pub(crate) fn kind_of_label(label: &str) -> Option<Kind> {
+    let l = label.to_ascii_lowercase().replace(['-', '_'], " ");
+    if l.contains("no fly") || l.contains("nofly") || l.split_whitespace().any(|w| w == "nfz") || l.contains("exclusion") {
+        Some(Kind::NoFlyZone)
+    } else if l.contains("obstacle") {
+        Some(Kind::Obstacle)
+    } else {
+        None
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kind {
+    Field,
+    NoFlyZone,
+    Obstacle,
+}
+
+impl Collected {
+    /// Adds a polygon as `kind`; obstacles without a height become no-fly zones (a height is
+    /// what lets a plan climb over them).
+    pub(crate) fn add(&mut self, kind: Kind, polygon: Polygon, height_m: Option<f64>, part: &str) {
+        match (kind, height_m) {
+            (Kind::Field, _) => self.fields.push(polygon),
+            (Kind::NoFlyZone, _) => self.no_fly_zones.push(polygon),
+            (Kind::Obstacle, Some(h)) if h.is_finite() && h > 0.0 => self.obstacles.push((polygon, h)),
+            (Kind::Obstacle, _) => {
+                self.warnings.push(format!("{part}: an obstacle without a height was taken as a no-fly zone"));
+                self.no_fly_zones.push(polygon);
+            }
+        }
+    }
+}

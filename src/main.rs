@@ -11,7 +11,8 @@ use clap::{Parser, Subcommand};
 use serde_json::Value;
 
 use coverplan::config::{Config, database_url};
-use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanParams};
+use coverplan::planner::export::{self, ExportOptions, ExportRequest, Firmware};
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanParams, import};
 
 #[derive(Parser)]
 #[command(name = "coverplan", version, about = "Coverage path planning for drones and farm vehicles")]
@@ -24,9 +25,10 @@ struct Cli {
 enum Command {
     /// Run the HTTP server (API, map page, Swagger UI at /docs).
     Serve(ServeArgs),
-    /// Plan a mission file offline and write the trajectory as GeoJSON.
+    /// Plan a mission file offline and write the trajectory as GeoJSON or a flight file.
     Plan {
-        /// Mission JSON: {"name", "area", "no_fly_zones"?, "home"?}
+        /// Mission JSON ({"name", "area", "no_fly_zones"?, "home"?}), or a file to import:
+        /// GeoJSON, KML, KMZ, shapefile zip, ISOXML TaskData or QGroundControl .plan
         #[arg(long)]
         mission: PathBuf,
         /// Plan parameters JSON, as POSTed to /api/v1/missions/{id}/plans (default: {"line_spacing_m": 20})
@@ -35,6 +37,12 @@ enum Command {
         /// Output file (default: standard output)
         #[arg(long)]
         out: Option<PathBuf>,
+        /// geojson (default, with the plan's figures), plan, waypoints, kml, kmz, wpml or isoxml
+        #[arg(long, default_value = "geojson")]
+        format: String,
+        /// Autopilot of plan and waypoints files: ardupilot or px4
+        #[arg(long, default_value = "ardupilot", value_parser = ["ardupilot", "px4"])]
+        firmware: String,
     },
     /// Time the planners on the generated fields and print a table.
     Bench {
@@ -105,7 +113,10 @@ fn main() -> ExitCode {
     tracing_subscriber::fmt().with_env_filter(tracing_subscriber::EnvFilter::try_from_env("COVERPLAN_LOG").unwrap_or_else(|_| "info".into())).with_writer(std::io::stderr).init();
     let result = match Cli::parse().command {
         Command::Serve(args) => serve(args),
-        Command::Plan { mission, params, out } => plan(&mission, params.as_deref(), out.as_deref()),
+        Command::Plan { mission, params, out, format, firmware } => {
+            let firmware = if firmware == "px4" { Firmware::Px4 } else { Firmware::Ardupilot };
+            plan(&mission, params.as_deref(), out.as_deref(), &format, firmware)
+        }
         Command::Bench { energy: true, repeats, .. } => {
             print!("{}", coverplan::bench::energy::run(repeats.max(1) * 4));
             Ok(())
@@ -151,8 +162,25 @@ fn read_json(path: &std::path::Path) -> anyhow::Result<Value> {
     serde_json::from_str(&text).with_context(|| format!("{} is not valid JSON", path.display()))
 }
 
-fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, out: Option<&std::path::Path>) -> anyhow::Result<()> {
-    let mission = read_json(mission_path)?;
+/// A mission document: the file itself when it is one, else the mission imported from it.
+fn read_mission(path: &std::path::Path) -> anyhow::Result<Value> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    if let Ok(mission) = serde_json::from_slice::<Value>(&bytes)
+        && mission.get("area").is_some()
+    {
+        return Ok(mission);
+    }
+    let imported = import::import(None, &bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    for warning in &imported.warnings {
+        eprintln!("coverplan: {}: {warning}", path.display());
+    }
+    let name = imported.name.clone().or_else(|| path.file_stem().map(|s| s.to_string_lossy().into_owned()));
+    Ok(serde_json::json!({"name": name, "area": imported.area, "no_fly_zones": imported.no_fly_zones, "obstacles": imported.obstacles, "home": imported.home}))
+}
+
+fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, out: Option<&std::path::Path>, format: &str, firmware: Firmware) -> anyhow::Result<()> {
+    anyhow::ensure!(export::find(format).is_some(), "no export format `{format}`; known: {}", export::format_ids().join(", "));
+    let mission = read_mission(mission_path)?;
     let params: PlanParams = match params_path {
         Some(p) => serde_json::from_value(read_json(p)?).with_context(|| format!("{}: not valid plan parameters", p.display()))?,
         None => PlanParams { line_spacing_m: Some(20.0), ..PlanParams::default() },
@@ -164,6 +192,7 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
         home,
     };
+    let profiles = planner::vehicle::builtin_profiles();
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(100);
         b.set_style(indicatif::ProgressStyle::with_template("{spinner} planning [{bar:40}] {pos}%").expect("template"));
@@ -175,17 +204,30 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         }
         true
     };
-    let output = planner::plan(&geometry, &params, &planner::vehicle::builtin_profiles(), &FieldLimits::default(), &progress);
+    let output = planner::plan(&geometry, &params, &profiles, &FieldLimits::default(), &progress);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
     let output = output.map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut collection = serde_json::to_value(&output.trajectory)?;
-    collection["properties"] = serde_json::to_value(&output.stats)?;
-    let text = serde_json::to_string_pretty(&collection)? + "\n";
+    let bytes = if format == "geojson" {
+        let mut collection = serde_json::to_value(&output.trajectory)?;
+        collection["properties"] = serde_json::to_value(&output.stats)?;
+        (serde_json::to_string_pretty(&collection)? + "\n").into_bytes()
+    } else {
+        let name = mission.get("name").and_then(Value::as_str).unwrap_or("mission");
+        let request = ExportRequest {
+            name,
+            mission: geometry.clone(),
+            params: &params,
+            profiles: &profiles,
+            trajectory: &output.trajectory,
+            options: ExportOptions { firmware, altitude_m: None },
+        };
+        export::export(format, &request).map_err(|e| anyhow::anyhow!("{e}"))?.bytes
+    };
     match out {
-        Some(path) => std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?,
-        None => std::io::stdout().write_all(text.as_bytes())?,
+        Some(path) => std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))?,
+        None => std::io::stdout().write_all(&bytes)?,
     }
     let s = &output.stats;
     eprintln!(

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test of coverplan on a fresh machine: installs what the tests need (Debian's
-# Chromium and npm's playwright-core for the map page test), then runs them.
+# Chromium and npm's playwright-core for the map page test; the independent readers of the
+# exported files: PyPI's pymavlink, fastkml, jsonschema, pyshp and utm in a virtual environment,
+# npm's isoxml), then runs them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -8,12 +10,21 @@ if ! command -v cargo >/dev/null; then
   echo "cargo is needed: install Rust from https://rustup.rs" >&2
   exit 1
 fi
-if [ ! -x /usr/bin/chromium ]; then
+packages=""
+[ -x /usr/bin/chromium ] || packages="$packages chromium"
+python3 -c "import ensurepip, venv" 2>/dev/null || packages="$packages python3 python3-venv"
+if [ -n "$packages" ]; then
   sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
   $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq chromium
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq $packages
 fi
 (cd tests/browser && npm ci --no-audit --no-fund)
+(cd tests/interop && npm ci --no-audit --no-fund)
+# the interop tests find this interpreter through COVERPLAN_PYTHON
+venv="${COVERPLAN_VENV:-${HOME}/.cache/coverplan-venv}"
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/pip" install -q --disable-pip-version-check -r tests/interop/requirements.txt
+export COVERPLAN_PYTHON="$venv/bin/python"
 
 for component in rustfmt clippy; do
   rustup component list --installed 2>/dev/null | grep -q "^$component" || rustup component add "$component"

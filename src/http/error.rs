@@ -47,6 +47,10 @@ impl ApiError {
         ApiError::Client { status: StatusCode::CONFLICT, code, detail: detail.into(), pointer: None }
     }
 
+    pub fn bad_request(code: &'static str, pointer: &str, detail: impl Into<String>) -> Self {
+        ApiError::Client { status: StatusCode::BAD_REQUEST, code, detail: detail.into(), pointer: Some(pointer.into()) }
+    }
+
     pub fn invalid(code: &'static str, pointer: &str, detail: impl Into<String>) -> Self {
         ApiError::Client { status: StatusCode::UNPROCESSABLE_ENTITY, code, detail: detail.into(), pointer: Some(pointer.into()) }
     }

@@ -9,7 +9,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use super::AppState;
 use super::error::{ApiError, ApiJson, Problem};
-use crate::planner::{self, MissionGeometry};
+use crate::planner::{self, MissionGeometry, import};
 use crate::store::missions::{self, Mission, MissionSummary, NewMission};
 
 #[derive(Debug, Deserialize, ToSchema)]
@@ -87,6 +87,41 @@ pub struct MissionPage {
 pub async fn create(State(state): State<AppState>, ApiJson(req): ApiJson<MissionRequest>) -> Result<(StatusCode, Json<Mission>), ApiError> {
     let new = req.validate(&state)?;
     Ok((StatusCode::CREATED, Json(missions::create(&state.db, &new).await?)))
+}
+
+/// `POST /api/v1/missions/import` options.
+#[derive(Debug, Deserialize, IntoParams)]
+pub struct ImportQuery {
+    /// `geojson`, `kml`, `kmz`, `shapefile` (a zip of .shp, .shx, .dbf and .prj), `isoxml`
+    /// (TaskData zip or XML) or `plan` (QGroundControl); found from the content when left out.
+    pub format: Option<String>,
+    /// The mission's name (default: the name the file gives, else "Imported field").
+    pub name: Option<String>,
+}
+
+/// The mission made from a file, and what of the file was left out and why.
+#[derive(Debug, Serialize, ToSchema)]
+pub struct ImportedMission {
+    #[serde(flatten)]
+    pub mission: Mission,
+    pub warnings: Vec<String>,
+}
+
+#[utoipa::path(post, operation_id = "import_mission", path = "/api/v1/missions/import", tag = "missions", params(ImportQuery),
+    request_body(content = Vec<u8>, content_type = "application/octet-stream", description = "the file, as it is"),
+    responses((status = 201, body = ImportedMission), (status = 400, body = Problem, description = "unknown format"),
+              (status = 413, body = Problem), (status = 422, body = Problem, description = "the file or a part of it is unreadable or not a valid field")))]
+pub async fn import_file(State(state): State<AppState>, Query(query): Query<ImportQuery>, body: axum::body::Bytes) -> Result<(StatusCode, Json<ImportedMission>), ApiError> {
+    if let Some(format) = query.format.as_deref().filter(|f| !import::format_ids().contains(f)) {
+        return Err(ApiError::bad_request("unknown_format", "format", format!("no import format `{format}`; known: {}", import::format_ids().join(", "))));
+    }
+    // parsing a large file takes a while: off the async runtime
+    let imported = tokio::task::spawn_blocking(move || import::import(query.format.as_deref(), &body)).await.map_err(|e| ApiError::Internal(format!("import: {e}")))??;
+    let name = query.name.or(imported.name).unwrap_or_else(|| "Imported field".to_owned());
+    let request = MissionRequest { name, area: imported.area, no_fly_zones: imported.no_fly_zones, obstacles: imported.obstacles, home: imported.home };
+    let new = request.validate(&state)?;
+    let mission = missions::create(&state.db, &new).await?;
+    Ok((StatusCode::CREATED, Json(ImportedMission { mission, warnings: imported.warnings })))
 }
 
 #[utoipa::path(get, operation_id = "list_missions", path = "/api/v1/missions", tag = "missions", params(Page),

@@ -43,6 +43,7 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(health::healthz))
         .routes(routes!(health::readyz))
         .routes(routes!(missions::list, missions::create))
+        .routes(routes!(missions::import_file))
         .routes(routes!(missions::get, missions::update, missions::delete))
         .routes(routes!(plans::list, plans::create))
         .routes(routes!(plans::get, plans::cancel))

@@ -1,13 +1,18 @@
 //! Plans: `/api/v1/missions/{id}/plans` to queue one, `/api/v1/plans/{id}` to follow it.
 
 use axum::Json;
-use axum::extract::{Path, State};
+use axum::extract::{Path, Query, State};
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Response};
+use serde::Deserialize;
 use serde_json::json;
+use utoipa::IntoParams;
 
 use super::AppState;
 use super::error::{ApiError, ApiJson, Problem};
+use crate::jobs;
+use crate::planner::export::{self, ExportFile, ExportOptions, ExportRequest, Firmware};
+use crate::planner::geojson::FeatureCollection;
 use crate::planner::{self, MissionGeometry, PlanParams};
 use crate::store::plans::{self, Plan, PlanStatus};
 use crate::store::{missions, vehicles};
@@ -42,19 +47,62 @@ pub async fn get(State(state): State<AppState>, Path(id): Path<String>) -> Resul
     plans::get(&state.db, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("plan", &id))
 }
 
-#[utoipa::path(get, operation_id = "get_trajectory", path = "/api/v1/plans/{id}/trajectory", tag = "plans", params(("id" = String, Path)),
-    responses((status = 200, description = "GeoJSON FeatureCollection (RFC 7946) of LineStrings in flight order, \
-        `properties.kind` = sweep | turn | transit, with length_m, duration_s, energy_j, speed_mps; a MultiPoint \
-        of kind `photos` when a camera was given", content_type = "application/geo+json", body = Object),
-        (status = 404, body = Problem), (status = 409, body = Problem, description = "the plan has no trajectory (yet)")))]
-pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>) -> Result<Response, ApiError> {
-    match plans::trajectory(&state.db, &id).await? {
-        None => Err(ApiError::not_found("plan", &id)),
-        Some((PlanStatus::Succeeded, Some(geojson))) => Ok(([(header::CONTENT_TYPE, "application/geo+json")], geojson).into_response()),
-        Some((status, _)) => {
-            Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", json!(status).as_str().unwrap_or("?"))))
-        }
+/// `GET /api/v1/plans/{id}/trajectory` options.
+#[derive(Debug, Deserialize, IntoParams)]
+pub struct TrajectoryQuery {
+    /// `geojson` (default), `plan` (QGroundControl), `waypoints` (QGC WPL 110 for Mission
+    /// Planner and ArduPilot), `kml`, `kmz` (Google Earth), `wpml` (DJI Pilot 2 KMZ) or `isoxml`
+    /// (ISO 11783-10 TaskData zip). A plan of several sorties comes as a zip of one `plan`,
+    /// `waypoints` or `wpml` file per sortie.
+    pub format: Option<String>,
+    /// `ardupilot` (default) or `px4`: the autopilot of `plan` and `waypoints` files.
+    pub firmware: Option<String>,
+    /// Altitude above home for flight files of plans made without one (default: the plan's,
+    /// else 50 m).
+    pub altitude_m: Option<f64>,
+}
+
+#[utoipa::path(get, operation_id = "get_trajectory", path = "/api/v1/plans/{id}/trajectory", tag = "plans", params(("id" = String, Path), TrajectoryQuery),
+    responses((status = 200, description = "The trajectory in the asked format, as an attachment named after the mission. GeoJSON: a FeatureCollection \
+        (RFC 7946) of LineStrings in flight order, `properties.kind` = sweep | turn | transit, with length_m, duration_s, energy_j, speed_mps, sortie; \
+        a MultiPoint of kind `photos` when a camera was given", content_type = "application/geo+json", body = Object),
+        (status = 400, body = Problem, description = "unknown format or firmware"), (status = 404, body = Problem),
+        (status = 409, body = Problem, description = "the plan has no trajectory (yet)"), (status = 422, body = Problem, description = "the format cannot say this plan")))]
+pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>, Query(query): Query<TrajectoryQuery>) -> Result<Response, ApiError> {
+    let format = query.format.as_deref().unwrap_or("geojson");
+    if export::find(format).is_none() {
+        return Err(ApiError::bad_request("unknown_format", "format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))));
     }
+    let firmware = match query.firmware.as_deref() {
+        None | Some("ardupilot") => Firmware::Ardupilot,
+        Some("px4") => Firmware::Px4,
+        Some(other) => return Err(ApiError::bad_request("unknown_firmware", "firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
+    };
+    let source = plans::export_source(&state.db, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
+    let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory) else {
+        let status = json!(source.status);
+        return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", status.as_str().unwrap_or("?"))));
+    };
+    let file = if format == "geojson" {
+        // as stored: no need to read it
+        ExportFile { file_name: format!("{}.geojson", export::file_stem(&source.name)), media_type: "application/geo+json", bytes: geojson.into_bytes() }
+    } else {
+        let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
+        let trajectory: FeatureCollection = serde_json::from_str(&geojson).map_err(|e| internal(&e))?;
+        let params: PlanParams = serde_json::from_value(source.params).map_err(|e| internal(&e))?;
+        let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
+        let request = ExportRequest {
+            name: &source.name,
+            mission: jobs::snapshot_geometry(&source.mission),
+            params: &params,
+            profiles: &profiles,
+            trajectory: &trajectory,
+            options: ExportOptions { firmware, altitude_m: query.altitude_m },
+        };
+        export::export(format, &request)?
+    };
+    let disposition = format!("attachment; filename=\"{}\"", file.file_name);
+    Ok(([(header::CONTENT_TYPE, file.media_type.to_owned()), (header::CONTENT_DISPOSITION, disposition)], file.bytes).into_response())
 }
 
 #[utoipa::path(delete, operation_id = "cancel_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),

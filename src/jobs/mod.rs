@@ -12,28 +12,37 @@ use serde_json::Value;
 use tokio::sync::{Notify, watch};
 use tokio::task::JoinHandle;
 
+use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams};
 use crate::store::{Db, plans};
 
 /// The function a worker runs for a job: `planner::plan` in production.
 pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress) -> Result<PlanOutput, PlanError> + Send + Sync>;
 
+/// The geometry of a mission snapshot stored with a plan.
+pub fn snapshot_geometry(mission: &Value) -> MissionGeometry<'_> {
+    MissionGeometry {
+        area: mission.get("area").unwrap_or(&Value::Null),
+        no_fly_zones: mission.get("no_fly_zones").filter(|v| !v.is_null()),
+        obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
+        home: mission.get("home").and_then(|h| serde_json::from_value::<[f64; 2]>(h.clone()).ok()),
+    }
+}
+
+/// The vehicle profiles of a snapshot, as they were when the plan was queued (older plans:
+/// the built-ins).
+pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
+    match mission.get("vehicles") {
+        Some(v) => serde_json::from_value(v.clone()).map_err(|e| format!("stored vehicle profile is unreadable: {e}")),
+        None => Ok(planner::vehicle::builtin_profiles()),
+    }
+}
+
 /// Runs a stored job with the real planner.
 pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress) -> Result<PlanOutput, PlanError> {
     let params: PlanParams = serde_json::from_value(job.params.clone()).map_err(|e| PlanError::Infeasible(format!("stored parameters are unreadable: {e}")))?;
-    let home = job.mission.get("home").and_then(|h| serde_json::from_value::<[f64; 2]>(h.clone()).ok());
-    let mission = MissionGeometry {
-        area: job.mission.get("area").unwrap_or(&Value::Null),
-        no_fly_zones: job.mission.get("no_fly_zones").filter(|v| !v.is_null()),
-        obstacles: job.mission.get("obstacles").filter(|v| !v.is_null()),
-        home,
-    };
-    // the profile as it was when the plan was queued (older plans: the built-ins)
-    let profiles = match job.mission.get("vehicles") {
-        Some(v) => serde_json::from_value(v.clone()).map_err(|e| PlanError::Infeasible(format!("stored vehicle profile is unreadable: {e}")))?,
-        None => planner::vehicle::builtin_profiles(),
-    };
-    planner::plan(&mission, &params, &profiles, limits, progress)
+    let profiles = snapshot_profiles(&job.mission).map_err(PlanError::Infeasible)?;
+    planner::plan(&snapshot_geometry(&job.mission), &params, &profiles, limits, progress)
 }
 
 struct RunningJob {

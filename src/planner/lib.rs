@@ -55,6 +55,8 @@ pub use error::{InputError, PlanError};
 pub use field::{FieldLimits, MissionGeometry};
 /// The geometry types of the planner's interface.
 pub use geo;
+/// The trajectory's type.
+pub use geojson;
 pub use metrics::Stats;
 pub use params::PlanParams;
 pub use planners::Progress;

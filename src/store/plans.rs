@@ -117,9 +117,24 @@ pub async fn list_for_mission(db: &Db, mission_id: &str) -> Result<Vec<Plan>, sq
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
-/// The stored trajectory (GeoJSON text) and the plan's status.
-pub async fn trajectory(db: &Db, id: &str) -> Result<Option<(PlanStatus, Option<String>)>, sqlx::Error> {
-    sqlx::query_as("SELECT status, trajectory FROM plans WHERE id = ?").bind(id).fetch_optional(db).await
+/// What a plan's files are written from: its status, trajectory (GeoJSON text), parameters,
+/// the mission snapshot it was planned on, and the mission's name.
+#[derive(Debug, Clone, FromRow)]
+pub struct ExportSource {
+    pub status: PlanStatus,
+    pub trajectory: Option<String>,
+    #[sqlx(json)]
+    pub params: Value,
+    #[sqlx(json)]
+    pub mission: Value,
+    pub name: String,
+}
+
+pub async fn export_source(db: &Db, id: &str) -> Result<Option<ExportSource>, sqlx::Error> {
+    sqlx::query_as("SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ?")
+        .bind(id)
+        .fetch_optional(db)
+        .await
 }
 
 /// A job taken off the queue.

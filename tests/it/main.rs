@@ -3,6 +3,7 @@
 
 mod api;
 mod common;
+mod interop;
 mod jobs;
 mod openapi;
 mod planner_properties;

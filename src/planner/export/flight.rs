@@ -68,7 +68,7 @@ pub fn waypoints(pieces: &[FlownPiece], arc_step_deg: Option<f64>) -> Vec<Waypoi
                 continue;
             }
             let on_arc = piece.kind == PieceKind::Turn && arc_step_deg.is_some() && k > 0 && k + 1 < piece.points.len();
-            out.push(Waypoint { position: *p, piece: index, on_arc });
+            out.push(Waypoint { position: *p, piece: index, index: k, on_arc });
         }
     }
     out
@@ -78,8 +78,10 @@ pub fn waypoints(pieces: &[FlownPiece], arc_step_deg: Option<f64>) -> Vec<Waypoi
 pub struct Waypoint {
     /// `[lon, lat, altitude above home]`
     pub position: [f64; 3],
-    /// Index of the piece this point belongs to (the first one that has it).
+    /// Index of the piece this point belongs to (the first one that has it), and of the point
+    /// in that piece.
     pub piece: usize,
+    pub index: usize,
     pub on_arc: bool,
 }
 
@@ -97,7 +99,7 @@ fn thin_arc(points: &[[f64; 3]], step_deg: f64) -> Vec<bool> {
     let cos = points[0][1].to_radians().cos();
     let delta = |i: usize| ((points[i + 1][0] - points[i][0]) * cos, points[i + 1][1] - points[i][1]);
     let mut since = 0.0;
-    for i in 1..n - 1 {
+    for (i, kept) in keep.iter_mut().enumerate().take(n - 1).skip(1) {
         let (a, b) = (delta(i - 1), delta(i));
         let turn = (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1).to_degrees();
         let (la, lb) = (a.0.hypot(a.1), b.0.hypot(b.1));
@@ -107,8 +109,8 @@ fn thin_arc(points: &[[f64; 3]], step_deg: f64) -> Vec<bool> {
         });
         let part_ends = (la - lb).abs() > 0.01 * la.max(lb) || next_turn.is_some_and(|t| t * turn < 0.0);
         since += turn.abs();
-        keep[i] = part_ends || since >= step_deg - 1e-9;
-        if keep[i] {
+        *kept = part_ends || since >= step_deg - 1e-9;
+        if *kept {
             since = 0.0;
         }
     }

@@ -66,7 +66,13 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
     let mut x = Xml::new();
     x.open(
         "ISO11783_TaskData",
-        &[("VersionMajor", "4"), ("VersionMinor", "3"), ("ManagementSoftwareManufacturer", "coverplan"), ("ManagementSoftwareVersion", env!("CARGO_PKG_VERSION")), ("DataTransferOrigin", "1")],
+        &[
+            ("VersionMajor", "4"),
+            ("VersionMinor", "3"),
+            ("ManagementSoftwareManufacturer", "coverplan"),
+            ("ManagementSoftwareVersion", env!("CARGO_PKG_VERSION")),
+            ("DataTransferOrigin", "1"),
+        ],
     );
     let (mut group_id, mut pattern_id) = (0, 0);
     for (k, field) in fields.iter().enumerate() {

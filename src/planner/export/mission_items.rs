@@ -84,22 +84,22 @@ pub fn mission_items(pieces: &[FlownPiece], settings: &FlightSettings, home: Opt
     let speed_type = if fixed_wing { 0.0 } else { 1.0 };
     let arc_radius = (settings.turn_radius_m / 4.0).min(10.0);
     let points = waypoints(pieces, fixed_wing.then_some(ARC_STEP_DEG));
-    let mut speed = f64::NAN;
-    for (k, w) in points.iter().enumerate() {
+    let mut speed: Option<f64> = None;
+    for w in &points {
         let piece = &pieces[w.piece];
-        if (piece.speed_mps - speed).abs() > 0.05 && piece.speed_mps > 0.0 {
-            speed = piece.speed_mps;
-            items.push(MissionItem::command(DO_CHANGE_SPEED, [speed_type, speed, -1.0, 0.0]));
+        if piece.speed_mps > 0.0 && speed.is_none_or(|s| (piece.speed_mps - s).abs() > 0.05) {
+            speed = Some(piece.speed_mps);
+            items.push(MissionItem::command(DO_CHANGE_SPEED, [speed_type, piece.speed_mps, -1.0, 0.0]));
         }
-        let sweep_end = piece.kind == PieceKind::Sweep && points.get(k + 1).is_none_or(|n| n.piece != w.piece);
-        let sweep_start = piece.kind == PieceKind::Sweep && k > 0 && points[k - 1].piece != w.piece;
-        if let (Some(distance), true) = (settings.trigger_distance_m, sweep_start) {
-            // the previous waypoint is the line's start: trigger now and every `distance` metres
+        let on_sweep = piece.kind == PieceKind::Sweep;
+        let sweep_end = on_sweep && w.index + 1 == piece.points.len();
+        if let (Some(distance), true) = (settings.trigger_distance_m, on_sweep && w.index == 1) {
+            // the vehicle is at the line's start: trigger now and every `distance` metres
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [distance, 0.0, 1.0, 0.0]));
         }
         let acceptance = if w.on_arc { arc_radius } else { 0.0 };
         items.push(MissionItem::at(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w.position));
-        if settings.trigger_distance_m.is_some() && sweep_end && k > 0 {
+        if settings.trigger_distance_m.is_some() && sweep_end {
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
         }
     }
@@ -117,17 +117,25 @@ pub fn mission_items(pieces: &[FlownPiece], settings: &FlightSettings, home: Opt
 mod tests {
     use super::*;
 
-/// The positions of the `NAV_WAYPOINT` items, `[lat, lon]`, for tests of every flight format.
-fn waypoint_positions(items: &[MissionItem]) -> Vec<[f64; 2]> {
-    items.iter().filter(|i| i.command == NAV_WAYPOINT).filter_map(|i| i.position).map(|p| [p[0], p[1]]).collect()
-}
+    /// The positions of the `NAV_WAYPOINT` items, `[lat, lon]`, for tests of every flight format.
+    fn waypoint_positions(items: &[MissionItem]) -> Vec<[f64; 2]> {
+        items.iter().filter(|i| i.command == NAV_WAYPOINT).filter_map(|i| i.position).map(|p| [p[0], p[1]]).collect()
+    }
 
     fn piece(kind: PieceKind, points: &[[f64; 2]], speed: f64) -> FlownPiece {
         FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed }
     }
 
     fn settings(trigger: Option<f64>) -> FlightSettings {
-        FlightSettings { kind: VehicleKind::Multirotor, firmware: Firmware::Px4, altitude_m: 40.0, cruise_speed_mps: 8.0, turn_radius_m: 0.0, line_spacing_m: 20.0, trigger_distance_m: trigger }
+        FlightSettings {
+            kind: VehicleKind::Multirotor,
+            firmware: Firmware::Px4,
+            altitude_m: 40.0,
+            cruise_speed_mps: 8.0,
+            turn_radius_m: 0.0,
+            line_spacing_m: 20.0,
+            trigger_distance_m: trigger,
+        }
     }
 
     #[test]
@@ -145,6 +153,13 @@ fn waypoint_positions(items: &[MissionItem]) -> Vec<[f64; 2]> {
         // lat, lon order
         assert_eq!(items[6].position, Some([0.0, 2.0, 40.0]));
         assert_eq!(waypoint_positions(&items), vec![[0.0, 0.0], [0.0, 1.0], [0.0, 2.0], [1.0, 2.0], [1.0, 1.0]]);
+    }
+
+    #[test]
+    fn a_sortie_that_starts_on_a_sweep_triggers_on_it() {
+        let pieces = [piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0), piece(PieceKind::Turn, &[[2.0, 0.0], [2.0, 1.0]], 6.0)];
+        let commands: Vec<u16> = mission_items(&pieces, &settings(Some(12.0)), None).iter().map(|i| i.command).collect();
+        assert_eq!(commands, vec![22, 178, 16, 206, 16, 206, 16, 21]);
     }
 
     #[test]

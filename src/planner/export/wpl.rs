@@ -34,7 +34,8 @@ impl Exporter for WaypointList {
         for (k, item) in items.iter().enumerate() {
             let [lat, lon, alt] = item.position.unwrap_or([0.0; 3]);
             let params: Vec<String> = item.params.iter().map(|p| p.map_or("nan".to_owned(), |v| number(v, 6))).collect();
-            writeln!(text, "{}\t0\t{}\t{}\t{}\t{}\t{}\t{}\t1", k + 1, item.frame, item.command, params.join("\t"), number(lat, 8), number(lon, 8), number(alt, 2)).expect("write to String");
+            writeln!(text, "{}\t0\t{}\t{}\t{}\t{}\t{}\t{}\t1", k + 1, item.frame, item.command, params.join("\t"), number(lat, 8), number(lon, 8), number(alt, 2))
+                .expect("write to String");
         }
         Ok(text.into_bytes())
     }

@@ -94,9 +94,9 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
             x.leaf("wpml:useGlobalHeadingParam", "1").leaf("wpml:useGlobalTurnParam", "1");
         }
         x.leaf("wpml:useStraightLine", "1");
-        // a sweep starts here when the next waypoint ends a sweep piece
-        let sweep_end = points.get(k + 1).filter(|n| n.piece != w.piece && pieces[n.piece].kind == PieceKind::Sweep);
-        if let (Some(distance), Some(_)) = (s.trigger_distance_m, sweep_end) {
+        // a sweep starts here when the next waypoint is its second point
+        let sweep_starts = points.get(k + 1).is_some_and(|n| n.index == 1 && pieces[n.piece].kind == PieceKind::Sweep);
+        if let (Some(distance), true) = (s.trigger_distance_m, sweep_starts) {
             photo_group(&mut x, group, k, distance);
             group += 1;
         }

@@ -94,7 +94,9 @@ fn read_xml(bytes: &[u8], part: &str) -> Result<Collected, InputError> {
             b"ISO11783_TaskData" => seen_root = true,
             b"PFD" => partfield = attribute(e, b"C", &at)?.unwrap_or_default(),
             b"XFR" => out.warnings.push(format!("{at}: external TaskData files (XFR) are not read")),
-            b"PLN" if !closes => polygon = Some(OpenPolygon { kind: attribute(e, b"A", &at)?.unwrap_or_default(), designator: attribute(e, b"B", &at)?.unwrap_or_default(), rings: vec![] }),
+            b"PLN" if !closes => {
+                polygon = Some(OpenPolygon { kind: attribute(e, b"A", &at)?.unwrap_or_default(), designator: attribute(e, b"B", &at)?.unwrap_or_default(), rings: vec![] })
+            }
             b"LSG" if polygon.is_some() && !closes => line = Some((attribute(e, b"A", &at)?.unwrap_or_default(), Vec::new())),
             b"PNT" => {
                 if let Some((_, points)) = line.as_mut() {

@@ -98,7 +98,8 @@ pub fn import(format: Option<&str>, bytes: &[u8]) -> Result<ImportedMission, Inp
         Some(f) => f,
         None => sniff(bytes).ok_or_else(|| InputError::new("unknown_format", "format", format!("the file's format is not recognised; give `format`, one of {}", known())))?,
     };
-    let importer = IMPORTERS.iter().find(|i| i.id() == format).ok_or_else(|| InputError::new("unknown_format", "format", format!("no import format `{format}`; known: {}", known())))?;
+    let importer =
+        IMPORTERS.iter().find(|i| i.id() == format).ok_or_else(|| InputError::new("unknown_format", "format", format!("no import format `{format}`; known: {}", known())))?;
     let collected = importer.read(bytes)?;
     if collected.fields.is_empty() {
         return Err(InputError::new("empty_geometry", "/", format!("the file holds no field polygon{}", reasons(&collected.warnings))));
@@ -130,7 +131,11 @@ fn reasons(warnings: &[String]) -> String {
 fn polygon_coordinates(p: &Polygon) -> Value {
     let ring = |r: &LineString, ccw: bool| {
         let mut r = r.clone();
-        if ccw { r.make_ccw_winding() } else { r.make_cw_winding() }
+        if ccw {
+            r.make_ccw_winding()
+        } else {
+            r.make_cw_winding()
+        }
         r.coords().map(|c| json!([c.x, c.y])).collect::<Vec<_>>()
     };
     let mut rings = vec![ring(p.exterior(), true)];

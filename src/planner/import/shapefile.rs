@@ -120,7 +120,7 @@ fn polygons(rings: Vec<(bool, Vec<[f64; 2]>)>, projection: &Projection, at: &str
 /// The reference systems read from `.prj` files.
 enum Projection {
     LonLat,
-    Utm(proj4rs::Proj),
+    Utm(Box<proj4rs::Proj>),
 }
 
 impl Projection {
@@ -144,8 +144,9 @@ impl Projection {
         match zone {
             Some((z @ 1..=60, h @ ('N' | 'S'))) => {
                 let south = if h == 'S' { " +south" } else { "" };
-                let proj = proj4rs::Proj::from_proj_string(&format!("+proj=utm +zone={z}{south} +datum=WGS84 +units=m +no_defs")).map_err(|e| refuse(&format!("UTM zone {z}{h}: {e}")))?;
-                Ok(Projection::Utm(proj))
+                let proj =
+                    proj4rs::Proj::from_proj_string(&format!("+proj=utm +zone={z}{south} +datum=WGS84 +units=m +no_defs")).map_err(|e| refuse(&format!("UTM zone {z}{h}: {e}")))?;
+                Ok(Projection::Utm(Box::new(proj)))
             }
             _ => Err(refuse("the .prj is neither geographic WGS84 nor a WGS84 UTM zone")),
         }
@@ -158,7 +159,8 @@ impl Projection {
             .into_iter()
             .map(|[x, y]| {
                 let mut c = geo::Coord { x, y };
-                proj4rs::transform::transform(utm, &wgs84, &mut c).map_err(|e| InputError::new("invalid_position", part, format!("({x}, {y}) cannot be reprojected from UTM: {e}")))?;
+                proj4rs::transform::transform(utm, &wgs84, &mut c)
+                    .map_err(|e| InputError::new("invalid_position", part, format!("({x}, {y}) cannot be reprojected from UTM: {e}")))?;
                 Ok([c.x.to_degrees(), c.y.to_degrees()])
             })
             .collect()

@@ -1,0 +1,159 @@
+"""Reads coverplan's exported files with independent readers and checks what they hold.
+
+usage: check_exports.py DIR
+
+DIR/manifest.json (written by tests/it/interop.rs) lists the files and what each must hold:
+  {"files": [{"file", "format", "waypoints": [[lat, lon], ...], "pieces", "fields", "holes",
+              "zones", "photo_lines"}]}
+Readers: pymavlink's waypoint loader (QGC WPL 110), jsonschema with qgc-plan.schema.json (the
+.plan format as QGroundControl documents it), fastkml (KML, KMZ), the standard library's XML
+parser (GeoJSON, DJI WPML). ISOXML is read by check_isoxml.mjs with the isoxml library.
+"""
+
+import io
+import json
+import sys
+import zipfile
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import jsonschema
+from fastkml import kml
+from pymavlink import mavutil, mavwp
+
+HERE = Path(__file__).parent
+TOLERANCE_DEG = 1e-7  # about 1 cm
+NAV_WAYPOINT = mavutil.mavlink.MAV_CMD_NAV_WAYPOINT
+NAV_TAKEOFF = mavutil.mavlink.MAV_CMD_NAV_TAKEOFF
+ENDS = {mavutil.mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, mavutil.mavlink.MAV_CMD_NAV_LAND}
+CAM_TRIGG_DIST = mavutil.mavlink.MAV_CMD_DO_SET_CAM_TRIGG_DIST
+WPML = "{http://www.dji.com/wpmz/1.0.6}"
+KML = "{http://www.opengis.net/kml/2.2}"
+
+
+def same_points(found, expected, what):
+    assert len(found) == len(expected), f"{what}: {len(found)} waypoints, expected {len(expected)}"
+    for k, (f, e) in enumerate(zip(found, expected)):
+        assert abs(f[0] - e[0]) <= TOLERANCE_DEG and abs(f[1] - e[1]) <= TOLERANCE_DEG, f"{what}: waypoint {k} at {f}, expected {e}"
+
+
+def check_waypoints(path, spec):
+    loader = mavwp.MAVWPLoader()
+    count = loader.load(str(path))
+    items = [loader.wp(i) for i in range(1, count)]  # item 0 is home
+    assert items[0].command == NAV_TAKEOFF, f"first item is {items[0].command}, not a take-off"
+    assert items[-1].command in ENDS, f"last item is {items[-1].command}, not a return or landing"
+    without_position = {mavutil.mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH}
+    for i in items:
+        expected_frame = 2 if i.command >= 100 or i.command in without_position else 3
+        assert i.frame == expected_frame, f"item {i.seq}: frame {i.frame}"
+    same_points([(i.x, i.y) for i in items if i.command == NAV_WAYPOINT], spec["waypoints"], path.name)
+    first_waypoint = next(k for k, i in enumerate(items) if i.command == NAV_WAYPOINT)
+    speeds = [i.param2 for i in items[:first_waypoint] if i.command == mavutil.mavlink.MAV_CMD_DO_CHANGE_SPEED]
+    assert speeds and speeds[0] > 0, "the speed is set before the first waypoint"
+    starts = sum(1 for i in items if i.command == CAM_TRIGG_DIST and i.param1 > 0)
+    assert starts == spec["photo_lines"], f"camera started {starts} times, expected {spec['photo_lines']}"
+
+
+def ring_area(points):
+    """Signed area of a [lat, lon] ring in the (lon, lat) plane: negative when clockwise."""
+    return sum(a[1] * b[0] - b[1] * a[0] for a, b in zip(points, points[1:] + points[:1])) / 2
+
+
+def check_plan(path, spec):
+    plan = json.loads(path.read_text())
+    jsonschema.validate(plan, json.loads((HERE / "qgc-plan.schema.json").read_text()))
+    items = plan["mission"]["items"]
+    assert [i["doJumpId"] for i in items] == list(range(1, len(items) + 1)), "doJumpId must count from 1"
+    same_points([(i["params"][4], i["params"][5]) for i in items if i["command"] == NAV_WAYPOINT], spec["waypoints"], path.name)
+    fences = plan["geoFence"]["polygons"]
+    assert sum(1 for f in fences if f["inclusion"]) == spec["fields"], "one inclusion fence per field"
+    assert sum(1 for f in fences if not f["inclusion"]) == spec["zones"], "one exclusion fence per no-fly zone"
+    for f in fences:
+        assert ring_area(f["polygon"]) < 0, "fence polygons are written clockwise"
+
+
+def placemarks(feature):
+    for child in getattr(feature, "features", None) or []:
+        if type(child).__name__ == "Placemark":
+            yield child
+        else:
+            yield from placemarks(child)
+
+
+def check_kml(text, spec, name):
+    document = kml.KML.from_string(text)
+    marks = [p for f in document.features for p in placemarks(f)]
+    polygons = [p for p in marks if type(p.geometry).__name__ == "Polygon"]
+    lines = [p for p in marks if type(p.geometry).__name__ == "LineString"]
+    assert len(polygons) == spec["fields"] + spec["zones"], f"{name}: {len(polygons)} polygons"
+    holes = sum(len(list(p.geometry.interiors)) for p in polygons)
+    assert holes == spec["holes"], f"{name}: {holes} holes, expected {spec['holes']}"
+    assert len(lines) == spec["pieces"], f"{name}: {len(lines)} flown pieces, expected {spec['pieces']}"
+    for p in polygons:
+        lon, lat = list(p.geometry.exterior.coords)[0][:2]
+        assert -180 <= lon <= 180 and -90 <= lat <= 90
+
+
+def check_geojson(path, spec):
+    collection = json.loads(path.read_text())
+    assert collection["type"] == "FeatureCollection" and "crs" not in collection
+    flown = [f for f in collection["features"] if f["properties"].get("kind") in ("sweep", "turn", "transit")]
+    assert len(flown) == spec["pieces"], f"{len(flown)} flown pieces, expected {spec['pieces']}"
+    assert all(f["geometry"]["type"] == "LineString" for f in flown)
+    assert [f["properties"]["seq"] for f in flown] == sorted(f["properties"]["seq"] for f in flown), "pieces in flight order"
+
+
+def check_wpml(path, spec):
+    with zipfile.ZipFile(path) as z:
+        names = set(z.namelist())
+        assert {"wpmz/template.kml", "wpmz/waylines.wpml"} <= names, f"{path.name}: {names}"
+        waylines = ET.fromstring(z.read("wpmz/waylines.wpml"))
+        template = ET.fromstring(z.read("wpmz/template.kml"))
+    marks = waylines.findall(f".//{KML}Placemark")
+    assert [int(m.find(f"{WPML}index").text) for m in marks] == list(range(len(marks))), "indices count from 0"
+    points = []
+    for m in marks:
+        lon, lat = map(float, m.find(f"{KML}Point/{KML}coordinates").text.split(","))
+        points.append((lat, lon))
+        assert float(m.find(f"{WPML}executeHeight").text) > 0
+        assert 0 < float(m.find(f"{WPML}waypointSpeed").text) <= 15
+    same_points(points, spec["waypoints"], path.name)
+    groups = waylines.findall(f".//{WPML}actionGroup")
+    assert len(groups) == spec["photo_lines"], f"{len(groups)} photo groups, expected {spec['photo_lines']}"
+    assert len(template.findall(f".//{KML}Placemark")) == len(marks)
+
+
+def main(folder):
+    folder = Path(folder)
+    manifest = json.loads((folder / "manifest.json").read_text())
+    passed = failed = 0
+    for spec in (f for f in manifest["files"] if f["format"] != "isoxml"):  # check_isoxml.mjs reads those
+        path = folder / spec["file"]
+        try:
+            fmt = spec["format"]
+            if fmt == "geojson":
+                check_geojson(path, spec)
+            elif fmt == "waypoints":
+                check_waypoints(path, spec)
+            elif fmt == "plan":
+                check_plan(path, spec)
+            elif fmt == "kml":
+                check_kml(path.read_bytes(), spec, path.name)
+            elif fmt == "kmz":
+                with zipfile.ZipFile(path) as z:
+                    check_kml(z.read("doc.kml"), spec, path.name)
+            elif fmt == "wpml":
+                check_wpml(path, spec)
+            else:
+                raise AssertionError(f"no check for format {fmt}")
+            passed += 1
+        except Exception as e:  # report every file, then fail
+            failed += 1
+            print(f"FAIL {spec['file']}: {type(e).__name__}: {e}")
+    print(f"{passed} passed, {failed} failed")
+    sys.exit(1 if failed or not passed else 0)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

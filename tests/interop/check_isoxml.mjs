@@ -1,0 +1,54 @@
+// Reads coverplan's ISOXML TaskData exports with the isoxml library (ISO 11783-10) and checks
+// what they hold. usage: node check_isoxml.mjs DIR, where DIR/manifest.json lists the files:
+// {"files": [{"file", "format": "isoxml", "fields", "holes", "zones", "swath_width_mm", "lines"}]}
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { ISOXMLManager } from 'isoxml';
+
+const dir = process.argv[2];
+const manifest = JSON.parse(readFileSync(join(dir, 'manifest.json'), 'utf8'));
+let passed = 0;
+let failed = 0;
+// the library keeps enumerations as the strings of the file
+const code = (value) => Number(value);
+const check = (ok, message) => { if (!ok) throw new Error(message); };
+
+for (const spec of manifest.files.filter((f) => f.format === 'isoxml')) {
+  try {
+    const manager = new ISOXMLManager();
+    await manager.parseISOXMLFile(new Uint8Array(readFileSync(join(dir, spec.file))), 'application/zip');
+    check(manager.getWarnings().length === 0, `warnings: ${manager.getWarnings().join('; ')}`);
+    const partfields = manager.getEntitiesOfTag('PFD');
+    check(partfields.length === spec.fields, `${partfields.length} partfields, expected ${spec.fields}`);
+    const polygons = partfields.flatMap((p) => p.attributes.PolygonnonTreatmentZoneonly ?? []);
+    const boundaries = polygons.filter((p) => code(p.attributes.PolygonType) === 1);
+    const obstacles = polygons.filter((p) => code(p.attributes.PolygonType) === 6);
+    check(boundaries.length === spec.fields, `${boundaries.length} boundaries`);
+    check(obstacles.length === spec.zones, `${obstacles.length} obstacles, expected ${spec.zones}`);
+    const rings = boundaries.flatMap((b) => b.attributes.LineString);
+    const holes = rings.filter((r) => code(r.attributes.LineStringType) === 2).length;
+    check(holes === spec.holes, `${holes} interior rings, expected ${spec.holes}`);
+    for (const ring of rings) {
+      for (const point of ring.attributes.Point) {
+        const { PointNorth: lat, PointEast: lon } = point.attributes;
+        check(Math.abs(lat) <= 90 && Math.abs(lon) <= 180, `point (${lat}, ${lon}) out of range`);
+      }
+    }
+    const patterns = partfields.flatMap((p) => p.attributes.GuidanceGroup ?? []).flatMap((g) => g.attributes.GuidancePattern);
+    const swaths = patterns.filter((p) => code(p.attributes.GuidancePatternPropagationDirection) === 4);
+    check(swaths.length === spec.lines, `${swaths.length} swaths, expected ${spec.lines}`);
+    for (const p of patterns) {
+      check(code(p.attributes.GuidancePatternType) === 1, 'guidance patterns are AB lines');
+      const [line] = p.attributes.LineString;
+      check(code(line.attributes.LineStringType) === 5 && line.attributes.LineStringWidth === spec.swath_width_mm, 'an AB line is a guidance line string as wide as the swath');
+      check(line.attributes.Point.length === 2, 'an AB line has two points');
+    }
+    check(manager.getEntitiesOfTag('TSK').length === spec.fields, 'one task per partfield');
+    passed += 1;
+  } catch (e) {
+    failed += 1;
+    console.log(`FAIL ${spec.file}: ${e.message}`);
+  }
+}
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed || !passed ? 1 : 0);

@@ -159,18 +159,8 @@ export async function listMissions() {
   if (state.missionId) sel.value = state.missionId;
 }
 
-// ---- files dropped on the map ----
-function kmlToGeoJson(text) {
-  const doc = new DOMParser().parseFromString(text, 'application/xml');
-  const ring = (el) => el.textContent.trim().split(/\s+/).map((t) => t.split(',').slice(0, 2).map(Number));
-  const polys = [...doc.getElementsByTagName('Polygon')].map((p) => {
-    const outer = p.getElementsByTagName('outerBoundaryIs')[0];
-    const inner = [...p.getElementsByTagName('innerBoundaryIs')];
-    return [outer, ...inner].map((b) => ring(b.getElementsByTagName('coordinates')[0]));
-  });
-  return { type: 'MultiPolygon', coordinates: polys };
-}
-
+// ---- files dropped on the map: the server reads them (GeoJSON, KML, KMZ, shapefile zip,
+// ISOXML TaskData, QGroundControl .plan) and stores the mission ----
 const mapEl = $('map');
 mapEl.addEventListener('dragover', (e) => e.preventDefault());
 mapEl.addEventListener('drop', async (e) => {
@@ -178,17 +168,13 @@ mapEl.addEventListener('drop', async (e) => {
   const file = e.dataTransfer.files[0];
   if (!file) return;
   try {
-    const text = await file.text();
-    const data = /\.kml$/i.test(file.name) || text.trimStart().startsWith('<') ? kmlToGeoJson(text) : JSON.parse(text);
-    if (data.area) {
-      drawMission({ ...data, id: null });
-    } else {
-      const polys = polygonsOf(data);
-      if (!polys.length) throw new Error('no polygon in this file');
-      polys.forEach((p) => addPolygon('field', p));
-      map.fitBounds(state.fields.getBounds(), { padding: [20, 20] });
-    }
-    status(`loaded ${file.name}`);
+    const r = await fetch('/api/v1/missions/import', { method: 'POST', body: file });
+    const m = await r.json();
+    if (!r.ok) throw new Error(m.detail + (m.pointer ? ` (at ${m.pointer})` : ''));
+    drawMission(m);
+    history.replaceState(null, '', `/?mission=${m.id}`);
+    await listMissions();
+    status(`imported ${file.name}` + (m.warnings.length ? `; ${m.warnings.join('; ')}` : ''));
   } catch (err) {
     status(`${file.name}: ${err.message}`, true);
   }

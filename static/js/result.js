@@ -54,7 +54,7 @@ export function clearResult() {
   }
   state.result = null;
   state.compared = null;
-  $('download').hidden = true;
+  $('download-box').hidden = true;
   renderFigures();
   drawChart();
 }
@@ -71,9 +71,9 @@ export async function showPlan(plan) {
   const fc = await api('GET', `/api/v1/plans/${plan.id}/trajectory`);
   if (state.result) { map.removeLayer(state.result.layer); map.removeLayer(state.result.photos); }
   state.result = { ...drawTrajectory(fc, false), fc, stats: plan.stats, params: plan.params };
-  $('download').href = `/api/v1/plans/${plan.id}/trajectory`;
-  $('download').download = `plan-${plan.id}.geojson`;
-  $('download').hidden = false;
+  state.result.planId = plan.id;
+  updateDownload();
+  $('download-box').hidden = false;
   togglePhotos();
   renderFigures();
   drawChart();
@@ -145,3 +145,14 @@ export function drawChart() {
   ctx.fillText(`${(emax / 3600).toFixed(1)} Wh`, w - pad - 50, pad - 4);
   ctx.fillText(`${(d / 1000).toFixed(2)} km`, w - pad - 40, h - 4);
 }
+
+/** The download link for the chosen format; the server names the file after the mission. */
+function updateDownload() {
+  const format = $('download-format').value;
+  $('firmware-box').hidden = !['plan', 'waypoints'].includes(format);
+  if (!state.result) return;
+  const firmware = $('firmware-box').hidden ? '' : `&firmware=${$('download-firmware').value}`;
+  $('download').href = `/api/v1/plans/${state.result.planId}/trajectory?format=${format}${firmware}`;
+}
+$('download-format').onchange = updateDownload;
+$('download-firmware').onchange = updateDownload;

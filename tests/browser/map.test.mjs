@@ -90,6 +90,33 @@ try {
   assert.ok(chart.every((e, i) => i === 0 || e >= chart[i - 1]), 'energy used never goes down along the path');
   const download = await page.getAttribute('#download', 'href');
   assert.ok((await fetch(base + download)).ok, 'the download link serves the trajectory');
+  // every format of the menu downloads; flight files of several sorties come as a zip
+  const formats = await page.$$eval('#download-format option', (o) => o.map((x) => x.value));
+  assert.deepEqual(formats.sort(), ['geojson', 'isoxml', 'kml', 'kmz', 'plan', 'waypoints', 'wpml']);
+  for (const format of formats) {
+    await page.selectOption('#download-format', format);
+    assert.equal(await page.isVisible('#firmware-box'), ['plan', 'waypoints'].includes(format), `autopilot choice for ${format}`);
+    const href = await page.getAttribute('#download', 'href');
+    assert.match(href, new RegExp(`format=${format}`));
+    const r = await fetch(base + href);
+    assert.ok(r.ok, `${format}: ${r.status}`);
+    assert.match(r.headers.get('content-disposition'), /^attachment; filename="New_field/);
+  }
+  // a KML file dropped on the map becomes a new mission with the same field
+  const kml = await (await fetch(`${base}/api/v1/plans/${download.split('/')[4]}/trajectory?format=kml`)).text();
+  await page.evaluate((text) => {
+    const transfer = new DataTransfer();
+    transfer.items.add(new File([text], 'field.kml', { type: 'application/vnd.google-earth.kml+xml' }));
+    document.getElementById('map').dispatchEvent(new DragEvent('drop', { dataTransfer: transfer, bubbles: true, cancelable: true }));
+  }, kml);
+  await waitFor(async () => /imported field\.kml/.test(await page.textContent('#status')), 'the dropped file');
+  assert.match(await page.textContent('#status'), /line strings were dropped/, 'the page says what the import left out');
+  const imported = new URL(page.url()).searchParams.get('mission');
+  assert.ok(imported && imported !== missionId, 'the drop made a new mission');
+  assert.equal(await page.evaluate(() => window.coverplan.state.fields.getLayers().length), 1, 'its field is drawn');
+  await page.goto(`${base}/?mission=${missionId}`);
+  await page.waitForSelector('body[data-ready=true]');
+  await page.waitForSelector('td[data-figure=length]');
 
   // the saved mission is what was drawn
   const saved = await (await fetch(`${base}/api/v1/missions/${missionId}`)).json();

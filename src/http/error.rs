@@ -1,7 +1,8 @@
 //! One error type for every route, answered as RFC 9457 problem details. Internal errors are
 //! logged and answered without their details.
 
-use axum::extract::{FromRequest, Request};
+use axum::extract::{FromRequest, FromRequestParts, Request};
+use axum::http::request::Parts;
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::Serialize;
@@ -130,6 +131,22 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
         })?;
         de.end().map_err(malformed)?;
         Ok(ApiJson(value))
+    }
+}
+
+/// Query parameters whose every refusal is a 400 problem saying which parameter is wrong.
+pub struct ApiQuery<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for ApiQuery<T> {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Self, Self::Rejection> {
+        axum::extract::Query::try_from_uri(&parts.uri).map(|q| ApiQuery(q.0)).map_err(|e| ApiError::Client {
+            status: StatusCode::BAD_REQUEST,
+            code: "invalid_query",
+            detail: e.body_text(),
+            pointer: None,
+        })
     }
 }
 

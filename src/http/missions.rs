@@ -1,14 +1,14 @@
 //! `/api/v1/missions`: the fields to cover.
 
 use axum::Json;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, State};
 use axum::http::StatusCode;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use utoipa::{IntoParams, ToSchema};
 
 use super::AppState;
-use super::error::{ApiError, ApiJson, Problem};
+use super::error::{ApiError, ApiJson, ApiQuery, Problem};
 use crate::planner::{self, MissionGeometry, import};
 use crate::store::missions::{self, Mission, MissionSummary, NewMission};
 
@@ -108,10 +108,10 @@ pub struct ImportedMission {
 }
 
 #[utoipa::path(post, operation_id = "import_mission", path = "/api/v1/missions/import", tag = "missions", params(ImportQuery),
-    request_body(content = Vec<u8>, content_type = "application/octet-stream", description = "the file, as it is"),
-    responses((status = 201, body = ImportedMission), (status = 400, body = Problem, description = "unknown format"),
+    request_body(content = String, content_type = "application/octet-stream", description = "the file, as it is (binary)"),
+    responses((status = 201, body = ImportedMission), (status = 400, body = Problem, description = "unknown format, or an unreadable query parameter"),
               (status = 413, body = Problem), (status = 422, body = Problem, description = "the file or a part of it is unreadable or not a valid field")))]
-pub async fn import_file(State(state): State<AppState>, Query(query): Query<ImportQuery>, body: axum::body::Bytes) -> Result<(StatusCode, Json<ImportedMission>), ApiError> {
+pub async fn import_file(State(state): State<AppState>, ApiQuery(query): ApiQuery<ImportQuery>, body: axum::body::Bytes) -> Result<(StatusCode, Json<ImportedMission>), ApiError> {
     if let Some(format) = query.format.as_deref().filter(|f| !import::format_ids().contains(f)) {
         return Err(ApiError::bad_request("unknown_format", "format", format!("no import format `{format}`; known: {}", import::format_ids().join(", "))));
     }
@@ -125,8 +125,8 @@ pub async fn import_file(State(state): State<AppState>, Query(query): Query<Impo
 }
 
 #[utoipa::path(get, operation_id = "list_missions", path = "/api/v1/missions", tag = "missions", params(Page),
-    responses((status = 200, body = MissionPage), (status = 422, body = Problem)))]
-pub async fn list(State(state): State<AppState>, Query(page): Query<Page>) -> Result<Json<MissionPage>, ApiError> {
+    responses((status = 200, body = MissionPage), (status = 400, body = Problem, description = "an unreadable query parameter"), (status = 422, body = Problem)))]
+pub async fn list(State(state): State<AppState>, ApiQuery(page): ApiQuery<Page>) -> Result<Json<MissionPage>, ApiError> {
     let limit = page.limit.unwrap_or(20);
     let offset = page.offset.unwrap_or(0);
     if !(1..=100).contains(&limit) {

@@ -1,7 +1,7 @@
 //! Plans: `/api/v1/missions/{id}/plans` to queue one, `/api/v1/plans/{id}` to follow it.
 
 use axum::Json;
-use axum::extract::{Path, Query, State};
+use axum::extract::{Path, State};
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::Deserialize;
@@ -9,7 +9,7 @@ use serde_json::json;
 use utoipa::IntoParams;
 
 use super::AppState;
-use super::error::{ApiError, ApiJson, Problem};
+use super::error::{ApiError, ApiJson, ApiQuery, Problem};
 use crate::jobs;
 use crate::planner::export::{self, ExportFile, ExportOptions, ExportRequest, Firmware};
 use crate::planner::geojson::FeatureCollection;
@@ -66,9 +66,9 @@ pub struct TrajectoryQuery {
     responses((status = 200, description = "The trajectory in the asked format, as an attachment named after the mission. GeoJSON: a FeatureCollection \
         (RFC 7946) of LineStrings in flight order, `properties.kind` = sweep | turn | transit, with length_m, duration_s, energy_j, speed_mps, sortie; \
         a MultiPoint of kind `photos` when a camera was given", content_type = "application/geo+json", body = Object),
-        (status = 400, body = Problem, description = "unknown format or firmware"), (status = 404, body = Problem),
+        (status = 400, body = Problem, description = "unknown format or firmware, or an unreadable query parameter"), (status = 404, body = Problem),
         (status = 409, body = Problem, description = "the plan has no trajectory (yet)"), (status = 422, body = Problem, description = "the format cannot say this plan")))]
-pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>, Query(query): Query<TrajectoryQuery>) -> Result<Response, ApiError> {
+pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>, ApiQuery(query): ApiQuery<TrajectoryQuery>) -> Result<Response, ApiError> {
     let format = query.format.as_deref().unwrap_or("geojson");
     if export::find(format).is_none() {
         return Err(ApiError::bad_request("unknown_format", "format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))));
@@ -78,8 +78,8 @@ pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>, Q
         Some("px4") => Firmware::Px4,
         Some(other) => return Err(ApiError::bad_request("unknown_firmware", "firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
     };
-    let source = plans::export_source(&state.db, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
-    let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory) else {
+    let mut source = plans::export_source(&state.db, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
+    let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
         let status = json!(source.status);
         return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", status.as_str().unwrap_or("?"))));
     };
@@ -87,22 +87,25 @@ pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>, Q
         // as stored: no need to read it
         ExportFile { file_name: format!("{}.geojson", export::file_stem(&source.name)), media_type: "application/geo+json", bytes: geojson.into_bytes() }
     } else {
-        let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
-        let trajectory: FeatureCollection = serde_json::from_str(&geojson).map_err(|e| internal(&e))?;
-        let params: PlanParams = serde_json::from_value(source.params).map_err(|e| internal(&e))?;
-        let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
-        let request = ExportRequest {
-            name: &source.name,
-            mission: jobs::snapshot_geometry(&source.mission),
-            params: &params,
-            profiles: &profiles,
-            trajectory: &trajectory,
-            options: ExportOptions { firmware, altitude_m: query.altitude_m },
-        };
-        export::export(format, &request)?
+        // reading and writing a large trajectory takes a while: off the async runtime
+        let format = format.to_owned();
+        tokio::task::spawn_blocking(move || export_file(&id, &format, &source, &geojson, ExportOptions { firmware, altitude_m: query.altitude_m }))
+            .await
+            .map_err(|e| ApiError::Internal(format!("export: {e}")))??
     };
     let disposition = format!("attachment; filename=\"{}\"", file.file_name);
     Ok(([(header::CONTENT_TYPE, file.media_type.to_owned()), (header::CONTENT_DISPOSITION, disposition)], file.bytes).into_response())
+}
+
+/// Writes a stored plan in `format`.
+fn export_file(id: &str, format: &str, source: &plans::ExportSource, geojson: &str, options: ExportOptions) -> Result<ExportFile, ApiError> {
+    let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
+    let trajectory: FeatureCollection = serde_json::from_str(geojson).map_err(|e| internal(&e))?;
+    let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
+    let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
+    let mission = jobs::snapshot_geometry(&source.mission);
+    let request = ExportRequest { name: &source.name, mission, params: &params, profiles: &profiles, trajectory: &trajectory, options };
+    Ok(export::export(format, &request)?)
 }
 
 #[utoipa::path(delete, operation_id = "cancel_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),

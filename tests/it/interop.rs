@@ -195,6 +195,11 @@ async fn every_format_downloads_reads_back_and_passes_independent_readers() {
             }
         }
     }
+    // the mission document itself, as a GeoJSON file
+    let (status, imported) = upload(&app, "format=geojson", mission.to_string().into_bytes()).await;
+    assert_eq!(status, 201, "{imported}");
+    assert_same_polygons(&polygons(Some(&imported["area"])), &fields, true, "geojson");
+    assert_same_polygons(&polygons(imported.get("no_fly_zones")), &zones, true, "geojson");
     std::fs::write(dir.join("manifest.json"), json!({"files": manifest}).to_string()).unwrap();
     run(Command::new(python()).arg(interop_dir().join("check_exports.py")).arg(&dir));
     run(Command::new("node").arg(interop_dir().join("check_isoxml.mjs")).arg(&dir));
@@ -237,8 +242,11 @@ async fn exports_say_what_is_wrong() {
     for format in export::format_ids() {
         assert!(problem["detail"].as_str().unwrap().contains(format), "{problem}");
     }
-    let (status, _, _, body) = download(&app, plan, "format=plan&firmware=inav").await;
-    assert_eq!(status, 400, "{}", String::from_utf8_lossy(&body));
+    for (query, code) in [("format=plan&firmware=inav", "unknown_firmware"), ("format=plan&altitude_m=high", "invalid_query")] {
+        let (status, media, _, body) = download(&app, plan, query).await;
+        let problem: Value = serde_json::from_slice(&body).unwrap();
+        assert_eq!((status, media.as_str(), problem["code"].as_str()), (400, "application/problem+json", Some(code)), "{query}: {problem}");
+    }
     let (status, _, _, body) = download(&app, plan, "format=plan").await;
     let problem: Value = serde_json::from_slice(&body).unwrap();
     assert_eq!((status, problem["code"].as_str()), (409, Some("trajectory_not_available")), "{problem}");
@@ -390,18 +398,21 @@ async fn imports_keep_zones_and_say_what_they_dropped() {
         <Placemark><name>Wheat</name><Polygon><outerBoundaryIs><LinearRing><coordinates>{}</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark>
         <Placemark><name>Pond</name><Polygon><outerBoundaryIs><LinearRing><coordinates>{}</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark>
         <Placemark><name>No-fly: mast</name><Polygon><outerBoundaryIs><LinearRing><coordinates>{}</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark>
+        <Placemark><name>Barley</name><Polygon><outerBoundaryIs><LinearRing><coordinates>{}</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark>
         <Placemark><name>Home</name><Point><coordinates>8.5401,47.3701</coordinates></Point></Placemark>
         <Placemark><name>Track</name><LineString><coordinates>8.54,47.37 8.55,47.38</coordinates></LineString></Placemark>
         </Document></kml>"#,
         ring(8.54, 47.37, 0.01),
         ring(8.542, 47.372, 0.001),
-        ring(8.546, 47.376, 0.001)
+        ring(8.546, 47.376, 0.001),
+        ring(8.56, 47.37, 0.005)
     );
     let (status, m) = upload(&app, "name=Farm%20A", doc.into_bytes()).await;
     assert_eq!(status, 201, "{m}");
     assert_eq!(m["name"], "Farm A");
     let area = polygons(Some(&m["area"]));
-    assert_eq!((area.len(), area[0].len()), (1, 2), "the pond is a hole of the field: {m}");
+    assert_eq!(area.len(), 2, "two fields: {m}");
+    assert_eq!(area.iter().map(Vec::len).collect::<Vec<_>>(), vec![2, 1], "the pond is a hole of the wheat field: {m}");
     assert_eq!(polygons(m.get("no_fly_zones")).len(), 1, "{m}");
     assert_eq!(m["home"], json!([8.5401, 47.3701]));
     assert!(m["warnings"][0].as_str().unwrap().contains("1 line strings were dropped"), "{m}");

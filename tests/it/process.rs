@@ -149,3 +149,27 @@ fn the_routing_benchmark_prints_its_table() {
         assert!(number(8).is_finite() && number(8) < number(6), "the Noon–Bean route: {r:?}");
     }
 }
+
+#[test]
+fn plan_reads_a_kml_field_and_writes_a_flight_file() {
+    let dir = std::env::temp_dir().join(format!("coverplan-cli-{}", uuid::Uuid::new_v4()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ring = "8.540,47.370 8.544,47.370 8.544,47.373 8.540,47.373 8.540,47.370";
+    let kml = format!(
+        r#"<kml xmlns="http://www.opengis.net/kml/2.2"><Document><Placemark><name>Home</name><Point><coordinates>8.5401,47.3701</coordinates></Point></Placemark><Placemark><name>Field</name><Polygon><outerBoundaryIs><LinearRing><coordinates>{ring}</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark></Document></kml>"#
+    );
+    std::fs::write(dir.join("field.kml"), kml).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_coverplan"))
+        .args(["plan", "--mission"])
+        .arg(dir.join("field.kml"))
+        .args(["--format", "plan", "--firmware", "px4", "--out"])
+        .arg(dir.join("field.plan"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let plan: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("field.plan")).unwrap()).unwrap();
+    assert_eq!((plan["fileType"].as_str(), plan["mission"]["firmwareType"].as_u64()), (Some("Plan"), Some(12)));
+    assert_eq!(plan["mission"]["plannedHomePosition"][0], 47.3701, "home, [lat, lon]");
+    let unknown = Command::new(env!("CARGO_BIN_EXE_coverplan")).args(["plan", "--mission"]).arg(dir.join("field.kml")).args(["--format", "gpx"]).output().unwrap();
+    assert!(!unknown.status.success() && String::from_utf8_lossy(&unknown.stderr).contains("known: geojson, plan"), "{}", String::from_utf8_lossy(&unknown.stderr));
+}

@@ -5,7 +5,7 @@ use geo::Coord;
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, Position};
 use serde_json::json;
 
-use super::{ExportJob, Exporter};
+use super::{ExportJob, Exporter, Format};
 use crate::energy::PathEstimate;
 use crate::error::InputError;
 use crate::frame::LocalFrame;
@@ -80,14 +80,8 @@ pub fn feature_collection(
 pub struct GeoJsonFile;
 
 impl Exporter for GeoJsonFile {
-    fn id(&self) -> &'static str {
-        "geojson"
-    }
-    fn media_type(&self) -> &'static str {
-        "application/geo+json"
-    }
-    fn extension(&self) -> &'static str {
-        ".geojson"
+    fn format(&self) -> &'static Format {
+        &Format { id: "geojson", media_type: "application/geo+json", extension: ".geojson", one_flight_per_file: false }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
         Ok(serde_json::to_vec(job.trajectory).expect("JSON"))

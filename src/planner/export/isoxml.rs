@@ -8,7 +8,7 @@
 use geo::{Centroid, Contains, GeodesicArea, LineString, Point};
 
 use super::xml::Xml;
-use super::{ExportJob, Exporter, number};
+use super::{ExportJob, Exporter, Format, number};
 use crate::archive;
 use crate::error::InputError;
 use crate::path::PieceKind;
@@ -31,14 +31,8 @@ const GPN_AB: &str = "1";
 const PROPAGATE_BOTH: &str = "1";
 
 impl Exporter for TaskData {
-    fn id(&self) -> &'static str {
-        "isoxml"
-    }
-    fn media_type(&self) -> &'static str {
-        "application/zip"
-    }
-    fn extension(&self) -> &'static str {
-        "-taskdata.zip"
+    fn format(&self) -> &'static Format {
+        &Format { id: "isoxml", media_type: "application/zip", extension: "-taskdata.zip", one_flight_per_file: false }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
         Ok(archive::zip(&[("TASKDATA/TASKDATA.XML".to_owned(), task_data(job))]))

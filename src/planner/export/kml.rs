@@ -8,7 +8,7 @@ use geojson::GeometryValue;
 use serde_json::Value;
 
 use super::xml::Xml;
-use super::{ExportJob, Exporter, number};
+use super::{ExportJob, Exporter, Format, number};
 use crate::archive;
 use crate::error::InputError;
 
@@ -28,14 +28,8 @@ const STYLES: &[(&str, &str, &str, &str)] = &[
 pub const NO_FLY_KIND: &str = "nfz";
 
 impl Exporter for Kml {
-    fn id(&self) -> &'static str {
-        "kml"
-    }
-    fn media_type(&self) -> &'static str {
-        "application/vnd.google-earth.kml+xml"
-    }
-    fn extension(&self) -> &'static str {
-        ".kml"
+    fn format(&self) -> &'static Format {
+        &Format { id: "kml", media_type: "application/vnd.google-earth.kml+xml", extension: ".kml", one_flight_per_file: false }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
         Ok(document(job))
@@ -43,14 +37,8 @@ impl Exporter for Kml {
 }
 
 impl Exporter for Kmz {
-    fn id(&self) -> &'static str {
-        "kmz"
-    }
-    fn media_type(&self) -> &'static str {
-        "application/vnd.google-earth.kmz"
-    }
-    fn extension(&self) -> &'static str {
-        ".kmz"
+    fn format(&self) -> &'static Format {
+        &Format { id: "kmz", media_type: "application/vnd.google-earth.kmz", extension: ".kmz", one_flight_per_file: false }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
         Ok(archive::zip(&[("doc.kml".to_owned(), document(job))]))

@@ -97,18 +97,21 @@ pub struct ExportJob<'a> {
     pub trajectory: &'a ::geojson::FeatureCollection,
 }
 
+/// What names a file format and its files.
+pub struct Format {
+    /// The `format` query value.
+    pub id: &'static str,
+    pub media_type: &'static str,
+    /// File name ending.
+    pub extension: &'static str,
+    /// A format that describes one flight: a plan of several sorties becomes a zip of one file
+    /// per sortie.
+    pub one_flight_per_file: bool,
+}
+
 /// One file format.
 pub trait Exporter: Sync {
-    /// The `format` query value.
-    fn id(&self) -> &'static str;
-    fn media_type(&self) -> &'static str;
-    /// File name ending, with its dot.
-    fn extension(&self) -> &'static str;
-    /// A format that describes one flight: a plan of several sorties becomes a zip of one
-    /// file per sortie.
-    fn one_flight_per_file(&self) -> bool {
-        false
-    }
+    fn format(&self) -> &'static Format;
     /// Writes the file; `sortie` (0-based) limits a one-flight format to that sortie.
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError>;
 }
@@ -117,12 +120,12 @@ pub trait Exporter: Sync {
 pub static EXPORTERS: &[&dyn Exporter] = &[&geojson::GeoJsonFile, &qgc_plan::QgcPlan, &wpl::WaypointList, &kml::Kml, &kml::Kmz, &wpml::Wpml, &isoxml::TaskData];
 
 pub fn find(id: &str) -> Option<&'static dyn Exporter> {
-    EXPORTERS.iter().copied().find(|e| e.id() == id)
+    EXPORTERS.iter().copied().find(|e| e.format().id == id)
 }
 
 /// The `format` values, for messages and documents.
 pub fn format_ids() -> Vec<&'static str> {
-    EXPORTERS.iter().map(|e| e.id()).collect()
+    EXPORTERS.iter().map(|e| e.format().id).collect()
 }
 
 /// A file name made of the mission's name: letters, digits, `-` and `_` only.
@@ -138,12 +141,13 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
     let job = prepare(request)?;
     let stem = file_stem(request.name);
     let sorties = job.flight.sorties.len();
-    if !exporter.one_flight_per_file() || sorties <= 1 {
+    let Format { id, media_type, extension, one_flight_per_file } = *exporter.format();
+    if !one_flight_per_file || sorties <= 1 {
         let bytes = exporter.write(&job, 0)?;
-        return Ok(ExportFile { file_name: format!("{stem}{}", exporter.extension()), media_type: exporter.media_type(), bytes });
+        return Ok(ExportFile { file_name: format!("{stem}{extension}"), media_type, bytes });
     }
-    let files = (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{}", k + 1, exporter.extension()), exporter.write(&job, k)?))).collect::<Result<Vec<_>, InputError>>()?;
-    Ok(ExportFile { file_name: format!("{stem}-{}-sorties.zip", exporter.id()), media_type: "application/zip", bytes: archive::zip(&files) })
+    let files = (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{extension}", k + 1), exporter.write(&job, k)?))).collect::<Result<Vec<_>, InputError>>()?;
+    Ok(ExportFile { file_name: format!("{stem}-{id}-sorties.zip"), media_type: "application/zip", bytes: archive::zip(&files) })
 }
 
 fn prepare<'a>(request: &ExportRequest<'a>) -> Result<ExportJob<'a>, InputError> {

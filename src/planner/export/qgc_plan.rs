@@ -6,7 +6,7 @@ use geo::{LineString, Winding};
 use serde_json::{Value, json};
 
 use super::mission_items::{self, FRAME_MISSION, MissionItem, launch, mav_autopilot, mav_type};
-use super::{ExportJob, Exporter};
+use super::{ExportJob, Exporter, Format};
 use crate::error::InputError;
 
 pub struct QgcPlan;
@@ -15,17 +15,8 @@ pub struct QgcPlan;
 const ALTITUDE_RELATIVE: u8 = 1;
 
 impl Exporter for QgcPlan {
-    fn id(&self) -> &'static str {
-        "plan"
-    }
-    fn media_type(&self) -> &'static str {
-        "application/json"
-    }
-    fn extension(&self) -> &'static str {
-        ".plan"
-    }
-    fn one_flight_per_file(&self) -> bool {
-        true
+    fn format(&self) -> &'static Format {
+        &Format { id: "plan", media_type: "application/json", extension: ".plan", one_flight_per_file: true }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {

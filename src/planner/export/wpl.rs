@@ -5,23 +5,14 @@
 use std::fmt::Write;
 
 use super::mission_items::{self, launch};
-use super::{ExportJob, Exporter, number};
+use super::{ExportJob, Exporter, Format, number};
 use crate::error::InputError;
 
 pub struct WaypointList;
 
 impl Exporter for WaypointList {
-    fn id(&self) -> &'static str {
-        "waypoints"
-    }
-    fn media_type(&self) -> &'static str {
-        "text/plain; charset=utf-8"
-    }
-    fn extension(&self) -> &'static str {
-        ".waypoints"
-    }
-    fn one_flight_per_file(&self) -> bool {
-        true
+    fn format(&self) -> &'static Format {
+        &Format { id: "waypoints", media_type: "text/plain; charset=utf-8", extension: ".waypoints", one_flight_per_file: true }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {

@@ -5,7 +5,7 @@
 
 use super::flight::waypoints;
 use super::xml::Xml;
-use super::{ExportJob, Exporter, number};
+use super::{ExportJob, Exporter, Format, number};
 use crate::archive;
 use crate::error::InputError;
 use crate::path::PieceKind;
@@ -21,17 +21,8 @@ const PAYLOAD: &str = "66";
 const SPEED_RANGE: (f64, f64) = (1.0, 15.0);
 
 impl Exporter for Wpml {
-    fn id(&self) -> &'static str {
-        "wpml"
-    }
-    fn media_type(&self) -> &'static str {
-        "application/vnd.google-earth.kmz"
-    }
-    fn extension(&self) -> &'static str {
-        ".kmz"
-    }
-    fn one_flight_per_file(&self) -> bool {
-        true
+    fn format(&self) -> &'static Format {
+        &Format { id: "wpml", media_type: "application/vnd.google-earth.kmz", extension: ".kmz", one_flight_per_file: true }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {

@@ -164,7 +164,7 @@ pub(crate) fn ring(points: Vec<[f64; 2]>, part: &str) -> Result<LineString, Inpu
 
 /// The kind a name or type attribute gives a polygon: no-fly zone, obstacle, or field.
 pub(crate) fn kind_of_label(label: &str) -> Option<Kind> {
-    let l = label.to_ascii_lowercase().replace(['-', '_'], " ");
+    let l = label.to_ascii_lowercase().replace(['-', '_', '#', ':'], " ");
     if l.contains("no fly") || l.contains("nofly") || l.split_whitespace().any(|w| w == "nfz") || l.contains("exclusion") {
         Some(Kind::NoFlyZone)
     } else if l.contains("obstacle") {
@@ -194,5 +194,33 @@ impl Collected {
                 self.no_fly_zones.push(polygon);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn labels_name_zones_and_obstacles() {
+        for label in ["No-fly: mast", "#nfz", "NOFLY_ZONE", "exclusion", "kind nfz"] {
+            assert_eq!(kind_of_label(label), Some(Kind::NoFlyZone), "{label}");
+        }
+        assert_eq!(kind_of_label("Obstacle: poplar"), Some(Kind::Obstacle));
+        for label in ["North field", "Infield 3", "confzone"] {
+            assert_eq!(kind_of_label(label), None, "{label}");
+        }
+    }
+
+    #[test]
+    fn formats_are_told_by_content() {
+        assert_eq!(sniff(br#"{"fileType": "Plan", "mission": {}}"#), Some("plan"));
+        assert_eq!(sniff(br#"{"type": "Polygon"}"#), Some("geojson"));
+        assert_eq!(sniff(b"<?xml version=\"1.0\"?><ISO11783_TaskData/>"), Some("isoxml"));
+        assert_eq!(sniff(b"\xef\xbb\xbf<kml/>"), Some("kml"));
+        assert_eq!(sniff(&archive::zip(&[("x/TASKDATA.XML".into(), b"<a/>".to_vec())])), Some("isoxml"));
+        assert_eq!(sniff(&archive::zip(&[("f.SHP".into(), vec![])])), Some("shapefile"));
+        assert_eq!(sniff(&archive::zip(&[("doc.kml".into(), vec![])])), Some("kmz"));
+        assert_eq!(sniff(b"GIF89a"), None);
     }
 }

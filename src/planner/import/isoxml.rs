@@ -148,3 +148,44 @@ fn close_polygon(p: OpenPolygon, partfield: &str, at: &str, out: &mut Collected,
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PNT: &str = r#"<PNT A="2" C="{lat}" D="{lon}"/>"#;
+
+    fn ring(points: &[[f64; 2]], closed: bool) -> String {
+        let mut all: Vec<[f64; 2]> = points.to_vec();
+        if closed {
+            all.push(points[0]);
+        }
+        all.iter().map(|[lon, lat]| PNT.replace("{lat}", &lat.to_string()).replace("{lon}", &lon.to_string())).collect()
+    }
+
+    #[test]
+    fn boundaries_holes_obstacles_and_buildings() {
+        let square = |x: f64, y: f64, d: f64| [[x, y], [x + d, y], [x + d, y + d], [x, y + d]];
+        let xml = format!(
+            r#"<?xml version="1.0"?><ISO11783_TaskData VersionMajor="3"><PFD A="PFD1" C="Big field" D="1">
+            <PLN A="1"><LSG A="1">{}</LSG><LSG A="2">{}</LSG></PLN>
+            <PLN A="6" B="Mast"><LSG A="1">{}</LSG></PLN>
+            <PLN A="4" B="Barn"><LSG A="1">{}</LSG></PLN>
+            <PLN A="10" B="Headland"><LSG A="1">{}</LSG></PLN>
+            <GGP A="GGP1"><GPN A="GPN1" C="1"><LSG A="5"><PNT A="6" C="47.1" D="8.1"/><PNT A="7" C="47.2" D="8.2"/></LSG></GPN></GGP>
+            </PFD></ISO11783_TaskData>"#,
+            ring(&square(8.0, 47.0, 0.1), false),
+            ring(&square(8.01, 47.01, 0.01), true),
+            ring(&square(8.05, 47.05, 0.01), false),
+            ring(&square(8.07, 47.07, 0.01), true),
+            ring(&square(8.0, 47.0, 0.1), false),
+        );
+        let out = TaskData.read(xml.as_bytes()).unwrap();
+        assert_eq!(out.name.as_deref(), Some("Big field"));
+        assert_eq!(out.fields.len(), 1);
+        assert_eq!(out.fields[0].interiors().len(), 2, "the hole and the barn");
+        assert_eq!(out.fields[0].exterior().0.len(), 5, "closed once");
+        assert_eq!(out.no_fly_zones.len(), 1);
+        assert!(out.warnings.iter().any(|w| w.contains("type 10")), "{:?}", out.warnings);
+    }
+}

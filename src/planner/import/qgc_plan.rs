@@ -71,3 +71,25 @@ impl Importer for QgcPlan {
         Ok(out)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn survey_polygons_are_fields_and_exclusion_fences_zones() {
+        let plan = br#"{"fileType": "Plan", "version": 1,
+            "mission": {"plannedHomePosition": [47.3, 8.5, 420], "items": [
+                {"type": "SimpleItem", "command": 22},
+                {"type": "ComplexItem", "complexItemType": "survey", "polygon": [[47.30, 8.50], [47.30, 8.51], [47.31, 8.51], [47.31, 8.50]]}]},
+            "geoFence": {"polygons": [
+                {"inclusion": true, "polygon": [[47.2, 8.4], [47.2, 8.6], [47.4, 8.6]]},
+                {"inclusion": false, "polygon": [[47.302, 8.502], [47.302, 8.503], [47.303, 8.503]]}], "circles": []}}"#;
+        let out = QgcPlan.read(plan).unwrap();
+        assert_eq!((out.fields.len(), out.no_fly_zones.len()), (1, 1));
+        // [lat, lon] in the file, x = longitude here
+        assert_eq!(out.fields[0].exterior().0[1], geo::Coord { x: 8.51, y: 47.30 });
+        assert_eq!(out.home, Some([8.5, 47.3]));
+        assert_eq!(out.warnings.len(), 2, "{:?}", out.warnings);
+    }
+}

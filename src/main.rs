@@ -230,6 +230,9 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         None => std::io::stdout().write_all(&bytes)?,
     }
     let s = &output.stats;
+    for warning in &s.warnings {
+        eprintln!("coverplan: {warning}");
+    }
     eprintln!(
         "{:.0} m, {:.0} s, {:.0} kJ, coverage {:.2} %, {} turns, {:.1} ms",
         s.length_m,

@@ -188,8 +188,9 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
     let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
     let budget = sortie::Budget { home: field.home, usable_j: resolved.vehicle.battery.usable_j(), max_sorties: resolved.max_sorties, connect: &connect, energy: &energy_of };
     let mut lost_coverage_m = 0.0;
-    let sorties: Vec<FlightPath> = budget
-        .split(&planned.path)?
+    let split = budget.split(&planned.path)?;
+    let sorties: Vec<FlightPath> = split
+        .sorties
         .iter()
         .map(|s| {
             let (path, lost) = raised(s);
@@ -219,7 +220,18 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         resolved.altitude_m,
         resolved.vehicle.battery.usable_j(),
         photos.as_deref().map(metrics::photo_points).as_deref(),
+        &split.battery_swaps,
     );
+    if !split.battery_swaps.is_empty() {
+        let batteries = split.battery_swaps.len() + 1;
+        stats.batteries_needed = batteries;
+        stats.warnings.push(format!(
+            "this plan needs {batteries} batteries ({:.0} kJ; {:.0} kJ usable per battery): without a home it is one route, with a battery_swap point where each \
+             battery runs out; give the mission a home to fly it in sorties with return flights",
+            split.needed_j / 1000.0,
+            resolved.vehicle.battery.usable_j() / 1000.0
+        ));
+    }
     stats.lost_coverage_m = lost_coverage_m;
     stats.planner = planned.planner.unwrap_or(planner.id()).to_string();
     stats.alternatives = planned.alternatives;

@@ -25,8 +25,14 @@ pub struct Stats {
     pub sorties: usize,
     /// Each sortie's figures, in flight order.
     pub sortie_totals: Vec<SortieTotals>,
-    /// Lower bound on the batteries the plan needs: total energy over one battery's usable energy.
+    /// Batteries the plan needs: with a home, the lower bound (total energy over one battery's
+    /// usable energy; `sorties` says how many the split flies); without one, a battery per
+    /// stretch between `battery_swap` points.
     pub batteries_needed: usize,
+    /// What the caller should know about this plan (for example that it needs several batteries
+    /// and has no home to return to).
+    #[serde(default)]
+    pub warnings: Vec<String>,
     /// The planner that made the plan (with `auto`, the one chosen).
     #[serde(default)]
     pub planner: String,
@@ -221,6 +227,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
             })
             .collect(),
         batteries_needed: (energy_j / m.usable_j).ceil().max(1.0) as usize,
+        warnings: Vec::new(),
         planner: String::new(),
         alternatives: Vec::new(),
         coverage_ratio: if area > 0.0 { (covered / area).min(1.0) } else { 0.0 },

@@ -6,11 +6,15 @@
 //! fewest sorties for the route's order when connections obey the triangle inequality. Each
 //! candidate sortie is priced by the energy model on its real path (home legs included),
 //! because a multirotor's energy is not additive over legs.
+//!
+//! Without a home there is nowhere to return to: the route is flown as planned and the same
+//! greedy cut marks where each battery runs out (the end of the last line it can fly), so that
+//! the plan still answers how many batteries it needs.
 
 use geo::Coord;
 use serde::{Deserialize, Serialize};
 
-use super::error::{InputError, PlanError};
+use super::error::PlanError;
 use super::path::{FlightPath, PieceKind};
 use super::turn::dubins::Pose;
 
@@ -44,26 +48,45 @@ fn heading(a: Coord, b: Coord) -> f64 {
     (b.y - a.y).atan2(b.x - a.x)
 }
 
+/// The route as it will be flown.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Split {
+    /// Flights from home and back; the route alone when one battery suffices or without a home.
+    pub sorties: Vec<FlightPath>,
+    /// Without a home: where each battery but the last runs out and is changed (the end of a
+    /// sweep line), in flight order; empty when one battery suffices.
+    pub battery_swaps: Vec<Coord>,
+    /// Energy the whole route needs in one flight, J.
+    pub needed_j: f64,
+}
+
+/// The largest `j` in `from + 1..=last` with `fits(j)`, given `fits(from + 1)`: gallop, then bisect.
+fn last_fitting(from: usize, last: usize, fits: impl Fn(usize) -> Result<bool, PlanError>) -> Result<usize, PlanError> {
+    let (mut good, mut step) = (from + 1, 1);
+    while good + step <= last && fits(good + step)? {
+        good += step;
+        step *= 2;
+    }
+    let mut bad = (good + step).min(last + 1);
+    while bad - good > 1 {
+        let mid = (good + bad) / 2;
+        if fits(mid)? { good = mid } else { bad = mid }
+    }
+    Ok(good)
+}
+
 impl Budget<'_> {
-    /// The route split into sorties; the route itself when one battery suffices.
-    pub fn split(&self, route: &FlightPath) -> Result<Vec<FlightPath>, PlanError> {
-        let needed = (self.energy)(route);
-        if needed <= self.usable_j {
-            return Ok(vec![route.clone()]);
+    /// The route split into sorties (or, without a home, marked where batteries run out).
+    pub fn split(&self, route: &FlightPath) -> Result<Split, PlanError> {
+        let needed_j = (self.energy)(route);
+        if needed_j <= self.usable_j {
+            return Ok(Split { sorties: vec![route.clone()], battery_swaps: vec![], needed_j });
         }
-        let Some(home) = self.home else {
-            return Err(InputError::new(
-                "home_missing",
-                "/home",
-                format!(
-                    "this plan needs {:.0} kJ but one battery gives {:.0} kJ above its reserve; give the mission a home so that the plan can be split into sorties",
-                    needed / 1000.0,
-                    self.usable_j / 1000.0
-                ),
-            )
-            .into());
-        };
         let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();
+        let Some(home) = self.home else {
+            let battery_swaps = self.swaps(route, &sweeps)?.into_iter().map(|k| route.pieces[k].end()).collect();
+            return Ok(Split { sorties: vec![route.clone()], battery_swaps, needed_j });
+        };
         let m = sweeps.len();
         let mut sorties = Vec::new();
         let mut i = 0;
@@ -77,29 +100,44 @@ impl Budget<'_> {
                     self.usable_j / 1000.0
                 )));
             }
-            // the last block end that fits: gallop, then bisect
-            let (mut good, mut step) = (i + 1, 1);
-            while good + step <= m && fits(good + step)? {
-                good += step;
-                step *= 2;
-            }
-            let mut bad = (good + step).min(m + 1);
-            while bad - good > 1 {
-                let mid = (good + bad) / 2;
-                if fits(mid)? { good = mid } else { bad = mid }
-            }
+            let good = last_fitting(i, m, fits)?;
             if sorties.len() == self.max_sorties {
                 return Err(PlanError::Infeasible(format!(
                     "the plan needs more than max_sorties = {} sorties ({:.0} kJ in all, {:.0} kJ per battery)",
                     self.max_sorties,
-                    needed / 1000.0,
+                    needed_j / 1000.0,
                     self.usable_j / 1000.0
                 )));
             }
             sorties.push(block(good)?);
             i = good;
         }
-        Ok(sorties)
+        Ok(Split { sorties, battery_swaps: vec![], needed_j })
+    }
+
+    /// Without a home: each battery flies on from where the last one ran out, as far as it can;
+    /// the result is the piece after which each battery but the last is changed.
+    fn swaps(&self, route: &FlightPath, sweeps: &[usize]) -> Result<Vec<usize>, PlanError> {
+        let mut swaps = Vec::new();
+        let (mut start, mut i) = (0, 0);
+        let stretch = |from: usize, to: usize| FlightPath { pieces: route.pieces[from..=to].to_vec() };
+        while (self.energy)(&stretch(start, route.pieces.len() - 1)) > self.usable_j {
+            let fits = |j: usize| -> Result<bool, PlanError> { Ok((self.energy)(&stretch(start, sweeps[j - 1])) <= self.usable_j) };
+            if i == sweeps.len() || !fits(i + 1)? {
+                return Err(PlanError::Infeasible(format!(
+                    "the flight to sweep line {} and along it needs more than one battery's {:.0} kJ above its reserve: use a vehicle with a larger battery or a smaller field",
+                    i + 1,
+                    self.usable_j / 1000.0
+                )));
+            }
+            let good = last_fitting(i, sweeps.len(), fits)?;
+            swaps.push(sweeps[good - 1]);
+            (start, i) = (sweeps[good - 1] + 1, good);
+            if start == route.pieces.len() {
+                break;
+            }
+        }
+        Ok(swaps)
     }
 
     /// Home → the route's pieces `first..=last` → home.
@@ -142,7 +180,7 @@ mod tests {
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0; // 10 J/m
         let budget = Budget { home: Some(Coord { x: -50.0, y: 0.0 }), usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
-        let sorties = budget.split(&route).unwrap();
+        let sorties = budget.split(&route).unwrap().sorties;
         assert!(sorties.len() > 1);
         for s in &sorties {
             assert!(energy(s) <= 30_000.0);
@@ -161,9 +199,38 @@ mod tests {
             assert!(energy(&longer) > 30_000.0);
             first += n;
         }
-        let no_home = Budget { home: None, ..budget };
-        assert!(matches!(no_home.split(&route), Err(PlanError::Input(e)) if e.code == "home_missing"));
-        let tiny = Budget { usable_j: 1_000.0, ..no_home };
-        assert!(tiny.split(&lines(1, 10.0)).is_ok(), "a plan that fits needs no home");
+        let tiny = Budget { usable_j: 1_000.0, home: None, ..budget };
+        assert_eq!(tiny.split(&lines(1, 10.0)).unwrap().battery_swaps, vec![], "a plan that fits needs no home");
+    }
+
+    #[test]
+    fn without_home_batteries_run_out_at_line_ends_and_each_stretch_fits() {
+        let route = lines(40, 300.0);
+        let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
+        let energy = |p: &FlightPath| p.length() * 10.0;
+        let budget = Budget { home: None, usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let split = budget.split(&route).unwrap();
+        assert_eq!(split.sorties, vec![route.clone()], "flown as planned");
+        let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();
+        let swaps = &budget.swaps(&route, &sweeps).unwrap();
+        assert_eq!(split.battery_swaps, swaps.iter().map(|&k| route.pieces[k].end()).collect::<Vec<_>>());
+        assert!(!swaps.is_empty());
+        let mut start = 0;
+        for &k in swaps.iter().chain([&(route.pieces.len() - 1)]) {
+            let stretch = FlightPath { pieces: route.pieces[start..=k].to_vec() };
+            assert!(energy(&stretch) <= 30_000.0, "stretch from piece {start} to {k}");
+            start = k + 1;
+        }
+        for (n, &k) in swaps.iter().enumerate() {
+            assert_eq!(route.pieces[k].kind, PieceKind::Sweep, "battery {} runs out at a line's end", n + 1);
+            // greedy: the next line would not have fitted
+            let from = if n == 0 { 0 } else { swaps[n - 1] + 1 };
+            let longer = FlightPath { pieces: route.pieces[from..=k + 2].to_vec() };
+            assert!(energy(&longer) > 30_000.0);
+        }
+        // fewest batteries: the total energy over one battery, rounded up, at least
+        assert!(swaps.len() + 1 >= (energy(&route) / 30_000.0).ceil() as usize);
+        let hopeless = Budget { usable_j: 1_000.0, ..budget };
+        assert!(matches!(hopeless.split(&route), Err(PlanError::Infeasible(_))));
     }
 }

@@ -41,6 +41,12 @@ function drawTrajectory(fc, faded) {
       L.circleMarker([last[1], last[0]], { radius: 7, color: '#b71c1c', fillOpacity: 1 }).bindTooltip('end').addTo(group);
     }
   }
+  // without a home: where each battery runs out
+  for (const f of fc.features.filter((f) => f.properties.kind === 'battery_swap')) {
+    const [lng, lat] = f.geometry.coordinates;
+    L.circleMarker([lat, lng], { radius: 6, color: '#f9a825', fillOpacity: 1, className: 'battery-swap' })
+      .bindTooltip(`battery ${f.properties.battery} runs out here: change it`).addTo(group);
+  }
   const photos = L.featureGroup();
   for (const f of fc.features.filter((f) => f.properties.kind === 'photos')) {
     f.geometry.coordinates.forEach((c) => L.circleMarker([c[1], c[0]], { radius: 2, color: '#37474f' }).addTo(photos));

@@ -106,12 +106,17 @@ async fn a_plan_with_a_small_battery_is_split_into_sorties_from_home() {
     assert_eq!(app.post("/api/v1/vehicles", &small).await.0, 201);
     let params = json!({"line_spacing_m": 20, "altitude_m": 30, "vehicle": {"profile": "iris-20wh"}, "max_sorties": 100});
 
-    // without a home the plan fails, saying why
+    // without a home the plan is made as one route, marked where each battery runs out
     let id = app.create_mission(&mission).await;
     let (_, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &params).await;
-    let failed = app.wait_finished(plan["id"].as_str().unwrap()).await;
-    assert_eq!(failed["status"], "failed", "{failed}");
-    assert!(failed["error"].to_string().contains("home"), "{failed}");
+    let route = app.wait_finished(plan["id"].as_str().unwrap()).await;
+    assert_eq!(route["status"], "succeeded", "{route}");
+    let warnings = route["stats"]["warnings"].as_array().unwrap();
+    assert!(warnings.iter().any(|w| w.as_str().unwrap().contains("home")), "{route}");
+    let (_, trajectory) = app.get(&format!("/api/v1/plans/{}/trajectory", plan["id"].as_str().unwrap())).await;
+    let swaps = trajectory["features"].as_array().unwrap().iter().filter(|f| f["properties"]["kind"] == "battery_swap").count() as u64;
+    assert_eq!(route["stats"]["batteries_needed"].as_u64(), Some(swaps + 1), "{}", route["stats"]);
+    assert!(swaps >= 1);
 
     mission["home"] = first;
     let id = app.create_mission(&mission).await;

@@ -34,7 +34,9 @@ fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
 }
 
 /// The sorties' pieces in flight order, each with its sortie (1-based), speeds, time and
-/// energy, and the battery left at its end (as a share of the usable energy).
+/// energy, and the battery left at its end (as a share of the usable energy). Without a home,
+/// a Point of kind `battery_swap` marks each place a battery runs out (the end of a piece at
+/// one of `battery_swaps`, in order); the count of the battery left starts again after it.
 pub fn feature_collection(
     frame: &LocalFrame,
     sorties: &[FlightPath],
@@ -42,8 +44,10 @@ pub fn feature_collection(
     altitude_m: Option<f64>,
     usable_j: f64,
     photos: Option<&[Coord]>,
+    battery_swaps: &[Coord],
 ) -> FeatureCollection {
     let mut features = Vec::new();
+    let mut swaps = battery_swaps.iter().peekable();
     for (k, (sortie, estimate)) in sorties.iter().zip(estimates).enumerate() {
         // take-off is spent before the first piece
         let mut used = estimate.takeoff_landing_j / 2.0;
@@ -67,6 +71,13 @@ pub fn feature_collection(
                 props["altitude_m"] = json!(round(z, 2));
             }
             features.push(feature(GeometryValue::LineString { coordinates: coords }, props));
+            if swaps.peek().is_some_and(|&&c| c == piece.end()) {
+                swaps.next();
+                let battery = battery_swaps.len() - swaps.len();
+                let props = json!({"seq": features.len(), "kind": "battery_swap", "battery": battery, "cumulative_energy_j": round(used, 1)});
+                features.push(feature(GeometryValue::Point { coordinates: position(frame, piece.end(), altitude_m) }, props));
+                used = estimate.takeoff_landing_j / 2.0;
+            }
         }
     }
     if let Some(photos) = photos {

@@ -123,10 +123,20 @@ fn a_field_four_batteries_large_is_flown_in_sorties_within_budget() {
     // a battery whose usable part is a quarter of the single flight
     let battery_wh = whole.stats.energy_j / 4.0 / 3600.0 / 0.75;
     let small = profiles(battery_wh);
-    let err = run(&field, None, None, params.clone(), &small).unwrap_err();
-    assert!(matches!(&err, PlanError::Input(e) if e.code == "home_missing"), "{err}");
+    // without a home: one route, marked where each battery runs out
+    let route = run(&field, None, None, params.clone(), &small).unwrap();
+    let kind = |f: &geojson::Feature| f.properties.as_ref().and_then(|p| p.get("kind")).and_then(|k| k.as_str()).unwrap_or_default().to_owned();
+    let swaps = route.trajectory.features.iter().filter(|f| kind(f) == "battery_swap").count();
+    assert_eq!(route.stats.sorties, 1);
+    assert!(route.stats.batteries_needed >= 4 && route.stats.batteries_needed == swaps + 1, "{} batteries, {swaps} swaps", route.stats.batteries_needed);
+    assert!(route.stats.warnings.iter().any(|w| w.contains("give the mission a home")), "{:?}", route.stats.warnings);
+    for f in route.trajectory.features.iter().filter(|f| f.properties.as_ref().is_some_and(|p| p.contains_key("battery_remaining"))) {
+        let left = f.properties.as_ref().unwrap()["battery_remaining"].as_f64().unwrap();
+        assert!(left >= -1e-9, "piece {} ends with {left} of a battery", f.properties.as_ref().unwrap()["seq"]);
+    }
     let out = run(&field, None, Some(point(-20.0, -20.0)), params, &small).unwrap();
     let st = &out.stats;
+    assert_eq!(st.warnings, Vec::<String>::new());
     eprintln!("sorties: {} for {:.0} kJ ({:.0} kJ usable each), coverage {:.4}", st.sorties, st.energy_j / 1000.0, battery_wh * 2.7, st.coverage_ratio);
     assert!(st.sorties >= 4 && st.sorties == st.sortie_totals.len());
     assert_eq!(st.batteries_needed, (st.energy_j / (battery_wh * 3600.0 * 0.75)).ceil() as usize);

@@ -61,7 +61,9 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
     vec![
         Vehicle {
             profile: "iris".into(),
-            description: "3DR IRIS quadrotor (seed 002): measured energy model, legs at most 7.8 m/s, 3S 5.1 Ah battery".into(),
+            description: "3DR IRIS quadrotor (seed 002): measured energy model, legs at most 7.8 m/s, 3S 5.1 Ah battery; flies through waypoints keeping its heading, \
+                          as on the flights that validated the model (a copy with yaw_at_waypoints or waypoint_hold_s models autopilots that turn or stop at each)"
+                .into(),
             kind: VehicleKind::Multirotor,
             cruise_speed_mps: 7.8,
             turn_radius_m: 0.0,

@@ -243,9 +243,10 @@ mod tests {
             let e = |p: &FlightPath| m.estimate(p, Some(30.0)).energy_j();
             assert!(e(&square_path(200.0)) > e(&square_path(100.0)), "{}", v.profile);
             if matches!(v.energy, EnergyParams::MultirotorIem(_)) {
-                // sharper corners cost more: less speed is kept through them
+                // sharper corners cost more: less speed is kept through them, down to a full stop
+                // (interior angles under 50°: turns of 130° and more cost the same)
                 let energies: Vec<f64> = [10.0, 45.0, 90.0, 135.0, 170.0].iter().map(|&a| e(&bent(a))).collect();
-                assert!(energies.windows(2).all(|w| w[1] > w[0]), "{}: {energies:?}", v.profile);
+                assert!(energies.windows(2).all(|w| w[1] >= w[0]) && energies[..4].windows(2).all(|w| w[1] > w[0]), "{}: {energies:?}", v.profile);
             }
         }
     }

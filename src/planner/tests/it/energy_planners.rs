@@ -198,3 +198,38 @@ fn e_bf_is_refused_for_a_fixed_wing_and_energy_aware_plans_it() {
     let multirotor = |planner: &str| json!({"planner": planner, "line_spacing_m": 40, "vehicle": {"profile": "iris"}});
     assert!(run(&field, None, None, multirotor("e_bf"), &profiles(1e5)).is_ok());
 }
+
+/// Seed 002 Tables 5 and 6, IEM columns: (path, energy J, time s) of the flown E-Spiral and E-BF
+/// routes in the polygonal (P) and rectangular (R) areas.
+const SEED002_IEM: [(&str, f64, f64); 4] = [("e_spiral P", 79158.0, 379.35), ("e_bf P", 87945.0, 420.60), ("e_spiral R", 46681.0, 223.91), ("e_bf R", 48182.0, 230.81)];
+
+#[test]
+fn the_iris_profile_matches_the_flights_that_validated_it() {
+    // the flights' mean power, energy over time: 208.5 to 209.1 W in all four
+    let table: Vec<f64> = SEED002_IEM.iter().map(|(_, e, t)| e / t).collect();
+    let (low, high) = table.iter().fold((f64::MAX, f64::MIN), |(l, h), &p| (l.min(p), h.max(p)));
+    // polygons of the flights' size and kind: an irregular heptagon and a rectangle, each of
+    // four to seven minutes of flight at IRIS speeds (the tables: 224 to 421 s)
+    let heptagon: Vec<(f64, f64)> = regular(7, 190.0, 0.2).iter().enumerate().map(|(k, &(x, y))| if k % 2 == 0 { (x * 1.1, y * 0.9) } else { (x, y) }).collect();
+    let rectangle = [(0.0, 0.0), (140.0, 0.0), (140.0, 80.0), (0.0, 80.0)];
+    let params = |planner: &str| json!({"planner": planner, "line_spacing_m": 10, "altitude_m": 20, "vehicle": {"profile": "iris"}, "start": {"position": point(0.0, -120.0)}});
+    let mut results = Vec::new();
+    for (name, field) in [("P", heptagon.as_slice()), ("R", rectangle.as_slice())] {
+        for planner in ["e_spiral", "e_bf"] {
+            let out = run(field, None, None, params(planner), &profiles(1e5)).unwrap_or_else(|e| panic!("{planner} {name}: {e}"));
+            let st = &out.stats;
+            let power = st.energy_j / st.duration_s;
+            eprintln!("{planner} {name}: {:.0} J in {:.0} s, mean power {power:.1} W (tables: {low:.1} to {high:.1} W)", st.energy_j, st.duration_s);
+            assert!((180.0..=600.0).contains(&st.duration_s), "{planner} {name}: {:.0} s is not a flight of the tables' size", st.duration_s);
+            // yaw in place at every waypoint would add 220 W turns and lift time by a fifth
+            assert!(power >= low * 0.985 && power <= high * 1.015, "{planner} {name}: mean power {power:.1} W outside the tables' {low:.1}–{high:.1} W ±1.5 %");
+            results.push(st.energy_j);
+        }
+    }
+    // the tables' ranking: the spiral saves on the polygon (10.0 % by the IEM), and the two are
+    // within a few per cent on the rectangle (3.1 %)
+    let polygon_saving = 1.0 - results[0] / results[1];
+    let rectangle_gap = (1.0 - results[2] / results[3]).abs();
+    assert!(polygon_saving > 0.03, "the spiral saves {:.1} % on the polygon", 100.0 * polygon_saving);
+    assert!(rectangle_gap < 0.08, "spiral and back-and-forth differ by {:.1} % on the rectangle", 100.0 * rectangle_gap);
+}

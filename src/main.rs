@@ -55,6 +55,15 @@ enum Command {
         /// Runs per field.
         #[arg(long, default_value_t = 3)]
         repeats: usize,
+        /// multirotor (default) or fixed_wing (turning at half the line spacing).
+        #[arg(long)]
+        vehicle: Option<String>,
+        /// Line spacing in metres for every field (default: a twentieth of the square root of its area).
+        #[arg(long)]
+        spacing: Option<f64>,
+        /// Only these fields (file names without .json), comma-separated.
+        #[arg(long, value_delimiter = ',')]
+        fields: Vec<String>,
         /// Instead: route 100, 300 and 600 parallel lines with Dubins turns.
         #[arg(long)]
         routing: bool,
@@ -125,7 +134,10 @@ fn main() -> ExitCode {
             print!("{}", coverplan::bench::routing());
             Ok(())
         }
-        Command::Bench { data, planner, repeats, .. } => coverplan::bench::run(&data, planner.as_deref(), repeats).map(|table| print!("{table}")),
+        Command::Bench { data, planner, repeats, vehicle, spacing, fields, .. } => {
+            let options = coverplan::bench::Options { planner: planner.as_deref(), repeats, vehicle: vehicle.as_deref(), spacing_m: spacing, fields: &fields };
+            coverplan::bench::run(&data, &options).map(|table| print!("{table}"))
+        }
         Command::Openapi => {
             print!("{}", coverplan::http::openapi::document());
             Ok(())

@@ -11,11 +11,14 @@ use anyhow::Context;
 use serde_json::Value;
 
 use crate::planner::planners::registry;
+use crate::planner::vehicle::{VehicleKind, VehicleParams};
 use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams};
 
 struct Row {
     holes: usize,
     times_ms: Vec<f64>,
+    /// Peak resident memory of each run, MB (Linux).
+    peak_mb: Vec<f64>,
     /// Fields the planner refused (not applicable, or over its limits).
     refused: usize,
     lengths_m: Vec<f64>,
@@ -44,28 +47,73 @@ pub fn bench_spacing(area_m2: f64) -> f64 {
     (area_m2.sqrt() / 20.0).clamp(5.0, 60.0)
 }
 
+/// What to benchmark.
+pub struct Options<'a> {
+    pub planner: Option<&'a str>,
+    pub repeats: usize,
+    /// `multirotor` (default) or `fixed_wing`.
+    pub vehicle: Option<&'a str>,
+    /// Line spacing for every field instead of the area rule; a fixed wing turns at half of it.
+    pub spacing_m: Option<f64>,
+    /// Only these field files (without `.json`).
+    pub fields: &'a [String],
+}
+
+/// Resets the process's peak resident memory (Linux: `/proc/self/clear_refs`), so that the next
+/// [`peak_mb`] reads the peak of what runs in between.
+fn reset_peak() {
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
+}
+
+/// The process's peak resident memory since [`reset_peak`], MB; `None` where `/proc` has none.
+fn peak_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb: f64 = status.lines().find(|l| l.starts_with("VmHWM:"))?.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
 /// Runs the benchmark and returns the table as text.
-pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::Result<String> {
+pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
     let index: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("index.json")).context("reading index.json")?)?;
-    let entries = index.as_array().context("index.json is a list")?;
+    let entries: Vec<&Value> = index
+        .as_array()
+        .context("index.json is a list")?
+        .iter()
+        .filter(|e| options.fields.is_empty() || options.fields.iter().any(|f| e["file"].as_str() == Some(&format!("{f}.json"))))
+        .collect();
+    anyhow::ensure!(!entries.is_empty(), "no field of {} matches {:?}", dir.display(), options.fields);
+    let fixed_wing = match options.vehicle.unwrap_or("multirotor") {
+        "multirotor" => false,
+        "fixed_wing" => true,
+        other => anyhow::bail!("--vehicle is multirotor or fixed_wing, not {other}"),
+    };
+    let repeats = options.repeats.max(1);
+    let spacing_rule = options.spacing_m.map_or("sqrt(area)/20 within 5..60 m".to_owned(), |s| format!("{s} m"));
+    let vehicle = if fixed_wing { "fixed wing turning at half the spacing" } else { "multirotor" };
     let mut out = String::new();
-    out.push_str(&format!("fields: {} from {}; {repeats} runs each; spacing = sqrt(area)/20 within 5..60 m; holes as no-fly zones\n\n", entries.len(), dir.display()));
+    out.push_str(&format!("fields: {} from {}; {repeats} runs each; spacing {spacing_rule}; {vehicle}; holes as no-fly zones\n\n", entries.len(), dir.display()));
     // lengths of the reference planner (the first one, `boustrophedon`) per field
     let mut reference: std::collections::HashMap<String, f64> = std::collections::HashMap::new();
     // a battery large enough that no plan is split into sorties
     let mut profiles = planner::vehicle::builtin_profiles();
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
-    for p in registry().iter().filter(|p| planner_filter.is_none_or(|f| f == p.id())) {
-        let mut rows: Vec<Row> =
-            (0..=15).map(|holes| Row { holes, refused: 0, times_ms: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![], vs_reference: vec![] }).collect();
-        for e in entries {
+    for p in registry().iter().filter(|p| options.planner.is_none_or(|f| f == p.id())) {
+        let mut rows: Vec<Row> = (0..=15)
+            .map(|holes| Row { holes, refused: 0, times_ms: vec![], peak_mb: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![], vs_reference: vec![] })
+            .collect();
+        for &e in &entries {
             let file = e["file"].as_str().context("file")?;
             let holes = e["holes"].as_u64().context("holes")? as usize;
             let m: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(file))?)?;
             let area_m2 = e["area_m2"].as_f64().context("area_m2")?;
-            let params = PlanParams { planner: p.id().into(), line_spacing_m: Some(bench_spacing(area_m2)), ..PlanParams::default() };
+            let spacing = options.spacing_m.unwrap_or_else(|| bench_spacing(area_m2));
+            let mut params = PlanParams { planner: p.id().into(), line_spacing_m: Some(spacing), ..PlanParams::default() };
+            if fixed_wing {
+                params.vehicle = VehicleParams { kind: Some(VehicleKind::FixedWing), turn_radius_m: Some(spacing / 2.0), ..VehicleParams::default() };
+            }
             let mission = MissionGeometry { area: &m["area"], no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null()), obstacles: None, home: None };
             for _ in 0..repeats {
+                reset_peak();
                 let t = Instant::now();
                 let row = &mut rows[holes.min(15)];
                 let Ok(plan) = planner::plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true) else {
@@ -73,6 +121,7 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
                     continue;
                 };
                 row.times_ms.push(t.elapsed().as_secs_f64() * 1000.0);
+                row.peak_mb.extend(peak_mb());
                 row.lengths_m.push(plan.stats.length_m);
                 if p.id() == registry()[0].id() {
                     reference.insert(file.to_string(), plan.stats.length_m);
@@ -85,19 +134,20 @@ pub fn run(dir: &Path, planner_filter: Option<&str>, repeats: usize) -> anyhow::
             }
         }
         out.push_str(&format!("planner {}\n", p.id()));
-        out.push_str(&format!("| holes | fields | refused | median ms | p95 ms | mean length m | length / {} | mean efficiency | min coverage |\n", registry()[0].id()));
-        out.push_str("|------:|-------:|--------:|----------:|-------:|--------------:|----------:|----------------:|-------------:|\n");
+        out.push_str(&format!("| holes | fields | refused | median ms | p95 ms | peak MB | mean length m | length / {} | mean efficiency | min coverage |\n", registry()[0].id()));
+        out.push_str("|------:|-------:|--------:|----------:|-------:|--------:|--------------:|----------:|----------------:|-------------:|\n");
         for r in rows.iter_mut().filter(|r| !r.times_ms.is_empty() || r.refused > 0) {
-            let n = r.times_ms.len() / repeats.max(1);
+            let n = r.times_ms.len() / repeats;
             let median = quantile(&mut r.times_ms, 0.5);
             let p95 = quantile(&mut r.times_ms, 0.95);
             out.push_str(&format!(
-                "| {:>5} | {:>6} | {:>7} | {:>9.2} | {:>6.2} | {:>13.0} | {:>9} | {:>15.3} | {:>12.4} |\n",
+                "| {:>5} | {:>6} | {:>7} | {:>9.2} | {:>6.2} | {:>7.0} | {:>13.0} | {:>9} | {:>15.3} | {:>12.4} |\n",
                 r.holes,
                 n,
-                r.refused / repeats.max(1),
+                r.refused / repeats,
                 median,
                 p95,
+                r.peak_mb.iter().copied().fold(f64::NAN, f64::max),
                 mean(&r.lengths_m),
                 if r.vs_reference.is_empty() { "-".to_string() } else { format!("{:.3}", mean(&r.vs_reference)) },
                 mean(&r.efficiency),

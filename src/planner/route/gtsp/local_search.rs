@@ -234,9 +234,10 @@ impl Tour<'_, '_> {
             };
             for moved in &options {
                 let (f, l) = (moved[0], moved[len - 1]);
-                let mut spots: Vec<usize> = vec![0, rest_len];
-                spots.extend(nb.out[rev[f]].iter().filter_map(|&y| rest_index(rev[y]).map(|k| k + 1)));
-                spots.extend(nb.out[l].iter().filter_map(|&w| rest_index(w)));
+                let spots = [0, rest_len]
+                    .into_iter()
+                    .chain(nb.out[rev[f]].iter().filter_map(|&y| rest_index(rev[y]).map(|k| k + 1)))
+                    .chain(nb.out[l].iter().filter_map(|&w| rest_index(w)));
                 let added_inner = inner(moved);
                 for k in spots {
                     if k == i && moved == &chain {

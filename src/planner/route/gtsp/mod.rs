@@ -100,16 +100,21 @@ const EXACT_NODES: usize = 48;
 /// Neighbours per node the local search tries; every node on instances of at most
 /// [`ALL_NEIGHBOURS_UP_TO`] clusters.
 pub const NEIGHBOURS: usize = 10;
-pub const ALL_NEIGHBOURS_UP_TO: usize = 40;
+pub const ALL_NEIGHBOURS_UP_TO: usize = 16;
 /// Kicks of the iterated local search: many on small instances, where they find better
 /// orders; few on large ones, where each repair costs more and the first local optimum of
 /// parallel lines is already within a fraction of a per cent of what kicks find.
 pub fn kicks(m: usize) -> usize {
     (20_000 / m.max(1)).clamp(30, 300)
 }
-/// Random restarts on instances of at most this many clusters.
+/// Random restarts on instances of at most this many clusters, when the first search ends
+/// further than [`RESTART_GAP`] above the lower bound.
 const RESTART_UP_TO: usize = 40;
 const RESTARTS: usize = 3;
+const RESTART_GAP: f64 = 0.005;
+/// Kicks in a row that find nothing better end a search: at least this many, and at least one
+/// per two clusters (the effort follows what is still being gained).
+const STALL_KICKS: usize = 100;
 /// Longest segment a double-bridge kick moves.
 const KICK_SEGMENT: usize = 50;
 
@@ -287,17 +292,21 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
     let m = inst.clusters.len();
     let (of, nb) = neighbours(inst);
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
-    let mut starts = vec![greedy_with(inst, &nb, &of)];
-    if m <= RESTART_UP_TO {
+    let mut best = iterated_local_search(inst, &nb, &of, greedy_with(inst, &nb, &of), &mut rng);
+    // restarts only while a better order can still exist by more than the gap
+    if m <= RESTART_UP_TO && inst.total(&best) > lower_bound(inst) * (1.0 + RESTART_GAP) {
         for _ in 0..RESTARTS {
             let mut order: Vec<usize> = (0..m).map(|k| inst.clusters[k][0]).collect();
             for i in (1..m).rev() {
                 order.swap(i, rng.below(i + 1));
             }
-            starts.push(optimise_clusters(inst, &order));
+            let found = iterated_local_search(inst, &nb, &of, optimise_clusters(inst, &order), &mut rng);
+            if inst.total(&found) < inst.total(&best) {
+                best = found;
+            }
         }
     }
-    starts.into_iter().map(|s| iterated_local_search(inst, &nb, &of, s, &mut rng)).min_by(|a, b| inst.total(a).total_cmp(&inst.total(b))).expect("at least the greedy start")
+    best
 }
 
 fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: Vec<usize>, rng: &mut Rng) -> Vec<usize> {
@@ -307,7 +316,13 @@ fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: 
     if m < 8 {
         return best;
     }
+    let stall = STALL_KICKS.max(m);
+    let mut since_better = 0;
     for _ in 0..kicks(m) {
+        if since_better == stall {
+            break;
+        }
+        since_better += 1;
         // double bridge A B C D → A C B D, with B and C short so the repair stays local
         let x = 1 + rng.below(m - 2);
         let y = x + 1 + rng.below(KICK_SEGMENT.min(m - 1 - x));
@@ -321,6 +336,7 @@ fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: 
         if cost < best_cost - EPS {
             best = candidate;
             best_cost = cost;
+            since_better = 0;
         }
     }
     local_search(inst, nb, of, (best, best_cost), 0..m, true).0

@@ -213,15 +213,10 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         cells: planned.cells,
         photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
     });
-    let trajectory = export::geojson::feature_collection(
-        &field.frame,
-        &sorties,
-        &estimates,
-        resolved.altitude_m,
-        resolved.vehicle.battery.usable_j(),
-        photos.as_deref().map(metrics::photo_points).as_deref(),
-        &split.battery_swaps,
-    );
+    let photo_points = photos.as_deref().map(metrics::photo_points);
+    let uncovered = metrics::uncovered(&path, &field.area.difference(&field.no_fly_zones));
+    let marks = export::geojson::Marks { photos: photo_points.as_deref(), battery_swaps: &split.battery_swaps, uncovered: &uncovered };
+    let trajectory = export::geojson::feature_collection(&field.frame, &sorties, &estimates, resolved.altitude_m, resolved.vehicle.battery.usable_j(), &marks);
     if !split.battery_swaps.is_empty() {
         let batteries = split.battery_swaps.len() + 1;
         stats.batteries_needed = batteries;

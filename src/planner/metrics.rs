@@ -163,6 +163,17 @@ pub fn covered_area(path: &FlightPath, region: &MultiPolygon) -> f64 {
     covered_by(&sweep_strips(path), region).0
 }
 
+/// Pieces of uncovered ground smaller than this are rounding between swaths, not gaps.
+const UNCOVERED_SLIVER_M2: f64 = 1.0;
+
+/// The part of `target` outside every swath of `path`: the clearance band around no-fly zones,
+/// corners the lines do not reach. Slivers under a square metre are left out.
+pub fn uncovered(path: &FlightPath, target: &MultiPolygon) -> MultiPolygon {
+    let strips = sweep_strips(path);
+    let rest = if strips.is_empty() { target.clone() } else { target.difference(&geo::unary_union(&strips)) };
+    MultiPolygon(rest.0.into_iter().filter(|p| p.unsigned_area() >= UNCOVERED_SLIVER_M2).collect())
+}
+
 /// Metres of `path` inside `zones`.
 pub fn length_inside(path: &FlightPath, zones: &MultiPolygon) -> f64 {
     if zones.0.is_empty() {

@@ -41,6 +41,12 @@ function drawTrajectory(fc, faded) {
       L.circleMarker([last[1], last[0]], { radius: 7, color: '#b71c1c', fillOpacity: 1 }).bindTooltip('end').addTo(group);
     }
   }
+  // ground no sweep covers: mostly the clearance kept around no-fly zones
+  for (const f of fc.features.filter((f) => f.properties.kind === 'uncovered')) {
+    L.geoJSON(f, { style: { color: '#c62828', weight: 0, fillOpacity: faded ? 0.1 : 0.3 }, interactive: !faded })
+      .bindTooltip(`not covered: ${Math.round(f.properties.area_m2)} m² (the clearance around no-fly zones, nfz_margin_m, and corners the lines do not reach)`)
+      .addTo(group);
+  }
   // without a home: where each battery runs out
   for (const f of fc.features.filter((f) => f.properties.kind === 'battery_swap')) {
     const [lng, lat] = f.geometry.coordinates;

@@ -36,10 +36,16 @@ async fn a_mission_is_planned_and_its_trajectory_is_geojson() {
     let fc: Value = r.json().await.unwrap();
     let parsed: geojson::GeoJson = serde_json::from_value(fc.clone()).expect("valid GeoJSON");
     assert!(matches!(parsed, geojson::GeoJson::FeatureCollection(_)));
-    let features = fc["features"].as_array().unwrap();
+    let all = fc["features"].as_array().unwrap();
+    // the flown pieces, then what the plan leaves uncovered
+    let (features, rest): (Vec<&Value>, Vec<&Value>) = all.iter().partition(|f| f["geometry"]["type"] == "LineString");
+    for f in &rest {
+        assert_eq!((f["properties"]["kind"].as_str(), f["geometry"]["type"].as_str()), (Some("uncovered"), Some("MultiPolygon")), "{f}");
+        assert!(f["properties"]["area_m2"].as_f64().unwrap() > 0.0);
+    }
     let mut total = 0.0;
     let mut last_end: Option<Value> = None;
-    for f in features {
+    for f in &features {
         let p = &f["properties"];
         assert!(["sweep", "turn", "transit"].contains(&p["kind"].as_str().unwrap()), "{p}");
         assert_eq!(f["geometry"]["type"], "LineString");

@@ -100,6 +100,17 @@ fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str,
     let reach = p.line_spacing_m.unwrap_or_else(|| p.altitude_m.unwrap() * 1.5 / 2.0);
     let near_field = field.buffer(reach + 0.5);
     let zones = nfz.map(|z| to_local_mp(&frame, z)).unwrap_or(MultiPolygon(vec![]));
+    // the uncovered ground: outside the zones, within the field, and at least what the coverage
+    // ratio says is missing from the area to cover (slivers under 1 m² are left out)
+    let kind = |f: &geojson::Feature| f.properties.as_ref().and_then(|p| p.get("kind")).and_then(Value::as_str).map(str::to_owned);
+    let uncovered: Vec<&geojson::Feature> = out.trajectory.features.iter().filter(|f| kind(f).as_deref() == Some("uncovered")).collect();
+    assert!(uncovered.len() <= 1, "{name}: one uncovered feature at most");
+    let uncovered_mp = uncovered.first().map_or(MultiPolygon(vec![]), |f| to_local_mp(&frame, &serde_json::to_value(f.geometry.as_ref().unwrap()).unwrap()));
+    let missing = (1.0 - s.coverage_ratio) * s.area_to_cover_m2;
+    let shown = uncovered_mp.unsigned_area();
+    assert!(shown >= missing - (5.0f64).max(0.005 * s.area_to_cover_m2), "{name}: {shown:.0} m² shown uncovered, {missing:.0} m² missing");
+    assert!(uncovered_mp.intersection(&zones).unsigned_area() < 1.0, "{name}: uncovered ground drawn inside a no-fly zone");
+    assert!(uncovered_mp.difference(&field.buffer(0.5)).unsigned_area() < 1.0, "{name}: uncovered ground drawn outside the field");
     for f in &out.trajectory.features {
         let props = f.properties.as_ref().unwrap();
         let geojson::GeometryValue::LineString { coordinates } = &f.geometry.as_ref().unwrap().value else { continue };

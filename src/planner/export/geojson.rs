@@ -1,7 +1,7 @@
 //! The flight path as an RFC 7946 FeatureCollection in flight order: the trajectory every
 //! other format is written from.
 
-use geo::Coord;
+use geo::{Area, Coord, MultiPolygon};
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, Position};
 use serde_json::json;
 
@@ -33,19 +33,22 @@ fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
     Feature { geometry: Some(Geometry::new(value)), properties: Some(properties), ..Default::default() }
 }
 
+/// What the trajectory shows besides the flown pieces.
+pub struct Marks<'a> {
+    pub photos: Option<&'a [Coord]>,
+    /// Where each battery runs out, without a home (ends of pieces, in flight order).
+    pub battery_swaps: &'a [Coord],
+    /// The part of the field (outside the no-fly zones) no swath covers.
+    pub uncovered: &'a MultiPolygon,
+}
+
 /// The sorties' pieces in flight order, each with its sortie (1-based), speeds, time and
 /// energy, and the battery left at its end (as a share of the usable energy). Without a home,
 /// a Point of kind `battery_swap` marks each place a battery runs out (the end of a piece at
 /// one of `battery_swaps`, in order); the count of the battery left starts again after it.
-pub fn feature_collection(
-    frame: &LocalFrame,
-    sorties: &[FlightPath],
-    estimates: &[PathEstimate],
-    altitude_m: Option<f64>,
-    usable_j: f64,
-    photos: Option<&[Coord]>,
-    battery_swaps: &[Coord],
-) -> FeatureCollection {
+/// Then the photos (a MultiPoint) and the uncovered ground (a MultiPolygon).
+pub fn feature_collection(frame: &LocalFrame, sorties: &[FlightPath], estimates: &[PathEstimate], altitude_m: Option<f64>, usable_j: f64, marks: &Marks<'_>) -> FeatureCollection {
+    let Marks { photos, battery_swaps, uncovered } = *marks;
     let mut features = Vec::new();
     let mut swaps = battery_swaps.iter().peekable();
     for (k, (sortie, estimate)) in sorties.iter().zip(estimates).enumerate() {
@@ -83,6 +86,12 @@ pub fn feature_collection(
     if let Some(photos) = photos {
         let coords = photos.iter().map(|&c| position(frame, c, altitude_m)).collect();
         features.push(feature(GeometryValue::MultiPoint { coordinates: coords }, json!({"kind": "photos", "count": photos.len()})));
+    }
+    if !uncovered.0.is_empty() {
+        let ring = |r: &geo::LineString| r.coords().map(|&c| position(frame, c, None)).collect::<Vec<_>>();
+        let coordinates = uncovered.0.iter().map(|p| std::iter::once(ring(p.exterior())).chain(p.interiors().iter().map(ring)).collect()).collect();
+        let area = uncovered.unsigned_area();
+        features.push(feature(GeometryValue::MultiPolygon { coordinates }, json!({"kind": "uncovered", "area_m2": round(area, 1)})));
     }
     FeatureCollection { bbox: None, features, foreign_members: None }
 }

@@ -201,8 +201,10 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
     let estimates: Vec<energy::PathEstimate> = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
     let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
     let photos = resolved.camera.map(|c| photo_positions(&path, &c));
+    let swept = metrics::swept(&path);
     let mut stats = metrics::measure(&metrics::MeasureInput {
         path: &path,
+        swept: &swept,
         sorties: &sorties,
         estimates: &estimates,
         usable_j: resolved.vehicle.battery.usable_j(),
@@ -214,7 +216,7 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
     });
     let photo_points = photos.as_deref().map(metrics::photo_points);
-    let uncovered = metrics::uncovered(&path, &field.area.difference(&field.no_fly_zones));
+    let uncovered = metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones));
     let marks = export::geojson::Marks { photos: photo_points.as_deref(), battery_swaps: &split.battery_swaps, uncovered: &uncovered };
     let trajectory = export::geojson::feature_collection(&field.frame, &sorties, &estimates, resolved.altitude_m, resolved.vehicle.battery.usable_j(), &marks);
     if !split.battery_swaps.is_empty() {

@@ -166,11 +166,17 @@ pub fn covered_area(path: &FlightPath, region: &MultiPolygon) -> f64 {
 /// Pieces of uncovered ground smaller than this are rounding between swaths, not gaps.
 const UNCOVERED_SLIVER_M2: f64 = 1.0;
 
-/// The part of `target` outside every swath of `path`: the clearance band around no-fly zones,
-/// corners the lines do not reach. Slivers under a square metre are left out.
-pub fn uncovered(path: &FlightPath, target: &MultiPolygon) -> MultiPolygon {
+/// The ground under the swaths of `path`: computed once per plan, since the union of many
+/// strips is the costliest step of measuring it.
+pub fn swept(path: &FlightPath) -> MultiPolygon {
     let strips = sweep_strips(path);
-    let rest = if strips.is_empty() { target.clone() } else { target.difference(&geo::unary_union(&strips)) };
+    if strips.is_empty() { MultiPolygon(vec![]) } else { geo::unary_union(&strips) }
+}
+
+/// The part of `target` outside `swept` (see [`swept`]): the clearance band around no-fly
+/// zones, corners the lines do not reach. Slivers under a square metre are left out.
+pub fn uncovered(swept: &MultiPolygon, target: &MultiPolygon) -> MultiPolygon {
+    let rest = if swept.0.is_empty() { target.clone() } else { target.difference(swept) };
     MultiPolygon(rest.0.into_iter().filter(|p| p.unsigned_area() >= UNCOVERED_SLIVER_M2).collect())
 }
 
@@ -193,6 +199,8 @@ pub struct MeasureInput<'a> {
     /// Energy one battery gives above its reserve.
     pub usable_j: f64,
     pub region: &'a MultiPolygon,
+    /// [`swept`] of `path`.
+    pub swept: &'a MultiPolygon,
     pub no_fly_zones: &'a MultiPolygon,
     pub spacing: f64,
     pub sweep_heading_deg: f64,
@@ -206,9 +214,8 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
     let energy_j: f64 = m.estimates.iter().map(PathEstimate::energy_j).sum();
     let area = m.region.unsigned_area();
     let lower_bound_m = area / m.spacing;
-    let strips = sweep_strips(m.path);
-    let (covered, swept) = covered_by(&strips, m.region);
-    let strip_sum: f64 = strips.iter().map(|s| s.unsigned_area()).sum();
+    let strip_sum: f64 = sweep_strips(m.path).iter().map(|s| s.unsigned_area()).sum();
+    let (covered, swept) = if m.swept.0.is_empty() { (0.0, 0.0) } else { (m.region.intersection(m.swept).unsigned_area(), m.swept.unsigned_area()) };
     let photo_coverage_ratio = m.photos.map(|(photos, cam)| {
         let shots: Vec<Polygon> = photos.iter().map(|p| photo_footprint(p, cam.footprint_across_m, cam.footprint_along_m)).collect();
         if area > 0.0 { (covered_by(&shots, m.region).0 / area).min(1.0) } else { 0.0 }

@@ -6,12 +6,12 @@
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 use std::sync::atomic::{AtomicU8, Ordering};
-use std::sync::{Arc, RwLock};
+use std::sync::{Arc, OnceLock, RwLock};
 
 use geo::{Coord, Rect};
 
 use super::visibility::TransitPlanner;
-use crate::turn::dubins::{DubinsPath, Pose, all_words, shortest};
+use crate::turn::dubins::{DubinsPath, Pose, all_words, shortest, to_point_lower_bound};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
 
 pub struct Connector<'a> {
@@ -21,20 +21,23 @@ pub struct Connector<'a> {
     /// Fixed wing: a visibility graph on the zones grown by the turning radius too.
     pub detour: Option<&'a TransitPlanner>,
     /// Fixed wing around zones: the poses a connection may pass through, each detour corner
-    /// in 16 headings.
+    /// in [`VIA_HEADINGS`] headings (pose `i * VIA_HEADINGS + k`: corner `i`, heading `k`).
     via: Vec<Pose>,
     /// The legs from a pose to every via pose, and from every via pose to a pose: a pose's
-    /// row is computed once and serves all its connections.
+    /// row serves all its connections.
     legs_out: Legs,
     legs_in: Legs,
 }
 
 type Legs = RwLock<HashMap<[u64; 3], Arc<LegRow>>>;
 
-/// The legs between one pose and every via pose: their Dubins lengths, and whether each
-/// stays clear of the walls, found out the first time a connection needs to know.
+/// The legs between one pose and every via pose: their Dubins lengths, computed per corner
+/// the first time a connection looks at the corner, and whether each leg stays clear of the
+/// walls, found out the first time a connection needs to know.
 struct LegRow {
-    length: Box<[f64]>,
+    /// Per corner: no leg between the pose and the corner is shorter.
+    bound: Box<[f64]>,
+    length: Box<[OnceLock<Box<[f64; VIA_HEADINGS]>>]>,
     clear: Box<[AtomicU8]>,
 }
 
@@ -160,36 +163,56 @@ impl Connector<'_> {
 
     /// Two clear Dubins paths through one corner of the detour graph, passed in one of
     /// [`VIA_HEADINGS`] headings: the shortest such pair (the first of equals in corner
-    /// order). Candidates are taken shortest first on the cached lengths, from a heap (sorting
-    /// them all took a third of the planning time around many zones), each leg's clearance
-    /// found out once per pose and via pose.
+    /// order). Best first from a heap: the shortest ways to a corner and on from it, in any
+    /// heading ([`to_point_lower_bound`]), bound its legs from below, so only corners that can
+    /// still win get their Dubins legs computed (every leg of every corner for every pose was
+    /// most of the planning time around many zones); each leg's clearance is found out once
+    /// per pose and via pose.
     fn via_corner(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
         if self.via.is_empty() {
             return None;
         }
-        let out = self.legs(&self.legs_out, from, |via| shortest(from, via, r).length());
-        let into = self.legs(&self.legs_in, to, |via| shortest(via, to, r).length());
+        // a leg into `to` is the reverse of one from `to` flown backwards
+        let out = self.legs(&self.legs_out, from, r);
+        let into = self.legs(&self.legs_in, to.reversed(), r);
         // legs already known to be blocked (rows serve every connection of their pose) are left
-        // out; lengths are never negative, so their bits order as they do
+        // out; lengths are never negative, so their bits order as they do. Entries: (length
+        // bits, 0 for a via pose or 1 for a corner not yet looked at, via pose or corner).
         let open = |row: &LegRow, k: usize| row.clear[k].load(Ordering::Relaxed) != BLOCKED;
-        let mut shortest_first: BinaryHeap<Reverse<(u64, usize)>> =
-            (0..self.via.len()).filter(|&k| open(&out, k) && open(&into, k)).map(|k| Reverse(((out.length[k] + into.length[k]).to_bits(), k))).collect();
-        let k = std::iter::from_fn(|| shortest_first.pop()).map(|Reverse((_, k))| k).find(|&k| {
-            let via = self.via[k];
-            self.is_leg_clear(&out, k, || self.is_word_clear(shortest(from, via, r), via)) && self.is_leg_clear(&into, k, || self.is_word_clear(shortest(via, to, r), to))
-        })?;
-        let mut points = word_points(shortest(from, self.via[k], r), self.via[k]);
-        points.extend_from_slice(&word_points(shortest(self.via[k], to, r), to)[1..]);
-        Some(points)
+        let corners = self.via.len() / VIA_HEADINGS;
+        let mut shortest_first: BinaryHeap<Reverse<(u64, u8, usize)>> = (0..corners).map(|i| Reverse(((out.bound[i] + into.bound[i]).to_bits(), 1, i))).collect();
+        while let Some(Reverse((_, corner, at))) = shortest_first.pop() {
+            if corner == 1 {
+                let poses = at * VIA_HEADINGS..(at + 1) * VIA_HEADINGS;
+                let legs_out = out.length[at].get_or_init(|| Box::new(std::array::from_fn(|k| shortest(from, self.via[poses.start + k], r).length())));
+                let legs_in = into.length[at].get_or_init(|| Box::new(std::array::from_fn(|k| shortest(self.via[poses.start + k], to, r).length())));
+                for (k, via) in poses.enumerate().filter(|&(_, via)| open(&out, via) && open(&into, via)) {
+                    shortest_first.push(Reverse(((legs_out[k] + legs_in[k]).to_bits(), 0, via)));
+                }
+                continue;
+            }
+            let via = self.via[at];
+            if self.is_leg_clear(&out, at, || self.is_word_clear(shortest(from, via, r), via)) && self.is_leg_clear(&into, at, || self.is_word_clear(shortest(via, to, r), to)) {
+                let mut points = word_points(shortest(from, via, r), via);
+                points.extend_from_slice(&word_points(shortest(via, to, r), to)[1..]);
+                return Some(points);
+            }
+        }
+        None
     }
 
-    /// The row of `pose` in `legs`: `length(via)` for every via pose, computed on first use.
-    fn legs(&self, legs: &Legs, pose: Pose, length: impl Fn(Pose) -> f64) -> Arc<LegRow> {
+    /// The row of `pose` in `legs`, made on first use.
+    fn legs(&self, legs: &Legs, pose: Pose, r: f64) -> Arc<LegRow> {
         let key = [pose.x.to_bits(), pose.y.to_bits(), pose.theta.to_bits()];
         if let Some(row) = legs.read().unwrap_or_else(|e| e.into_inner()).get(&key) {
             return row.clone();
         }
-        let row = Arc::new(LegRow { length: self.via.iter().map(|&v| length(v)).collect(), clear: self.via.iter().map(|_| AtomicU8::new(UNKNOWN)).collect() });
+        let corners: Vec<Coord> = self.via.iter().step_by(VIA_HEADINGS).map(Pose::coord).collect();
+        let row = Arc::new(LegRow {
+            bound: corners.iter().map(|&c| to_point_lower_bound(pose, c, r)).collect(),
+            length: corners.iter().map(|_| OnceLock::new()).collect(),
+            clear: self.via.iter().map(|_| AtomicU8::new(UNKNOWN)).collect(),
+        });
         legs.write().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(row).clone()
     }
 

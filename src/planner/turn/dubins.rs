@@ -175,6 +175,33 @@ pub fn shortest(q0: Pose, q1: Pose, r: f64) -> DubinsPath {
         .expect("LSL or RSR is always feasible")
 }
 
+/// A lower bound of the shortest path from `q0` to the point `p` arriving in any heading
+/// (so of every [`shortest`] path from `q0` to a pose at `p`). Such a path is a turn then a
+/// straight line (tangent from a turning circle) when `p` lies outside that circle, or two
+/// turns, never shorter than the straight distance, when it lies inside one (Bui, Souères,
+/// Boissonnat and Laumond 1994): the least of the tangent paths that exist and, when `p`
+/// is inside a circle, the straight distance.
+pub fn to_point_lower_bound(q0: Pose, p: Coord, r: f64) -> f64 {
+    let (sin0, cos0) = q0.theta.sin_cos();
+    let mut best = f64::INFINITY;
+    for sigma in [1.0, -1.0] {
+        let centre = Coord { x: q0.x - sigma * r * sin0, y: q0.y + sigma * r * cos0 };
+        let (dx, dy) = (p.x - centre.x, p.y - centre.y);
+        let d = dx.hypot(dy);
+        if d <= r {
+            best = best.min((p.x - q0.x).hypot(p.y - q0.y));
+            continue;
+        }
+        // the tangent point's angle on the circle, and the arc turned to reach it
+        let tangent = dy.atan2(dx) - sigma * (r / d).acos();
+        let start = (q0.y - centre.y).atan2(q0.x - centre.x);
+        let arc = mod2pi(sigma * (tangent - start));
+        let arc = if arc > TAU - 1e-9 { 0.0 } else { arc };
+        best = best.min(r * arc + (d * d - r * r).sqrt());
+    }
+    best
+}
+
 /// The pose reached after `s` metres of `part`, from `from`.
 fn advance(from: Pose, part: Part, s: f64, r: f64) -> Pose {
     match part {
@@ -280,6 +307,28 @@ mod tests {
         /// The pose where the path ends (by following its parts).
         fn end_pose(&self) -> Pose {
             self.segments().iter().fold(self.start, |q, &(part, s)| advance(q, part, s, self.radius))
+        }
+    }
+
+    proptest! {
+        /// The point bound is a bound: below the shortest path to the point in every heading
+        /// tried, and within a metre of the best of 360 headings (it is the exact minimum).
+        #[test]
+        fn the_point_bound_is_below_every_heading_and_tight(
+            x in -300.0..300.0f64, y in -300.0..300.0f64, theta in 0.0..TAU, r in 5.0..90.0f64,
+        ) {
+            let q0 = Pose::new(0.0, 0.0, theta);
+            let p = Coord { x, y };
+            let bound = to_point_lower_bound(q0, p, r);
+            let best = (0..360).map(|k| shortest(q0, Pose::at(p, (k as f64).to_radians()), r).length()).fold(f64::INFINITY, f64::min);
+            prop_assert!(bound <= best + 1e-6, "bound {bound} above {best}");
+            prop_assert!(bound >= x.hypot(y) - 1e-9);
+            // outside both circles the bound is the exact tangent path
+            let outside = [1.0, -1.0].iter().all(|s: &f64| (x + s * r * theta.sin()).hypot(y - s * r * theta.cos()) > r + 1.0);
+            if outside {
+                // (the headings tried are a degree apart)
+                prop_assert!(best - bound < 1.0 + 0.02 * r, "bound {bound} far below {best}");
+            }
         }
     }
 

@@ -30,7 +30,8 @@ pub fn lower_bound(inst: &Instance) -> f64 {
 
 /// Cheapest step between clusters, `(m + 1)²` row-major, index `m` standing for the start
 /// (as a row) and the end (as a column): from cluster `i` to cluster `j`, the cheapest
-/// connection between their nodes plus flying the node entered.
+/// connection between their nodes (on its floor: a bound need not price every pair) plus
+/// flying the node entered.
 fn cluster_steps(inst: &Instance) -> Vec<f64> {
     let m = inst.clusters.len();
     let size = m + 1;
@@ -38,7 +39,7 @@ fn cluster_steps(inst: &Instance) -> Vec<f64> {
     for (j, to) in inst.clusters.iter().enumerate() {
         steps[m * size + j] = to.iter().map(|&v| inst.start(v) + inst.node_cost[v]).fold(f64::INFINITY, f64::min);
         for (i, from) in inst.clusters.iter().enumerate().filter(|&(i, _)| i != j) {
-            steps[i * size + j] = from.iter().flat_map(|&u| to.iter().map(move |&v| (u, v))).map(|(u, v)| inst.c(u, v) + inst.node_cost[v]).fold(f64::INFINITY, f64::min);
+            steps[i * size + j] = from.iter().flat_map(|&u| to.iter().map(move |&v| (u, v))).map(|(u, v)| inst.floor(u, v) + inst.node_cost[v]).fold(f64::INFINITY, f64::min);
         }
     }
     for (i, from) in inst.clusters.iter().enumerate() {

@@ -37,7 +37,7 @@ impl Neighbours {
                     Some(c) => Box::new(c[u].iter().copied().filter(|&v| of[v] != of[u])),
                     None => Box::new((0..n).filter(|&v| of[v] != of[u])),
                 };
-                ranked(&mut others, &|v| inst.c(u, v))
+                ranked(&mut others, &|v| inst.floor(u, v))
             })
             .collect();
         let first = ranked(&mut (0..n), &|v| inst.start(v) + inst.node_cost[v]);
@@ -179,21 +179,26 @@ impl Tour<'_, '_> {
         None
     }
 
-    /// Reverses `seq[i..=j]` if that improves the total: priced on its two new links first,
-    /// then exactly.
+    /// Reverses `seq[i..=j]` if that improves the total: priced on the floors of its two new
+    /// links first, then of all its new links, then exactly.
     fn reverse(&mut self, i: usize, j: usize) -> Option<Vec<usize>> {
         let inst = self.inst;
         let rev = &inst.reverse;
         let (p, q) = (self.at(i as isize - 1), self.at(j as isize + 1));
         let (a, b) = (self.seq[i], self.seq[j]);
-        let ends = inst.link(p, Some(rev[b])) + inst.link(Some(rev[a]), q) - inst.link(p, Some(a)) - inst.link(Some(b), q);
-        if ends >= -EPS {
+        let gone = inst.link(p, Some(a)) + inst.link(Some(b), q);
+        let ends_floor = inst.link_floor(p, Some(rev[b])) + inst.link_floor(Some(rev[a]), q) - gone;
+        if ends_floor >= -EPS {
             return None;
         }
         let stretch = &self.seq[i..=j];
-        let inside: f64 = stretch.windows(2).map(|w| inst.c(rev[w[1]], rev[w[0]]) - inst.c(w[0], w[1])).sum::<f64>()
-            + stretch.iter().map(|&v| inst.node_cost[rev[v]] - inst.node_cost[v]).sum::<f64>();
-        let delta = ends + inside;
+        let flown: f64 = stretch.iter().map(|&v| inst.node_cost[rev[v]] - inst.node_cost[v]).sum::<f64>() - stretch.windows(2).map(|w| inst.c(w[0], w[1])).sum::<f64>();
+        let reversed = |link: &dyn Fn(usize, usize) -> f64| stretch.windows(2).map(|w| link(rev[w[1]], rev[w[0]])).sum::<f64>();
+        if ends_floor + flown + reversed(&|u, v| inst.floor(u, v)) >= -EPS {
+            return None;
+        }
+        let ends = inst.link(p, Some(rev[b])) + inst.link(Some(rev[a]), q) - gone;
+        let delta = ends + flown + reversed(&|u, v| inst.c(u, v));
         if delta >= -EPS {
             return None;
         }
@@ -219,7 +224,11 @@ impl Tour<'_, '_> {
             let chain: Vec<usize> = self.seq[i..i + len].to_vec();
             let (p, q) = (self.at(i as isize - 1), self.at((i + len) as isize));
             let inner = |c: &[usize]| c.iter().map(|&v| inst.node_cost[v]).sum::<f64>() + c.windows(2).map(|x| inst.c(x[0], x[1])).sum::<f64>();
-            let removed = inst.link(p, Some(chain[0])) + inst.link(Some(chain[len - 1]), q) - inst.link(p, q) + inner(&chain);
+            let inner_floor = |c: &[usize]| c.iter().map(|&v| inst.node_cost[v]).sum::<f64>() + c.windows(2).map(|x| inst.floor(x[0], x[1])).sum::<f64>();
+            // what taking the chain out saves, at most (the new link p → q on its floor), and exactly
+            let kept = inst.link(p, Some(chain[0])) + inst.link(Some(chain[len - 1]), q) + inner(&chain);
+            let removed_at_most = kept - inst.link_floor(p, q);
+            let mut removed = None;
             let options: Vec<Vec<usize>> =
                 if len == 1 { inst.clusters[self.of[chain[0]]].iter().map(|&v| vec![v]).collect() } else { vec![chain.clone(), chain.iter().rev().map(|&v| rev[v]).collect()] };
             // the rest of the sequence without the chain, by index
@@ -238,13 +247,20 @@ impl Tour<'_, '_> {
                     .into_iter()
                     .chain(nb.out[rev[f]].iter().filter_map(|&y| rest_index(rev[y]).map(|k| k + 1)))
                     .chain(nb.out[l].iter().filter_map(|&w| rest_index(w)));
-                let added_inner = inner(moved);
+                let added_inner_floor = inner_floor(moved);
+                let mut added_inner = None;
                 for k in spots {
                     if k == i && moved == &chain {
                         continue;
                     }
                     let (u, w) = (rest_at(k as isize - 1), rest_at(k as isize));
-                    let delta = inst.link(u, Some(f)) + inst.link(Some(l), w) - inst.link(u, w) + added_inner - removed;
+                    let split = inst.link(u, w);
+                    if inst.link_floor(u, Some(f)) + inst.link_floor(Some(l), w) - split + added_inner_floor - removed_at_most >= -EPS {
+                        continue;
+                    }
+                    let removed = *removed.get_or_insert_with(|| kept - inst.link(p, q));
+                    let added_inner = *added_inner.get_or_insert_with(|| inner(moved));
+                    let delta = inst.link(u, Some(f)) + inst.link(Some(l), w) - split + added_inner - removed;
                     if delta < -EPS {
                         let rest = (0..rest_len).map(|x| rest_at(x as isize).expect("in range"));
                         let cand: Vec<usize> = rest.clone().take(k).chain(moved.iter().copied()).chain(rest.skip(k)).collect();

@@ -7,7 +7,8 @@
 //! Deterministic: a fixed-seed generator drives the kicks, ties keep the first minimum.
 //!
 //! Large instances need not price every pair: with [`Costs::Lazy`] and candidate lists, a
-//! connection is computed the first time the search looks at it.
+//! connection is computed the first time the search looks at it, and only when a cheap lower
+//! bound of it ([`Instance::floor`]) leaves the move it belongs to a chance to improve.
 
 mod bound;
 mod held_karp;
@@ -40,12 +41,20 @@ pub struct LazyCosts<'a> {
     table: Vec<Cell<f64>>,
     map: RefCell<HashMap<(usize, usize), f64, foldhash::fast::FixedState>>,
     compute: Box<dyn Fn(usize, usize) -> f64 + 'a>,
+    floor: Box<dyn Fn(usize, usize) -> f64 + 'a>,
 }
 
 impl<'a> Costs<'a> {
-    /// Costs of `n` nodes computed by `compute` when first asked for, `known` ones kept.
-    pub fn lazy(n: usize, known: KnownCosts, compute: impl Fn(usize, usize) -> f64 + 'a) -> Self {
-        let lazy = LazyCosts { n, table: if n <= LAZY_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() }, map: RefCell::default(), compute: Box::new(compute) };
+    /// Costs of `n` nodes computed by `compute` when first asked for, `known` ones kept;
+    /// `floor` is a cheap lower bound of `compute`, what moves are priced on first.
+    pub fn lazy(n: usize, known: KnownCosts, compute: impl Fn(usize, usize) -> f64 + 'a, floor: impl Fn(usize, usize) -> f64 + 'a) -> Self {
+        let lazy = LazyCosts {
+            n,
+            table: if n <= LAZY_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() },
+            map: RefCell::default(),
+            compute: Box::new(compute),
+            floor: Box::new(floor),
+        };
         for ((u, v), c) in known {
             lazy.keep(u, v, c);
         }
@@ -63,12 +72,17 @@ impl LazyCosts<'_> {
         }
     }
 
-    fn get(&self, u: usize, v: usize) -> f64 {
-        let known = match self.table.get(u * self.n + v) {
+    fn known(&self, u: usize, v: usize) -> Option<f64> {
+        match self.table.get(u * self.n + v) {
             Some(cell) => Some(cell.get()).filter(|c| !c.is_nan()),
             None => self.map.borrow().get(&(u, v)).copied(),
-        };
-        known.unwrap_or_else(|| {
+        }
+    }
+
+    /// The cost from `u` to `v`, computed unless it or its twin (`rev v` to `rev u`: the same
+    /// connection flown backwards, of the same length) is known.
+    fn get(&self, u: usize, v: usize, reverse: &[usize]) -> f64 {
+        self.known(u, v).or_else(|| self.known(reverse[v], reverse[u])).unwrap_or_else(|| {
             let c = (self.compute)(u, v);
             self.keep(u, v, c);
             c
@@ -127,7 +141,15 @@ impl Instance<'_> {
     pub fn c(&self, u: usize, v: usize) -> f64 {
         match &self.cost {
             Costs::Dense(cost) => cost[u * self.n() + v],
-            Costs::Lazy(lazy) => lazy.get(u, v),
+            Costs::Lazy(lazy) => lazy.get(u, v, &self.reverse),
+        }
+    }
+
+    /// A lower bound of [`Self::c`], exact when the cost is known, cheap when it is not.
+    pub fn floor(&self, u: usize, v: usize) -> f64 {
+        match &self.cost {
+            Costs::Dense(cost) => cost[u * self.n() + v],
+            Costs::Lazy(lazy) => lazy.known(u, v).or_else(|| lazy.known(self.reverse[v], self.reverse[u])).unwrap_or_else(|| (lazy.floor)(u, v)),
         }
     }
 
@@ -162,6 +184,14 @@ impl Instance<'_> {
             (None, Some(v)) => self.start(v),
             (Some(u), None) => self.end(u),
             (None, None) => 0.0,
+        }
+    }
+
+    /// [`Self::link`] on [`Self::floor`].
+    fn link_floor(&self, u: Option<usize>, v: Option<usize>) -> f64 {
+        match (u, v) {
+            (Some(u), Some(v)) => self.floor(u, v),
+            _ => self.link(u, v),
         }
     }
 }
@@ -221,8 +251,25 @@ fn greedy_with(inst: &Instance, nb: &Neighbours, of: &[usize]) -> Vec<usize> {
             seq.push(f);
         }
         while seq.len() < m {
-            let step = |w: usize| inst.link(seq.last().copied(), Some(w)) + inst.node_cost[w];
-            let cheapest = |it: &mut dyn Iterator<Item = usize>| it.filter(|&w| !done[of[w]]).min_by(|&a, &b| step(a).total_cmp(&step(b)));
+            let last = seq.last().copied();
+            // the first of the cheapest unvisited nodes, exact costs computed in the order of
+            // their floors until no floor can match the best
+            let cheapest = |it: &mut dyn Iterator<Item = usize>| -> Option<usize> {
+                let mut open: Vec<(f64, usize, usize)> =
+                    it.filter(|&w| !done[of[w]]).enumerate().map(|(at, w)| (inst.link_floor(last, Some(w)) + inst.node_cost[w], at, w)).collect();
+                open.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                let mut best: Option<(f64, usize, usize)> = None;
+                for (floor, at, w) in open {
+                    if best.is_some_and(|(cost, _, _)| floor > cost) {
+                        break;
+                    }
+                    let cost = inst.link(last, Some(w)) + inst.node_cost[w];
+                    if best.is_none_or(|(c, a, _)| cost.total_cmp(&c).then(at.cmp(&a)).is_lt()) {
+                        best = Some((cost, at, w));
+                    }
+                }
+                best.map(|(_, _, w)| w)
+            };
             let near: &[usize] = match seq.last() {
                 Some(&u) => &nb.out[u],
                 None => &nb.first,

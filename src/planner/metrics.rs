@@ -149,13 +149,22 @@ fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
     path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).filter_map(|p| swath(&p.points, p.half_swath_m)).collect()
 }
 
-/// The area of `region` inside the union of `shapes`, and the area of that union.
-fn covered_by(shapes: &[Polygon], region: &MultiPolygon) -> (f64, f64) {
-    if shapes.is_empty() {
+/// The union of `shapes` (empty without shapes).
+fn union_of(shapes: &[Polygon]) -> MultiPolygon {
+    if shapes.is_empty() { MultiPolygon(vec![]) } else { geo::unary_union(shapes) }
+}
+
+/// The area of `region` inside `union`, and the area of `union`.
+fn under(union: &MultiPolygon, region: &MultiPolygon) -> (f64, f64) {
+    if union.0.is_empty() {
         return (0.0, 0.0);
     }
-    let union = geo::unary_union(shapes);
-    (region.intersection(&union).unsigned_area(), union.unsigned_area())
+    (region.intersection(union).unsigned_area(), union.unsigned_area())
+}
+
+/// The area of `region` inside the union of `shapes`, and the area of that union.
+fn covered_by(shapes: &[Polygon], region: &MultiPolygon) -> (f64, f64) {
+    under(&union_of(shapes), region)
 }
 
 /// The area of `region` under the swaths of `path`, in m².
@@ -169,8 +178,7 @@ const UNCOVERED_SLIVER_M2: f64 = 1.0;
 /// The ground under the swaths of `path`: computed once per plan, since the union of many
 /// strips is the costliest step of measuring it.
 pub fn swept(path: &FlightPath) -> MultiPolygon {
-    let strips = sweep_strips(path);
-    if strips.is_empty() { MultiPolygon(vec![]) } else { geo::unary_union(&strips) }
+    union_of(&sweep_strips(path))
 }
 
 /// The part of `target` outside `swept` (see [`swept`]): the clearance band around no-fly
@@ -215,7 +223,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
     let area = m.region.unsigned_area();
     let lower_bound_m = area / m.spacing;
     let strip_sum: f64 = sweep_strips(m.path).iter().map(|s| s.unsigned_area()).sum();
-    let (covered, swept) = if m.swept.0.is_empty() { (0.0, 0.0) } else { (m.region.intersection(m.swept).unsigned_area(), m.swept.unsigned_area()) };
+    let (covered, swept) = under(m.swept, m.region);
     let photo_coverage_ratio = m.photos.map(|(photos, cam)| {
         let shots: Vec<Polygon> = photos.iter().map(|p| photo_footprint(p, cam.footprint_across_m, cam.footprint_along_m)).collect();
         if area > 0.0 { (covered_by(&shots, m.region).0 / area).min(1.0) } else { 0.0 }

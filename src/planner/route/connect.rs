@@ -207,10 +207,9 @@ impl Connector<'_> {
         if let Some(row) = legs.read().unwrap_or_else(|e| e.into_inner()).get(&key) {
             return row.clone();
         }
-        let corners: Vec<Coord> = self.via.iter().step_by(VIA_HEADINGS).map(Pose::coord).collect();
         let row = Arc::new(LegRow {
-            bound: corners.iter().map(|&c| to_point_lower_bound(pose, c, r)).collect(),
-            length: corners.iter().map(|_| OnceLock::new()).collect(),
+            bound: self.via.iter().step_by(VIA_HEADINGS).map(|c| to_point_lower_bound(pose, c.coord(), r)).collect(),
+            length: (0..self.via.len() / VIA_HEADINGS).map(|_| OnceLock::new()).collect(),
             clear: self.via.iter().map(|_| AtomicU8::new(UNKNOWN)).collect(),
         });
         legs.write().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(row).clone()

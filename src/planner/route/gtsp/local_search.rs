@@ -223,8 +223,10 @@ impl Tour<'_, '_> {
             }
             let chain: Vec<usize> = self.seq[i..i + len].to_vec();
             let (p, q) = (self.at(i as isize - 1), self.at((i + len) as isize));
-            let inner = |c: &[usize]| c.iter().map(|&v| inst.node_cost[v]).sum::<f64>() + c.windows(2).map(|x| inst.c(x[0], x[1])).sum::<f64>();
-            let inner_floor = |c: &[usize]| c.iter().map(|&v| inst.node_cost[v]).sum::<f64>() + c.windows(2).map(|x| inst.floor(x[0], x[1])).sum::<f64>();
+            let inner_on =
+                |c: &[usize], link: &dyn Fn(usize, usize) -> f64| c.iter().map(|&v| inst.node_cost[v]).sum::<f64>() + c.windows(2).map(|x| link(x[0], x[1])).sum::<f64>();
+            let inner = |c: &[usize]| inner_on(c, &|u, v| inst.c(u, v));
+            let inner_floor = |c: &[usize]| inner_on(c, &|u, v| inst.floor(u, v));
             // what taking the chain out saves, at most (the new link p → q on its floor), and exactly
             let kept = inst.link(p, Some(chain[0])) + inst.link(Some(chain[len - 1]), q) + inner(&chain);
             let removed_at_most = kept - inst.link_floor(p, q);

@@ -79,10 +79,15 @@ impl LazyCosts<'_> {
         }
     }
 
-    /// The cost from `u` to `v`, computed unless it or its twin (`rev v` to `rev u`: the same
-    /// connection flown backwards, of the same length) is known.
+    /// The cost from `u` to `v` when it or its twin (`rev v` to `rev u`: the same connection
+    /// flown backwards, of the same length) is known.
+    fn known_either_way(&self, u: usize, v: usize, reverse: &[usize]) -> Option<f64> {
+        self.known(u, v).or_else(|| self.known(reverse[v], reverse[u]))
+    }
+
+    /// The cost from `u` to `v`, computed unless known either way.
     fn get(&self, u: usize, v: usize, reverse: &[usize]) -> f64 {
-        self.known(u, v).or_else(|| self.known(reverse[v], reverse[u])).unwrap_or_else(|| {
+        self.known_either_way(u, v, reverse).unwrap_or_else(|| {
             let c = (self.compute)(u, v);
             self.keep(u, v, c);
             c
@@ -149,7 +154,7 @@ impl Instance<'_> {
     pub fn floor(&self, u: usize, v: usize) -> f64 {
         match &self.cost {
             Costs::Dense(cost) => cost[u * self.n() + v],
-            Costs::Lazy(lazy) => lazy.known(u, v).or_else(|| lazy.known(self.reverse[v], self.reverse[u])).unwrap_or_else(|| (lazy.floor)(u, v)),
+            Costs::Lazy(lazy) => lazy.known_either_way(u, v, &self.reverse).unwrap_or_else(|| (lazy.floor)(u, v)),
         }
     }
 

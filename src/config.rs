@@ -4,6 +4,7 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::time::Duration;
 
+use crate::jobs::QueueSettings;
 use crate::planner::FieldLimits;
 
 #[derive(Debug, Clone)]
@@ -17,8 +18,8 @@ pub struct Config {
     pub limits: FieldLimits,
     /// How long running plans may take to finish at shutdown before they are requeued.
     pub shutdown_grace: Duration,
-    /// Test knob: hold each claimed job this long before planning.
-    pub job_start_delay: Duration,
+    /// Jobs' time limit (and the test knob that holds each claimed job before planning).
+    pub queue: QueueSettings,
     /// Map tiles for the page (a Leaflet URL template); `None`: no tiles, the page works offline.
     pub tile_url: Option<String>,
     pub tile_attribution: Option<String>,
@@ -35,7 +36,7 @@ impl Config {
             max_body_bytes: 5 * 1024 * 1024,
             limits: FieldLimits::default(),
             shutdown_grace: Duration::from_secs(30),
-            job_start_delay: Duration::ZERO,
+            queue: QueueSettings::default(),
             tile_url: None,
             tile_attribution: None,
         }

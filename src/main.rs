@@ -11,8 +11,9 @@ use clap::{Parser, Subcommand};
 use serde_json::Value;
 
 use coverplan::config::{Config, database_url};
+use coverplan::jobs::QueueSettings;
 use coverplan::planner::export::{self, ExportOptions, ExportRequest, Firmware};
-use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanParams, import};
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanParams, Stop, import};
 
 #[derive(Parser)]
 #[command(name = "coverplan", version, about = "Coverage path planning for drones and farm vehicles")]
@@ -113,6 +114,9 @@ struct ServeArgs {
     /// Attribution shown with the tiles.
     #[arg(long, env = "COVERPLAN_TILE_ATTRIBUTION", default_value = "© OpenStreetMap contributors")]
     tile_attribution: String,
+    /// Longest time a plan may take, in seconds; a plan's `time_limit_s` may only shorten it.
+    #[arg(long, env = "COVERPLAN_JOB_TIMEOUT_S", default_value_t = 120.0)]
+    job_timeout_s: f64,
     /// Test knob: hold each job this many milliseconds before planning.
     #[arg(long, env = "COVERPLAN_JOB_START_DELAY_MS", default_value_t = 0, hide = true)]
     job_start_delay_ms: u64,
@@ -163,7 +167,8 @@ fn serve(args: ServeArgs) -> anyhow::Result<()> {
     config.max_body_bytes = args.max_body_bytes;
     config.limits = FieldLimits { max_area_ha: args.max_area_ha, max_vertices: args.max_vertices, ..FieldLimits::default() };
     config.shutdown_grace = Duration::from_secs(args.shutdown_grace_s);
-    config.job_start_delay = Duration::from_millis(args.job_start_delay_ms);
+    anyhow::ensure!(args.job_timeout_s.is_finite() && args.job_timeout_s >= 1.0, "COVERPLAN_JOB_TIMEOUT_S must be at least 1 (seconds)");
+    config.queue = QueueSettings { time_limit: Duration::from_secs_f64(args.job_timeout_s), start_delay: Duration::from_millis(args.job_start_delay_ms) };
     config.tile_url = Some(args.tile_url).filter(|u| !u.is_empty());
     config.tile_attribution = Some(args.tile_attribution).filter(|a| !a.is_empty());
     tokio::runtime::Runtime::new()?.block_on(coverplan::server::run(config, coverplan::server::shutdown_signal()))
@@ -216,11 +221,15 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         }
         true
     };
-    let output = planner::plan(&geometry, &params, &profiles, &FieldLimits::default(), &progress);
+    let stop = params.time_limit_s.map_or_else(Stop::never, |s| Stop::until(std::time::Instant::now() + Duration::from_secs_f64(s)));
+    let output = planner::plan(&geometry, &params, &profiles, &FieldLimits::default(), &progress, &stop);
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let output = output.map_err(|e| anyhow::anyhow!("{e}"))?;
+    let output = output.map_err(|e| match e {
+        PlanError::Cancelled if stop.timed_out() => anyhow::anyhow!("the plan took longer than its time_limit_s and was stopped"),
+        e => anyhow::anyhow!("{e}"),
+    })?;
     let bytes = if format == "geojson" {
         let mut collection = serde_json::to_value(&output.trajectory)?;
         collection["properties"] = serde_json::to_value(&output.stats)?;

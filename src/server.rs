@@ -28,8 +28,8 @@ pub async fn serve(listener: TcpListener, config: Config, shutdown: impl Future<
         tracing::warn!(requeued, failed, "plans interrupted by the last stop");
     }
     let limits = config.limits;
-    let runner: Runner = Arc::new(move |job, progress| jobs::plan_job(job, &limits, progress));
-    let (queue, workers) = JobQueue::start(db.clone(), config.workers, runner, config.job_start_delay);
+    let runner: Runner = Arc::new(move |job, progress, stop| jobs::plan_job(job, &limits, progress, stop));
+    let (queue, workers) = JobQueue::start(db.clone(), config.workers, runner, config.queue);
     let grace = config.shutdown_grace;
     let state = AppState { db: db.clone(), jobs: queue.clone(), config: Arc::new(config) };
     tracing::info!(%addr, workers = workers.len(), "coverplan listening");

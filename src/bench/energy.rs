@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use serde_json::{Value, json};
 
-use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams};
+use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams, Stop};
 
 /// A small deterministic generator (xorshift64*), so that every run benches the same fields.
 struct Rng(u64);
@@ -47,7 +47,7 @@ fn geojson(points: &[[f64; 2]]) -> Value {
 fn plan(area: &Value, planner: &str, profiles: &[planner::vehicle::Vehicle]) -> Option<planner::PlanOutput> {
     let params: PlanParams = serde_json::from_value(json!({"planner": planner, "line_spacing_m": 20, "vehicle": {"profile": "iris"}})).expect("params");
     let mission = MissionGeometry { area, no_fly_zones: None, obstacles: None, home: None };
-    planner::plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true).ok()
+    planner::plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never()).ok()
 }
 
 pub fn run(fields_per_row: usize) -> String {

@@ -12,7 +12,7 @@ use serde_json::Value;
 
 use crate::planner::planners::registry;
 use crate::planner::vehicle::{VehicleKind, VehicleParams};
-use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams};
+use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams, Stop};
 
 struct Row {
     holes: usize,
@@ -116,7 +116,7 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
                 reset_peak();
                 let t = Instant::now();
                 let row = &mut rows[holes.min(15)];
-                let Ok(plan) = planner::plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true) else {
+                let Ok(plan) = planner::plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true, &Stop::never()) else {
                     row.refused += 1;
                     continue;
                 };

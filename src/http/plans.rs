@@ -24,6 +24,10 @@ pub async fn create(State(state): State<AppState>, Path(mission_id): Path<String
     let geometry = MissionGeometry { area: &mission.area, no_fly_zones: mission.no_fly_zones.as_ref(), obstacles: mission.obstacles.as_ref(), home: mission.home };
     let profiles = vehicles::profiles(&state.db).await?;
     planner::check_plan(&geometry, &params, &profiles, &state.config.limits)?;
+    let most = state.config.queue.time_limit.as_secs_f64();
+    if params.time_limit_s.is_some_and(|s| s > most) {
+        return Err(ApiError::invalid("parameter_out_of_range", "/time_limit_s", format!("this server plans for at most {most} s; ask for that or less")));
+    }
     // the named profile as it is now: editing it later does not change a queued plan
     let profile = params.vehicle.resolve(&profiles)?;
     let base = profiles.iter().find(|p| p.profile == profile.profile);

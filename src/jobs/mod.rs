@@ -1,6 +1,6 @@
 //! The planning job queue: a pool of workers that claim queued plans from SQLite, run the
-//! planner on blocking threads (off the async runtime), report progress, honour cancellation,
-//! and store the result or the error. A panic in a planner fails that plan only.
+//! planner on blocking threads (off the async runtime), report progress, honour cancellation
+//! and time limits, and store the result or the error. A panic in a planner fails that plan only.
 
 use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -13,11 +13,34 @@ use tokio::sync::{Notify, watch};
 use tokio::task::JoinHandle;
 
 use crate::planner::vehicle::Vehicle;
-use crate::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams};
+use crate::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
 use crate::store::{Db, plans};
 
-/// The function a worker runs for a job: `planner::plan` in production.
-pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress) -> Result<PlanOutput, PlanError> + Send + Sync>;
+/// The function a worker runs for a job: `planner::plan` in production. It should return soon
+/// after its [`Stop`] is raised or times out; a worker that waited [`ABANDON_AFTER`] past the
+/// time limit gives up on it and takes the next job.
+pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress, &Stop) -> Result<PlanOutput, PlanError> + Send + Sync>;
+
+/// How long past its time limit a worker waits for a planner that does not stop before
+/// failing the plan without it (its thread is left to finish on its own).
+pub const ABANDON_AFTER: Duration = Duration::from_millis(500);
+
+/// How the queue runs its jobs.
+#[derive(Debug, Clone, Copy)]
+pub struct QueueSettings {
+    /// The longest any plan may take (`COVERPLAN_JOB_TIMEOUT_S`); a plan's own `time_limit_s`
+    /// may only shorten it.
+    pub time_limit: Duration,
+    /// Holds each job this long after claiming it (a test knob: makes "killed while running"
+    /// reproducible). Zero in production.
+    pub start_delay: Duration,
+}
+
+impl Default for QueueSettings {
+    fn default() -> Self {
+        QueueSettings { time_limit: Duration::from_secs(120), start_delay: Duration::ZERO }
+    }
+}
 
 /// The geometry of a mission snapshot stored with a plan.
 pub fn snapshot_geometry(mission: &Value) -> MissionGeometry<'_> {
@@ -39,14 +62,14 @@ pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
 }
 
 /// Runs a stored job with the real planner.
-pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress) -> Result<PlanOutput, PlanError> {
+pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<PlanOutput, PlanError> {
     let params: PlanParams = serde_json::from_value(job.params.clone()).map_err(|e| PlanError::Infeasible(format!("stored parameters are unreadable: {e}")))?;
     let profiles = snapshot_profiles(&job.mission).map_err(PlanError::Infeasible)?;
-    planner::plan(&snapshot_geometry(&job.mission), &params, &profiles, limits, progress)
+    planner::plan(&snapshot_geometry(&job.mission), &params, &profiles, limits, progress, stop)
 }
 
 struct RunningJob {
-    cancel: Arc<AtomicBool>,
+    stop: Stop,
     requeue: Arc<AtomicBool>,
 }
 
@@ -57,16 +80,14 @@ pub struct JobQueue {
     running: Mutex<HashMap<String, RunningJob>>,
     stopping: watch::Sender<bool>,
     alive: AtomicUsize,
-    /// Holds each job this long after claiming it (a test knob: makes "killed while running"
-    /// reproducible). Zero in production.
-    start_delay: Duration,
+    settings: QueueSettings,
 }
 
 impl JobQueue {
     /// Starts `workers` workers.
-    pub fn start(db: Db, workers: usize, runner: Runner, start_delay: Duration) -> (Arc<JobQueue>, Vec<JoinHandle<()>>) {
+    pub fn start(db: Db, workers: usize, runner: Runner, settings: QueueSettings) -> (Arc<JobQueue>, Vec<JoinHandle<()>>) {
         let queue =
-            Arc::new(JobQueue { db, runner, wake: Notify::new(), running: Mutex::new(HashMap::new()), stopping: watch::channel(false).0, alive: AtomicUsize::new(0), start_delay });
+            Arc::new(JobQueue { db, runner, wake: Notify::new(), running: Mutex::new(HashMap::new()), stopping: watch::channel(false).0, alive: AtomicUsize::new(0), settings });
         let handles = (0..workers.max(1))
             .map(|_| {
                 let q = queue.clone();
@@ -94,7 +115,7 @@ impl JobQueue {
     /// Asks a running job to stop (it was cancelled in the store already).
     pub fn cancel(&self, id: &str) {
         if let Some(job) = self.running.lock().expect("lock").get(id) {
-            job.cancel.store(true, Ordering::SeqCst);
+            job.stop.request();
         }
     }
 
@@ -107,7 +128,7 @@ impl JobQueue {
         if tokio::time::timeout(grace, &mut all).await.is_err() {
             for job in self.running.lock().expect("lock").values() {
                 job.requeue.store(true, Ordering::SeqCst);
-                job.cancel.store(true, Ordering::SeqCst);
+                job.stop.request();
             }
             let _ = tokio::time::timeout(Duration::from_secs(10), all).await;
         }
@@ -136,34 +157,44 @@ impl JobQueue {
         }
     }
 
+    /// The time this job may take: the queue's limit, or the plan's own when shorter.
+    fn time_limit(&self, job: &plans::Job) -> Duration {
+        let asked = job.params.get("time_limit_s").and_then(Value::as_f64).filter(|s| s.is_finite() && *s > 0.0).map(Duration::from_secs_f64);
+        asked.map_or(self.settings.time_limit, |a| a.min(self.settings.time_limit))
+    }
+
     async fn run(&self, job: plans::Job) {
-        let cancel = Arc::new(AtomicBool::new(false));
+        let limit = self.time_limit(&job);
+        let started = tokio::time::Instant::now();
+        let stop = Stop::until(started.into_std() + self.settings.start_delay + limit);
         let requeue = Arc::new(AtomicBool::new(false));
-        self.running.lock().expect("lock").insert(job.id.clone(), RunningJob { cancel: cancel.clone(), requeue: requeue.clone() });
+        self.running.lock().expect("lock").insert(job.id.clone(), RunningJob { stop: stop.clone(), requeue: requeue.clone() });
         let progress = Arc::new(AtomicU64::new(0f64.to_bits()));
         let id = job.id.clone();
-        tracing::info!(plan = %id, "plan started");
+        tracing::info!(plan = %id, time_limit_s = limit.as_secs_f64(), "plan started");
         let task = {
-            let (runner, progress, cancel, delay) = (self.runner.clone(), progress.clone(), cancel.clone(), self.start_delay);
+            let (runner, progress, stop, delay) = (self.runner.clone(), progress.clone(), stop.clone(), self.settings.start_delay);
             tokio::task::spawn_blocking(move || {
                 let report = |f: f64| {
                     progress.store(f.clamp(0.0, 1.0).to_bits(), Ordering::Relaxed);
-                    !cancel.load(Ordering::Relaxed)
+                    !stop.requested()
                 };
                 let mut waited = Duration::ZERO;
-                while waited < delay && !cancel.load(Ordering::Relaxed) {
+                while waited < delay && !stop.requested() {
                     std::thread::sleep(Duration::from_millis(20));
                     waited += Duration::from_millis(20);
                 }
-                catch_unwind(AssertUnwindSafe(|| runner(&job, &report)))
+                catch_unwind(AssertUnwindSafe(|| runner(&job, &report, &stop)))
             })
         };
         tokio::pin!(task);
+        let abandon_at = started + self.settings.start_delay + limit + ABANDON_AFTER;
         let mut tick = tokio::time::interval(Duration::from_millis(250));
         let mut reported = 0f64;
         let outcome = loop {
             tokio::select! {
-                out = &mut task => break out,
+                out = &mut task => break Some(out),
+                _ = tokio::time::sleep_until(abandon_at) => break None,
                 _ = tick.tick() => {
                     let p = f64::from_bits(progress.load(Ordering::Relaxed));
                     if p > reported {
@@ -175,29 +206,38 @@ impl JobQueue {
                 }
             }
         };
+        let over_time = format!("the plan took longer than its time limit of {} s and was stopped", limit.as_secs_f64());
+        let timed_out = || plans::fail(&self.db, &id, "time_limit", &over_time);
         let stored = match outcome {
-            Ok(Ok(Ok(output))) => match serde_json::to_value(&output.stats) {
+            None => {
+                tracing::error!(plan = %id, "the planner did not stop at its time limit; its thread was left behind");
+                timed_out().await
+            }
+            Some(Ok(Ok(Ok(output)))) => match serde_json::to_value(&output.stats) {
                 Ok(stats) => {
                     let trajectory = serde_json::to_string(&output.trajectory).unwrap_or_default();
                     plans::succeed(&self.db, &id, &stats, &trajectory).await
                 }
-                Err(e) => plans::fail(&self.db, &id, &format!("the plan's figures could not be stored: {e}")).await,
+                Err(e) => plans::fail(&self.db, &id, "internal", &format!("the plan's figures could not be stored: {e}")).await,
             },
-            Ok(Ok(Err(PlanError::Cancelled))) if requeue.load(Ordering::SeqCst) => plans::requeue(&self.db, &id).await,
-            Ok(Ok(Err(PlanError::Cancelled))) => Ok(()),
-            Ok(Ok(Err(e))) => plans::fail(&self.db, &id, &e.to_string()).await,
-            Ok(Err(panic)) => {
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) if requeue.load(Ordering::SeqCst) => plans::requeue(&self.db, &id).await,
+            // a plan cancelled by its owner is marked so already; one that ran out of time is not
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) if stop.timed_out() => timed_out().await,
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) => Ok(()),
+            Some(Ok(Ok(Err(PlanError::Input(e))))) => plans::fail(&self.db, &id, e.code, &e.to_string()).await,
+            Some(Ok(Ok(Err(e)))) => plans::fail(&self.db, &id, "infeasible", &e.to_string()).await,
+            Some(Ok(Err(panic))) => {
                 let what = panic.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| panic.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown cause".into());
                 tracing::error!(plan = %id, panic = %what, "planner panicked");
-                plans::fail(&self.db, &id, &format!("internal error in the planner ({what}); the plan was not made")).await
+                plans::fail(&self.db, &id, "internal", &format!("internal error in the planner ({what}); the plan was not made")).await
             }
-            Err(e) => plans::fail(&self.db, &id, &format!("the planning task was lost: {e}")).await,
+            Some(Err(e)) => plans::fail(&self.db, &id, "internal", &format!("the planning task was lost: {e}")).await,
         };
         if let Err(e) = stored {
             tracing::error!(plan = %id, error = %e, "the outcome of a plan could not be stored");
         }
         self.running.lock().expect("lock").remove(&id);
-        tracing::info!(plan = %id, "plan ended");
+        tracing::info!(plan = %id, seconds = started.elapsed().as_secs_f64(), "plan ended");
     }
 }
 

@@ -5,7 +5,8 @@
 //! them all):
 //!
 //! - [`error`], `archive` (zips and XML from outside, read with limits), [`geom`], [`frame`]
-//!   (WGS84 ⇄ local metres), [`path`] (the flight path): the vocabulary every stage shares;
+//!   (WGS84 ⇄ local metres), [`path`] (the flight path), [`stop`] (cancellation and time
+//!   limits, asked by every long loop): the vocabulary every stage shares;
 //! - `field`: parse, validate and normalise the mission;
 //! - `sweep`: parallel sweep lines over an area, and the width of a shape across a direction;
 //! - `decompose`: cells, each swept by `sweep`'s lines in its own direction;
@@ -42,6 +43,7 @@ pub mod planners;
 mod route;
 pub mod routing_study;
 mod sortie;
+pub mod stop;
 mod sweep;
 mod turn;
 pub mod vehicle;
@@ -60,6 +62,7 @@ pub use geojson;
 pub use metrics::Stats;
 pub use params::PlanParams;
 pub use planners::Progress;
+pub use stop::Stop;
 
 use field::Field;
 use geom::polyline_length;
@@ -144,8 +147,32 @@ pub fn check_plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: 
 }
 
 /// Plans `mission` with `params`; `vehicle.profile` names one of `profiles`. `progress` is
-/// called between stages and may cancel.
-pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits, progress: &dyn Progress) -> Result<PlanOutput, PlanError> {
+/// called between stages and may cancel; `stop` is asked inside every long loop and ends the
+/// plan with [`PlanError::Cancelled`] soon after it is raised or its deadline passes.
+pub fn plan(
+    mission: &MissionGeometry<'_>,
+    params: &PlanParams,
+    profiles: &[vehicle::Vehicle],
+    limits: &FieldLimits,
+    progress: &dyn Progress,
+    stop: &Stop,
+) -> Result<PlanOutput, PlanError> {
+    let stopping = |fraction: f64| !stop.requested() && progress.report(fraction);
+    match plan_until(mission, params, profiles, limits, &stopping, stop) {
+        // stages cut short after a stop may fail or return anything: neither is the answer
+        _ if stop.requested() => Err(PlanError::Cancelled),
+        planned => planned,
+    }
+}
+
+fn plan_until(
+    mission: &MissionGeometry<'_>,
+    params: &PlanParams,
+    profiles: &[vehicle::Vehicle],
+    limits: &FieldLimits,
+    progress: &dyn Progress,
+    stop: &Stop,
+) -> Result<PlanOutput, PlanError> {
     let started = Instant::now();
     let Prepared { resolved, planner, field, region, keep_out, walls, start, end } = prepare(mission, params, profiles, limits)?;
     if !progress.report(0.1) {
@@ -158,7 +185,7 @@ pub fn plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehi
         TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), &walls)),
         TurnModel::Straight => None,
     };
-    let connector = Connector::new(turn, &transit, detour.as_ref());
+    let connector = Connector::new(turn, &transit, detour.as_ref()).stopping_on(stop);
     let obstacles = resolved
         .altitude_m
         .filter(|_| !field.obstacles.is_empty())

@@ -82,6 +82,10 @@ pub struct PlanParams {
     /// (default 20); splitting needs the mission's home.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_sorties: Option<u32>,
+    /// Seconds the plan may take, 0.1 to 86 400; past them it fails with `time_limit`. The
+    /// service caps it at its own limit (`COVERPLAN_JOB_TIMEOUT_S`, also the default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_limit_s: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -205,6 +209,9 @@ impl PlanParams {
         let coverage_penalty = within(self.coverage_penalty, 10.0, 0.0, 1000.0, "/coverage_penalty", "")?;
         let nfz_margin_m = self.nfz_margin_m.unwrap_or(10.0);
         check_range(nfz_margin_m, 1.0, 500.0, "/nfz_margin_m", "m")?;
+        if let Some(limit) = self.time_limit_s {
+            check_range(limit, 0.1, 86_400.0, "/time_limit_s", "s")?;
+        }
         let max_sorties = self.max_sorties.unwrap_or(20);
         if !(1..=100).contains(&max_sorties) {
             return Err(InputError::new("parameter_out_of_range", "/max_sorties", format!("{max_sorties} is outside the accepted range [1, 100]")));

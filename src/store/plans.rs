@@ -43,6 +43,10 @@ pub struct Plan {
     pub stats: Option<Value>,
     /// Why the plan failed, in words.
     pub error: Option<String>,
+    /// Why the plan failed, for programs: `time_limit`, `infeasible` (no flyable plan
+    /// exists), `internal`, `interrupted` (the server stopped during it too often), or the
+    /// code of the parameter that is wrong.
+    pub error_code: Option<String>,
     pub created_at: String,
     pub started_at: Option<String>,
     pub finished_at: Option<String>,
@@ -58,6 +62,7 @@ struct PlanRow {
     params: Json<Value>,
     stats: Option<Json<Value>>,
     error: Option<String>,
+    error_code: Option<String>,
     created_at: String,
     started_at: Option<String>,
     finished_at: Option<String>,
@@ -73,6 +78,7 @@ impl From<PlanRow> for Plan {
             params: r.params.0,
             stats: r.stats.map(|j| j.0),
             error: r.error,
+            error_code: r.error_code,
             created_at: r.created_at,
             started_at: r.started_at,
             finished_at: r.finished_at,
@@ -82,7 +88,7 @@ impl From<PlanRow> for Plan {
 
 macro_rules! columns {
     () => {
-        "id, mission_id, status, progress, params, stats, error, created_at, started_at, finished_at"
+        "id, mission_id, status, progress, params, stats, error, error_code, created_at, started_at, finished_at"
     };
 }
 
@@ -187,9 +193,11 @@ pub async fn succeed(db: &Db, id: &str, stats: &Value, trajectory: &str) -> Resu
     tx.commit().await
 }
 
-pub async fn fail(db: &Db, id: &str, error: &str) -> Result<(), sqlx::Error> {
+/// Fails a running plan with a code for programs and words for people.
+pub async fn fail(db: &Db, id: &str, code: &str, error: &str) -> Result<(), sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    sqlx::query(concat!("UPDATE plans SET status = 'failed', error = ?, finished_at = ", crate::sql_now!(), " WHERE id = ? AND status = 'running'"))
+    sqlx::query(concat!("UPDATE plans SET status = 'failed', error_code = ?, error = ?, finished_at = ", crate::sql_now!(), " WHERE id = ? AND status = 'running'"))
+        .bind(code)
         .bind(error)
         .bind(id)
         .execute(&mut *tx)
@@ -222,7 +230,7 @@ pub async fn requeue(db: &Db, id: &str) -> Result<(), sqlx::Error> {
 pub async fn recover_interrupted(db: &Db) -> Result<(u64, u64), sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let failed = sqlx::query(concat!(
-        "UPDATE plans SET status = 'failed', finished_at = ",
+        "UPDATE plans SET status = 'failed', error_code = 'interrupted', finished_at = ",
         crate::sql_now!(),
         ",
             error = 'the server stopped during this plan ' || attempts || ' times; it was not retried again'

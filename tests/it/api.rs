@@ -301,7 +301,7 @@ async fn plans_survive_a_restart() {
 async fn queued_and_running_plans_can_be_cancelled() {
     let app = TestApp::spawn_with(fresh_db_path(), |c| {
         c.workers = 1;
-        c.job_start_delay = std::time::Duration::from_secs(60);
+        c.queue.start_delay = std::time::Duration::from_secs(60);
     })
     .await;
     let id = app.create_mission(&mission_body("real-fields/nl-parcel-b.json")).await;

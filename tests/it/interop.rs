@@ -13,7 +13,7 @@ use std::process::Command;
 
 use coverplan::planner::export::{self, ExportOptions, ExportRequest, Firmware};
 use coverplan::planner::geojson::{FeatureCollection, GeometryValue};
-use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanParams, import};
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanParams, Stop, import};
 use proptest::prelude::*;
 use serde_json::{Value, json};
 
@@ -232,7 +232,7 @@ async fn fields_come_back_where_they_were_zurich_and_the_antimeridian() {
 
 #[tokio::test]
 async fn exports_say_what_is_wrong() {
-    let app = TestApp::spawn_with(common::fresh_db_path(), |c| c.job_start_delay = std::time::Duration::from_secs(60)).await;
+    let app = TestApp::spawn_with(common::fresh_db_path(), |c| c.queue.start_delay = std::time::Duration::from_secs(60)).await;
     let id = app.create_mission(&field_mission()).await;
     let (_, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &json!({"line_spacing_m": 20})).await;
     let plan = plan["id"].as_str().unwrap();
@@ -438,7 +438,7 @@ fn check_every_format(file: &str, fixed_wing: bool, camera: bool) -> Result<(), 
     }
     let mut profiles = planner::vehicle::builtin_profiles();
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
-    let out = planner::plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true).map_err(|e| TestCaseError::fail(format!("{file}: {e}")))?;
+    let out = planner::plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true, &Stop::never()).map_err(|e| TestCaseError::fail(format!("{file}: {e}")))?;
     let request = ExportRequest {
         name: file,
         mission: mission.clone(),

@@ -3,10 +3,11 @@
 use crate::common;
 
 use std::sync::Arc;
-use std::time::Duration;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
-use coverplan::jobs::{self, JobQueue, Runner};
-use coverplan::planner::FieldLimits;
+use coverplan::jobs::{self, JobQueue, QueueSettings, Runner};
+use coverplan::planner::{FieldLimits, PlanError};
 use coverplan::store::{self, missions, plans};
 use serde_json::json;
 
@@ -23,13 +24,13 @@ async fn fresh_mission() -> (store::Db, missions::Mission, serde_json::Value) {
 async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
     let (db, mission, snapshot) = fresh_mission().await;
     // spacing 13 makes this runner panic; anything else plans for real
-    let runner: Runner = Arc::new(|job, progress| {
+    let runner: Runner = Arc::new(|job, progress, stop| {
         if job.params["line_spacing_m"] == json!(13.0) {
             panic!("deliberate failure for the test");
         }
-        jobs::plan_job(job, &FieldLimits::default(), progress)
+        jobs::plan_job(job, &FieldLimits::default(), progress, stop)
     });
-    let (queue, handles) = JobQueue::start(db.clone(), 1, runner, Duration::ZERO);
+    let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
     let bad = plans::create(&db, &mission.id, &json!({"line_spacing_m": 13.0}), &snapshot).await.unwrap();
     let good = plans::create(&db, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot).await.unwrap();
     queue.notify();
@@ -66,4 +67,94 @@ async fn queued_plans_are_claimed_in_the_order_they_were_created() {
         claimed.push(job.id);
     }
     assert_eq!(claimed, created);
+}
+
+/// Polls a plan until it is final; returns it and when it became so.
+async fn wait_final(db: &store::Db, id: &str) -> (plans::Plan, Instant) {
+    for _ in 0..1000 {
+        let p = plans::get(db, id).await.unwrap().unwrap();
+        if p.status.is_final() {
+            return (p, Instant::now());
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    panic!("plan {id} did not finish");
+}
+
+/// A planner that runs until told to stop, and one that never looks: both plans fail with
+/// `time_limit` within a second of the limit, and the single worker then plans the next job.
+#[tokio::test]
+async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
+    let (db, mission, snapshot) = fresh_mission().await;
+    let stopped_when_asked = Arc::new(AtomicBool::new(false));
+    let runner: Runner = {
+        let stopped_when_asked = stopped_when_asked.clone();
+        Arc::new(move |job, progress, stop| match job.params["line_spacing_m"].as_f64() {
+            Some(1.0) => {
+                while !stop.requested() {
+                    std::thread::sleep(Duration::from_millis(5));
+                }
+                stopped_when_asked.store(true, Ordering::SeqCst);
+                Err(PlanError::Cancelled)
+            }
+            Some(2.0) => {
+                std::thread::sleep(Duration::from_secs(6));
+                Err(PlanError::Cancelled)
+            }
+            _ => jobs::plan_job(job, &FieldLimits::default(), progress, stop),
+        })
+    };
+    let limit = Duration::from_secs(1);
+    let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings { time_limit: limit, start_delay: Duration::ZERO });
+    let polite = plans::create(&db, &mission.id, &json!({"line_spacing_m": 1.0}), &snapshot).await.unwrap();
+    let deaf = plans::create(&db, &mission.id, &json!({"line_spacing_m": 2.0, "time_limit_s": 0.5}), &snapshot).await.unwrap();
+    let good = plans::create(&db, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot).await.unwrap();
+    let started = Instant::now();
+    queue.notify();
+    let (polite, polite_done) = wait_final(&db, &polite.id).await;
+    assert_eq!((polite.status, polite.error_code.as_deref()), (plans::PlanStatus::Failed, Some("time_limit")), "{polite:?}");
+    assert!(polite_done - started < limit + Duration::from_secs(1), "stopped {:?} after the start", polite_done - started);
+    assert!(stopped_when_asked.load(Ordering::SeqCst), "the planner saw the stop");
+    // the plan's own, shorter limit; the runner ignores it and is left behind
+    let (deaf, deaf_done) = wait_final(&db, &deaf.id).await;
+    assert_eq!((deaf.status, deaf.error_code.as_deref()), (plans::PlanStatus::Failed, Some("time_limit")), "{deaf:?}");
+    assert!(deaf_done - polite_done < Duration::from_millis(1500), "given up {:?} after it started", deaf_done - polite_done);
+    assert!(deaf.error.unwrap().contains("0.5 s"));
+    let (good, _) = wait_final(&db, &good.id).await;
+    assert_eq!(good.status, plans::PlanStatus::Succeeded, "{good:?}");
+    queue.shutdown(handles, Duration::from_secs(1)).await;
+}
+
+/// Cancelling a running fixed-wing plan around 14 no-fly zones (tens of seconds of work) frees
+/// its worker at once: the plan queued behind it starts within moments.
+#[tokio::test]
+async fn cancelling_a_running_plan_frees_its_worker_at_once() {
+    let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
+    let field = common::fixture("random-fields/h14_00.json");
+    let new = missions::NewMission { name: "h14".into(), area: field["area"].clone(), no_fly_zones: Some(field["no_fly_zones"].clone()), obstacles: None, home: None };
+    let mission = missions::create(&db, &new).await.unwrap();
+    let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones});
+    let runner: Runner = Arc::new(|job, progress, stop| jobs::plan_job(job, &FieldLimits::default(), progress, stop));
+    let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
+    let fixed_wing = json!({"planner": "line_gtsp", "line_spacing_m": 20, "vehicle": {"kind": "fixed_wing", "turn_radius_m": 10}});
+    let long = plans::create(&db, &mission.id, &fixed_wing, &snapshot).await.unwrap();
+    let next = plans::create(&db, &mission.id, &json!({"line_spacing_m": 40}), &snapshot).await.unwrap();
+    queue.notify();
+    tokio::time::sleep(Duration::from_secs(2)).await;
+    assert_eq!(plans::get(&db, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Running);
+    plans::cancel(&db, &long.id).await.unwrap();
+    queue.cancel(&long.id);
+    let cancelled = Instant::now();
+    let freed = loop {
+        if plans::get(&db, &next.id).await.unwrap().unwrap().status != plans::PlanStatus::Queued {
+            break cancelled.elapsed();
+        }
+        assert!(cancelled.elapsed() < Duration::from_secs(10), "the worker is still busy with the cancelled plan");
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    };
+    assert!(freed < Duration::from_secs(1), "the next plan started {freed:?} after the cancellation");
+    let (next, _) = wait_final(&db, &next.id).await;
+    assert_eq!(next.status, plans::PlanStatus::Succeeded);
+    assert_eq!(plans::get(&db, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Cancelled);
+    queue.shutdown(handles, Duration::from_secs(1)).await;
 }

@@ -7,7 +7,7 @@ use crate::common;
 
 use coverplan::planner::frame::LocalFrame;
 use coverplan::planner::planners::registry;
-use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams};
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
 use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Point, Polygon};
 use proptest::prelude::*;
 use serde_json::{Value, json};
@@ -21,7 +21,7 @@ fn plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> PlanOutput {
 /// over its search limit (`instance_too_large`); any other error fails.
 fn try_plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Option<PlanOutput> {
     let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, home: None };
-    match planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true) {
+    match planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()) {
         Ok(out) => Some(out),
         Err(PlanError::Input(e)) if ["planner_not_applicable", "instance_too_large"].contains(&e.code) => None,
         Err(e) => panic!("{} failed: {e}", params.planner),

@@ -173,7 +173,12 @@ struct Search<'g> {
     best: f64,
     best_path: Vec<usize>,
     expansions: u64,
+    /// Asked every [`STOP_CHECK_EVERY`] expansions.
+    stopped: &'g dyn Fn() -> bool,
 }
+
+/// Expansions between two looks at the stop flag (well under a millisecond of search).
+const STOP_CHECK_EVERY: u64 = 4096;
 
 impl Search<'_> {
     /// The closing flight from the last cell straight back to the start.
@@ -195,7 +200,7 @@ impl Search<'_> {
     /// Depth-first branch and bound; `Err` when the expansion budget runs out.
     fn search(&mut self, visited: u64, cost: f64, run_m: f64, last_move: Option<usize>) -> Result<(), ()> {
         self.expansions += 1;
-        if self.expansions > MAX_EXPANSIONS {
+        if self.expansions > MAX_EXPANSIONS || (self.expansions.is_multiple_of(STOP_CHECK_EVERY) && (self.stopped)()) {
             return Err(());
         }
         let n = self.grid.centres.len();
@@ -242,9 +247,10 @@ impl Search<'_> {
 /// A tour's cost and its cells in flight order.
 type Tour = (f64, Vec<usize>);
 
-/// The cheapest tour from `start`, with its cost; `Err` when the budget ran out.
-fn tour_from(grid: &Grid, start: usize) -> Result<Option<Tour>, ()> {
-    let mut s = Search { grid, label: grid.labels(start), start, path: vec![start], best: f64::INFINITY, best_path: Vec::new(), expansions: 0 };
+/// The cheapest tour from `start`, with its cost; `Err` when the budget ran out or the plan
+/// is stopping.
+fn tour_from(grid: &Grid, start: usize, stopped: &dyn Fn() -> bool) -> Result<Option<Tour>, ()> {
+    let mut s = Search { grid, label: grid.labels(start), start, path: vec![start], best: f64::INFINITY, best_path: Vec::new(), expansions: 0, stopped };
     s.search(1u64 << start, 0.0, 0.0, None)?;
     Ok(s.best.is_finite().then_some((s.best, s.best_path)))
 }
@@ -273,7 +279,7 @@ impl Planner for EgCpp {
             return Err(super::no_sweep_lines());
         }
         let from_start = |i: usize| problem.start.map_or(0.0, |s| run_energy(distance(s, grid.centres[i])));
-        let tours: Vec<Result<Option<Tour>, ()>> = (0..grid.centres.len()).into_par_iter().map(|i| tour_from(&grid, i)).collect();
+        let tours: Vec<Result<Option<Tour>, ()>> = (0..grid.centres.len()).into_par_iter().map(|i| tour_from(&grid, i, &|| problem.connector.stopped())).collect();
         if !progress.report(0.8) {
             return Err(PlanError::Cancelled);
         }

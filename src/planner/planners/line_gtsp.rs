@@ -80,7 +80,7 @@ impl Planner for LineGtsp {
         let fields: Vec<MultiPolygon> = problem.region.0.iter().map(|p| MultiPolygon(vec![p.clone()])).collect();
         let open_sky = TransitPlanner::new(&MultiPolygon(vec![]), &MultiPolygon(vec![]));
         let around_zones = problem.transit.has_walls();
-        let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None);
+        let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).stopping_on(&problem.connector.stop());
         let search = Search {
             problem,
             fields: &fields,
@@ -439,7 +439,7 @@ impl Search<'_> {
             }
             let costs: Vec<(f64, Option<Vec<usize>>, usize)> = chunk
                 .par_iter()
-                .filter(|(bound, _)| *bound < best)
+                .filter(|(bound, _)| *bound < best && !self.problem.connector.stopped())
                 .filter_map(|&(_, i)| {
                     let (_, inst) = self.instance(tables, &combos[i])?;
                     let seq = gtsp::quick(&inst);
@@ -463,6 +463,9 @@ impl Search<'_> {
                 ranking.ranked.iter().enumerate().take(self.finalists).filter(|(_, r)| r.seq.is_none()).map(|(i, r)| (i, self.per_field(&r.choice))).collect();
             if open.is_empty() {
                 break;
+            }
+            if self.problem.connector.stopped() {
+                return Err(PlanError::Cancelled);
             }
             let solved: Vec<(usize, Option<Solved>)> = open.into_par_iter().map(|(i, combo)| (i, self.solve_in_full(tables, &combo))).collect();
             for (i, result) in solved {

@@ -11,6 +11,7 @@ use std::sync::{Arc, OnceLock, RwLock};
 use geo::{Coord, Rect};
 
 use super::visibility::TransitPlanner;
+use crate::stop::Stop;
 use crate::turn::dubins::{DubinsPath, Pose, all_words, shortest, to_point_lower_bound};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
 
@@ -27,6 +28,8 @@ pub struct Connector<'a> {
     /// row serves all its connections.
     legs_out: Legs,
     legs_in: Legs,
+    /// Once raised, connections cost nothing to find: none is found.
+    stop: Option<Stop>,
 }
 
 type Legs = RwLock<HashMap<[u64; 3], Arc<LegRow>>>;
@@ -56,14 +59,33 @@ impl<'a> Connector<'a> {
             }
             _ => Vec::new(),
         };
-        Connector { turn, transit, detour, via, legs_out: Legs::default(), legs_in: Legs::default() }
+        Connector { turn, transit, detour, via, legs_out: Legs::default(), legs_in: Legs::default(), stop: None }
+    }
+
+    /// Finds no more connections once `stop` is raised, so that every search built on
+    /// connections winds down within moments.
+    pub fn stopping_on(self, stop: &Stop) -> Self {
+        Connector { stop: Some(stop.clone()), ..self }
     }
 }
 
 impl Connector<'_> {
+    /// True once the plan is to stop.
+    pub fn stopped(&self) -> bool {
+        self.stop.as_ref().is_some_and(Stop::requested)
+    }
+
+    /// What stops this connector, for another one to stop with it.
+    pub fn stop(&self) -> Stop {
+        self.stop.clone().unwrap_or_default()
+    }
+
     /// The shortest connection found, as points from `from` to `to` exactly; `None` when there
-    /// is none.
+    /// is none (or the plan is stopping).
     pub fn path(&self, from: Pose, to: Pose) -> Option<Vec<Coord>> {
+        if self.stopped() {
+            return None;
+        }
         match self.turn {
             TurnModel::Straight => self.transit.path(from.coord(), to.coord()),
             TurnModel::Dubins(r) => self.clear_dubins(from, to, r).or_else(|| self.via_corner(from, to, r)).or_else(|| self.dubins_detour(from, to, r)),
@@ -72,6 +94,9 @@ impl Connector<'_> {
 
     /// Length of [`Connector::path`]; infinite when there is none.
     pub fn length(&self, from: Pose, to: Pose) -> f64 {
+        if self.stopped() {
+            return f64::INFINITY;
+        }
         match self.turn {
             TurnModel::Straight => match self.transit.path(from.coord(), to.coord()) {
                 Some(p) => crate::geom::polyline_length(&p),

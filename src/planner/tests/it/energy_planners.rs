@@ -2,7 +2,7 @@
 //! E-BF (seed 002 §5.1), EG-CPP around a no-fly zone and its limit, `auto`, and sorties.
 
 use coverplan_planner::vehicle::{Vehicle, builtin_profiles};
-use coverplan_planner::{FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, plan};
+use coverplan_planner::{FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop, plan};
 use proptest::prelude::*;
 use serde_json::{Value, json};
 
@@ -29,7 +29,7 @@ fn run(area: &[(f64, f64)], nfz: Option<&[(f64, f64)]>, home: Option<[f64; 2]>, 
     let nfz = nfz.map(|z| json!({"type": "Polygon", "coordinates": [ring(z)]}));
     let params: PlanParams = serde_json::from_value(params).unwrap();
     let mission = MissionGeometry { area: &area, no_fly_zones: nfz.as_ref(), obstacles: None, home };
-    plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true)
+    plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never())
 }
 
 fn regular(n: usize, diameter: f64, turn: f64) -> Vec<(f64, f64)> {

@@ -5,7 +5,7 @@
 //! and `sweep_direction: optimal` keeps to the directions that cover as well as the best.
 
 use coverplan_planner::frame::LocalFrame;
-use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, plan};
+use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop, plan};
 use geo::{Contains, Coord, Point, Polygon, polygon};
 use serde_json::{Value, json};
 
@@ -43,7 +43,7 @@ fn mission(sides: &[&str], penalty: f64) -> (PlanOutput, Vec<Polygon>, LocalFram
     }))
     .unwrap();
     let m = MissionGeometry { area: &area, no_fly_zones: None, obstacles: Some(&obstacles_json), home: None };
-    (plan(&m, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true).expect("planned"), obstacles, frame)
+    (plan(&m, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned"), obstacles, frame)
 }
 
 /// Every exported point above an obstacle is at least its height plus the clearance up, and
@@ -101,7 +101,7 @@ fn field_cut_by_a_zone(params: Value) -> PlanOutput {
     let area = json!({"type": "Polygon", "coordinates": ring(&frame, &field)});
     let zones = json!({"type": "Polygon", "coordinates": ring(&frame, &zone)});
     let m = MissionGeometry { area: &area, no_fly_zones: Some(&zones), obstacles: None, home: None };
-    plan(&m, &serde_json::from_value(params).unwrap(), &unlimited_battery(), &FieldLimits::default(), &|_| true).expect("planned")
+    plan(&m, &serde_json::from_value(params).unwrap(), &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned")
 }
 
 #[test]

@@ -4,7 +4,7 @@
 //! must be full, and the lengths must not change when the mission is moved or rotated.
 
 use coverplan_planner::frame::LocalFrame;
-use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, plan};
+use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop, plan};
 use geo::Coord;
 use proptest::prelude::*;
 use serde_json::{Value, json};
@@ -60,7 +60,7 @@ fn plan_scenario(s: &Scenario, lon: f64, lat: f64, turn_deg: f64, allow_reentry:
     }))
     .unwrap();
     let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, home: None };
-    plan(&mission, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true).expect("planned")
+    plan(&mission, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned")
 }
 
 fn check(s: &Scenario, allow_reentry: bool, thesis_m: f64) -> f64 {

@@ -14,8 +14,11 @@ RUN useradd --system --uid 10001 --home-dir /data coverplan \
     && mkdir -p /data && chown coverplan /data
 WORKDIR /app
 COPY --from=build /src/target/release/coverplan /usr/local/bin/coverplan
+# on a network the server must not run open: it refuses to start until a key exists
+# (docker run --rm -v coverplan-data:/data IMAGE keys create --tenant NAME)
 ENV COVERPLAN_ADDR=0.0.0.0:8080 \
-    COVERPLAN_DATABASE_URL=/data/coverplan.db
+    COVERPLAN_DATABASE_URL=/data/coverplan.db \
+    COVERPLAN_REQUIRE_AUTH=true
 USER coverplan
 VOLUME ["/data"]
 EXPOSE 8080

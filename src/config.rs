@@ -4,6 +4,7 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::time::Duration;
 
+use crate::http::auth::RateLimit;
 use crate::jobs::QueueSettings;
 use crate::planner::FieldLimits;
 
@@ -20,6 +21,12 @@ pub struct Config {
     pub shutdown_grace: Duration,
     /// Jobs' time limit (and the test knob that holds each claimed job before planning).
     pub queue: QueueSettings,
+    /// Refuse to start without API keys (`COVERPLAN_REQUIRE_AUTH`).
+    pub require_auth: bool,
+    /// Plans one tenant may have queued or running at once.
+    pub max_queued: i64,
+    /// Requests per key.
+    pub rate_limit: RateLimit,
     /// Map tiles for the page (a Leaflet URL template); `None`: no tiles, the page works offline.
     pub tile_url: Option<String>,
     pub tile_attribution: Option<String>,
@@ -37,6 +44,9 @@ impl Config {
             limits: FieldLimits::default(),
             shutdown_grace: Duration::from_secs(30),
             queue: QueueSettings::default(),
+            require_auth: false,
+            max_queued: 20,
+            rate_limit: RateLimit { per_second: 100, burst: 200 },
             tile_url: None,
             tile_attribution: None,
         }

@@ -11,9 +11,11 @@ use clap::{Parser, Subcommand};
 use serde_json::Value;
 
 use coverplan::config::{Config, database_url};
+use coverplan::http::auth::RateLimit;
 use coverplan::jobs::QueueSettings;
 use coverplan::planner::export::{self, ExportOptions, ExportRequest, Firmware};
 use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanParams, Stop, import};
+use coverplan::store;
 
 #[derive(Parser)]
 #[command(name = "coverplan", version, about = "Coverage path planning for drones and farm vehicles")]
@@ -72,6 +74,14 @@ enum Command {
         #[arg(long)]
         energy: bool,
     },
+    /// Manage API keys: once any key exists, every API request needs one.
+    Keys {
+        #[command(subcommand)]
+        action: KeysAction,
+        /// SQLite file or URL of the server's database.
+        #[arg(long, env = "COVERPLAN_DATABASE_URL", default_value = "coverplan.db", global = true)]
+        database_url: String,
+    },
     /// Print the OpenAPI document.
     Openapi,
     /// Exit 0 when the local server answers /healthz (for container health checks).
@@ -79,6 +89,24 @@ enum Command {
         #[arg(long, env = "COVERPLAN_ADDR", default_value = "127.0.0.1:8080")]
         addr: SocketAddr,
     },
+}
+
+#[derive(Subcommand)]
+enum KeysAction {
+    /// Make a key for a tenant (created with its first key); prints the key once, alone on the
+    /// last line.
+    Create {
+        /// Letters, digits, `-`, `_` and `.`, up to 64.
+        #[arg(long)]
+        tenant: String,
+        /// May also edit the built-in vehicle profiles and read /metrics.
+        #[arg(long)]
+        admin: bool,
+    },
+    /// List the keys (ids, tenants, never the secrets).
+    List,
+    /// Revoke a key by its id.
+    Revoke { id: String },
 }
 
 #[derive(clap::Args)]
@@ -114,6 +142,15 @@ struct ServeArgs {
     /// Attribution shown with the tiles.
     #[arg(long, env = "COVERPLAN_TILE_ATTRIBUTION", default_value = "© OpenStreetMap contributors")]
     tile_attribution: String,
+    /// Refuse to start while the database has no API key (the Docker image sets it).
+    #[arg(long, env = "COVERPLAN_REQUIRE_AUTH", default_value_t = false, action = clap::ArgAction::Set)]
+    require_auth: bool,
+    /// Plans one tenant may have queued or running at once; more answer 429.
+    #[arg(long, env = "COVERPLAN_MAX_QUEUED", default_value_t = 20)]
+    max_queued: i64,
+    /// Requests per second each API key may send (with bursts of twice as many).
+    #[arg(long, env = "COVERPLAN_RATE_PER_S", default_value_t = 100)]
+    rate_per_s: u32,
     /// Longest time a plan may take, in seconds; a plan's `time_limit_s` may only shorten it.
     #[arg(long, env = "COVERPLAN_JOB_TIMEOUT_S", default_value_t = 120.0)]
     job_timeout_s: f64,
@@ -142,6 +179,7 @@ fn main() -> ExitCode {
             let options = coverplan::bench::Options { planner: planner.as_deref(), repeats, vehicle: vehicle.as_deref(), spacing_m: spacing, fields: &fields };
             coverplan::bench::run(&data, &options).map(|table| print!("{table}"))
         }
+        Command::Keys { action, database_url: url } => tokio::runtime::Runtime::new().map_err(Into::into).and_then(|rt| rt.block_on(keys(action, &database_url(&url)))),
         Command::Openapi => {
             print!("{}", coverplan::http::openapi::document());
             Ok(())
@@ -169,9 +207,37 @@ fn serve(args: ServeArgs) -> anyhow::Result<()> {
     config.shutdown_grace = Duration::from_secs(args.shutdown_grace_s);
     anyhow::ensure!(args.job_timeout_s.is_finite() && args.job_timeout_s >= 1.0, "COVERPLAN_JOB_TIMEOUT_S must be at least 1 (seconds)");
     config.queue = QueueSettings { time_limit: Duration::from_secs_f64(args.job_timeout_s), start_delay: Duration::from_millis(args.job_start_delay_ms) };
+    anyhow::ensure!(args.max_queued >= 1, "COVERPLAN_MAX_QUEUED must be at least 1");
+    config.require_auth = args.require_auth;
+    config.max_queued = args.max_queued;
+    config.rate_limit = RateLimit { per_second: args.rate_per_s.max(1), burst: args.rate_per_s.max(1).saturating_mul(2) };
     config.tile_url = Some(args.tile_url).filter(|u| !u.is_empty());
     config.tile_attribution = Some(args.tile_attribution).filter(|a| !a.is_empty());
     tokio::runtime::Runtime::new()?.block_on(coverplan::server::run(config, coverplan::server::shutdown_signal()))
+}
+
+async fn keys(action: KeysAction, url: &str) -> anyhow::Result<()> {
+    let db = coverplan::store::connect(url).await.with_context(|| format!("opening {url}"))?;
+    match action {
+        KeysAction::Create { tenant, admin } => {
+            anyhow::ensure!(store::keys::valid_tenant(&tenant), "a tenant name has 1 to 64 letters, digits, `-`, `_` or `.`");
+            let (info, key) = store::keys::create(&db, &tenant, admin).await?;
+            println!("key {} for tenant {}{}; it is shown only now:", info.id, info.tenant, if admin { " (admin)" } else { "" });
+            println!("{key}");
+        }
+        KeysAction::List => {
+            println!("{:<12}  {:<24}  {:<5}  {:<24}  revoked", "id", "tenant", "admin", "created");
+            for k in store::keys::list(&db).await? {
+                println!("{:<12}  {:<24}  {:<5}  {:<24}  {}", k.id, k.tenant, k.admin, k.created_at, k.revoked_at.as_deref().unwrap_or("-"));
+            }
+        }
+        KeysAction::Revoke { id } => {
+            anyhow::ensure!(store::keys::revoke(&db, &id).await?, "no key `{id}` that is not revoked already");
+            println!("revoked {id}");
+        }
+    }
+    db.close().await;
+    Ok(())
 }
 
 fn read_json(path: &std::path::Path) -> anyhow::Result<Value> {

@@ -23,6 +23,10 @@ pub async fn run(config: Config, shutdown: impl Future<Output = ()> + Send + 'st
 pub async fn serve(listener: TcpListener, config: Config, shutdown: impl Future<Output = ()> + Send + 'static) -> anyhow::Result<(SocketAddr, anyhow::Result<()>)> {
     let addr = listener.local_addr()?;
     let db = store::connect(&config.database_url).await?;
+    if !store::keys::required(&db).await? {
+        anyhow::ensure!(!config.require_auth, "COVERPLAN_REQUIRE_AUTH is set but the database has no API key: make one with `coverplan keys create --tenant NAME`");
+        tracing::warn!("no API key exists: the server is open, and every request acts for the `default` tenant (make a key with `coverplan keys create` to require keys)");
+    }
     let (requeued, failed) = store::plans::recover_interrupted(&db).await?;
     if requeued + failed > 0 {
         tracing::warn!(requeued, failed, "plans interrupted by the last stop");
@@ -31,7 +35,8 @@ pub async fn serve(listener: TcpListener, config: Config, shutdown: impl Future<
     let runner: Runner = Arc::new(move |job, progress, stop| jobs::plan_job(job, &limits, progress, stop));
     let (queue, workers) = JobQueue::start(db.clone(), config.workers, runner, config.queue);
     let grace = config.shutdown_grace;
-    let state = AppState { db: db.clone(), jobs: queue.clone(), config: Arc::new(config) };
+    let limiter = crate::http::auth::KeyLimiter::new(config.rate_limit);
+    let state = AppState { db: db.clone(), jobs: queue.clone(), config: Arc::new(config), limiter };
     tracing::info!(%addr, workers = workers.len(), "coverplan listening");
     let result = axum::serve(listener, router(state)).with_graceful_shutdown(shutdown).await;
     queue.shutdown(workers, grace).await;

@@ -36,6 +36,12 @@ pub enum ApiError {
         detail: String,
         pointer: Option<String>,
     },
+    /// 429: the caller has too much under way; try again after `retry_after_s`.
+    TooMany {
+        code: &'static str,
+        detail: String,
+        retry_after_s: u64,
+    },
     Internal(String),
 }
 
@@ -84,6 +90,11 @@ impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
         match self {
             ApiError::Client { status, code, detail, pointer } => problem_response(status, code, detail, pointer),
+            ApiError::TooMany { code, detail, retry_after_s } => {
+                let mut response = problem_response(StatusCode::TOO_MANY_REQUESTS, code, detail, None);
+                response.headers_mut().insert(header::RETRY_AFTER, header::HeaderValue::from(retry_after_s));
+                response
+            }
             ApiError::Internal(message) => {
                 tracing::error!(%message, "internal error");
                 problem_response(StatusCode::INTERNAL_SERVER_ERROR, "internal", "the server could not complete the request; it has been logged".into(), None)

@@ -8,6 +8,7 @@ use serde_json::Value;
 use utoipa::{IntoParams, ToSchema};
 
 use super::AppState;
+use super::auth::Caller;
 use super::error::{ApiError, ApiJson, ApiQuery, Problem};
 use crate::planner::{self, MissionGeometry, import};
 use crate::store::missions::{self, Mission, MissionSummary, NewMission};
@@ -48,6 +49,7 @@ impl MissionRequest {
 }
 
 #[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct Page {
     /// 1 to 100 (default 20)
     pub limit: Option<i64>,
@@ -84,13 +86,14 @@ pub struct MissionPage {
 #[utoipa::path(post, operation_id = "create_mission", path = "/api/v1/missions", tag = "missions", request_body = MissionRequest,
     responses((status = 201, body = Mission), (status = 422, body = Problem, content_type = "application/problem+json"),
               (status = 400, body = Problem), (status = 413, body = Problem)))]
-pub async fn create(State(state): State<AppState>, ApiJson(req): ApiJson<MissionRequest>) -> Result<(StatusCode, Json<Mission>), ApiError> {
+pub async fn create(State(state): State<AppState>, caller: Caller, ApiJson(req): ApiJson<MissionRequest>) -> Result<(StatusCode, Json<Mission>), ApiError> {
     let new = req.validate(&state)?;
-    Ok((StatusCode::CREATED, Json(missions::create(&state.db, &new).await?)))
+    Ok((StatusCode::CREATED, Json(missions::create(&state.db, &caller.tenant, &new).await?)))
 }
 
 /// `POST /api/v1/missions/import` options.
 #[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct ImportQuery {
     /// `geojson`, `kml`, `kmz`, `shapefile` (a zip of .shp, .shx, .dbf and .prj), `isoxml`
     /// (TaskData zip or XML) or `plan` (QGroundControl); found from the content when left out.
@@ -111,7 +114,12 @@ pub struct ImportedMission {
     request_body(content = String, content_type = "application/octet-stream", description = "the file, as it is (binary)"),
     responses((status = 201, body = ImportedMission), (status = 400, body = Problem, description = "unknown format, or an unreadable query parameter"),
               (status = 413, body = Problem), (status = 422, body = Problem, description = "the file or a part of it is unreadable or not a valid field")))]
-pub async fn import_file(State(state): State<AppState>, ApiQuery(query): ApiQuery<ImportQuery>, body: axum::body::Bytes) -> Result<(StatusCode, Json<ImportedMission>), ApiError> {
+pub async fn import_file(
+    State(state): State<AppState>,
+    caller: Caller,
+    ApiQuery(query): ApiQuery<ImportQuery>,
+    body: axum::body::Bytes,
+) -> Result<(StatusCode, Json<ImportedMission>), ApiError> {
     if let Some(format) = query.format.as_deref().filter(|f| !import::format_ids().contains(f)) {
         return Err(ApiError::bad_request("unknown_format", "format", format!("no import format `{format}`; known: {}", import::format_ids().join(", "))));
     }
@@ -120,13 +128,13 @@ pub async fn import_file(State(state): State<AppState>, ApiQuery(query): ApiQuer
     let name = query.name.or(imported.name).unwrap_or_else(|| "Imported field".to_owned());
     let request = MissionRequest { name, area: imported.area, no_fly_zones: imported.no_fly_zones, obstacles: imported.obstacles, home: imported.home };
     let new = request.validate(&state)?;
-    let mission = missions::create(&state.db, &new).await?;
+    let mission = missions::create(&state.db, &caller.tenant, &new).await?;
     Ok((StatusCode::CREATED, Json(ImportedMission { mission, warnings: imported.warnings })))
 }
 
 #[utoipa::path(get, operation_id = "list_missions", path = "/api/v1/missions", tag = "missions", params(Page),
     responses((status = 200, body = MissionPage), (status = 400, body = Problem, description = "an unreadable query parameter"), (status = 422, body = Problem)))]
-pub async fn list(State(state): State<AppState>, ApiQuery(page): ApiQuery<Page>) -> Result<Json<MissionPage>, ApiError> {
+pub async fn list(State(state): State<AppState>, caller: Caller, ApiQuery(page): ApiQuery<Page>) -> Result<Json<MissionPage>, ApiError> {
     let limit = page.limit.unwrap_or(20);
     let offset = page.offset.unwrap_or(0);
     if !(1..=100).contains(&limit) {
@@ -136,30 +144,30 @@ pub async fn list(State(state): State<AppState>, ApiQuery(page): ApiQuery<Page>)
         return Err(ApiError::invalid("parameter_out_of_range", "offset", "offset must not be negative"));
     }
     let (items, total) = match page.fields.unwrap_or(Fields::All) {
-        Fields::All => missions::list(&state.db, limit, offset).await.map(|(m, n)| (MissionItems::Missions(m), n))?,
-        Fields::Summary => missions::list_summaries(&state.db, limit, offset).await.map(|(m, n)| (MissionItems::Summaries(m), n))?,
+        Fields::All => missions::list(&state.db, &caller.tenant, limit, offset).await.map(|(m, n)| (MissionItems::Missions(m), n))?,
+        Fields::Summary => missions::list_summaries(&state.db, &caller.tenant, limit, offset).await.map(|(m, n)| (MissionItems::Summaries(m), n))?,
     };
     Ok(Json(MissionPage { items, total, limit, offset }))
 }
 
 #[utoipa::path(get, operation_id = "get_mission", path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
     responses((status = 200, body = Mission), (status = 404, body = Problem)))]
-pub async fn get(State(state): State<AppState>, Path(id): Path<String>) -> Result<Json<Mission>, ApiError> {
-    missions::get(&state.db, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
+pub async fn get(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<Json<Mission>, ApiError> {
+    missions::get(&state.db, &caller.tenant, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
 }
 
 #[utoipa::path(put, operation_id = "update_mission", path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)), request_body = MissionRequest,
     responses((status = 200, body = Mission), (status = 404, body = Problem), (status = 422, body = Problem)))]
-pub async fn update(State(state): State<AppState>, Path(id): Path<String>, ApiJson(req): ApiJson<MissionRequest>) -> Result<Json<Mission>, ApiError> {
+pub async fn update(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiJson(req): ApiJson<MissionRequest>) -> Result<Json<Mission>, ApiError> {
     let new = req.validate(&state)?;
-    missions::update(&state.db, &id, &new).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
+    missions::update(&state.db, &caller.tenant, &id, &new).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
 }
 
 #[utoipa::path(delete, operation_id = "delete_mission", path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
     responses((status = 204, description = "deleted, with its plans"), (status = 404, body = Problem)))]
-pub async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> Result<StatusCode, ApiError> {
-    for plan in crate::store::plans::list_for_mission(&state.db, &id).await? {
+pub async fn delete(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<StatusCode, ApiError> {
+    for plan in crate::store::plans::list_for_mission(&state.db, &caller.tenant, &id).await? {
         state.jobs.cancel(&plan.id);
     }
-    if missions::delete(&state.db, &id).await? { Ok(StatusCode::NO_CONTENT) } else { Err(ApiError::not_found("mission", &id)) }
+    if missions::delete(&state.db, &caller.tenant, &id).await? { Ok(StatusCode::NO_CONTENT) } else { Err(ApiError::not_found("mission", &id)) }
 }

@@ -4,6 +4,7 @@
 //! `#[utoipa::path]`), so no route can go undocumented.
 
 pub mod assets;
+pub mod auth;
 pub mod error;
 pub mod health;
 pub mod missions;
@@ -35,6 +36,7 @@ pub struct AppState {
     pub db: Db,
     pub jobs: Arc<JobQueue>,
     pub config: Arc<Config>,
+    pub limiter: Arc<auth::KeyLimiter>,
 }
 
 /// Every documented route, with the document they make.
@@ -57,7 +59,8 @@ pub fn api() -> OpenApiRouter<AppState> {
 }
 
 pub fn router(state: AppState) -> Router {
-    let (api, document) = api().split_for_parts();
+    let (api, mut document) = api().split_for_parts();
+    openapi::secure(&mut document);
     let no_route = || async { error::ApiError::Client { status: StatusCode::NOT_FOUND, code: "no_route", detail: "no such API route".into(), pointer: None } };
     let router = Router::new().merge(api).route("/api/v1/{*rest}", any(no_route)).merge(SwaggerUi::new("/docs").url("/openapi.json", document));
     // the page: embedded in the binary, or from a folder while developing it
@@ -65,5 +68,9 @@ pub fn router(state: AppState) -> Router {
         Some(dir) => router.fallback_service(ServeDir::new(dir)),
         None => router.fallback(assets::embedded),
     };
-    router.layer(DefaultBodyLimit::max(state.config.max_body_bytes)).layer(TraceLayer::new_for_http()).with_state(state)
+    router
+        .layer(axum::middleware::from_fn_with_state(state.clone(), auth::authenticate))
+        .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
+        .layer(TraceLayer::new_for_http())
+        .with_state(state)
 }

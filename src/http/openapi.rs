@@ -17,5 +17,35 @@ pub struct ApiDoc;
 
 /// The document as the server serves it, pretty-printed.
 pub fn document() -> String {
-    super::api().into_openapi().to_pretty_json().expect("the OpenAPI document serialises") + "\n"
+    let mut doc = super::api().into_openapi();
+    secure(&mut doc);
+    doc.to_pretty_json().expect("the OpenAPI document serialises") + "\n"
+}
+
+/// The scheme every tenant's route needs once the server has keys, and the answers that
+/// authentication and the per-key rate add to each of those routes.
+pub fn secure(doc: &mut utoipa::openapi::OpenApi) {
+    use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityRequirement, SecurityScheme};
+    use utoipa::openapi::{ContentBuilder, Ref, ResponseBuilder};
+    let components = doc.components.get_or_insert_with(Default::default);
+    components.add_security_scheme(
+        "api_key",
+        SecurityScheme::Http(
+            HttpBuilder::new()
+                .scheme(HttpAuthScheme::Bearer)
+                .description(Some("`Authorization: Bearer KEY`, a key from `coverplan keys create`; needed once the server has any key"))
+                .build(),
+        ),
+    );
+    let problem = |description: &str| {
+        ResponseBuilder::new().description(description).content("application/problem+json", ContentBuilder::new().schema(Some(Ref::from_schema_name("Problem"))).build()).build()
+    };
+    for (_, item) in doc.paths.paths.iter_mut().filter(|(path, _)| super::auth::protected(path)) {
+        for operation in [&mut item.get, &mut item.put, &mut item.post, &mut item.delete].into_iter().flatten() {
+            operation.security = Some(vec![SecurityRequirement::new("api_key", Vec::<String>::new())]);
+            let responses = &mut operation.responses.responses;
+            responses.insert("401".into(), problem("no API key, or an unknown or revoked one (the server has keys)").into());
+            responses.entry("429".into()).or_insert_with(|| problem("the key sends requests faster than the server allows (see `Retry-After`)").into());
+        }
+    }
 }

@@ -9,6 +9,7 @@ use serde_json::json;
 use utoipa::IntoParams;
 
 use super::AppState;
+use super::auth::Caller;
 use super::error::{ApiError, ApiJson, ApiQuery, Problem};
 use crate::jobs;
 use crate::planner::export::{self, ExportFile, ExportOptions, ExportRequest, Firmware};
@@ -18,11 +19,17 @@ use crate::store::plans::{self, Plan, PlanStatus};
 use crate::store::{missions, vehicles};
 
 #[utoipa::path(post, operation_id = "create_plan", path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)), request_body = PlanParams,
-    responses((status = 202, body = Plan, description = "queued"), (status = 404, body = Problem), (status = 422, body = Problem)))]
-pub async fn create(State(state): State<AppState>, Path(mission_id): Path<String>, ApiJson(params): ApiJson<PlanParams>) -> Result<(StatusCode, Json<Plan>), ApiError> {
-    let mission = missions::get(&state.db, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
+    responses((status = 202, body = Plan, description = "queued"), (status = 404, body = Problem), (status = 422, body = Problem),
+              (status = 429, body = Problem, description = "too many plans of this tenant's are queued or running (see `Retry-After`)")))]
+pub async fn create(
+    State(state): State<AppState>,
+    caller: Caller,
+    Path(mission_id): Path<String>,
+    ApiJson(params): ApiJson<PlanParams>,
+) -> Result<(StatusCode, Json<Plan>), ApiError> {
+    let mission = missions::get(&state.db, &caller.tenant, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
     let geometry = MissionGeometry { area: &mission.area, no_fly_zones: mission.no_fly_zones.as_ref(), obstacles: mission.obstacles.as_ref(), home: mission.home };
-    let profiles = vehicles::profiles(&state.db).await?;
+    let profiles = vehicles::profiles(&state.db, &caller.tenant).await?;
     planner::check_plan(&geometry, &params, &profiles, &state.config.limits)?;
     let most = state.config.queue.time_limit.as_secs_f64();
     if params.time_limit_s.is_some_and(|s| s > most) {
@@ -33,26 +40,32 @@ pub async fn create(State(state): State<AppState>, Path(mission_id): Path<String
     let base = profiles.iter().find(|p| p.profile == profile.profile);
     let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home, "vehicles": [base]});
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
-    let plan = plans::create(&state.db, &mission_id, &params, &snapshot).await?;
+    let most = state.config.max_queued;
+    let plan = plans::create(&state.db, &caller.tenant, &mission_id, &params, &snapshot, most).await?.ok_or_else(|| ApiError::TooMany {
+        code: "too_many_plans",
+        detail: format!("{most} plans of yours are queued or running, the most this server takes at once: wait for one to finish or cancel one"),
+        retry_after_s: 10,
+    })?;
     state.jobs.notify();
     Ok((StatusCode::ACCEPTED, Json(plan)))
 }
 
 #[utoipa::path(get, operation_id = "list_plans", path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, body = Vec<Plan>, description = "newest first"), (status = 404, body = Problem)))]
-pub async fn list(State(state): State<AppState>, Path(mission_id): Path<String>) -> Result<Json<Vec<Plan>>, ApiError> {
-    missions::get(&state.db, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
-    Ok(Json(plans::list_for_mission(&state.db, &mission_id).await?))
+pub async fn list(State(state): State<AppState>, caller: Caller, Path(mission_id): Path<String>) -> Result<Json<Vec<Plan>>, ApiError> {
+    missions::get(&state.db, &caller.tenant, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
+    Ok(Json(plans::list_for_mission(&state.db, &caller.tenant, &mission_id).await?))
 }
 
 #[utoipa::path(get, operation_id = "get_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, body = Plan), (status = 404, body = Problem)))]
-pub async fn get(State(state): State<AppState>, Path(id): Path<String>) -> Result<Json<Plan>, ApiError> {
-    plans::get(&state.db, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("plan", &id))
+pub async fn get(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<Json<Plan>, ApiError> {
+    plans::get(&state.db, &caller.tenant, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("plan", &id))
 }
 
 /// `GET /api/v1/plans/{id}/trajectory` options.
 #[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 pub struct TrajectoryQuery {
     /// `geojson` (default), `plan` (QGroundControl), `waypoints` (QGC WPL 110 for Mission
     /// Planner and ArduPilot), `kml`, `kmz` (Google Earth), `wpml` (DJI Pilot 2 KMZ) or `isoxml`
@@ -72,7 +85,7 @@ pub struct TrajectoryQuery {
         a MultiPoint of kind `photos` when a camera was given", content_type = "application/geo+json", body = Object),
         (status = 400, body = Problem, description = "unknown format or firmware, or an unreadable query parameter"), (status = 404, body = Problem),
         (status = 409, body = Problem, description = "the plan has no trajectory (yet)"), (status = 422, body = Problem, description = "the format cannot say this plan")))]
-pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>, ApiQuery(query): ApiQuery<TrajectoryQuery>) -> Result<Response, ApiError> {
+pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiQuery(query): ApiQuery<TrajectoryQuery>) -> Result<Response, ApiError> {
     let format = query.format.as_deref().unwrap_or("geojson");
     if export::find(format).is_none() {
         return Err(ApiError::bad_request("unknown_format", "format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))));
@@ -82,7 +95,7 @@ pub async fn trajectory(State(state): State<AppState>, Path(id): Path<String>, A
         Some("px4") => Firmware::Px4,
         Some(other) => return Err(ApiError::bad_request("unknown_firmware", "firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
     };
-    let mut source = plans::export_source(&state.db, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
+    let mut source = plans::export_source(&state.db, &caller.tenant, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
     let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
         let status = json!(source.status);
         return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", status.as_str().unwrap_or("?"))));
@@ -114,8 +127,8 @@ fn export_file(id: &str, format: &str, source: &plans::ExportSource, geojson: &s
 
 #[utoipa::path(delete, operation_id = "cancel_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, body = Plan, description = "cancelled (or already finished: its status says which)"), (status = 404, body = Problem)))]
-pub async fn cancel(State(state): State<AppState>, Path(id): Path<String>) -> Result<Json<Plan>, ApiError> {
-    plans::cancel(&state.db, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
+pub async fn cancel(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<Json<Plan>, ApiError> {
+    plans::cancel(&state.db, &caller.tenant, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
     state.jobs.cancel(&id);
-    plans::get(&state.db, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("plan", &id))
+    plans::get(&state.db, &caller.tenant, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("plan", &id))
 }

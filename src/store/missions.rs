@@ -1,4 +1,5 @@
-//! Missions: a name and the geometry to cover, as the client sent it.
+//! Missions: a name and the geometry to cover, as the client sent it. Each belongs to a
+//! tenant; every query is scoped to one.
 
 use serde::Serialize;
 use serde_json::Value;
@@ -80,12 +81,12 @@ macro_rules! columns {
     };
 }
 
-pub async fn create(db: &Db, m: &NewMission) -> Result<Mission, sqlx::Error> {
+pub async fn create(db: &Db, tenant: &str, m: &NewMission) -> Result<Mission, sqlx::Error> {
     let id = new_id();
     let mut tx = begin_write(db).await?;
     let row: MissionRow = sqlx::query_as(concat!(
-        "INSERT INTO missions (id, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
-         VALUES (?, ?, ?, ?, ?, ?, ?, ",
+        "INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
+         VALUES (?, ?, ?, ?, ?, ?, ?, ?, ",
         crate::sql_now!(),
         ", ",
         crate::sql_now!(),
@@ -93,6 +94,7 @@ pub async fn create(db: &Db, m: &NewMission) -> Result<Mission, sqlx::Error> {
         columns!()
     ))
     .bind(&id)
+    .bind(tenant)
     .bind(&m.name)
     .bind(Json(&m.area))
     .bind(m.no_fly_zones.as_ref().map(Json))
@@ -105,42 +107,48 @@ pub async fn create(db: &Db, m: &NewMission) -> Result<Mission, sqlx::Error> {
     Ok(row.into())
 }
 
-pub async fn get(db: &Db, id: &str) -> Result<Option<Mission>, sqlx::Error> {
-    let row: Option<MissionRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions WHERE id = ?")).bind(id).fetch_optional(db).await?;
+/// A mission of `tenant`'s; another tenant's is `None`, as one that does not exist.
+pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<Mission>, sqlx::Error> {
+    let row: Option<MissionRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions WHERE id = ? AND tenant = ?")).bind(id).bind(tenant).fetch_optional(db).await?;
     Ok(row.map(Into::into))
 }
 
-/// How many missions there are, for the pages' totals.
-async fn count(db: &Db) -> Result<i64, sqlx::Error> {
-    sqlx::query_scalar("SELECT COUNT(*) FROM missions").fetch_one(db).await
+/// How many missions a tenant has, for the pages' totals.
+async fn count(db: &Db, tenant: &str) -> Result<i64, sqlx::Error> {
+    sqlx::query_scalar("SELECT COUNT(*) FROM missions WHERE tenant = ?").bind(tenant).fetch_one(db).await
 }
 
-/// A page of missions, newest first, and the total count.
-pub async fn list(db: &Db, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
-    let rows: Vec<MissionRow> =
-        sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")).bind(limit).bind(offset).fetch_all(db).await?;
-    let total = count(db).await?;
-    Ok((rows.into_iter().map(Into::into).collect(), total))
-}
-
-/// A page of mission summaries, newest first, and the total count.
-pub async fn list_summaries(db: &Db, limit: i64, offset: i64) -> Result<(Vec<MissionSummary>, i64), sqlx::Error> {
-    let rows = sqlx::query_as("SELECT id, name, created_at, updated_at FROM missions ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")
+/// A page of a tenant's missions, newest first, and the total count.
+pub async fn list(db: &Db, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
+    let rows: Vec<MissionRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?"))
+        .bind(tenant)
         .bind(limit)
         .bind(offset)
         .fetch_all(db)
         .await?;
-    let total = count(db).await?;
+    let total = count(db, tenant).await?;
+    Ok((rows.into_iter().map(Into::into).collect(), total))
+}
+
+/// A page of a tenant's mission summaries, newest first, and the total count.
+pub async fn list_summaries(db: &Db, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<MissionSummary>, i64), sqlx::Error> {
+    let rows = sqlx::query_as("SELECT id, name, created_at, updated_at FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")
+        .bind(tenant)
+        .bind(limit)
+        .bind(offset)
+        .fetch_all(db)
+        .await?;
+    let total = count(db, tenant).await?;
     Ok((rows, total))
 }
 
-/// Replaces a mission's content; `None` when there is no such mission.
-pub async fn update(db: &Db, id: &str, m: &NewMission) -> Result<Option<Mission>, sqlx::Error> {
+/// Replaces a mission's content; `None` when the tenant has no such mission.
+pub async fn update(db: &Db, tenant: &str, id: &str, m: &NewMission) -> Result<Option<Mission>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
     let row: Option<MissionRow> = sqlx::query_as(concat!(
         "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ",
         crate::sql_now!(),
-        " WHERE id = ? RETURNING ",
+        " WHERE id = ? AND tenant = ? RETURNING ",
         columns!()
     ))
     .bind(&m.name)
@@ -150,16 +158,17 @@ pub async fn update(db: &Db, id: &str, m: &NewMission) -> Result<Option<Mission>
     .bind(m.home.map(|h| h[0]))
     .bind(m.home.map(|h| h[1]))
     .bind(id)
+    .bind(tenant)
     .fetch_optional(&mut *tx)
     .await?;
     tx.commit().await?;
     Ok(row.map(Into::into))
 }
 
-/// Deletes a mission and its plans; false when there was none.
-pub async fn delete(db: &Db, id: &str) -> Result<bool, sqlx::Error> {
+/// Deletes a mission and its plans; false when the tenant had none.
+pub async fn delete(db: &Db, tenant: &str, id: &str) -> Result<bool, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    let done = sqlx::query("DELETE FROM missions WHERE id = ?").bind(id).execute(&mut *tx).await?;
+    let done = sqlx::query("DELETE FROM missions WHERE id = ? AND tenant = ?").bind(id).bind(tenant).execute(&mut *tx).await?;
     tx.commit().await?;
     Ok(done.rows_affected() > 0)
 }

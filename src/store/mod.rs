@@ -1,7 +1,8 @@
-//! SQLite storage: missions, plans and vehicle profiles. WAL mode; every write transaction starts with
+//! SQLite storage: API keys, missions, plans and vehicle profiles. WAL mode; every write transaction starts with
 //! `BEGIN IMMEDIATE`, so concurrent writers wait for the lock (busy timeout) instead of
 //! failing with "database is locked" when a read transaction tries to upgrade.
 
+pub mod keys;
 pub mod missions;
 pub mod plans;
 pub mod vehicles;

@@ -1,4 +1,5 @@
-//! Plans: rows that are both the job queue and the results.
+//! Plans: rows that are both the job queue and the results. Each belongs to its mission's
+//! tenant; every query a request makes is scoped to one.
 
 use serde::Serialize;
 use serde_json::Value;
@@ -92,34 +93,45 @@ macro_rules! columns {
     };
 }
 
-/// Queues a plan of `mission` (a snapshot of its geometry) with `params`.
-pub async fn create(db: &Db, mission_id: &str, params: &Value, mission: &Value) -> Result<Plan, sqlx::Error> {
+/// Queues a plan of `tenant`'s mission (a snapshot of its geometry) with `params`; `None` when
+/// the tenant has `most_active` plans queued or running already (counted in the same write
+/// transaction, so concurrent requests cannot pass the cap together).
+pub async fn create(db: &Db, tenant: &str, mission_id: &str, params: &Value, mission: &Value, most_active: i64) -> Result<Option<Plan>, sqlx::Error> {
     let id = new_id();
     let mut tx = begin_write(db).await?;
+    let active: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM plans WHERE tenant = ? AND status IN ('queued', 'running')").bind(tenant).fetch_one(&mut *tx).await?;
+    if active >= most_active {
+        return Ok(None);
+    }
     let row: PlanRow = sqlx::query_as(concat!(
-        "INSERT INTO plans (id, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, 'queued', ",
+        "INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, ?, 'queued', ",
         crate::sql_now!(),
         ") RETURNING ",
         columns!()
     ))
     .bind(&id)
+    .bind(tenant)
     .bind(mission_id)
     .bind(Json(params))
     .bind(Json(mission))
     .fetch_one(&mut *tx)
     .await?;
     tx.commit().await?;
-    Ok(row.into())
+    Ok(Some(row.into()))
 }
 
-pub async fn get(db: &Db, id: &str) -> Result<Option<Plan>, sqlx::Error> {
-    let row: Option<PlanRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE id = ?")).bind(id).fetch_optional(db).await?;
+/// A plan of `tenant`'s; another tenant's is `None`, as one that does not exist.
+pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<Plan>, sqlx::Error> {
+    let row: Option<PlanRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE id = ? AND tenant = ?")).bind(id).bind(tenant).fetch_optional(db).await?;
     Ok(row.map(Into::into))
 }
 
-pub async fn list_for_mission(db: &Db, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
-    let rows: Vec<PlanRow> =
-        sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? ORDER BY created_at DESC, rowid DESC")).bind(mission_id).fetch_all(db).await?;
+pub async fn list_for_mission(db: &Db, tenant: &str, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
+    let rows: Vec<PlanRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? AND tenant = ? ORDER BY created_at DESC, rowid DESC"))
+        .bind(mission_id)
+        .bind(tenant)
+        .fetch_all(db)
+        .await?;
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
@@ -136,9 +148,10 @@ pub struct ExportSource {
     pub name: String,
 }
 
-pub async fn export_source(db: &Db, id: &str) -> Result<Option<ExportSource>, sqlx::Error> {
-    sqlx::query_as("SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ?")
+pub async fn export_source(db: &Db, tenant: &str, id: &str) -> Result<Option<ExportSource>, sqlx::Error> {
+    sqlx::query_as("SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ?")
         .bind(id)
+        .bind(tenant)
         .fetch_optional(db)
         .await
 }
@@ -147,6 +160,7 @@ pub async fn export_source(db: &Db, id: &str) -> Result<Option<ExportSource>, sq
 #[derive(Debug, Clone, FromRow)]
 pub struct Job {
     pub id: String,
+    pub tenant: String,
     #[sqlx(json)]
     pub params: Value,
     #[sqlx(json)]
@@ -161,7 +175,7 @@ pub async fn claim_next(db: &Db) -> Result<Option<Job>, sqlx::Error> {
         crate::sql_now!(),
         ", attempts = attempts + 1
          WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1)
-         RETURNING id, params, mission"
+         RETURNING id, tenant, params, mission"
     ))
     .fetch_optional(&mut *tx)
     .await?;
@@ -205,14 +219,16 @@ pub async fn fail(db: &Db, id: &str, code: &str, error: &str) -> Result<(), sqlx
     tx.commit().await
 }
 
-/// Cancels a queued or running plan. Returns its status afterwards (`None`: no such plan).
-pub async fn cancel(db: &Db, id: &str) -> Result<Option<PlanStatus>, sqlx::Error> {
+/// Cancels a queued or running plan of `tenant`'s. Returns its status afterwards (`None`: the
+/// tenant has no such plan).
+pub async fn cancel(db: &Db, tenant: &str, id: &str) -> Result<Option<PlanStatus>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    sqlx::query(concat!("UPDATE plans SET status = 'cancelled', finished_at = ", crate::sql_now!(), " WHERE id = ? AND status IN ('queued', 'running')"))
+    sqlx::query(concat!("UPDATE plans SET status = 'cancelled', finished_at = ", crate::sql_now!(), " WHERE id = ? AND tenant = ? AND status IN ('queued', 'running')"))
         .bind(id)
+        .bind(tenant)
         .execute(&mut *tx)
         .await?;
-    let status = sqlx::query_scalar("SELECT status FROM plans WHERE id = ?").bind(id).fetch_optional(&mut *tx).await?;
+    let status = sqlx::query_scalar("SELECT status FROM plans WHERE id = ? AND tenant = ?").bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
     tx.commit().await?;
     Ok(status)
 }

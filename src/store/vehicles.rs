@@ -1,5 +1,7 @@
-//! Vehicle profiles. The built-ins are inserted at start-up when missing, so an operator's
-//! edits to them survive restarts; they cannot be deleted.
+//! Vehicle profiles. The built-ins are shared by every tenant (stored with tenant `''`) and
+//! inserted at start-up when missing, so an operator's edits to them survive restarts; they
+//! cannot be deleted. Every other profile belongs to the tenant that made it, and its id may
+//! not be a built-in's.
 
 use serde::Serialize;
 use sqlx::FromRow;
@@ -42,10 +44,13 @@ macro_rules! columns {
     };
 }
 
+/// The tenant of the built-in profiles.
+const SHARED: &str = "";
+
 pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
     let mut tx = begin_write(db).await?;
     for v in builtin_profiles() {
-        sqlx::query(concat!("INSERT OR IGNORE INTO vehicles (id, builtin, body, created_at, updated_at) VALUES (?, 1, ?, ", sql_now!(), ", ", sql_now!(), ")"))
+        sqlx::query(concat!("INSERT OR IGNORE INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', ?, 1, ?, ", sql_now!(), ", ", sql_now!(), ")"))
             .bind(&v.profile)
             .bind(Json(&v))
             .execute(&mut *tx)
@@ -54,32 +59,42 @@ pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
     tx.commit().await
 }
 
-pub async fn list(db: &Db) -> Result<Vec<StoredVehicle>, sqlx::Error> {
-    let rows: Vec<VehicleRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM vehicles ORDER BY builtin DESC, id")).fetch_all(db).await?;
+/// The built-ins and `tenant`'s own profiles.
+pub async fn list(db: &Db, tenant: &str) -> Result<Vec<StoredVehicle>, sqlx::Error> {
+    let rows: Vec<VehicleRow> =
+        sqlx::query_as(concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', ?) ORDER BY builtin DESC, id")).bind(tenant).fetch_all(db).await?;
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
-/// Every profile, for resolving a plan's `vehicle.profile`.
-pub async fn profiles(db: &Db) -> Result<Vec<Vehicle>, sqlx::Error> {
-    Ok(list(db).await?.into_iter().map(|v| v.vehicle).collect())
+/// Every profile `tenant` may name, for resolving a plan's `vehicle.profile`.
+pub async fn profiles(db: &Db, tenant: &str) -> Result<Vec<Vehicle>, sqlx::Error> {
+    Ok(list(db, tenant).await?.into_iter().map(|v| v.vehicle).collect())
 }
 
-pub async fn get(db: &Db, id: &str) -> Result<Option<StoredVehicle>, sqlx::Error> {
-    let row: Option<VehicleRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ?")).bind(id).fetch_optional(db).await?;
+/// A built-in or one of `tenant`'s profiles.
+pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<StoredVehicle>, sqlx::Error> {
+    let row: Option<VehicleRow> =
+        sqlx::query_as(concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ? AND tenant IN ('', ?)")).bind(id).bind(tenant).fetch_optional(db).await?;
     Ok(row.map(Into::into))
 }
 
-/// Inserts a new profile; `None` when its id is taken.
-pub async fn create(db: &Db, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
+/// Inserts a new profile of `tenant`'s; `None` when its id is a built-in's or one of the
+/// tenant's own.
+pub async fn create(db: &Db, tenant: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
+    let taken: bool = sqlx::query_scalar("SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = ? AND tenant IN ('', ?))").bind(&v.profile).bind(tenant).fetch_one(&mut *tx).await?;
+    if taken {
+        return Ok(None);
+    }
     let row: Option<VehicleRow> = sqlx::query_as(concat!(
-        "INSERT OR IGNORE INTO vehicles (id, builtin, body, created_at, updated_at) VALUES (?, 0, ?, ",
+        "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES (?, ?, 0, ?, ",
         sql_now!(),
         ", ",
         sql_now!(),
         ") RETURNING ",
         columns!()
     ))
+    .bind(tenant)
     .bind(&v.profile)
     .bind(Json(v))
     .fetch_optional(&mut *tx)
@@ -88,12 +103,14 @@ pub async fn create(db: &Db, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx:
     Ok(row.map(Into::into))
 }
 
-/// Replaces a profile's figures; `None` when there is no such profile.
-pub async fn update(db: &Db, id: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
+/// Replaces the figures of one of `tenant`'s profiles, or of a built-in when `tenant` is
+/// `None` (an administrator); `None` when there is no such profile.
+pub async fn update(db: &Db, tenant: Option<&str>, id: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    let row: Option<VehicleRow> = sqlx::query_as(concat!("UPDATE vehicles SET body = ?, updated_at = ", sql_now!(), " WHERE id = ? RETURNING ", columns!()))
+    let row: Option<VehicleRow> = sqlx::query_as(concat!("UPDATE vehicles SET body = ?, updated_at = ", sql_now!(), " WHERE id = ? AND tenant = ? RETURNING ", columns!()))
         .bind(Json(v))
         .bind(id)
+        .bind(tenant.unwrap_or(SHARED))
         .fetch_optional(&mut *tx)
         .await?;
     tx.commit().await?;
@@ -106,14 +123,15 @@ pub enum Deleted {
     Builtin,
 }
 
-pub async fn delete(db: &Db, id: &str) -> Result<Deleted, sqlx::Error> {
+/// Deletes one of `tenant`'s profiles (built-ins stay).
+pub async fn delete(db: &Db, tenant: &str, id: &str) -> Result<Deleted, sqlx::Error> {
     let mut tx = begin_write(db).await?;
-    let builtin: Option<i64> = sqlx::query_scalar("SELECT builtin FROM vehicles WHERE id = ?").bind(id).fetch_optional(&mut *tx).await?;
+    let builtin: Option<i64> = sqlx::query_scalar("SELECT builtin FROM vehicles WHERE id = ? AND tenant IN ('', ?)").bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
     let outcome = match builtin {
         None => Deleted::NotFound,
         Some(b) if b != 0 => Deleted::Builtin,
         Some(_) => {
-            sqlx::query("DELETE FROM vehicles WHERE id = ?").bind(id).execute(&mut *tx).await?;
+            sqlx::query("DELETE FROM vehicles WHERE id = ? AND tenant = ?").bind(id).bind(tenant).execute(&mut *tx).await?;
             Deleted::Yes
         }
     };

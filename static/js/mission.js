@@ -1,7 +1,7 @@
 // The mission: drawing fields, holes, zones, obstacles and poses; GeoJSON in and out;
 // saving, listing and dropped files.
 
-import { $, api, escapeHtml, status } from './api.js';
+import { $, api, authorisedFetch, escapeHtml, status } from './api.js';
 import { map, state } from './map.js';
 
 const styles = {
@@ -168,7 +168,7 @@ mapEl.addEventListener('drop', async (e) => {
   const file = e.dataTransfer.files[0];
   if (!file) return;
   try {
-    const r = await fetch('/api/v1/missions/import', { method: 'POST', body: file });
+    const r = await authorisedFetch('/api/v1/missions/import', { method: 'POST', body: file });
     const m = await r.json();
     if (!r.ok) throw new Error(m.detail + (m.pointer ? ` (at ${m.pointer})` : ''));
     drawMission(m);

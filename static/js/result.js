@@ -1,6 +1,6 @@
 // The result: the trajectory on the map, the figures table and the speed and energy chart.
 
-import { $, api } from './api.js';
+import { $, api, authorisedFetch, hasApiKey, status } from './api.js';
 import { map, state } from './map.js';
 
 // ---- the result ----
@@ -166,5 +166,18 @@ function updateDownload() {
   const firmware = $('firmware-box').hidden ? '' : `&firmware=${$('download-firmware').value}`;
   $('download').href = `/api/v1/plans/${state.result.planId}/trajectory?format=${format}${firmware}`;
 }
+// a link cannot send the API key: with one, the file is fetched and saved from memory
+$('download').onclick = async (e) => {
+  if (!hasApiKey()) return;
+  e.preventDefault();
+  const r = await authorisedFetch($('download').getAttribute('href'));
+  if (!r.ok) return status(`download: ${r.status}`, true);
+  const name = /filename="([^"]+)"/.exec(r.headers.get('content-disposition') || '');
+  const save = document.createElement('a');
+  save.href = URL.createObjectURL(await r.blob());
+  save.download = name ? name[1] : 'trajectory';
+  save.click();
+  setTimeout(() => URL.revokeObjectURL(save.href), 10000);
+};
 $('download-format').onchange = updateDownload;
 $('download-firmware').onchange = updateDownload;

@@ -165,6 +165,31 @@ try {
   assert.ok((await page.locator('#map').boundingBox()).width > 300, 'the map spans a phone screen');
   assert.ok(await page.isVisible('#plan'));
 
+  // once the server has a key, the page asks for one, keeps it for the tab and sends it
+  await page.setViewportSize({ width: 1280, height: 800 });
+  const made = await new Promise((resolve, reject) => {
+    const cli = spawn(binary, ['keys', 'create', '--tenant', 'default', '--database-url', path.join(dir, 'page.db')], { stdio: ['ignore', 'pipe', 'inherit'] });
+    let out = '';
+    cli.stdout.on('data', (d) => { out += d; });
+    cli.on('exit', (code) => (code === 0 ? resolve(out) : reject(new Error(`keys create: ${code}`))));
+  });
+  const key = made.trim().split('\n').pop();
+  const errorsBefore = errors.length;
+  assert.equal((await fetch(`${base}/api/v1/missions/${missionId}`)).status, 401, 'the API now needs the key');
+  const asked = [];
+  page.on('dialog', (d) => { asked.push(d.message()); d.accept(key); });
+  await page.goto(`${base}/?mission=${missionId}`);
+  await page.waitForSelector('body[data-ready=true]');
+  await page.waitForSelector('td[data-figure=length]');
+  assert.equal(asked.length, 1, `asked once for the key: ${asked}`);
+  assert.equal(await page.evaluate(() => sessionStorage.getItem('coverplan.apiKey')), key);
+  const downloaded = page.waitForEvent('download');
+  await page.click('#download');
+  assert.match((await downloaded).suggestedFilename(), /^New_field/, 'the download sends the key');
+  // the browser logs the refusals that made the page ask; nothing else
+  const refused = errors.splice(errorsBefore).filter((e) => !/status of 401/.test(e));
+  assert.deepEqual(refused, [], 'no other errors once keys are needed');
+
   assert.deepEqual(foreign, [], 'nothing is loaded from outside the server');
   assert.deepEqual(errors, [], 'no script errors');
   console.log(`map page: ok (${sweeps} sweeps drawn; screenshot in ${path.join(os.tmpdir(), 'coverplan-page.png')})`);

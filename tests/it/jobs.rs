@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 
 use coverplan::jobs::{self, JobQueue, QueueSettings, Runner};
 use coverplan::planner::{FieldLimits, PlanError};
+use coverplan::store::keys::OPEN_TENANT;
 use coverplan::store::{self, missions, plans};
 use serde_json::json;
 
@@ -15,7 +16,8 @@ use serde_json::json;
 async fn fresh_mission() -> (store::Db, missions::Mission, serde_json::Value) {
     let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
     let body = common::mission_body("real-fields/nl-parcel-b.json");
-    let mission = missions::create(&db, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
+    let mission =
+        missions::create(&db, OPEN_TENANT, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
     let snapshot = json!({"area": mission.area});
     (db, mission, snapshot)
 }
@@ -31,19 +33,19 @@ async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
         jobs::plan_job(job, &FieldLimits::default(), progress, stop)
     });
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
-    let bad = plans::create(&db, &mission.id, &json!({"line_spacing_m": 13.0}), &snapshot).await.unwrap();
-    let good = plans::create(&db, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot).await.unwrap();
+    let bad = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 13.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let good = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
     queue.notify();
     let mut finished = None;
     for _ in 0..600 {
-        let g = plans::get(&db, &good.id).await.unwrap().unwrap();
+        let g = plans::get(&db, OPEN_TENANT, &good.id).await.unwrap().unwrap();
         if g.status.is_final() {
             finished = Some(g);
             break;
         }
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
-    let bad = plans::get(&db, &bad.id).await.unwrap().unwrap();
+    let bad = plans::get(&db, OPEN_TENANT, &bad.id).await.unwrap().unwrap();
     assert_eq!(bad.status, plans::PlanStatus::Failed);
     assert!(bad.error.unwrap().contains("deliberate failure"));
     assert!(bad.stats.is_none());
@@ -60,7 +62,7 @@ async fn queued_plans_are_claimed_in_the_order_they_were_created() {
     let (db, mission, snapshot) = fresh_mission().await;
     let mut created = Vec::new();
     for k in 0..40 {
-        created.push(plans::create(&db, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot).await.unwrap().id);
+        created.push(plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot, i64::MAX).await.unwrap().unwrap().id);
     }
     let mut claimed = Vec::new();
     while let Some(job) = plans::claim_next(&db).await.unwrap() {
@@ -72,7 +74,7 @@ async fn queued_plans_are_claimed_in_the_order_they_were_created() {
 /// Polls a plan until it is final; returns it and when it became so.
 async fn wait_final(db: &store::Db, id: &str) -> (plans::Plan, Instant) {
     for _ in 0..1000 {
-        let p = plans::get(db, id).await.unwrap().unwrap();
+        let p = plans::get(db, OPEN_TENANT, id).await.unwrap().unwrap();
         if p.status.is_final() {
             return (p, Instant::now());
         }
@@ -106,9 +108,9 @@ async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
     };
     let limit = Duration::from_secs(1);
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings { time_limit: limit, start_delay: Duration::ZERO });
-    let polite = plans::create(&db, &mission.id, &json!({"line_spacing_m": 1.0}), &snapshot).await.unwrap();
-    let deaf = plans::create(&db, &mission.id, &json!({"line_spacing_m": 2.0, "time_limit_s": 0.5}), &snapshot).await.unwrap();
-    let good = plans::create(&db, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot).await.unwrap();
+    let polite = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 1.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let deaf = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 2.0, "time_limit_s": 0.5}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let good = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
     let started = Instant::now();
     queue.notify();
     let (polite, polite_done) = wait_final(&db, &polite.id).await;
@@ -132,21 +134,21 @@ async fn cancelling_a_running_plan_frees_its_worker_at_once() {
     let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
     let field = common::fixture("random-fields/h14_00.json");
     let new = missions::NewMission { name: "h14".into(), area: field["area"].clone(), no_fly_zones: Some(field["no_fly_zones"].clone()), obstacles: None, home: None };
-    let mission = missions::create(&db, &new).await.unwrap();
+    let mission = missions::create(&db, OPEN_TENANT, &new).await.unwrap();
     let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones});
     let runner: Runner = Arc::new(|job, progress, stop| jobs::plan_job(job, &FieldLimits::default(), progress, stop));
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
     let fixed_wing = json!({"planner": "line_gtsp", "line_spacing_m": 20, "vehicle": {"kind": "fixed_wing", "turn_radius_m": 10}});
-    let long = plans::create(&db, &mission.id, &fixed_wing, &snapshot).await.unwrap();
-    let next = plans::create(&db, &mission.id, &json!({"line_spacing_m": 40}), &snapshot).await.unwrap();
+    let long = plans::create(&db, OPEN_TENANT, &mission.id, &fixed_wing, &snapshot, i64::MAX).await.unwrap().unwrap();
+    let next = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 40}), &snapshot, i64::MAX).await.unwrap().unwrap();
     queue.notify();
     tokio::time::sleep(Duration::from_secs(2)).await;
-    assert_eq!(plans::get(&db, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Running);
-    plans::cancel(&db, &long.id).await.unwrap();
+    assert_eq!(plans::get(&db, OPEN_TENANT, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Running);
+    plans::cancel(&db, OPEN_TENANT, &long.id).await.unwrap();
     queue.cancel(&long.id);
     let cancelled = Instant::now();
     let freed = loop {
-        if plans::get(&db, &next.id).await.unwrap().unwrap().status != plans::PlanStatus::Queued {
+        if plans::get(&db, OPEN_TENANT, &next.id).await.unwrap().unwrap().status != plans::PlanStatus::Queued {
             break cancelled.elapsed();
         }
         assert!(cancelled.elapsed() < Duration::from_secs(10), "the worker is still busy with the cancelled plan");
@@ -155,6 +157,6 @@ async fn cancelling_a_running_plan_frees_its_worker_at_once() {
     assert!(freed < Duration::from_secs(1), "the next plan started {freed:?} after the cancellation");
     let (next, _) = wait_final(&db, &next.id).await;
     assert_eq!(next.status, plans::PlanStatus::Succeeded);
-    assert_eq!(plans::get(&db, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Cancelled);
+    assert_eq!(plans::get(&db, OPEN_TENANT, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Cancelled);
     queue.shutdown(handles, Duration::from_secs(1)).await;
 }

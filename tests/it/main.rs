@@ -9,4 +9,5 @@ mod openapi;
 mod planner_properties;
 mod process;
 mod repository;
+mod tenancy;
 mod vehicles;

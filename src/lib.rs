@@ -10,3 +10,8 @@ pub mod jobs;
 pub use coverplan_planner as planner;
 pub mod server;
 pub mod store;
+
+/// What a caught panic says (its message when it has one).
+pub fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {
+    panic.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| panic.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown cause".into())
+}

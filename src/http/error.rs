@@ -145,18 +145,24 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
     }
 }
 
-/// Query parameters whose every refusal is a 400 problem saying which parameter is wrong.
+/// Query parameters whose every refusal is a 400 problem saying which parameter is wrong. The
+/// pointer of a query parameter reads the query string as an object: `?limit=abc` is `/limit`.
 pub struct ApiQuery<T>(pub T);
 
 impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for ApiQuery<T> {
     type Rejection = ApiError;
 
     async fn from_request_parts(parts: &mut Parts, _state: &S) -> Result<Self, Self::Rejection> {
-        axum::extract::Query::try_from_uri(&parts.uri).map(|q| ApiQuery(q.0)).map_err(|e| ApiError::Client {
-            status: StatusCode::BAD_REQUEST,
-            code: "invalid_query",
-            detail: e.body_text(),
-            pointer: None,
+        let query = parts.uri.query().unwrap_or_default();
+        let de = serde_urlencoded::Deserializer::new(form_urlencoded::parse(query.as_bytes()));
+        serde_path_to_error::deserialize(de).map(ApiQuery).map_err(|e| {
+            let pointer = json_pointer(e.path());
+            ApiError::Client {
+                status: StatusCode::BAD_REQUEST,
+                code: "invalid_query",
+                detail: format!("query parameter `{}`: {}", pointer.trim_start_matches('/'), e.into_inner()),
+                pointer: Some(pointer),
+            }
         })
     }
 }

@@ -121,7 +121,7 @@ pub async fn import_file(
     body: axum::body::Bytes,
 ) -> Result<(StatusCode, Json<ImportedMission>), ApiError> {
     if let Some(format) = query.format.as_deref().filter(|f| !import::format_ids().contains(f)) {
-        return Err(ApiError::bad_request("unknown_format", "format", format!("no import format `{format}`; known: {}", import::format_ids().join(", "))));
+        return Err(ApiError::bad_request("unknown_format", "/format", format!("no import format `{format}`; known: {}", import::format_ids().join(", "))));
     }
     // parsing a large file takes a while: off the async runtime
     let imported = tokio::task::spawn_blocking(move || import::import(query.format.as_deref(), &body)).await.map_err(|e| ApiError::Internal(format!("import: {e}")))??;
@@ -138,10 +138,10 @@ pub async fn list(State(state): State<AppState>, caller: Caller, ApiQuery(page):
     let limit = page.limit.unwrap_or(20);
     let offset = page.offset.unwrap_or(0);
     if !(1..=100).contains(&limit) {
-        return Err(ApiError::invalid("parameter_out_of_range", "limit", "limit must be between 1 and 100"));
+        return Err(ApiError::invalid("parameter_out_of_range", "/limit", "limit must be between 1 and 100"));
     }
     if offset < 0 {
-        return Err(ApiError::invalid("parameter_out_of_range", "offset", "offset must not be negative"));
+        return Err(ApiError::invalid("parameter_out_of_range", "/offset", "offset must not be negative"));
     }
     let (items, total) = match page.fields.unwrap_or(Fields::All) {
         Fields::All => missions::list(&state.db, &caller.tenant, limit, offset).await.map(|(m, n)| (MissionItems::Missions(m), n))?,

@@ -19,7 +19,9 @@ use std::sync::Arc;
 use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
 use axum::routing::any;
+use tower_http::catch_panic::CatchPanicLayer;
 use tower_http::services::ServeDir;
 use tower_http::trace::TraceLayer;
 use utoipa::OpenApi;
@@ -71,6 +73,13 @@ pub fn router(state: AppState) -> Router {
     router
         .layer(axum::middleware::from_fn_with_state(state.clone(), auth::authenticate))
         .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
+        .layer(catch_panics())
         .layer(TraceLayer::new_for_http())
         .with_state(state)
+}
+
+/// A handler that panics answers 500 with a problem document (and the panic is logged), instead
+/// of a dropped connection.
+pub fn catch_panics() -> CatchPanicLayer<fn(Box<dyn std::any::Any + Send>) -> Response> {
+    CatchPanicLayer::custom(|panic: Box<dyn std::any::Any + Send>| error::ApiError::Internal(format!("a handler panicked: {}", crate::panic_message(&*panic))).into_response())
 }

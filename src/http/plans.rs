@@ -88,12 +88,12 @@ pub struct TrajectoryQuery {
 pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiQuery(query): ApiQuery<TrajectoryQuery>) -> Result<Response, ApiError> {
     let format = query.format.as_deref().unwrap_or("geojson");
     if export::find(format).is_none() {
-        return Err(ApiError::bad_request("unknown_format", "format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))));
+        return Err(ApiError::bad_request("unknown_format", "/format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))));
     }
     let firmware = match query.firmware.as_deref() {
         None | Some("ardupilot") => Firmware::Ardupilot,
         Some("px4") => Firmware::Px4,
-        Some(other) => return Err(ApiError::bad_request("unknown_firmware", "firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
+        Some(other) => return Err(ApiError::bad_request("unknown_firmware", "/firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
     };
     let mut source = plans::export_source(&state.db, &caller.tenant, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
     let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {

@@ -227,7 +227,7 @@ impl JobQueue {
             Some(Ok(Ok(Err(PlanError::Input(e))))) => plans::fail(&self.db, &id, e.code, &e.to_string()).await,
             Some(Ok(Ok(Err(e)))) => plans::fail(&self.db, &id, "infeasible", &e.to_string()).await,
             Some(Ok(Err(panic))) => {
-                let what = panic.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| panic.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown cause".into());
+                let what = crate::panic_message(&*panic);
                 tracing::error!(plan = %id, panic = %what, "planner panicked");
                 plans::fail(&self.db, &id, "internal", &format!("internal error in the planner ({what}); the plan was not made")).await
             }

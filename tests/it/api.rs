@@ -380,3 +380,35 @@ async fn planners_and_cameras_are_listed_and_a_camera_plan_searches_every_direct
     assert!(stats["photos"].as_u64().unwrap() > 0 && stats["photo_coverage_ratio"].as_f64().unwrap() >= 0.98, "{stats}");
     app.stop().await;
 }
+
+/// A handler that panics answers 500 with a problem document, and the server goes on.
+#[tokio::test]
+async fn a_panicking_handler_answers_a_problem() {
+    async fn boom() -> &'static str {
+        panic!("deliberate failure for the test")
+    }
+    let router = axum::Router::new().route("/boom", axum::routing::get(boom)).route("/fine", axum::routing::get(|| async { "fine" })).layer(coverplan::http::catch_panics());
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let base = format!("http://{}", listener.local_addr().unwrap());
+    tokio::spawn(async move { axum::serve(listener, router).await });
+    let r = reqwest::get(format!("{base}/boom")).await.unwrap();
+    assert_eq!(r.status(), 500);
+    assert_eq!(r.headers()["content-type"], "application/problem+json");
+    let problem: Value = r.json().await.unwrap();
+    assert_eq!(problem["code"], "internal");
+    assert!(!problem["detail"].as_str().unwrap().contains("deliberate"), "internal details stay in the log: {problem}");
+    assert_eq!(reqwest::get(format!("{base}/fine")).await.unwrap().text().await.unwrap(), "fine");
+}
+
+/// Query-string errors are problems with a pointer to the parameter.
+#[tokio::test]
+async fn bad_query_parameters_are_named() {
+    let app = TestApp::spawn().await;
+    for (query, pointer) in [("limit=abc", "/limit"), ("offset=1.5", "/offset"), ("fields=everything", "/fields")] {
+        let (s, problem) = app.get(&format!("/api/v1/missions?{query}")).await;
+        assert_eq!((s, problem["code"].as_str(), problem["pointer"].as_str()), (400, Some("invalid_query"), Some(pointer)), "{query}: {problem}");
+    }
+    let (s, problem) = app.get("/api/v1/missions?limit=0").await;
+    assert_eq!((s, problem["pointer"].as_str()), (422, Some("/limit")), "{problem}");
+    app.stop().await;
+}

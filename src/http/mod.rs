@@ -7,6 +7,7 @@ pub mod assets;
 pub mod auth;
 pub mod error;
 pub mod health;
+pub mod idempotency;
 pub mod missions;
 pub mod openapi;
 pub mod planners;
@@ -62,7 +63,7 @@ pub fn api() -> OpenApiRouter<AppState> {
 
 pub fn router(state: AppState) -> Router {
     let (api, mut document) = api().split_for_parts();
-    openapi::secure(&mut document);
+    openapi::complete(&mut document);
     let no_route = || async { error::ApiError::Client { status: StatusCode::NOT_FOUND, code: "no_route", detail: "no such API route".into(), pointer: None } };
     let router = Router::new().merge(api).route("/api/v1/{*rest}", any(no_route)).merge(SwaggerUi::new("/docs").url("/openapi.json", document));
     // the page: embedded in the binary, or from a folder while developing it
@@ -71,6 +72,8 @@ pub fn router(state: AppState) -> Router {
         None => router.fallback(assets::embedded),
     };
     router
+        // inner layers run last: the idempotency key is the caller's, known once authenticated
+        .layer(axum::middleware::from_fn_with_state(state.clone(), idempotency::idempotent))
         .layer(axum::middleware::from_fn_with_state(state.clone(), auth::authenticate))
         .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
         .layer(catch_panics())

@@ -2,6 +2,7 @@
 //! `BEGIN IMMEDIATE`, so concurrent writers wait for the lock (busy timeout) instead of
 //! failing with "database is locked" when a read transaction tries to upgrade.
 
+pub mod idempotency;
 pub mod keys;
 pub mod missions;
 pub mod plans;

@@ -412,3 +412,60 @@ async fn bad_query_parameters_are_named() {
     assert_eq!((s, problem["pointer"].as_str()), (422, Some("/limit")), "{problem}");
     app.stop().await;
 }
+
+/// A POST retried with the same `Idempotency-Key` gets the first answer and makes nothing new;
+/// the key with another body is refused; each tenant's keys are its own.
+#[tokio::test]
+async fn retried_posts_with_an_idempotency_key_make_nothing_twice() {
+    let app = TestApp::spawn().await;
+    let post = |path: &str, key: &str, body: &Value| app.client.post(app.url(path)).header("Idempotency-Key", key).json(body).send();
+    let body = mission_body("real-fields/nl-parcel-b.json");
+    let first = post("/api/v1/missions", "mission-1", &body).await.unwrap();
+    assert_eq!(first.status(), 201);
+    assert!(first.headers().get("idempotent-replayed").is_none());
+    let first: Value = first.json().await.unwrap();
+    let again = post("/api/v1/missions", "mission-1", &body).await.unwrap();
+    assert_eq!((again.status().as_u16(), again.headers().get("idempotent-replayed").map(|v| v.to_str().unwrap().to_owned())), (201, Some("true".into())));
+    assert_eq!(again.json::<Value>().await.unwrap(), first, "the same answer, the same mission");
+    assert_eq!(app.get("/api/v1/missions").await.1["total"], 1);
+
+    let mut other = body.clone();
+    other["name"] = json!("another field");
+    let reused = post("/api/v1/missions", "mission-1", &other).await.unwrap();
+    assert_eq!(reused.status(), 422);
+    assert_eq!(reused.json::<Value>().await.unwrap()["code"], "idempotency_key_reused");
+
+    // plans: one queued for two sends
+    let id = first["id"].as_str().unwrap();
+    let plan_path = format!("/api/v1/missions/{id}/plans");
+    let a: Value = post(&plan_path, "plan-1", &json!({"line_spacing_m": 30})).await.unwrap().json().await.unwrap();
+    let b: Value = post(&plan_path, "plan-1", &json!({"line_spacing_m": 30})).await.unwrap().json().await.unwrap();
+    assert_eq!(a["id"], b["id"]);
+    assert_eq!(app.get(&plan_path).await.1.as_array().unwrap().len(), 1);
+    // refusals are kept too: the retry of a wrong request is told the same
+    let wrong = json!({"line_spacing_m": -1});
+    let refused = post(&plan_path, "plan-2", &wrong).await.unwrap();
+    let refused_again = post(&plan_path, "plan-2", &wrong).await.unwrap();
+    assert_eq!((refused.status(), refused_again.status()), (reqwest::StatusCode::UNPROCESSABLE_ENTITY, reqwest::StatusCode::UNPROCESSABLE_ENTITY));
+    assert_eq!(refused_again.headers()["content-type"], "application/problem+json");
+    let bad_key = post("/api/v1/missions", &"k".repeat(256), &body).await.unwrap();
+    assert_eq!(bad_key.status(), 400);
+    app.stop().await;
+}
+
+#[tokio::test]
+async fn an_idempotency_key_being_answered_is_busy_and_belongs_to_one_tenant() {
+    use coverplan::store::idempotency::{self, Begin};
+    let db = coverplan::store::connect(&format!("sqlite://{}", fresh_db_path().display())).await.unwrap();
+    assert!(matches!(idempotency::begin(&db, "farm-a", "k", "f1").await.unwrap(), Begin::New));
+    assert!(matches!(idempotency::begin(&db, "farm-a", "k", "f1").await.unwrap(), Begin::InProgress));
+    assert!(matches!(idempotency::begin(&db, "farm-a", "k", "f2").await.unwrap(), Begin::Mismatch));
+    assert!(matches!(idempotency::begin(&db, "farm-b", "k", "f2").await.unwrap(), Begin::New), "another tenant's key of the same name");
+    idempotency::finish(&db, "farm-a", "k", 201, Some("application/json"), b"{}").await.unwrap();
+    match idempotency::begin(&db, "farm-a", "k", "f1").await.unwrap() {
+        Begin::Replay { status, content_type, body } => assert_eq!((status, content_type.as_deref(), body.as_slice()), (201, Some("application/json"), &b"{}"[..])),
+        _ => panic!("the kept answer is replayed"),
+    }
+    idempotency::forget(&db, "farm-b", "k").await.unwrap();
+    assert!(matches!(idempotency::begin(&db, "farm-b", "k", "f3").await.unwrap(), Begin::New), "a forgotten key is free again");
+}

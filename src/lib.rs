@@ -10,6 +10,7 @@ pub mod jobs;
 pub use coverplan_planner as planner;
 pub mod server;
 pub mod store;
+pub mod telemetry;
 
 /// What a caught panic says (its message when it has one).
 pub fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {

@@ -160,7 +160,17 @@ struct ServeArgs {
 }
 
 fn main() -> ExitCode {
-    tracing_subscriber::fmt().with_env_filter(tracing_subscriber::EnvFilter::try_from_env("COVERPLAN_LOG").unwrap_or_else(|_| "info".into())).with_writer(std::io::stderr).init();
+    let logs =
+        tracing_subscriber::fmt().with_env_filter(tracing_subscriber::EnvFilter::try_from_env("COVERPLAN_LOG").unwrap_or_else(|_| "info".into())).with_writer(std::io::stderr);
+    // one JSON object per line for log collectors; a job's lines carry its span (plan, tenant)
+    match std::env::var("COVERPLAN_LOG_FORMAT").as_deref() {
+        Ok("json") => logs.json().with_current_span(true).with_span_list(false).init(),
+        Ok("text") | Err(_) => logs.init(),
+        Ok(other) => {
+            logs.init();
+            tracing::warn!("COVERPLAN_LOG_FORMAT={other} is neither `text` nor `json`: writing text");
+        }
+    }
     let result = match Cli::parse().command {
         Command::Serve(args) => serve(args),
         Command::Plan { mission, params, out, format, firmware } => {

@@ -8,6 +8,7 @@ pub mod auth;
 pub mod error;
 pub mod health;
 pub mod idempotency;
+pub mod metrics;
 pub mod missions;
 pub mod openapi;
 pub mod planners;
@@ -47,6 +48,7 @@ pub fn api() -> OpenApiRouter<AppState> {
     OpenApiRouter::with_openapi(openapi::ApiDoc::openapi())
         .routes(routes!(health::healthz))
         .routes(routes!(health::readyz))
+        .routes(routes!(metrics::metrics))
         .routes(routes!(missions::list, missions::create))
         .routes(routes!(missions::import_file))
         .routes(routes!(missions::get, missions::update, missions::delete))
@@ -77,6 +79,8 @@ pub fn router(state: AppState) -> Router {
         .layer(axum::middleware::from_fn_with_state(state.clone(), auth::authenticate))
         .layer(DefaultBodyLimit::max(state.config.max_body_bytes))
         .layer(catch_panics())
+        // per route (so that the route's template is known), outside every refusal above
+        .layer(axum::middleware::from_fn_with_state(state.clone(), metrics::track))
         .layer(TraceLayer::new_for_http())
         .with_state(state)
 }

@@ -11,10 +11,12 @@ use std::time::Duration;
 use serde_json::Value;
 use tokio::sync::{Notify, watch};
 use tokio::task::JoinHandle;
+use tracing::Instrument;
 
 use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
 use crate::store::{Db, plans};
+use crate::telemetry::Telemetry;
 
 /// The function a worker runs for a job: `planner::plan` in production. It should return soon
 /// after its [`Stop`] is raised or times out; a worker that waited [`ABANDON_AFTER`] past the
@@ -81,13 +83,23 @@ pub struct JobQueue {
     stopping: watch::Sender<bool>,
     alive: AtomicUsize,
     settings: QueueSettings,
+    /// Job counts and durations for `/metrics`.
+    pub telemetry: Arc<Telemetry>,
 }
 
 impl JobQueue {
     /// Starts `workers` workers.
     pub fn start(db: Db, workers: usize, runner: Runner, settings: QueueSettings) -> (Arc<JobQueue>, Vec<JoinHandle<()>>) {
-        let queue =
-            Arc::new(JobQueue { db, runner, wake: Notify::new(), running: Mutex::new(HashMap::new()), stopping: watch::channel(false).0, alive: AtomicUsize::new(0), settings });
+        let queue = Arc::new(JobQueue {
+            db,
+            runner,
+            wake: Notify::new(),
+            running: Mutex::new(HashMap::new()),
+            stopping: watch::channel(false).0,
+            alive: AtomicUsize::new(0),
+            settings,
+            telemetry: Telemetry::new(),
+        });
         let handles = (0..workers.max(1))
             .map(|_| {
                 let q = queue.clone();
@@ -104,6 +116,11 @@ impl JobQueue {
     /// Number of workers still taking jobs.
     pub fn workers_alive(&self) -> usize {
         self.alive.load(Ordering::SeqCst)
+    }
+
+    /// Plans being planned now.
+    pub fn running_count(&self) -> usize {
+        self.running.lock().expect("lock").len()
     }
 
     /// Tells idle workers that a job was queued.
@@ -163,18 +180,27 @@ impl JobQueue {
         asked.map_or(self.settings.time_limit, |a| a.min(self.settings.time_limit))
     }
 
+    /// Runs a job; every log line it writes carries its plan id and tenant.
     async fn run(&self, job: plans::Job) {
+        let span = tracing::info_span!("job", plan = %job.id, tenant = %job.tenant);
+        self.run_in_span(job).instrument(span).await
+    }
+
+    async fn run_in_span(&self, job: plans::Job) {
         let limit = self.time_limit(&job);
+        let planner = job.params.get("planner").and_then(Value::as_str).unwrap_or("boustrophedon").to_owned();
         let started = tokio::time::Instant::now();
         let stop = Stop::until(started.into_std() + self.settings.start_delay + limit);
         let requeue = Arc::new(AtomicBool::new(false));
         self.running.lock().expect("lock").insert(job.id.clone(), RunningJob { stop: stop.clone(), requeue: requeue.clone() });
         let progress = Arc::new(AtomicU64::new(0f64.to_bits()));
         let id = job.id.clone();
-        tracing::info!(plan = %id, time_limit_s = limit.as_secs_f64(), "plan started");
+        tracing::info!(%planner, time_limit_s = limit.as_secs_f64(), "plan started");
         let task = {
             let (runner, progress, stop, delay) = (self.runner.clone(), progress.clone(), stop.clone(), self.settings.start_delay);
+            let span = tracing::Span::current();
             tokio::task::spawn_blocking(move || {
+                let _in_job = span.enter();
                 let report = |f: f64| {
                     progress.store(f.clamp(0.0, 1.0).to_bits(), Ordering::Relaxed);
                     !stop.requested()
@@ -200,7 +226,7 @@ impl JobQueue {
                     if p > reported {
                         reported = p;
                         if let Err(e) = plans::set_progress(&self.db, &id, p).await {
-                            tracing::warn!(plan = %id, error = %e, "progress not saved");
+                            tracing::warn!(error = %e, "progress not saved");
                         }
                     }
                 }
@@ -208,36 +234,37 @@ impl JobQueue {
         };
         let over_time = format!("the plan took longer than its time limit of {} s and was stopped", limit.as_secs_f64());
         let timed_out = || plans::fail(&self.db, &id, "time_limit", &over_time);
-        let stored = match outcome {
+        let (ended, stored) = match outcome {
             None => {
-                tracing::error!(plan = %id, "the planner did not stop at its time limit; its thread was left behind");
-                timed_out().await
+                tracing::error!("the planner did not stop at its time limit; its thread was left behind");
+                ("time_limit", timed_out().await)
             }
             Some(Ok(Ok(Ok(output)))) => match serde_json::to_value(&output.stats) {
                 Ok(stats) => {
                     let trajectory = serde_json::to_string(&output.trajectory).unwrap_or_default();
-                    plans::succeed(&self.db, &id, &stats, &trajectory).await
+                    ("succeeded", plans::succeed(&self.db, &id, &stats, &trajectory).await)
                 }
-                Err(e) => plans::fail(&self.db, &id, "internal", &format!("the plan's figures could not be stored: {e}")).await,
+                Err(e) => ("failed", plans::fail(&self.db, &id, "internal", &format!("the plan's figures could not be stored: {e}")).await),
             },
-            Some(Ok(Ok(Err(PlanError::Cancelled)))) if requeue.load(Ordering::SeqCst) => plans::requeue(&self.db, &id).await,
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) if requeue.load(Ordering::SeqCst) => ("requeued", plans::requeue(&self.db, &id).await),
             // a plan cancelled by its owner is marked so already; one that ran out of time is not
-            Some(Ok(Ok(Err(PlanError::Cancelled)))) if stop.timed_out() => timed_out().await,
-            Some(Ok(Ok(Err(PlanError::Cancelled)))) => Ok(()),
-            Some(Ok(Ok(Err(PlanError::Input(e))))) => plans::fail(&self.db, &id, e.code, &e.to_string()).await,
-            Some(Ok(Ok(Err(e)))) => plans::fail(&self.db, &id, "infeasible", &e.to_string()).await,
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) if stop.timed_out() => ("time_limit", timed_out().await),
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) => ("cancelled", Ok(())),
+            Some(Ok(Ok(Err(PlanError::Input(e))))) => ("failed", plans::fail(&self.db, &id, e.code, &e.to_string()).await),
+            Some(Ok(Ok(Err(e)))) => ("failed", plans::fail(&self.db, &id, "infeasible", &e.to_string()).await),
             Some(Ok(Err(panic))) => {
                 let what = crate::panic_message(&*panic);
-                tracing::error!(plan = %id, panic = %what, "planner panicked");
-                plans::fail(&self.db, &id, "internal", &format!("internal error in the planner ({what}); the plan was not made")).await
+                tracing::error!(panic = %what, "planner panicked");
+                ("failed", plans::fail(&self.db, &id, "internal", &format!("internal error in the planner ({what}); the plan was not made")).await)
             }
-            Some(Err(e)) => plans::fail(&self.db, &id, "internal", &format!("the planning task was lost: {e}")).await,
+            Some(Err(e)) => ("failed", plans::fail(&self.db, &id, "internal", &format!("the planning task was lost: {e}")).await),
         };
         if let Err(e) = stored {
-            tracing::error!(plan = %id, error = %e, "the outcome of a plan could not be stored");
+            tracing::error!(error = %e, "the outcome of a plan could not be stored");
         }
         self.running.lock().expect("lock").remove(&id);
-        tracing::info!(plan = %id, seconds = started.elapsed().as_secs_f64(), "plan ended");
+        self.telemetry.job(&planner, ended, started.elapsed());
+        tracing::info!(outcome = ended, seconds = started.elapsed().as_secs_f64(), "plan ended");
     }
 }
 

@@ -260,3 +260,8 @@ pub async fn recover_interrupted(db: &Db) -> Result<(u64, u64), sqlx::Error> {
     tx.commit().await?;
     Ok((requeued, failed))
 }
+
+/// Plans waiting for a worker, all tenants.
+pub async fn queued_count(db: &Db) -> Result<i64, sqlx::Error> {
+    sqlx::query_scalar("SELECT COUNT(*) FROM plans WHERE status = 'queued'").fetch_one(db).await
+}

@@ -365,8 +365,8 @@ async fn bad_files_get_a_problem_naming_the_part_and_nothing_is_stored() {
         ("format=kml", kml(&placemark("47.37,100 47.38,100 47.38,100.01 47.37,100")).into_bytes(), 422, "coordinates_look_swapped", "/doc.kml/Placemark[f]"),
         ("format=kml", kml("<Placemark><name>p</name><Point><coordinates>8.5,47.3</coordinates></Point></Placemark>").into_bytes(), 422, "empty_geometry", "/"),
         ("format=kml", kml(&placemark("8.5,47.3 8.6,47.3")).into_bytes(), 422, "empty_geometry", "/doc.kml/Placemark[f]"),
-        ("format=gpx", b"<gpx/>".to_vec(), 400, "unknown_format", "format"),
-        ("", b"\x00\x01binary".to_vec(), 422, "unknown_format", "format"),
+        ("format=gpx", b"<gpx/>".to_vec(), 400, "unknown_format", "/format"),
+        ("", b"\x00\x01binary".to_vec(), 422, "unknown_format", "/format"),
         (
             "format=plan",
             br#"{"fileType": "Plan", "mission": {"items": []}, "geoFence": {"polygons": [{"inclusion": false, "polygon": [[47.3, 8.5], [47.31, 8.5]]}]}}"#.to_vec(),

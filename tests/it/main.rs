@@ -5,6 +5,7 @@ mod api;
 mod common;
 mod interop;
 mod jobs;
+mod observability;
 mod openapi;
 mod planner_properties;
 mod process;

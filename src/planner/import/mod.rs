@@ -96,10 +96,10 @@ pub fn import(format: Option<&str>, bytes: &[u8]) -> Result<ImportedMission, Inp
     }
     let format = match format {
         Some(f) => f,
-        None => sniff(bytes).ok_or_else(|| InputError::new("unknown_format", "format", format!("the file's format is not recognised; give `format`, one of {}", known())))?,
+        None => sniff(bytes).ok_or_else(|| InputError::new("unknown_format", "/format", format!("the file's format is not recognised; give `format`, one of {}", known())))?,
     };
     let importer =
-        IMPORTERS.iter().find(|i| i.id() == format).ok_or_else(|| InputError::new("unknown_format", "format", format!("no import format `{format}`; known: {}", known())))?;
+        IMPORTERS.iter().find(|i| i.id() == format).ok_or_else(|| InputError::new("unknown_format", "/format", format!("no import format `{format}`; known: {}", known())))?;
     let collected = importer.read(bytes)?;
     if collected.fields.is_empty() {
         return Err(InputError::new("empty_geometry", "/", format!("the file holds no field polygon{}", reasons(&collected.warnings))));

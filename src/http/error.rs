@@ -178,3 +178,12 @@ fn json_pointer(path: &serde_path_to_error::Path) -> String {
         })
         .fold(String::new(), |acc, s| format!("{acc}/{s}"))
 }
+
+/// Runs CPU-heavy work (geometry checks, file parsing, exports) on the blocking threads, so
+/// that a large request cannot stall the async threads every other request is answered on.
+pub async fn off_the_async_threads<T: Send + 'static, E: Into<ApiError> + Send + 'static>(work: impl FnOnce() -> Result<T, E> + Send + 'static) -> Result<T, ApiError> {
+    match tokio::task::spawn_blocking(work).await {
+        Ok(done) => done.map_err(Into::into),
+        Err(e) => Err(ApiError::Internal(format!("a blocking task was lost: {e}"))),
+    }
+}

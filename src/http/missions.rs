@@ -9,7 +9,7 @@ use utoipa::{IntoParams, ToSchema};
 
 use super::AppState;
 use super::auth::Caller;
-use super::error::{ApiError, ApiJson, ApiQuery, Problem};
+use super::error::{ApiError, ApiJson, ApiQuery, Problem, off_the_async_threads};
 use crate::planner::{self, MissionGeometry, import};
 use crate::store::missions::{self, Mission, MissionSummary, NewMission};
 
@@ -37,14 +37,24 @@ pub struct MissionRequest {
 
 impl MissionRequest {
     /// Validates everything the planner will need, so that a stored mission can be planned.
-    fn validate(self, state: &AppState) -> Result<NewMission, ApiError> {
+    async fn validate(self, state: &AppState) -> Result<NewMission, ApiError> {
         let name = self.name.trim().to_owned();
         if name.is_empty() || name.chars().count() > 200 {
             return Err(ApiError::invalid("invalid_name", "/name", "the name must have 1 to 200 characters"));
         }
-        let geometry = MissionGeometry { area: &self.area, no_fly_zones: self.no_fly_zones.as_ref(), obstacles: self.obstacles.as_ref(), home: self.home };
-        planner::validate_mission(&geometry, &state.config.limits)?;
-        Ok(NewMission { name, area: self.area, no_fly_zones: self.no_fly_zones.filter(|v| !v.is_null()), obstacles: self.obstacles.filter(|v| !v.is_null()), home: self.home })
+        let limits = state.config.limits;
+        off_the_async_threads(move || {
+            let geometry = MissionGeometry { area: &self.area, no_fly_zones: self.no_fly_zones.as_ref(), obstacles: self.obstacles.as_ref(), home: self.home };
+            planner::validate_mission(&geometry, &limits)?;
+            Ok::<_, ApiError>(NewMission {
+                name,
+                area: self.area,
+                no_fly_zones: self.no_fly_zones.filter(|v| !v.is_null()),
+                obstacles: self.obstacles.filter(|v| !v.is_null()),
+                home: self.home,
+            })
+        })
+        .await
     }
 }
 
@@ -87,7 +97,7 @@ pub struct MissionPage {
     responses((status = 201, body = Mission), (status = 422, body = Problem, content_type = "application/problem+json"),
               (status = 400, body = Problem), (status = 413, body = Problem)))]
 pub async fn create(State(state): State<AppState>, caller: Caller, ApiJson(req): ApiJson<MissionRequest>) -> Result<(StatusCode, Json<Mission>), ApiError> {
-    let new = req.validate(&state)?;
+    let new = req.validate(&state).await?;
     Ok((StatusCode::CREATED, Json(missions::create(&state.db, &caller.tenant, &new).await?)))
 }
 
@@ -124,10 +134,11 @@ pub async fn import_file(
         return Err(ApiError::bad_request("unknown_format", "/format", format!("no import format `{format}`; known: {}", import::format_ids().join(", "))));
     }
     // parsing a large file takes a while: off the async runtime
-    let imported = tokio::task::spawn_blocking(move || import::import(query.format.as_deref(), &body)).await.map_err(|e| ApiError::Internal(format!("import: {e}")))??;
+    let format = query.format.clone();
+    let imported = off_the_async_threads(move || import::import(format.as_deref(), &body)).await?;
     let name = query.name.or(imported.name).unwrap_or_else(|| "Imported field".to_owned());
     let request = MissionRequest { name, area: imported.area, no_fly_zones: imported.no_fly_zones, obstacles: imported.obstacles, home: imported.home };
-    let new = request.validate(&state)?;
+    let new = request.validate(&state).await?;
     let mission = missions::create(&state.db, &caller.tenant, &new).await?;
     Ok((StatusCode::CREATED, Json(ImportedMission { mission, warnings: imported.warnings })))
 }
@@ -159,7 +170,7 @@ pub async fn get(State(state): State<AppState>, caller: Caller, Path(id): Path<S
 #[utoipa::path(put, operation_id = "update_mission", path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)), request_body = MissionRequest,
     responses((status = 200, body = Mission), (status = 404, body = Problem), (status = 422, body = Problem)))]
 pub async fn update(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiJson(req): ApiJson<MissionRequest>) -> Result<Json<Mission>, ApiError> {
-    let new = req.validate(&state)?;
+    let new = req.validate(&state).await?;
     missions::update(&state.db, &caller.tenant, &id, &new).await?.map(Json).ok_or_else(|| ApiError::not_found("mission", &id))
 }
 

@@ -10,7 +10,7 @@ use utoipa::IntoParams;
 
 use super::AppState;
 use super::auth::Caller;
-use super::error::{ApiError, ApiJson, ApiQuery, Problem};
+use super::error::{ApiError, ApiJson, ApiQuery, Problem, off_the_async_threads};
 use crate::jobs;
 use crate::planner::export::{self, ExportFile, ExportOptions, ExportRequest, Firmware};
 use crate::planner::geojson::FeatureCollection;
@@ -28,9 +28,14 @@ pub async fn create(
     ApiJson(params): ApiJson<PlanParams>,
 ) -> Result<(StatusCode, Json<Plan>), ApiError> {
     let mission = missions::get(&state.db, &caller.tenant, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
-    let geometry = MissionGeometry { area: &mission.area, no_fly_zones: mission.no_fly_zones.as_ref(), obstacles: mission.obstacles.as_ref(), home: mission.home };
     let profiles = vehicles::profiles(&state.db, &caller.tenant).await?;
-    planner::check_plan(&geometry, &params, &profiles, &state.config.limits)?;
+    let limits = state.config.limits;
+    let (mission, params, profiles) = off_the_async_threads(move || {
+        let geometry = MissionGeometry { area: &mission.area, no_fly_zones: mission.no_fly_zones.as_ref(), obstacles: mission.obstacles.as_ref(), home: mission.home };
+        planner::check_plan(&geometry, &params, &profiles, &limits)?;
+        Ok::<_, ApiError>((mission, params, profiles))
+    })
+    .await?;
     let most = state.config.queue.time_limit.as_secs_f64();
     if params.time_limit_s.is_some_and(|s| s > most) {
         return Err(ApiError::invalid("parameter_out_of_range", "/time_limit_s", format!("this server plans for at most {most} s; ask for that or less")));
@@ -106,9 +111,7 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
     } else {
         // reading and writing a large trajectory takes a while: off the async runtime
         let format = format.to_owned();
-        tokio::task::spawn_blocking(move || export_file(&id, &format, &source, &geojson, ExportOptions { firmware, altitude_m: query.altitude_m }))
-            .await
-            .map_err(|e| ApiError::Internal(format!("export: {e}")))??
+        off_the_async_threads(move || export_file(&id, &format, &source, &geojson, ExportOptions { firmware, altitude_m: query.altitude_m })).await?
     };
     let disposition = format!("attachment; filename=\"{}\"", file.file_name);
     Ok(([(header::CONTENT_TYPE, file.media_type.to_owned()), (header::CONTENT_DISPOSITION, disposition)], file.bytes).into_response())

@@ -7,7 +7,7 @@ use axum::http::StatusCode;
 
 use super::AppState;
 use super::auth::Caller;
-use super::error::{ApiError, ApiJson, Problem};
+use super::error::{ApiError, ApiJson, Problem, off_the_async_threads};
 use crate::planner::estimate::{EstimateRequest, RouteEstimate, estimate_route};
 use crate::planner::vehicle::Vehicle;
 use crate::store::vehicles::{self, Deleted, StoredVehicle};
@@ -71,6 +71,6 @@ pub async fn delete(State(state): State<AppState>, caller: Caller, Path(id): Pat
 pub async fn estimate(State(state): State<AppState>, caller: Caller, ApiJson(request): ApiJson<EstimateRequest>) -> Result<Json<RouteEstimate>, ApiError> {
     let profiles = vehicles::profiles(&state.db, &caller.tenant).await?;
     // up to 100 000 legs: off the async threads
-    let estimate = tokio::task::spawn_blocking(move || estimate_route(&request, &profiles)).await.map_err(|e| ApiError::Internal(format!("estimate task: {e}")))??;
+    let estimate = off_the_async_threads(move || estimate_route(&request, &profiles)).await?;
     Ok(Json(estimate))
 }

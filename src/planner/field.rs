@@ -2,7 +2,7 @@
 //!
 //! Every refusal names the offending member with a JSON pointer into the mission document.
 
-use geo::{Area, BooleanOps, Contains, Coord, LineString, MultiPolygon, Polygon, Validation, Winding};
+use geo::{Area, BooleanOps, BoundingRect, Contains, Coord, Intersects, LineString, MultiPolygon, Polygon, Rect, Validation, Winding};
 use geojson::{GeoJson, GeometryValue};
 use serde_json::Value;
 
@@ -87,9 +87,12 @@ impl Field {
         let obstacles = obstacles.iter().map(|(raw, h)| to_local(raw).map(|p| (p, *h))).collect::<Result<Vec<_>, _>>()?;
 
         let area_mp = MultiPolygon(area_polys);
+        // boxes first: overlaying every pair of thousands of fields would take minutes
+        let boxes: Vec<Option<Rect>> = area_mp.0.iter().map(BoundingRect::bounding_rect).collect();
         for (i, a) in area_mp.0.iter().enumerate() {
-            for b in &area_mp.0[i + 1..] {
-                if a.intersection(b).unsigned_area() > 1e-6 * a.unsigned_area().max(1.0) {
+            for (j, b) in area_mp.0.iter().enumerate().skip(i + 1) {
+                let near = matches!((boxes[i], boxes[j]), (Some(x), Some(y)) if x.intersects(&y));
+                if near && a.intersection(b).unsigned_area() > 1e-6 * a.unsigned_area().max(1.0) {
                     return Err(InputError::new("overlapping_fields", area[i].pointer.clone(), "this field overlaps another field of the same mission"));
                 }
             }

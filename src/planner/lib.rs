@@ -83,6 +83,14 @@ pub struct PlanOutput {
 /// Longest sweep the service plans in one job (area / spacing), in km.
 pub const MAX_SWEEP_KM: f64 = 2_000.0;
 
+/// Most sweep lines ordered one by one (`line_gtsp`, `auto`, and every fixed-wing plan): the
+/// route tables grow with their square (about 700 lines took 6 s and 600 MB with `line_gtsp`).
+pub const MAX_ROUTED_LINES: usize = 800;
+
+/// Most corners transits are routed around (the visibility graph checks every pair of them
+/// against every zone: 1.4 s for 1 921 corners on two cores).
+pub const MAX_TRANSIT_CORNERS: usize = 2000;
+
 /// Grows the zones by `d` metres with mitred corners (no more vertices than the input).
 fn grow(zones: &MultiPolygon, d: f64) -> MultiPolygon {
     if zones.0.is_empty() {
@@ -117,10 +125,32 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
         return Err(InputError::new("plan_too_long", "/line_spacing_m", format!("this spacing needs about {sweep_km:.0} km of sweep lines; the limit is {MAX_SWEEP_KM} km")));
     }
     let keep_out = grow(&field.no_fly_zones, resolved.nfz_margin_m);
+    let corners = TransitPlanner::node_count(&keep_out);
+    if corners > MAX_TRANSIT_CORNERS {
+        return Err(InputError::new(
+            "too_many_zone_corners",
+            "/no_fly_zones",
+            format!(
+                "routing around the no-fly zones (grown by the margin) takes {corners} corners; the limit is {MAX_TRANSIT_CORNERS}: simplify their outlines or merge small zones"
+            ),
+        ));
+    }
     let walls = grow(&field.no_fly_zones, resolved.nfz_margin_m / 2.0);
     let region = if keep_out.0.is_empty() { field.area.clone() } else { field.area.difference(&keep_out) };
     if region.unsigned_area() < 1.0 {
         return Err(InputError::new("nothing_to_cover", "/no_fly_zones", "the no-fly zones and their margin cover the whole field"));
+    }
+    let routes_lines = matches!(planner.id(), "line_gtsp" | "auto") || matches!(resolved.vehicle.turn_model(), TurnModel::Dubins(_));
+    if routes_lines {
+        // the fewest of four headings: the planners search headings with near the fewest lines
+        let lines = [0.0, 45.0, 90.0, 135.0].map(|deg: f64| sweep::sweep(&region, &keep_out, deg.to_radians(), resolved.layout).segment_count()).into_iter().min().unwrap_or(0);
+        if lines > MAX_ROUTED_LINES {
+            return Err(InputError::new(
+                "too_many_lines",
+                "/line_spacing_m",
+                format!("this plan orders about {lines} sweep lines one by one; the limit is {MAX_ROUTED_LINES}: widen the spacing, or use boustrophedon with a multirotor"),
+            ));
+        }
     }
     let local = |p: [f64; 2], pointer: &str| -> Result<Coord, InputError> {
         let c = field.frame.to_local(p[0], p[1]);

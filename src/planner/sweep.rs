@@ -79,6 +79,13 @@ pub struct SweepPattern {
     pub gap_fills: Vec<SweepSegment>,
 }
 
+impl SweepPattern {
+    /// Segments to fly, gap fills included.
+    pub fn segment_count(&self) -> usize {
+        self.lines.iter().map(Vec::len).sum::<usize>() + self.gap_fills.len()
+    }
+}
+
 /// Local coordinates of the point `(u, v)` of the sweep frame at `angle`.
 pub fn from_sweep_frame(angle: f64, u: f64, v: f64) -> Coord {
     let (s, c) = angle.sin_cos();

@@ -469,3 +469,37 @@ async fn an_idempotency_key_being_answered_is_busy_and_belongs_to_one_tenant() {
     idempotency::forget(&db, "farm-b", "k").await.unwrap();
     assert!(matches!(idempotency::begin(&db, "farm-b", "k", "f3").await.unwrap(), Begin::New), "a forgotten key is free again");
 }
+
+/// Requests that could not finish in reasonable time are refused before queueing, saying why.
+#[tokio::test]
+async fn plans_too_costly_to_finish_are_refused_before_queueing() {
+    let app = TestApp::spawn().await;
+    // 100 round no-fly zones of 16 corners in a 3 km square: 1600 corners to route around
+    let (lon0, lat0) = (5.0f64, 50.0f64);
+    let (mx, my) = (1.0 / (111_320.0 * lat0.to_radians().cos()), 1.0 / 110_574.0);
+    let at = |x: f64, y: f64| json!([lon0 + x * mx, lat0 + y * my]);
+    let zones: Vec<Value> = (0..100)
+        .map(|k| {
+            let (cx, cy) = (300.0 + 270.0 * (k % 10) as f64, 300.0 + 270.0 * (k / 10) as f64);
+            let mut ring: Vec<Value> = (0..16).map(|t| t as f64 * std::f64::consts::TAU / 16.0).map(|a| at(cx + 25.0 * a.cos(), cy + 25.0 * a.sin())).collect();
+            ring.push(ring[0].clone());
+            json!({"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [ring]}})
+        })
+        .collect();
+    let square = json!({"type": "Polygon", "coordinates": [[at(0.0, 0.0), at(3000.0, 0.0), at(3000.0, 3000.0), at(0.0, 3000.0), at(0.0, 0.0)]]});
+    let many_zones = app.create_mission(&json!({"name": "orchard", "area": square, "no_fly_zones": {"type": "FeatureCollection", "features": zones}})).await;
+    let (s, problem) = app.post(&format!("/api/v1/missions/{many_zones}/plans"), &json!({"line_spacing_m": 50})).await;
+    assert_eq!((s, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("too_many_zone_corners"), Some("/no_fly_zones")), "{problem}");
+
+    // a 64 ha field at 0.5 m: over a thousand lines to order one by one
+    let field = app.create_mission(&mission_body("random-fields/h00_00.json")).await;
+    let (s, problem) = app.post(&format!("/api/v1/missions/{field}/plans"), &json!({"planner": "line_gtsp", "line_spacing_m": 0.5})).await;
+    assert_eq!((s, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("too_many_lines"), Some("/line_spacing_m")), "{problem}");
+    let (s, problem) = app.post(&format!("/api/v1/missions/{field}/plans"), &json!({"planner": "line_gtsp", "line_spacing_m": 0.5, "vehicle": {"kind": "fixed_wing"}})).await;
+    assert_eq!((s, problem["code"].as_str()), (422, Some("too_many_lines")), "{problem}");
+    // the same spacing is fine where lines are joined field by field
+    let (s, plan) = app.post(&format!("/api/v1/missions/{field}/plans"), &json!({"planner": "boustrophedon", "line_spacing_m": 0.5})).await;
+    assert_eq!(s, 202, "{plan}");
+    app.client.delete(app.url(&format!("/api/v1/plans/{}", plan["id"].as_str().unwrap()))).send().await.unwrap();
+    app.stop().await;
+}

@@ -22,31 +22,34 @@ pub struct TransitPlanner {
 impl TransitPlanner {
     /// `corners`: the zones grown by the margin (their convex vertices become nodes);
     /// `walls`: the zones a leg may not enter.
+    /// The graph's O(n²) pairs, each checked against the walls, are checked in parallel rows;
+    /// [`Self::node_count`] tells beforehand how many nodes there will be at most.
     pub fn new(corners: &MultiPolygon, walls: &MultiPolygon) -> Self {
+        use rayon::prelude::*;
         let walls: Vec<(Rect, Vec<Coord>)> = walls.iter().flat_map(rings).collect();
-        let mut nodes = Vec::new();
-        for poly in corners {
-            for ring in std::iter::once(poly.exterior()).chain(poly.interiors()) {
-                nodes.extend(convex_corners(ring));
-            }
-        }
+        let mut nodes = corner_nodes(corners);
         let mut planner = TransitPlanner { walls, nodes: Vec::new(), visible: Vec::new() };
         nodes.retain(|&n| !planner.inside_wall(n));
         planner.nodes = nodes;
         let n = planner.nodes.len();
+        let seen_after: Vec<Vec<(usize, f64)>> = (0..n)
+            .into_par_iter()
+            .map(|i| (i + 1..n).filter(|&j| planner.is_clear(planner.nodes[i], planner.nodes[j])).map(|j| (j, distance(planner.nodes[i], planner.nodes[j]))).collect())
+            .collect();
         let mut visible = vec![Vec::new(); n];
-        for i in 0..n {
-            for j in i + 1..n {
-                let (a, b) = (planner.nodes[i], planner.nodes[j]);
-                if planner.is_clear(a, b) {
-                    let d = distance(a, b);
-                    visible[i].push((j, d));
-                    visible[j].push((i, d));
-                }
+        for (i, row) in seen_after.into_iter().enumerate() {
+            for (j, d) in row {
+                visible[i].push((j, d));
+                visible[j].push((i, d));
             }
         }
         planner.visible = visible;
         planner
+    }
+
+    /// The most nodes a planner on `corners` has: their convex corners.
+    pub fn node_count(corners: &MultiPolygon) -> usize {
+        corner_nodes(corners).len()
     }
 
     /// Shortest polyline from `a` to `b` that never enters a wall, or `None` when there is none.
@@ -183,6 +186,10 @@ fn rings(p: &Polygon) -> Vec<(Rect, Vec<Coord>)> {
 
 /// Vertices where the polygon's interior angle is below 180° (seen from the free side, these
 /// are the corners a shortest path bends around). Works for exteriors (CCW) of obstacles.
+fn corner_nodes(corners: &MultiPolygon) -> Vec<Coord> {
+    corners.iter().flat_map(|poly| std::iter::once(poly.exterior()).chain(poly.interiors())).flat_map(convex_corners).collect()
+}
+
 fn convex_corners(ring: &LineString) -> Vec<Coord> {
     let pts = &ring.0[..ring.0.len().saturating_sub(1)];
     let n = pts.len();

@@ -2,7 +2,7 @@
 # Runs every test of coverplan on a fresh machine: installs what the tests need (Debian's
 # Chromium and npm's playwright-core for the map page test; the independent readers of the
 # exported files: PyPI's pymavlink, fastkml, jsonschema, pyshp and utm in a virtual environment,
-# npm's isoxml), then runs them.
+# npm's isoxml; PyPI's schemathesis for the API fuzz), then runs them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -25,6 +25,10 @@ venv="${COVERPLAN_VENV:-${HOME}/.cache/coverplan-venv}"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/pip" install -q --disable-pip-version-check -r tests/interop/requirements.txt
 export COVERPLAN_PYTHON="$venv/bin/python"
+# schemathesis in a virtual environment of its own (its pins need not agree with the readers')
+fuzz_venv="${COVERPLAN_FUZZ_VENV:-${HOME}/.cache/coverplan-fuzz-venv}"
+[ -x "$fuzz_venv/bin/python" ] || python3 -m venv "$fuzz_venv"
+"$fuzz_venv/bin/pip" install -q --disable-pip-version-check -r tests/fuzz/requirements.txt
 
 for component in rustfmt clippy; do
   rustup component list --installed 2>/dev/null | grep -q "^$component" || rustup component add "$component"
@@ -37,3 +41,5 @@ cargo test --workspace --all-targets --locked --no-fail-fast
 cargo test --workspace --doc --locked
 # the map page in Chromium, against the server binary the line above built
 node tests/browser/map.test.mjs
+# schemathesis against the same binary and its own OpenAPI document: every check, a tenant's key
+"$fuzz_venv/bin/python" tests/fuzz/fuzz_api.py "${CARGO_TARGET_DIR:-target}/debug/coverplan" --max-examples 100

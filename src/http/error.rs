@@ -128,19 +128,20 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
                 ApiError::Client { status: StatusCode::BAD_REQUEST, code: "unreadable_body", detail: e.body_text(), pointer: None }
             }
         })?;
-        let malformed =
-            |e: serde_json::Error| ApiError::Client { status: StatusCode::BAD_REQUEST, code: "malformed_json", detail: format!("the body is not valid JSON: {e}"), pointer: None };
-        let mut de = serde_json::Deserializer::from_slice(&bytes);
-        let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            let pointer = json_pointer(e.path());
-            let inner = e.into_inner();
-            if inner.is_syntax() || inner.is_eof() || inner.is_io() {
-                malformed(inner)
-            } else {
-                ApiError::Client { status: StatusCode::UNPROCESSABLE_ENTITY, code: "invalid_body", detail: inner.to_string(), pointer: Some(pointer) }
-            }
+        // JSON first, then its shape: read in one pass, an array longer than a fixed-size
+        // field would be reported as "trailing characters", a syntax error it is not
+        let json: serde_json::Value = serde_json::from_slice(&bytes).map_err(|e| ApiError::Client {
+            status: StatusCode::BAD_REQUEST,
+            code: "malformed_json",
+            detail: format!("the body is not valid JSON: {e}"),
+            pointer: None,
         })?;
-        de.end().map_err(malformed)?;
+        let value: T = serde_path_to_error::deserialize(json).map_err(|e| ApiError::Client {
+            status: StatusCode::UNPROCESSABLE_ENTITY,
+            code: "invalid_body",
+            detail: e.inner().to_string(),
+            pointer: Some(json_pointer(e.path())),
+        })?;
         Ok(ApiJson(value))
     }
 }

@@ -16,6 +16,8 @@ use crate::store::missions::{self, Mission, MissionSummary, NewMission};
 #[derive(Debug, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MissionRequest {
+    /// 1 to 200 characters, not all blank.
+    #[schema(min_length = 1, max_length = 200, pattern = "\\S")]
     pub name: String,
     /// GeoJSON Polygon, MultiPolygon, Feature or FeatureCollection of those, WGS84 [lon, lat].
     /// Inner rings are holes: parts not to cover.
@@ -32,6 +34,7 @@ pub struct MissionRequest {
     pub obstacles: Option<Value>,
     /// [longitude, latitude] of the take-off and landing point.
     #[serde(default)]
+    #[schema(min_items = 2, max_items = 2)]
     pub home: Option<[f64; 2]>,
 }
 
@@ -62,8 +65,10 @@ impl MissionRequest {
 #[into_params(parameter_in = Query)]
 pub struct Page {
     /// 1 to 100 (default 20)
+    #[param(minimum = 1, maximum = 100)]
     pub limit: Option<i64>,
     /// default 0
+    #[param(minimum = 0)]
     pub offset: Option<i64>,
     /// `all` (default): whole missions; `summary`: id, name and times only, for pickers.
     #[param(inline)]

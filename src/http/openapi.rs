@@ -1,6 +1,7 @@
 //! The OpenAPI document: what is not a route (title, shared schemas, tags). The routes add
 //! themselves in [`super::api`]. The committed copy lives in `openapi/openapi.json`.
 
+use serde_json::{Value, json};
 use utoipa::OpenApi;
 
 use super::error;
@@ -17,52 +18,139 @@ pub struct ApiDoc;
 
 /// The document as the server serves it, pretty-printed.
 pub fn document() -> String {
-    let mut doc = super::api().into_openapi();
-    complete(&mut doc);
-    doc.to_pretty_json().expect("the OpenAPI document serialises") + "\n"
+    complete(super::api().into_openapi()).to_pretty_json().expect("the OpenAPI document serialises") + "\n"
 }
 
-fn problem(description: &str) -> utoipa::openapi::Response {
-    use utoipa::openapi::{ContentBuilder, Ref, ResponseBuilder};
-    ResponseBuilder::new().description(description).content("application/problem+json", ContentBuilder::new().schema(Some(Ref::from_schema_name("Problem"))).build()).build()
+/// A problem answer of the document.
+fn problem(description: &str) -> Value {
+    json!({"description": description, "content": {PROBLEM_TYPE: {"schema": {"$ref": "#/components/schemas/Problem"}}}})
 }
 
-/// What the middleware adds to the routes: the API key and its answers (401, 429) on every
-/// tenant's route, and `Idempotency-Key` with its answers (409, 422) on every POST.
-pub fn complete(doc: &mut utoipa::openapi::OpenApi) {
-    use utoipa::openapi::path::{ParameterBuilder, ParameterIn};
-    use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityRequirement, SecurityScheme};
-    use utoipa::openapi::{ObjectBuilder, Required, Type};
-    let components = doc.components.get_or_insert_with(Default::default);
-    components.add_security_scheme(
-        "api_key",
-        SecurityScheme::Http(
-            HttpBuilder::new()
-                .scheme(HttpAuthScheme::Bearer)
-                .description(Some("`Authorization: Bearer KEY`, a key from `coverplan keys create`; needed once the server has any key"))
-                .build(),
-        ),
-    );
-    for (_, item) in doc.paths.paths.iter_mut().filter(|(path, _)| super::auth::protected(path)) {
-        for operation in [&mut item.get, &mut item.put, &mut item.post, &mut item.delete].into_iter().flatten() {
-            operation.security = Some(vec![SecurityRequirement::new("api_key", Vec::<String>::new())]);
-            let responses = &mut operation.responses.responses;
-            responses.insert("401".into(), problem("no API key, or an unknown or revoked one (the server has keys)").into());
-            responses.entry("429".into()).or_insert_with(|| problem("the key sends requests faster than the server allows (see `Retry-After`)").into());
-        }
-        if let Some(post) = &mut item.post {
-            let key = ParameterBuilder::new()
-                .name("Idempotency-Key")
-                .parameter_in(ParameterIn::Header)
-                .required(Required::False)
-                .description(Some("Any 1 to 255 characters unique to this request: a retry with the same key and body gets the first answer again (kept a day)"))
-                .schema(Some(ObjectBuilder::new().schema_type(Type::String).min_length(Some(1)).max_length(Some(255))))
-                .build();
-            post.parameters.get_or_insert_with(Vec::new).push(key.into());
-            let responses = &mut post.responses.responses;
-            responses.entry("409".into()).or_insert_with(|| problem("the first request with this Idempotency-Key is still being answered").into());
-            responses.entry("422".into()).or_insert_with(|| problem("the Idempotency-Key was sent with another request").into());
-            responses.entry("400".into()).or_insert_with(|| problem("a malformed Idempotency-Key").into());
+const PROBLEM_TYPE: &str = "application/problem+json";
+
+/// What the routes' own entries cannot say, added to the whole document (edited as JSON):
+/// - the API key (`api_key`) and its answers (401, 429) on every tenant's route;
+/// - `Idempotency-Key` and its answers (400, 409, 422) on every POST;
+/// - the refusals of every JSON body (400 malformed, 413 too large, 415 not JSON);
+/// - problems under their own media type, `application/problem+json`, as they are sent;
+/// - links from what a request makes to what can be done with it next, and working examples;
+/// - two schemas the derive gets wrong: `MissionItems` (two array forms, which an empty list
+///   matches both: `anyOf`, not `oneOf`) and `StoredVehicle` (a `Vehicle`, which allows no
+///   other member, plus three: written out whole instead of `allOf`).
+pub fn complete(doc: utoipa::openapi::OpenApi) -> utoipa::openapi::OpenApi {
+    let mut doc = serde_json::to_value(&doc).expect("the OpenAPI document serialises");
+    doc["components"]["securitySchemes"]["api_key"] = json!({
+        "type": "http", "scheme": "bearer",
+        "description": "`Authorization: Bearer KEY`, a key from `coverplan keys create`; needed once the server has any key"
+    });
+    let paths = doc["paths"].as_object_mut().expect("paths");
+    for (path, item) in paths.iter_mut() {
+        let protected = super::auth::protected(path);
+        for (method, operation) in item.as_object_mut().expect("a path item").iter_mut().filter(|(m, _)| ["get", "put", "post", "delete"].contains(&m.as_str())) {
+            let json_body = operation.pointer("/requestBody/content/application~1json").is_some();
+            let post = method == "post";
+            let responses = operation["responses"].as_object_mut().expect("responses");
+            let mut add = |status: &str, description: &str| {
+                responses.entry(status).or_insert_with(|| problem(description));
+            };
+            if protected {
+                add("401", "no API key, or an unknown or revoked one (the server has keys)");
+                add("429", "the key sends requests faster than the server allows (see `Retry-After`)");
+            }
+            if json_body {
+                add("400", "the body is not valid JSON");
+                add("413", "the body is larger than the server accepts");
+                add("415", "the body is not sent as `application/json`");
+            }
+            if post {
+                add("400", "a malformed Idempotency-Key");
+                add("409", "the first request with this Idempotency-Key is still being answered");
+                add("422", "the Idempotency-Key was sent with another request");
+            }
+            for (status, response) in responses.iter_mut() {
+                if response.get("description").is_none() {
+                    let reason = status.parse().ok().and_then(|s| axum::http::StatusCode::from_u16(s).ok()).and_then(|s| s.canonical_reason()).unwrap_or("answer");
+                    response["description"] = json!(reason);
+                }
+                if let Some(content) = response.get_mut("content").and_then(Value::as_object_mut)
+                    && content.get("application/json").is_some_and(|c| c["schema"]["$ref"] == "#/components/schemas/Problem")
+                {
+                    let problem = content.remove("application/json").expect("present");
+                    content.insert(PROBLEM_TYPE.into(), problem);
+                }
+            }
+            if protected {
+                operation["security"] = json!([{"api_key": []}]);
+            }
+            if post {
+                let parameters = operation.as_object_mut().expect("an operation").entry("parameters").or_insert_with(|| json!([]));
+                parameters.as_array_mut().expect("parameters").push(json!({
+                    "name": "Idempotency-Key", "in": "header", "required": false,
+                    "description": "Any 1 to 255 characters unique to this request: a retry with the same key and body gets the first answer again (kept a day)",
+                    "schema": {"type": "string", "minLength": 1, "maxLength": 255}
+                }));
+            }
         }
     }
+    // the formats and autopilots the registries know, as the only values the query takes
+    let choices = [
+        ("/api/v1/missions/import", "format", crate::planner::import::format_ids().to_vec()),
+        ("/api/v1/plans/{id}/trajectory", "format", crate::planner::export::format_ids()),
+        ("/api/v1/plans/{id}/trajectory", "firmware", vec!["ardupilot", "px4"]),
+    ];
+    for (path, name, values) in choices {
+        for operation in paths[path].as_object_mut().expect("a path item").values_mut() {
+            for parameter in operation["parameters"].as_array_mut().into_iter().flatten().filter(|p| p["name"] == name && p["in"] == "query") {
+                parameter["schema"] = json!({"type": "string", "enum": values});
+            }
+        }
+    }
+    // a trajectory comes in every export format's media type, and as a zip of one file per
+    // sortie for the flight formats
+    let trajectory = &mut paths["/api/v1/plans/{id}/trajectory"]["get"]["responses"]["200"]["content"];
+    for exporter in crate::planner::export::EXPORTERS {
+        let media_type = exporter.format().media_type.split(';').next().expect("a media type").trim();
+        let schema = if media_type.ends_with("json") { json!({"type": "object"}) } else { json!({"type": "string", "format": "binary"}) };
+        trajectory.as_object_mut().expect("content").entry(media_type).or_insert_with(|| json!({ "schema": schema }));
+    }
+    trajectory["application/zip"] = json!({"schema": {"type": "string", "format": "binary"}});
+    // what a client does next with what it made (OpenAPI links; generators and fuzzers follow them)
+    let follow = |made: &str, status: &str, id: &str, next: &[&str]| {
+        let links: serde_json::Map<String, Value> =
+            next.iter().map(|op| (op.to_string(), json!({"operationId": op, "parameters": {"id": format!("$response.body#/{id}")}}))).collect();
+        (made.to_owned(), status.to_owned(), Value::Object(links))
+    };
+    let mission_next = ["get_mission", "update_mission", "delete_mission", "list_plans", "create_plan"];
+    for (made, status, links) in [
+        follow("create_mission", "201", "id", &mission_next),
+        follow("import_mission", "201", "id", &mission_next),
+        follow("create_plan", "202", "id", &["get_plan", "cancel_plan", "get_trajectory"]),
+        follow("create_vehicle", "201", "profile", &["get_vehicle", "update_vehicle", "delete_vehicle"]),
+    ] {
+        let operation = paths
+            .values_mut()
+            .flat_map(|item| item.as_object_mut().expect("a path item").values_mut())
+            .find(|op| op["operationId"] == made.as_str())
+            .expect("the operation exists");
+        operation["responses"][status.as_str()]["links"] = links;
+    }
+    let schemas = &mut doc["components"]["schemas"];
+    // requests that work as they are, for readers and for the generators' first tries
+    let field = json!({"type": "Polygon", "coordinates": [[[5.6600, 51.9850], [5.6629, 51.9850], [5.6629, 51.9864], [5.6600, 51.9864], [5.6600, 51.9850]]]});
+    schemas["MissionRequest"]["example"] = json!({"name": "North field", "area": field, "home": [5.6598, 51.9849]});
+    schemas["PlanParams"]["example"] = json!({"planner": "boustrophedon", "line_spacing_m": 25, "vehicle": {"profile": "iris"}});
+    schemas["EstimateRequest"]["example"] = json!({"waypoints": [[5.66, 51.985], [5.6629, 51.985], [5.6629, 51.9864]], "vehicle": {"profile": "iris"}});
+    if let Some(items) = schemas["MissionItems"].as_object_mut()
+        && let Some(forms) = items.remove("oneOf")
+    {
+        items.insert("anyOf".into(), forms);
+    }
+    let mut stored = schemas["Vehicle"].clone();
+    for (name, schema) in schemas["StoredVehicle"]["allOf"][1]["properties"].as_object().cloned().unwrap_or_default() {
+        stored["properties"][&name] = schema;
+        stored["required"].as_array_mut().expect("required").push(json!(name));
+    }
+    stored["description"] = json!("A stored profile: the vehicle's figures, whether it is built in, and when it was made and changed.");
+    schemas["StoredVehicle"] = stored;
+    serde_json::from_value(doc).expect("the completed document is an OpenAPI document")
 }

@@ -79,8 +79,9 @@ pub struct TrajectoryQuery {
     pub format: Option<String>,
     /// `ardupilot` (default) or `px4`: the autopilot of `plan` and `waypoints` files.
     pub firmware: Option<String>,
-    /// Altitude above home for flight files of plans made without one (default: the plan's,
-    /// else 50 m).
+    /// Altitude above home for flight files of plans made without one, 1 to 10 000 m (default:
+    /// the plan's, else 50 m).
+    #[param(minimum = 1, maximum = 10000)]
     pub altitude_m: Option<f64>,
 }
 
@@ -94,6 +95,9 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
     let format = query.format.as_deref().unwrap_or("geojson");
     if export::find(format).is_none() {
         return Err(ApiError::bad_request("unknown_format", "/format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))));
+    }
+    if let Some(a) = query.altitude_m.filter(|a| !(1.0..=10_000.0).contains(a)) {
+        return Err(ApiError::invalid("parameter_out_of_range", "/altitude_m", format!("{a} m is outside the accepted range [1, 10000] m above home")));
     }
     let firmware = match query.firmware.as_deref() {
         None | Some("ardupilot") => Firmware::Ardupilot,

@@ -24,6 +24,7 @@ pub struct EstimateRequest {
     pub route: Option<Value>,
     /// Or the waypoints: `[longitude, latitude]` or `[longitude, latitude, altitude_m]`.
     #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 100000))]
     pub waypoints: Option<Vec<Vec<f64>>>,
     #[serde(default)]
     pub vehicle: VehicleParams,

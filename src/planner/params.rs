@@ -13,6 +13,7 @@ use super::vehicle::{Vehicle, VehicleParams};
 #[serde(deny_unknown_fields)]
 pub struct PoseParam {
     /// [longitude, latitude]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub position: [f64; 2],
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading_deg: Option<f64>,

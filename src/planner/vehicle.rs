@@ -22,8 +22,10 @@ pub enum VehicleKind {
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Battery {
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 100000.0))]
     pub energy_wh: f64,
     /// Fraction of `energy_wh` that must be left at landing (default 0.25).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.9))]
     pub reserve: f64,
 }
 
@@ -40,15 +42,19 @@ impl Battery {
 #[serde(deny_unknown_fields)]
 pub struct Vehicle {
     /// Identifier: lower-case letters, digits, `_` and `-`.
+    #[cfg_attr(feature = "schema", schema(pattern = "^[a-z0-9_-]{1,64}$"))]
     pub profile: String,
     #[serde(default)]
     pub description: String,
     pub kind: VehicleKind,
     /// Cruise speed; for the multirotor model, the highest speed of any leg.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.5, maximum = 100.0))]
     pub cruise_speed_mps: f64,
     /// Minimum turning radius (0 for a multirotor, which stops and turns on the spot).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 5000.0))]
     pub turn_radius_m: f64,
     /// Acceleration and deceleration at corners (multirotor, constant-power model).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 20.0))]
     pub acceleration_mps2: f64,
     pub energy: EnergyParams,
     pub battery: Battery,

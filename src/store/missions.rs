@@ -22,6 +22,7 @@ pub struct Mission {
     #[schema(value_type = Option<Object>)]
     pub obstacles: Option<Value>,
     /// [longitude, latitude]
+    #[schema(min_items = 2, max_items = 2)]
     pub home: Option<[f64; 2]>,
     pub created_at: String,
     pub updated_at: String,

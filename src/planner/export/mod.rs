@@ -137,7 +137,7 @@ pub fn file_stem(name: &str) -> String {
 
 /// Writes a plan in `format`.
 pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, InputError> {
-    let exporter = find(format).ok_or_else(|| InputError::new("unknown_format", "format", format!("no export format `{format}`; known: {}", format_ids().join(", "))))?;
+    let exporter = find(format).ok_or_else(|| InputError::new("unknown_format", "/format", format!("no export format `{format}`; known: {}", format_ids().join(", "))))?;
     let job = prepare(request)?;
     let stem = file_stem(request.name);
     let sorties = job.flight.sorties.len();
@@ -158,7 +158,7 @@ fn prepare<'a>(request: &ExportRequest<'a>) -> Result<ExportJob<'a>, InputError>
     let to_wgs84 = |p: &MultiPolygon| p.map_coords(|c| field.frame.to_wgs84(c).into());
     let outlines = Outlines { fields: to_wgs84(&field.area), no_fly_zones: to_wgs84(&field.no_fly_zones), home: request.mission.home };
     if let Some(a) = request.options.altitude_m {
-        check_range(a, 1.0, 10_000.0, "altitude_m", "m above home")?;
+        check_range(a, 1.0, 10_000.0, "/altitude_m", "m above home")?;
     }
     let altitude_m = request.options.altitude_m.or(resolved.altitude_m).unwrap_or(DEFAULT_ALTITUDE_M);
     let settings = FlightSettings {

@@ -350,7 +350,8 @@ impl Search<'_> {
         let swept: Vec<(Key, Swept)> = fresh
             .par_iter()
             .map(|&(r, h)| {
-                let (lines, lost_m) = self.field_lines(r, f64::from_bits(h));
+                // sweeping is geometry that asks no connection: a stopped plan skips it
+                let (lines, lost_m) = if self.problem.connector.stopped() { (Vec::new(), 0.0) } else { self.field_lines(r, f64::from_bits(h)) };
                 let route = self.ranking_route(&lines);
                 let (from_start, to_end) = (route.start_costs(), route.end_costs());
                 ((r, h), Swept { lines, lost_m, from_start, to_end })
@@ -417,6 +418,9 @@ impl Search<'_> {
     /// so that cancellation is honoured. Then the best [`FINALISTS`] not yet settled are
     /// solved in full before the ranking picks anything.
     fn evaluate(&self, tables: &mut Tables, ranking: &mut Ranking, choices: Vec<Vec<f64>>, progress: &dyn Progress, (from, to): (f64, f64)) -> Result<(), PlanError> {
+        if self.problem.connector.stopped() {
+            return Err(PlanError::Cancelled);
+        }
         let fresh: Vec<Vec<f64>> = choices.into_iter().filter(|c| ranking.seen.insert(c.iter().map(|h| h.to_bits()).collect())).collect();
         let combos: Vec<Vec<f64>> = fresh.iter().map(|c| self.per_field(c)).collect();
         self.tabulate(tables, &combos);
@@ -424,7 +428,7 @@ impl Search<'_> {
         let mut bounded: Vec<(f64, usize)> = combos
             .par_iter()
             .enumerate()
-            .map(|(i, combo)| match self.instance(tables, combo) {
+            .map(|(i, combo)| match self.instance(tables, combo).filter(|_| !self.problem.connector.stopped()) {
                 Some((lines, inst)) => (self.ranking_route(&lines).lower_bound(&inst) + self.penalty(tables, combo), i),
                 None => (f64::INFINITY, i),
             })

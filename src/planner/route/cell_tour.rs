@@ -8,6 +8,7 @@ use geo::Coord;
 use super::gtsp::{Costs, Instance, solve};
 use super::{CellOrder, CellVisit, RouteContext};
 use crate::decompose::{Cell, legs_length};
+use crate::stop::Stop;
 
 pub struct CellTour;
 
@@ -45,6 +46,7 @@ impl CellOrder for CellTour {
             from_start: start_at.map(|s| entry_at.iter().map(|&e| d[s][e]).collect()),
             to_end: end_at.map(|e| exit_at.iter().map(|&x| d[x][e]).collect()),
             candidates: None,
+            stop: Stop::never(),
         };
         solve(&inst).into_iter().map(|v| visits[v]).collect()
     }

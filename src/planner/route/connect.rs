@@ -118,6 +118,9 @@ impl Connector<'_> {
     /// turns anywhere: the line is kept whole.
     pub fn turnable(&self, a: Coord, b: Coord) -> Option<(Coord, Coord)> {
         let TurnModel::Dubins(r) = self.turn else { return Some((a, b)) };
+        if self.stopped() {
+            return None;
+        }
         let length = crate::geom::distance(a, b);
         if length == 0.0 {
             return None;

@@ -9,6 +9,7 @@ use rayon::prelude::*;
 
 use super::connect::Connector;
 use super::gtsp::{self, Costs, Instance, KnownCosts, solve};
+use crate::stop::Stop;
 use crate::turn::climb::Obstacles;
 use crate::turn::dubins::Pose;
 
@@ -209,6 +210,7 @@ impl LineProblem<'_> {
             from_start: from_start.map(|r| r.into_iter().map(finite).collect()),
             to_end: to_end.map(|r| r.into_iter().map(finite).collect()),
             candidates: None,
+            stop: self.connector.stop(),
         }
     }
 
@@ -249,6 +251,7 @@ impl LineProblem<'_> {
             from_start: inst.from_start.clone(),
             to_end: inst.to_end.clone(),
             candidates: None,
+            stop: Stop::never(),
         };
         let mut regions: Vec<usize> = self.lines.iter().map(|l| l.region).collect();
         regions.sort_unstable();

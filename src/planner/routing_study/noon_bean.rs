@@ -123,6 +123,7 @@ mod tests {
                 from_start: Some(int(n)),
                 to_end: Some(int(n)),
                 candidates: None,
+                stop: crate::stop::Stop::never(),
             };
             // GTSP by brute force: every cluster order and node choice
             let mut gtsp = f64::INFINITY;

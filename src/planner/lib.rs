@@ -257,7 +257,7 @@ fn plan_until(
         .collect();
     let estimates: Vec<energy::PathEstimate> = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
     let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
-    let photos = resolved.camera.map(|c| photo_positions(&path, &c));
+    let photos = resolved.camera.map(|c| photo_positions(&path, &c, planned.sweep_angle));
     let swept = metrics::swept(&path);
     let mut stats = metrics::measure(&metrics::MeasureInput {
         path: &path,
@@ -299,13 +299,15 @@ pub fn unknown_planner(id: &str) -> InputError {
     InputError::new("unknown_planner", "/planner", format!("no planner named `{id}`; known: {}", known.join(", ")))
 }
 
-/// Photo positions on every sweep (docs/methods.md, camera §6, fitted mode), with the line's direction.
-fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan) -> Vec<metrics::Photo> {
+/// Photo positions on every sweep (docs/methods.md, camera §6, fitted mode), with the line's
+/// direction. A sweep of no length (a grid of one cell) is one photo, facing `still_heading`.
+fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan, still_heading: f64) -> Vec<metrics::Photo> {
     let mut out = Vec::new();
     for p in path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep) {
         let (a, b) = (p.start(), p.end());
         let len = polyline_length(&p.points);
         if len == 0.0 {
+            out.push(metrics::Photo { at: a, heading: still_heading });
             continue;
         }
         let heading = (b.y - a.y).atan2(b.x - a.x);

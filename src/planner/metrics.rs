@@ -1,10 +1,11 @@
 //! Metrics stage: one measure of every plan, whichever planner made it (docs/methods.md, metrics §1–§4).
 
-use geo::{Area, BooleanOps, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon};
+use geo::{Area, BooleanOps, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon, Simplify};
 use serde::{Deserialize, Serialize};
 
 use super::camera::CameraPlan;
 use super::energy::PathEstimate;
+use super::geom::distance;
 use super::path::{FlightPath, PieceKind};
 use super::sortie::SortieTotals;
 
@@ -136,17 +137,68 @@ pub fn photo_points(photos: &[Photo]) -> Vec<Coord> {
     photos.iter().map(|p| p.at).collect()
 }
 
-/// The ground a photo images: `across` wide, `along` long, centred on it.
-fn photo_footprint(p: &Photo, across: f64, along: f64) -> Polygon {
-    let (s, c) = p.heading.sin_cos();
+/// The ground the photos from `first` to `last` (taken along one line) image: `across` wide,
+/// from half a footprint (`along`) behind the first to half a footprint past the last.
+fn photo_footprint(first: &Photo, last: &Photo, across: f64, along: f64) -> Polygon {
+    let (s, c) = first.heading.sin_cos();
     let u = Coord { x: c * along / 2.0, y: s * along / 2.0 };
     let n = Coord { x: -s * across / 2.0, y: c * across / 2.0 };
-    let a = p.at;
-    Polygon::new(LineString::from(vec![a - u - n, a + u - n, a + u + n, a - u + n, a - u - n]), vec![])
+    let (a, b) = (first.at, last.at);
+    Polygon::new(LineString::from(vec![a - u - n, b + u - n, b + u + n, a - u + n, a - u - n]), vec![])
 }
 
+/// True when `next` is taken on `photo`'s line, ahead of it and no further than a footprint
+/// (`along`): their footprints overlap or touch along the line.
+fn continues(photo: &Photo, next: &Photo, along: f64) -> bool {
+    let d = next.at - photo.at;
+    let (s, c) = photo.heading.sin_cos();
+    let (ahead, aside) = (d.x * c + d.y * s, d.y * c - d.x * s);
+    (next.heading - photo.heading).abs() < 1e-9 && (0.0..=along + 1e-6).contains(&ahead) && aside.abs() < 1e-6
+}
+
+/// The ground the photos image, in as few shapes as it takes: a run of photos along one line
+/// overlap one another (the front overlap is never negative), so the run images one strip. The
+/// union of thousands of overlapping footprints is the same ground, but slow to compute.
+fn photo_strips(photos: &[Photo], across: f64, along: f64) -> Vec<Polygon> {
+    let mut strips = Vec::new();
+    let mut first = 0;
+    for i in 0..photos.len() {
+        if photos.get(i + 1).is_none_or(|next| !continues(&photos[i], next, along)) {
+            strips.push(photo_footprint(&photos[first], &photos[i], across, along));
+            first = i + 1;
+        }
+    }
+    strips
+}
+
+/// How far a swath's centreline may be straightened before it is measured.
+const SWATH_TOLERANCE_M: f64 = 0.01;
+
+/// The swaths of `path`, one rectangle per straight stretch. Sweeps flown one after another
+/// (a spiral's rings) are taken as one centreline, straightened to within
+/// [`SWATH_TOLERANCE_M`]: offset curves come as thousands of sub-millimetre segments, and a
+/// fan of wide, needle-thin rectangles is both slow and, measured, able to stall the polygon
+/// union for minutes.
 fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
-    path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).filter_map(|p| swath(&p.points, p.half_swath_m)).collect()
+    let mut strips = Vec::new();
+    let pieces = &path.pieces;
+    let mut i = 0;
+    while i < pieces.len() {
+        if pieces[i].kind != PieceKind::Sweep {
+            i += 1;
+            continue;
+        }
+        let half = pieces[i].half_swath_m;
+        let mut line = pieces[i].points.clone();
+        i += 1;
+        while let Some(next) = pieces.get(i).filter(|p| p.kind == PieceKind::Sweep && p.half_swath_m == half) {
+            line.extend_from_slice(&next.points[1..]);
+            i += 1;
+        }
+        let line = LineString::from(line).simplify(SWATH_TOLERANCE_M);
+        strips.extend(line.0.windows(2).filter(|w| distance(w[0], w[1]) >= SWATH_TOLERANCE_M).filter_map(|w| swath(w, half)));
+    }
+    strips
 }
 
 /// The union of `shapes` (empty without shapes).
@@ -225,8 +277,8 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
     let strip_sum: f64 = sweep_strips(m.path).iter().map(|s| s.unsigned_area()).sum();
     let (covered, swept) = under(m.swept, m.region);
     let photo_coverage_ratio = m.photos.map(|(photos, cam)| {
-        let shots: Vec<Polygon> = photos.iter().map(|p| photo_footprint(p, cam.footprint_across_m, cam.footprint_along_m)).collect();
-        if area > 0.0 { (covered_by(&shots, m.region).0 / area).min(1.0) } else { 0.0 }
+        let imaged = photo_strips(photos, cam.footprint_across_m, cam.footprint_along_m);
+        if area > 0.0 { (covered_by(&imaged, m.region).0 / area).min(1.0) } else { 0.0 }
     });
     Stats {
         length_m,
@@ -279,6 +331,29 @@ mod tests {
     use super::*;
     use geo::polygon;
 
+    /// A ring flown as thousands of sub-millimetre sweeps under a swath wider than its radius
+    /// (what an inset of a spiral looks like) is measured on a few hundred rectangles, and
+    /// measured as before: a swath is a rectangle per straight stretch, so the outside of every
+    /// bend loses a wedge of ½·half²·angle, whatever the number of stretches; a whole ring turns
+    /// 2π, leaving the disc under the swath less π·half².
+    #[test]
+    fn a_ring_of_tiny_sweeps_is_measured_on_its_straightened_centreline() {
+        let (radius, half, steps) = (40.0, 58.0, 200_000);
+        let at = |k: usize| {
+            let a = k as f64 / steps as f64 * std::f64::consts::TAU;
+            Coord { x: radius * a.cos(), y: radius * a.sin() }
+        };
+        let mut path = FlightPath::default();
+        for k in 0..steps {
+            path.push(PieceKind::Sweep, vec![at(k), at(k + 1)], half);
+        }
+        let strips = sweep_strips(&path);
+        assert!(strips.len() < 1_000, "{} strips", strips.len());
+        let expected = std::f64::consts::PI * ((radius + half).powi(2) - half.powi(2));
+        let swept = swept(&path).unsigned_area();
+        assert!((swept - expected).abs() < 0.005 * expected, "{swept} m² swept, {expected} m² expected");
+    }
+
     #[test]
     fn coverage_and_intrusion_are_measured_on_the_geometry() {
         let c = |x, y| Coord { x, y };
@@ -291,5 +366,28 @@ mod tests {
         assert!((covered_area(&path, &region) - 1500.0).abs() < 1e-6);
         let zone = MultiPolygon(vec![polygon![(x: 40., y: 0.), (x: 60., y: 0.), (x: 60., y: 10.), (x: 40., y: 10.)]]);
         assert!((length_inside(&path, &zone) - 20.0).abs() < 1e-9);
+    }
+
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Runs of photos along lines image the same ground as their footprints one by one.
+        #[test]
+        fn photo_strips_image_what_the_photos_do(
+            lines in prop::collection::vec((0.0..std::f64::consts::TAU, -200.0..200.0f64, -200.0..200.0f64, 1usize..12, 0.2..1.0f64), 1..6),
+            across in 5.0..60.0f64,
+            along in 5.0..60.0f64,
+        ) {
+            let mut photos = Vec::new();
+            for (heading, x, y, count, step) in lines {
+                let (s, c) = heading.sin_cos();
+                photos.extend((0..count).map(|k| Photo { at: Coord { x: x + c * k as f64 * step * along, y: y + s * k as f64 * step * along }, heading }));
+            }
+            let one_by_one: Vec<Polygon> = photos.iter().map(|p| photo_footprint(p, p, across, along)).collect();
+            let strips = photo_strips(&photos, across, along);
+            prop_assert!(strips.len() <= photos.len());
+            let (a, b) = (union_of(&one_by_one).unsigned_area(), union_of(&strips).unsigned_area());
+            prop_assert!((a - b).abs() <= 1e-6 * a.max(1.0), "{a} m² one by one, {b} m² as strips");
+        }
     }
 }

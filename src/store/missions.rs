@@ -119,28 +119,26 @@ async fn count(db: &Db, tenant: &str) -> Result<i64, sqlx::Error> {
     sqlx::query_scalar("SELECT COUNT(*) FROM missions WHERE tenant = ?").bind(tenant).fetch_one(db).await
 }
 
+/// A page of a tenant's rows read by `select` (which ends `WHERE tenant = ? … LIMIT ? OFFSET ?`),
+/// and the tenant's total count.
+async fn page<T>(db: &Db, select: &'static str, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<T>, i64), sqlx::Error>
+where
+    T: for<'r> FromRow<'r, sqlx::sqlite::SqliteRow> + Send + Unpin,
+{
+    let rows = sqlx::query_as(select).bind(tenant).bind(limit).bind(offset).fetch_all(db).await?;
+    Ok((rows, count(db, tenant).await?))
+}
+
 /// A page of a tenant's missions, newest first, and the total count.
 pub async fn list(db: &Db, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
-    let rows: Vec<MissionRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?"))
-        .bind(tenant)
-        .bind(limit)
-        .bind(offset)
-        .fetch_all(db)
-        .await?;
-    let total = count(db, tenant).await?;
+    let select = concat!("SELECT ", columns!(), " FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?");
+    let (rows, total): (Vec<MissionRow>, i64) = page(db, select, tenant, limit, offset).await?;
     Ok((rows.into_iter().map(Into::into).collect(), total))
 }
 
 /// A page of a tenant's mission summaries, newest first, and the total count.
 pub async fn list_summaries(db: &Db, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<MissionSummary>, i64), sqlx::Error> {
-    let rows = sqlx::query_as("SELECT id, name, created_at, updated_at FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?")
-        .bind(tenant)
-        .bind(limit)
-        .bind(offset)
-        .fetch_all(db)
-        .await?;
-    let total = count(db, tenant).await?;
-    Ok((rows, total))
+    page(db, "SELECT id, name, created_at, updated_at FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?", tenant, limit, offset).await
 }
 
 /// Replaces a mission's content; `None` when the tenant has no such mission.

@@ -9,7 +9,7 @@
 
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
 use geo::orient::{Direction, Orient};
-use geo::{Area, Buffer, Coord, MultiPolygon, Polygon};
+use geo::{Area, Buffer, Coord, MultiPolygon, Polygon, Simplify};
 
 use super::{PlannedPath, Planner, Problem, Progress, connect, no_sweep_lines};
 use crate::error::{InputError, PlanError};
@@ -78,12 +78,16 @@ impl Layers {
     }
 
     fn ring(&mut self, ring: Polygon) {
-        let mut pts = ring.exterior().0.clone();
+        // insets come with arcs of sub-millimetre segments: waypoints a flight file should not carry
+        let mut pts = ring.exterior().simplify(RING_TOLERANCE_M).0;
         pts.pop(); // the closing point
         self.passes.push(Pass::Ring(pts));
         self.inside(&ring);
     }
 }
+
+/// How far a ring may be straightened: a centimetre, nothing next to a swath.
+const RING_TOLERANCE_M: f64 = 0.01;
 
 impl Planner for ESpiral {
     fn id(&self) -> &'static str {

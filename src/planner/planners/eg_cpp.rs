@@ -278,6 +278,13 @@ impl Planner for EgCpp {
         if grid.centres.is_empty() {
             return Err(super::no_sweep_lines());
         }
+        let apart = grid.labels(0).iter().filter(|&&l| l == 0).count();
+        if apart > 0 {
+            return Err(not_one_tour(format!(
+                "{apart} of the {} grid cells cannot be reached from the others by clear moves between neighbouring cells (a no-fly zone or the field's outline separates them)",
+                grid.centres.len()
+            )));
+        }
         let from_start = |i: usize| problem.start.map_or(0.0, |s| run_energy(distance(s, grid.centres[i])));
         let tours: Vec<Result<Option<Tour>, ()>> = (0..grid.centres.len()).into_par_iter().map(|i| tour_from(&grid, i, &|| problem.connector.stopped())).collect();
         if !progress.report(0.8) {
@@ -302,9 +309,16 @@ impl Planner for EgCpp {
                 }
             }
         }
-        let (_, order) = best.ok_or_else(|| PlanError::Infeasible("no grid tour visits every cell once: the grid is not connected by clear moves".into()))?;
+        let (_, order) = best.ok_or_else(|| {
+            not_one_tour(format!("no tour visits each of the {} grid cells once under the method's rule (always on to the neighbours farthest from the start)", grid.centres.len()))
+        })?;
         Ok(PlannedPath::new(fly(&grid, &order, problem)?, problem.sweep_angle.unwrap_or(0.0), 1))
     }
+}
+
+/// EG-CPP flies one tour of the whole grid; `why` there is none.
+fn not_one_tour(why: String) -> PlanError {
+    InputError::new("planner_not_applicable", "/no_fly_zones", format!("eg_cpp cannot plan this field: {why}; use boustrophedon or line_gtsp")).into()
 }
 
 /// The tour as straight runs between corners, closed back to its first cell.

@@ -44,10 +44,10 @@ fn geojson(points: &[[f64; 2]]) -> Value {
     json!({"type": "Polygon", "coordinates": [ring]})
 }
 
-fn plan(area: &Value, planner: &str, profiles: &[planner::vehicle::Vehicle]) -> Option<planner::PlanOutput> {
+fn plan(area: &Value, planner: &str, profiles: &[planner::vehicle::Vehicle]) -> Result<planner::PlanOutput, planner::PlanError> {
     let params: PlanParams = serde_json::from_value(json!({"planner": planner, "line_spacing_m": 20, "vehicle": {"profile": "iris"}})).expect("params");
     let mission = MissionGeometry { area, no_fly_zones: None, obstacles: None, home: None };
-    planner::plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never()).ok()
+    planner::plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never())
 }
 
 pub fn run(fields_per_row: usize) -> String {
@@ -66,7 +66,7 @@ pub fn run(fields_per_row: usize) -> String {
                 for _ in 0..fields_per_row {
                     let irregularity = 0.5 * rng.next();
                     let area = geojson(&polygon(&mut rng, n, diameter, irregularity, spikiness));
-                    let (Some(b), Some(s)) = (plan(&area, "e_bf", &profiles), plan(&area, "e_spiral", &profiles)) else { continue };
+                    let (Ok(b), Ok(s)) = (plan(&area, "e_bf", &profiles), plan(&area, "e_spiral", &profiles)) else { continue };
                     bf += b.stats.energy_j;
                     sp += s.stats.energy_j;
                     bf_t += b.stats.duration_s;
@@ -89,19 +89,21 @@ pub fn run(fields_per_row: usize) -> String {
         }
     }
     out.push_str(
-        "\nEG-CPP: rectangles of n × 4 cells 20 m apart, every start cell searched (IRIS)\n\n| cells | plan ms | energy kJ | result |\n|------:|--------:|----------:|:-------|\n",
+        "\nEG-CPP: rectangles of n × 4 cells 20 m apart, every start cell searched (IRIS)\n\n| cells | plan ms | energy kJ | result | gap |\n|------:|--------:|----------:|:-------|----:|\n",
     );
-    for columns in (4..=12).map(|c| c as f64) {
-        let (w, h) = (20.0 * columns, 80.0);
+    for cells in [16, 20, 24, 28, 32, 36, 40, 48, 60, 80, 100] {
+        // half a cell short of n × 4 cells of 20 m: the frame's rounding adds no row or column
+        let (w, h) = (20.0 * (cells / 4) as f64 - 10.0, 70.0);
         let area = geojson(&[[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]]);
         let t = Instant::now();
         let result = plan(&area, "eg_cpp", &profiles);
         let ms = t.elapsed().as_secs_f64() * 1000.0;
-        let (energy, note) = match &result {
-            Some(p) => (format!("{:.1}", p.stats.energy_j / 1000.0), "planned".to_string()),
-            None => ("-".into(), "refused (over the search limit)".into()),
+        let (energy, note, gap) = match result.as_ref().map(|p| (&p.stats, p.stats.optimality)) {
+            Ok((st, Some(o))) => (format!("{:.1}", st.energy_j / 1000.0), format!("{} ({} cells)", o.status.as_str(), st.cells), format!("{:.1} %", 100.0 * o.gap)),
+            Ok((st, None)) => (format!("{:.1}", st.energy_j / 1000.0), "planned".into(), "-".into()),
+            Err(e) => ("-".into(), format!("refused: {e}"), "-".into()),
         };
-        let _ = writeln!(out, "| {:5} | {ms:7.0} | {energy:>9} | {note} |", 4 * columns as usize);
+        let _ = writeln!(out, "| {cells:5} | {ms:7.0} | {energy:>9} | {note} | {gap} |");
     }
     out
 }

@@ -289,6 +289,7 @@ fn plan_until(
     stats.lost_coverage_m = lost_coverage_m;
     stats.planner = planned.planner.unwrap_or(planner.id()).to_string();
     stats.alternatives = planned.alternatives;
+    stats.optimality = planned.optimality;
     stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     progress.report(1.0);
     Ok(PlanOutput { stats, trajectory })

@@ -67,6 +67,41 @@ pub struct Stats {
     /// Metres of sweep line flown above the survey altitude to clear obstacles (not imaged).
     #[serde(default)]
     pub lost_coverage_m: f64,
+    /// From planners whose search can prove its result (`eg_cpp`): whether it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub optimality: Option<Optimality>,
+}
+
+/// Whether a planner's search proved its plan the cheapest under the method's rules.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct Optimality {
+    pub status: OptimalityStatus,
+    /// How much cheaper than this plan's search cost the best plan could still be, as a share
+    /// of it (0 when proven): the search's lower bound for what it left unsearched.
+    pub gap: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum OptimalityStatus {
+    /// The search was complete: no cheaper plan exists under the method's rules.
+    Proven,
+    /// The search budget ran out first; `gap` bounds what it may have missed.
+    SearchLimited,
+    /// The plan's time limit came first; `gap` bounds what it may have missed.
+    TimeLimited,
+}
+
+impl OptimalityStatus {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            OptimalityStatus::Proven => "proven",
+            OptimalityStatus::SearchLimited => "search_limited",
+            OptimalityStatus::TimeLimited => "time_limited",
+        }
+    }
 }
 
 /// How another planner did on the same problem.
@@ -323,6 +358,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         efficiency: if length_m > 0.0 { lower_bound_m / length_m } else { 0.0 },
         planning_time_ms: 0.0,
         lost_coverage_m: 0.0,
+        optimality: None,
     }
 }
 

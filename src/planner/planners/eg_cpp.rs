@@ -1,15 +1,22 @@
 //! EG-CPP (seed 002 §4.2, docs/methods.md, multirotor planners §3): a grid of photo positions over the
 //! area, wavefront labels from a start cell, and a depth-first search that always moves to
 //! the unvisited neighbours with the highest label, minimising an energy cost with branch
-//! and bound. Every valid cell is tried as the start, in parallel.
+//! and bound. Every valid cell is tried as the start, corner cells first, in batches searched
+//! in parallel that share the best tour found before them (the incumbent), so later starts
+//! prune on it from their first move.
 //!
 //! The search cost is the additive one (docs/methods.md, energy §5): each straight run costs the
 //! rest-to-rest energy of its length (the measured OEM table of seed 002), each heading change
 //! 6.117 J per degree. The bound prunes with `continue`, not with the published code's
-//! `return`, which dropped the remaining siblings too. The search is exponential: it is
-//! refused above [`MAX_GRID_CELLS`] cells or [`MAX_EXPANSIONS`] expansions per start.
+//! `return`, which dropped the remaining siblings too. The search is exponential, so it is
+//! anytime: each start has a share of [`SEARCH_EXPANSIONS`]; a start cut off there keeps the
+//! best tour it found, and the plan reports `optimality` `search_limited` with the gap to the
+//! lower bound instead of `proven`. The budget counts expansions, not seconds, so the same
+//! input gives the same plan on every machine; only a plan's time limit, when three quarters
+//! of it are spent, ends the search by the clock (`time_limited`, with its gap). Grids above [`MAX_GRID_CELLS`] are refused.
 
 use std::collections::VecDeque;
+use std::time::Instant;
 
 use geo::{Contains, Coord, Point};
 use rayon::prelude::*;
@@ -17,15 +24,19 @@ use rayon::prelude::*;
 use super::{PlannedPath, Planner, Problem, Progress, connect};
 use crate::error::{InputError, PlanError};
 use crate::geom::distance;
+use crate::metrics::{Optimality, OptimalityStatus};
 use crate::path::{FlightPath, PieceKind};
 use crate::vehicle::VehicleKind;
 
 pub struct EgCpp;
 
-/// Largest grid searched exhaustively (`max_grid_cells`).
-pub const MAX_GRID_CELLS: usize = 60;
-/// Search nodes one start cell may expand before the instance is refused.
-pub const MAX_EXPANSIONS: u64 = 3_000_000;
+/// Largest grid searched (the visited set is one `u128`).
+pub const MAX_GRID_CELLS: usize = 100;
+/// Search nodes all start cells may expand together (about 3 s on one core here).
+pub const SEARCH_EXPANSIONS: u64 = 120_000_000;
+/// Start cells searched in parallel on one incumbent: fixed, so that the result does not
+/// depend on the number of cores.
+const STARTS_PER_BATCH: usize = 8;
 
 /// Rest-to-rest energy of a straight run (seed 002's OEM table, docs/methods.md, energy §7): (m, J).
 const REST_TO_REST: [(f64, f64); 22] = [
@@ -83,7 +94,10 @@ struct Grid {
     rc: Vec<(i64, i64)>,
     /// (neighbour, move index, length)
     moves: Vec<Vec<(usize, usize, f64)>>,
+    /// The shortest move.
     step: f64,
+    /// The most moves one straight run can make: a row or column of the box, less one.
+    longest_run: usize,
 }
 
 impl Grid {
@@ -108,7 +122,7 @@ impl Grid {
             InputError::new(
                 "instance_too_large",
                 "/line_spacing_m",
-                format!("eg_cpp searches at most {MAX_GRID_CELLS} grid cells exhaustively; this area needs {n} at this spacing: widen the spacing or use boustrophedon"),
+                format!("eg_cpp searches at most {MAX_GRID_CELLS} grid cells; this area needs {n} at this spacing: widen the spacing or use boustrophedon"),
             )
         };
         if nc.saturating_mul(nr) > 64 * MAX_GRID_CELLS {
@@ -131,7 +145,7 @@ impl Grid {
             return Err(too_large(centres.len()));
         }
         let index = |r: i64, col: i64| rc.iter().position(|&q| q == (r, col));
-        let moves = rc
+        let moves: Vec<Vec<(usize, usize, f64)>> = rc
             .iter()
             .enumerate()
             .map(|(i, &(r, col))| {
@@ -144,7 +158,8 @@ impl Grid {
                     .collect()
             })
             .collect();
-        Ok(Grid { centres, rc, moves, step: dx.min(dy).max(1e-3) })
+        let step = moves.iter().flatten().map(|&(_, _, len)| len).fold(f64::INFINITY, f64::min);
+        Ok(Grid { centres, rc, moves, step: if step.is_finite() { step } else { 0.0 }, longest_run: nc.max(nr) - 1 })
     }
 
     /// Breadth-first distance in moves from `start`, 1 at the start; 0 where unreachable.
@@ -164,21 +179,61 @@ impl Grid {
     }
 }
 
+/// Lower bounds on the cost of moves still to make, `[m]` for `m` moves: runs are at most
+/// `longest_run` moves of at least `step` each, a run's energy grows with its length and is
+/// concave, every new run starts with a turn of 45° or more, and continuing the current run
+/// costs at least [`MIN_J_PER_M`] per metre.
+struct Floors {
+    rest: Vec<f64>,
+}
+
+impl Floors {
+    fn new(grid: &Grid) -> Floors {
+        let n = grid.centres.len();
+        let longest = grid.longest_run.max(1);
+        let turn = 45.0 * TURN_J_PER_DEG;
+        // runs that each start with a turn
+        let mut turned = vec![0.0; n];
+        for m in 1..n {
+            turned[m] = (1..=m.min(longest)).map(|k| turn + run_energy(k as f64 * grid.step) + turned[m - k]).fold(f64::INFINITY, f64::min);
+        }
+        // the first `c` moves may continue the current run
+        let rest = (0..n).map(|m| (0..=m.min(longest)).map(|c| c as f64 * grid.step * MIN_J_PER_M + turned[m - c]).fold(f64::INFINITY, f64::min)).collect();
+        Floors { rest }
+    }
+}
+
 /// The best tour from one start cell.
 struct Search<'g> {
+    floors: &'g Floors,
     grid: &'g Grid,
     label: Vec<u32>,
     start: usize,
     path: Vec<usize>,
+    /// The cheapest tour found, or at first the incumbent's cost: only cheaper tours count.
     best: f64,
     best_path: Vec<usize>,
     expansions: u64,
-    /// Asked every [`STOP_CHECK_EVERY`] expansions.
-    stopped: &'g dyn Fn() -> bool,
+    budget: u64,
+    /// Once the budget ran out: the least any tour left unsearched may cost.
+    unsearched: f64,
+    /// Asked every [`STOP_CHECK_EVERY`] expansions whether to end early.
+    interrupt: &'g dyn Fn() -> Option<Halt>,
 }
 
 /// Expansions between two looks at the stop flag (well under a millisecond of search).
 const STOP_CHECK_EVERY: u64 = 4096;
+
+/// Why a search ended early.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Halt {
+    /// Its share of [`SEARCH_EXPANSIONS`] ran out: what it found stands, unproven.
+    Budget,
+    /// Most of the plan's time limit is spent: what it found stands, unproven.
+    Time,
+    /// The plan is stopping.
+    Stop,
+}
 
 impl Search<'_> {
     /// The closing flight from the last cell straight back to the start.
@@ -197,13 +252,21 @@ impl Search<'_> {
         turn + run_energy(d)
     }
 
-    /// Depth-first branch and bound; `Err` when the expansion budget runs out.
-    fn search(&mut self, visited: u64, cost: f64, run_m: f64, last_move: Option<usize>) -> Result<(), ()> {
+    /// Depth-first branch and bound.
+    fn search(&mut self, visited: u128, cost: f64, run_m: f64, last_move: Option<usize>) -> Result<(), Halt> {
         self.expansions += 1;
-        if self.expansions > MAX_EXPANSIONS || (self.expansions.is_multiple_of(STOP_CHECK_EVERY) && (self.stopped)()) {
-            return Err(());
-        }
         let n = self.grid.centres.len();
+        let halt = if self.expansions > self.budget {
+            Some(Halt::Budget)
+        } else if self.expansions.is_multiple_of(STOP_CHECK_EVERY) {
+            (self.interrupt)()
+        } else {
+            None
+        };
+        if let Some(halt) = halt {
+            self.unsearched = self.unsearched.min(cost + self.floors.rest[n - self.path.len()]);
+            return Err(halt);
+        }
         let here = *self.path.last().expect("the path has its start");
         if self.path.len() == n {
             let total = cost + self.close_cost(here, last_move);
@@ -213,7 +276,7 @@ impl Search<'_> {
             }
             return Ok(());
         }
-        let free = |j: usize| visited & (1u64 << j) == 0;
+        let free = |j: usize| visited & (1u128 << j) == 0;
         let top = self.grid.moves[here].iter().filter(|&&(j, _, _)| free(j)).map(|&(j, _, _)| self.label[j]).max();
         let Some(top) = top else { return Ok(()) }; // dead end
         let mut children: Vec<(f64, f64, usize, usize)> = self.grid.moves[here]
@@ -230,14 +293,19 @@ impl Search<'_> {
             })
             .collect();
         children.sort_by(|a, b| a.0.total_cmp(&b.0).then(self.grid.rc[a.2].cmp(&self.grid.rc[b.2])));
-        let left = (n - self.path.len() - 1) as f64;
-        for (delta, run, j, m) in children {
-            if cost + delta + left * self.grid.step * MIN_J_PER_M >= self.best {
+        let left = n - self.path.len() - 1;
+        for (k, &(delta, run, j, m)) in children.iter().enumerate() {
+            if cost + delta + self.floors.rest[left] >= self.best {
                 continue; // not `return`: the siblings may still be cheaper
             }
             self.path.push(j);
-            let r = self.search(visited | (1u64 << j), cost + delta, run, Some(m));
+            let r = self.search(visited | (1u128 << j), cost + delta, run, Some(m));
             self.path.pop();
+            if let Err(Halt::Budget | Halt::Time) = r {
+                // the siblings not tried yet are unsearched too
+                let rest = children[k + 1..].iter().map(|c| cost + c.0 + self.floors.rest[left]).fold(f64::INFINITY, f64::min);
+                self.unsearched = self.unsearched.min(rest);
+            }
             r?;
         }
         Ok(())
@@ -247,12 +315,35 @@ impl Search<'_> {
 /// A tour's cost and its cells in flight order.
 type Tour = (f64, Vec<usize>);
 
-/// The cheapest tour from `start`, with its cost; `Err` when the budget ran out or the plan
-/// is stopping.
-fn tour_from(grid: &Grid, start: usize, stopped: &dyn Fn() -> bool) -> Result<Option<Tour>, ()> {
-    let mut s = Search { grid, label: grid.labels(start), start, path: vec![start], best: f64::INFINITY, best_path: Vec::new(), expansions: 0, stopped };
-    s.search(1u64 << start, 0.0, 0.0, None)?;
-    Ok(s.best.is_finite().then_some((s.best, s.best_path)))
+/// What the search from one start found: a tour cheaper than the incumbent it was given, and
+/// when its budget or the time cut it off, the least a tour it did not search may cost.
+struct FromStart {
+    tour: Option<Tour>,
+    unsearched: Option<f64>,
+    out_of_time: bool,
+}
+
+/// The cheapest tour from `start` that costs less than `incumbent`; `None` when the plan is
+/// stopping.
+fn tour_from(grid: &Grid, floors: &Floors, start: usize, incumbent: f64, budget: u64, interrupt: &dyn Fn() -> Option<Halt>) -> Option<FromStart> {
+    let mut s = Search {
+        floors,
+        grid,
+        label: grid.labels(start),
+        start,
+        path: vec![start],
+        best: incumbent,
+        best_path: Vec::new(),
+        expansions: 0,
+        budget,
+        unsearched: f64::INFINITY,
+        interrupt,
+    };
+    let halt = s.search(1u128 << start, 0.0, 0.0, None).err();
+    if halt == Some(Halt::Stop) {
+        return None;
+    }
+    Some(FromStart { tour: (!s.best_path.is_empty()).then_some((s.best, s.best_path)), unsearched: halt.map(|_| s.unsearched), out_of_time: halt == Some(Halt::Time) })
 }
 
 impl Planner for EgCpp {
@@ -261,9 +352,9 @@ impl Planner for EgCpp {
     }
 
     fn description(&self) -> &'static str {
-        "Energy-aware grid coverage (seed 002 §4.2): photo positions on a grid, searched exhaustively with an energy \
-         cost and branch and bound from every start cell. Multirotors; small irregular areas with no-fly zones \
-         (at most 60 cells)."
+        "Energy-aware grid coverage (seed 002 §4.2): photo positions on a grid, searched with an energy cost and \
+         branch and bound from every start cell, proven optimal when the search completes (stats.optimality). \
+         Multirotors; small irregular areas with no-fly zones (at most 100 cells)."
     }
 
     fn direction_rule(&self) -> &'static str {
@@ -286,33 +377,75 @@ impl Planner for EgCpp {
             )));
         }
         let from_start = |i: usize| problem.start.map_or(0.0, |s| run_energy(distance(s, grid.centres[i])));
-        let tours: Vec<Result<Option<Tour>, ()>> = (0..grid.centres.len()).into_par_iter().map(|i| tour_from(&grid, i, &|| problem.connector.stopped())).collect();
-        if !progress.report(0.8) {
-            return Err(PlanError::Cancelled);
-        }
-        let mut best: Option<(f64, Vec<usize>)> = None;
-        for (i, t) in tours.into_iter().enumerate() {
-            let t = t.map_err(|()| {
-                PlanError::Input(InputError::new(
-                    "instance_too_large",
-                    "/planner",
-                    format!(
-                        "eg_cpp did not finish its exhaustive search within {MAX_EXPANSIONS} expansions per start cell on this {}-cell grid: use boustrophedon or a wider spacing",
-                        grid.centres.len()
-                    ),
-                ))
-            })?;
-            if let Some((cost, path)) = t {
-                let cost = cost + from_start(i);
-                if best.as_ref().is_none_or(|b| cost < b.0) {
-                    best = Some((cost, path));
+        let n = grid.centres.len();
+        // corner cells first: their tours tend to be cheap, which gives the incumbent early
+        let mut starts: Vec<usize> = (0..n).collect();
+        starts.sort_by_key(|&i| (grid.moves[i].len(), i));
+        let budget = SEARCH_EXPANSIONS / n as u64;
+        let floors = Floors::new(&grid);
+        let mut best: Option<Tour> = None;
+        // the cheapest any start cut off by its budget might still reach
+        let mut floor = f64::INFINITY;
+        // past three quarters of the time limit the search ends with what it has, leaving the
+        // rest to fly and measure the tour
+        let stop = problem.connector.stop();
+        let started = Instant::now();
+        let wrap_up = stop.deadline().map(|d| started + d.saturating_duration_since(started).mul_f64(0.75));
+        let interrupt = || {
+            if stop.requested() { Some(Halt::Stop) } else { wrap_up.filter(|&w| Instant::now() >= w).map(|_| Halt::Time) }
+        };
+        let mut out_of_time = false;
+        for (k, batch) in starts.chunks(STARTS_PER_BATCH).enumerate() {
+            if out_of_time {
+                // starts never searched: any of their tours may still be the cheapest
+                floor = floor.min(batch.iter().map(|&i| from_start(i) + floors.rest[n - 1]).fold(f64::INFINITY, f64::min));
+                continue;
+            }
+            let incumbent = best.as_ref().map_or(f64::INFINITY, |b| b.0);
+            let found: Vec<Option<FromStart>> = batch.par_iter().map(|&i| tour_from(&grid, &floors, i, incumbent - from_start(i), budget, &interrupt)).collect();
+            for (&i, f) in batch.iter().zip(found) {
+                let f = f.ok_or(PlanError::Cancelled)?;
+                out_of_time |= f.out_of_time;
+                if let Some(unsearched) = f.unsearched {
+                    floor = floor.min(from_start(i) + unsearched);
+                }
+                if let Some((cost, path)) = f.tour {
+                    let cost = cost + from_start(i);
+                    if best.as_ref().is_none_or(|b| cost < b.0) {
+                        best = Some((cost, path));
+                    }
                 }
             }
+            if !progress.report(0.8 * (k + 1) as f64 * STARTS_PER_BATCH as f64 / n as f64) {
+                return Err(PlanError::Cancelled);
+            }
         }
-        let (_, order) = best.ok_or_else(|| {
-            not_one_tour(format!("no tour visits each of the {} grid cells once under the method's rule (always on to the neighbours farthest from the start)", grid.centres.len()))
-        })?;
-        Ok(PlannedPath::new(fly(&grid, &order, problem)?, problem.sweep_angle.unwrap_or(0.0), 1))
+        let Some((cost, order)) = best else {
+            return Err(if floor.is_finite() {
+                InputError::new(
+                    "instance_too_large",
+                    "/planner",
+                    if out_of_time {
+                        format!("eg_cpp found no tour of this {n}-cell grid within the plan's time limit: allow more time, use boustrophedon or a wider spacing")
+                    } else {
+                        format!("eg_cpp found no tour of this {n}-cell grid within its search budget ({SEARCH_EXPANSIONS} expansions): use boustrophedon or a wider spacing")
+                    },
+                )
+                .into()
+            } else {
+                not_one_tour(format!("no tour visits each of the {n} grid cells once under the method's rule (always on to the neighbours farthest from the start)"))
+            });
+        };
+        let optimality = if out_of_time {
+            Optimality { status: OptimalityStatus::TimeLimited, gap: ((cost - floor) / cost).max(0.0) }
+        } else if floor < cost {
+            Optimality { status: OptimalityStatus::SearchLimited, gap: (cost - floor) / cost }
+        } else {
+            Optimality { status: OptimalityStatus::Proven, gap: 0.0 }
+        };
+        let mut planned = PlannedPath::new(fly(&grid, &order, problem)?, problem.sweep_angle.unwrap_or(0.0), n);
+        planned.optimality = Some(optimality);
+        Ok(planned)
     }
 }
 
@@ -355,6 +488,57 @@ fn fly(grid: &Grid, order: &[usize], problem: &Problem<'_>) -> Result<FlightPath
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A `cols` × `rows` grid of cells `spacing` apart with every move clear.
+    fn rectangle(cols: i64, rows: i64, spacing: f64) -> Grid {
+        let rc: Vec<(i64, i64)> = (0..rows).flat_map(|r| (0..cols).map(move |c| (r, c))).collect();
+        let centres: Vec<Coord> = rc.iter().map(|&(r, c)| Coord { x: c as f64 * spacing, y: r as f64 * spacing }).collect();
+        let moves = rc
+            .iter()
+            .map(|&(r, c)| {
+                MOVES
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(m, &(dc, dr))| {
+                        rc.iter().position(|&q| q == (r + dr, c + dc)).map(|j| (j, m, distance(centres[rc.iter().position(|&q| q == (r, c)).unwrap()], centres[j])))
+                    })
+                    .collect()
+            })
+            .collect();
+        Grid { centres, rc, moves, step: spacing, longest_run: (cols.max(rows) - 1) as usize }
+    }
+
+    /// The floors prune only what cannot win: from every start of several small grids the
+    /// search with them finds tours exactly as cheap as the search that prunes on nothing.
+    #[test]
+    fn floors_never_prune_the_cheapest_tour() {
+        for (cols, rows) in [(3, 3), (4, 3), (5, 2), (4, 4), (6, 2)] {
+            let grid = rectangle(cols, rows, 20.0);
+            let n = grid.centres.len();
+            let floors = Floors::new(&grid);
+            let none = Floors { rest: vec![0.0; n] };
+            assert!(floors.rest.iter().zip(&floors.rest[1..]).all(|(a, b)| a <= b) && floors.rest[n - 1] > (n - 1) as f64 * 20.0 * MIN_J_PER_M);
+            for start in 0..n {
+                let cost = |f: &Floors| tour_from(&grid, f, start, f64::INFINITY, u64::MAX, &|| None).and_then(|t| t.tour).map(|t| t.0);
+                let (pruned, exhaustive) = (cost(&floors), cost(&none));
+                assert!(pruned.is_some() && exhaustive.is_some(), "{cols}×{rows} from {start}");
+                assert!((pruned.unwrap() - exhaustive.unwrap()).abs() < 1e-6, "{cols}×{rows} from {start}: {pruned:?} vs {exhaustive:?}");
+            }
+        }
+    }
+
+    /// A search cut off by its budget says how much it may have missed: the least a tour it
+    /// did not search may cost, never above the cheapest tour there is.
+    #[test]
+    fn a_cut_search_bounds_what_it_did_not_search() {
+        let grid = rectangle(4, 4, 20.0);
+        let floors = Floors::new(&grid);
+        let optimum = tour_from(&grid, &floors, 0, f64::INFINITY, u64::MAX, &|| None).unwrap().tour.unwrap().0;
+        let cut = tour_from(&grid, &floors, 0, f64::INFINITY, 40, &|| None).unwrap();
+        let unsearched = cut.unsearched.expect("40 expansions do not finish a 16-cell grid");
+        let found = cut.tour.map_or(f64::INFINITY, |t| t.0);
+        assert!(unsearched.min(found) <= optimum + 1e-6 && unsearched > 0.0, "{unsearched} {found} {optimum}");
+    }
 
     #[test]
     fn run_energy_follows_the_table_and_never_undercuts_the_bound() {

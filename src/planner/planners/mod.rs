@@ -11,7 +11,7 @@ use geo::{Coord, MultiPolygon};
 use serde::Serialize;
 
 use super::error::PlanError;
-use super::metrics::Alternative;
+use super::metrics::{Alternative, Optimality};
 use super::params::Objective;
 use super::path::{FlightPath, PieceKind};
 use super::route::connect::Connector;
@@ -65,11 +65,13 @@ pub struct PlannedPath {
     pub planner: Option<&'static str>,
     /// The other planners' results, when one was chosen among several (`auto`).
     pub alternatives: Vec<Alternative>,
+    /// From a search that can prove its result: whether it did.
+    pub optimality: Option<Optimality>,
 }
 
 impl PlannedPath {
     pub fn new(path: FlightPath, sweep_angle: f64, cells: usize) -> Self {
-        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new() }
+        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new(), optimality: None }
     }
 }
 

@@ -12,6 +12,8 @@ use crate::planner::FieldLimits;
 pub struct Config {
     pub addr: SocketAddr,
     pub database_url: String,
+    /// Pooled database connections (`COVERPLAN_DB_CONNECTIONS`).
+    pub db_connections: u32,
     pub workers: usize,
     /// Folder to serve the page from instead of the copy embedded in the binary (page development).
     pub static_dir: Option<PathBuf>,
@@ -38,6 +40,7 @@ impl Config {
         Config {
             addr,
             database_url: database_url.into(),
+            db_connections: 8,
             workers: std::thread::available_parallelism().map(|n| n.get()).unwrap_or(2),
             static_dir: None,
             max_body_bytes: 5 * 1024 * 1024,
@@ -53,7 +56,8 @@ impl Config {
     }
 }
 
-/// `coverplan.db` in the working directory becomes `sqlite://coverplan.db`.
+/// `coverplan.db` in the working directory becomes `sqlite://coverplan.db`; `sqlite:` and
+/// `postgres://` URLs stay as they are.
 pub fn database_url(value: &str) -> String {
-    if value.starts_with("sqlite:") { value.to_owned() } else { format!("sqlite://{value}") }
+    if value.starts_with("sqlite:") || crate::store::is_postgres(value) { value.to_owned() } else { format!("sqlite://{value}") }
 }

@@ -73,6 +73,11 @@ enum Command {
         /// Instead: E-Spiral against E-BF energy on generated polygons, and EG-CPP time by grid size.
         #[arg(long)]
         energy: bool,
+        /// Instead: the shared job queue on the PostgreSQL server at this admin URL
+        /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
+        /// the time of one claim at 10 000 queued plans.
+        #[arg(long, value_name = "ADMIN_URL")]
+        queue: Option<String>,
     },
     /// Manage API keys: once any key exists, every API request needs one.
     Keys {
@@ -113,9 +118,20 @@ enum KeysAction {
 struct ServeArgs {
     #[arg(long, env = "COVERPLAN_ADDR", default_value = "127.0.0.1:8080")]
     addr: SocketAddr,
-    /// SQLite file or URL; created if missing.
+    /// SQLite file or URL (created if missing), or `postgres://…` for replicas sharing one
+    /// PostgreSQL database.
     #[arg(long, env = "COVERPLAN_DATABASE_URL", default_value = "coverplan.db")]
     database_url: String,
+    /// Pooled database connections.
+    #[arg(long, env = "COVERPLAN_DB_CONNECTIONS", default_value_t = 8)]
+    db_connections: u32,
+    /// Seconds a running plan's claim holds without a heartbeat: a plan whose replica died is
+    /// taken again this long after its last heartbeat (heartbeats come every 0.5 s).
+    #[arg(long, env = "COVERPLAN_LEASE_S", default_value_t = 30.0)]
+    lease_s: f64,
+    /// This replica's name in the record of claims (default: the host's name and a random suffix).
+    #[arg(long, env = "COVERPLAN_REPLICA")]
+    replica: Option<String>,
     /// Planning workers (default: the number of CPUs).
     #[arg(long, env = "COVERPLAN_WORKERS")]
     workers: Option<usize>,
@@ -132,7 +148,8 @@ struct ServeArgs {
     /// Largest request body, in bytes.
     #[arg(long, env = "COVERPLAN_MAX_BODY_BYTES", default_value_t = 5 * 1024 * 1024)]
     max_body_bytes: usize,
-    /// Seconds running plans get to finish at shutdown before they are requeued.
+    /// Seconds running plans get to finish at shutdown before they are requeued (SQLite; replicas
+    /// on PostgreSQL hand them back at once).
     #[arg(long, env = "COVERPLAN_SHUTDOWN_GRACE_S", default_value_t = 30)]
     shutdown_grace_s: u64,
     /// Map tile URL template for the page; an empty value turns tiles off (the page then draws
@@ -181,6 +198,9 @@ fn main() -> ExitCode {
             print!("{}", coverplan::bench::energy::run(repeats.max(1) * 4));
             Ok(())
         }
+        Command::Bench { queue: Some(admin), .. } => {
+            tokio::runtime::Runtime::new().map_err(Into::into).and_then(|rt| rt.block_on(coverplan::bench::queue::run(&admin))).map(|table| print!("{table}"))
+        }
         Command::Bench { routing: true, .. } => {
             print!("{}", coverplan::bench::routing());
             Ok(())
@@ -216,7 +236,15 @@ fn serve(args: ServeArgs) -> anyhow::Result<()> {
     config.limits = FieldLimits { max_area_ha: args.max_area_ha, max_vertices: args.max_vertices, ..FieldLimits::default() };
     config.shutdown_grace = Duration::from_secs(args.shutdown_grace_s);
     anyhow::ensure!(args.job_timeout_s.is_finite() && args.job_timeout_s >= 1.0, "COVERPLAN_JOB_TIMEOUT_S must be at least 1 (seconds)");
-    config.queue = QueueSettings { time_limit: Duration::from_secs_f64(args.job_timeout_s), start_delay: Duration::from_millis(args.job_start_delay_ms) };
+    anyhow::ensure!(args.lease_s.is_finite() && args.lease_s >= 2.0, "COVERPLAN_LEASE_S must be at least 2 (seconds)");
+    anyhow::ensure!(args.db_connections >= 2, "COVERPLAN_DB_CONNECTIONS must be at least 2");
+    config.db_connections = args.db_connections;
+    config.queue = QueueSettings {
+        time_limit: Duration::from_secs_f64(args.job_timeout_s),
+        start_delay: Duration::from_millis(args.job_start_delay_ms),
+        lease: Duration::from_secs_f64(args.lease_s),
+        replica: args.replica,
+    };
     anyhow::ensure!(args.max_queued >= 1, "COVERPLAN_MAX_QUEUED must be at least 1");
     config.require_auth = args.require_auth;
     config.max_queued = args.max_queued;

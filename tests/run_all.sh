@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test of coverplan on a fresh machine: installs what the tests need (Debian's
-# Chromium and npm's playwright-core for the map page test; the independent readers of the
+# Chromium and npm's playwright-core for the map page test; Debian's PostgreSQL server, on which
+# the store, queue and API tests run a second time; the independent readers of the
 # exported files: PyPI's pymavlink, fastkml, jsonschema, pyshp and utm in a virtual environment,
 # npm's isoxml; PyPI's schemathesis for the API fuzz), then runs them.
 set -euo pipefail
@@ -12,6 +13,7 @@ if ! command -v cargo >/dev/null; then
 fi
 packages=""
 [ -x /usr/bin/chromium ] || packages="$packages chromium"
+ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || packages="$packages postgresql"
 python3 -c "import ensurepip, venv" 2>/dev/null || packages="$packages python3 python3-venv"
 if [ -n "$packages" ]; then
   sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
@@ -37,6 +39,12 @@ done
 cargo fmt --all --check
 cargo clippy --workspace --all-targets --locked -- -D warnings
 cargo test --workspace --all-targets --locked --no-fail-fast
+# the store, queue and API tests again on a throwaway PostgreSQL server (with the test of two
+# replicas sharing it, one killed mid-plan)
+eval "$(bash tests/postgres.sh start)"
+trap 'bash tests/postgres.sh stop "$COVERPLAN_TEST_PGDATA"' EXIT
+cargo test -p coverplan --test it --locked --no-fail-fast -- api:: jobs:: tenancy:: vehicles:: process:: replicas:: observability::
+unset COVERPLAN_TEST_POSTGRES
 # --all-targets leaves out the documentation examples
 cargo test --workspace --doc --locked
 # the map page in Chromium, against the server binary the line above built

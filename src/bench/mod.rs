@@ -1,8 +1,10 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
-//! `--routing` and `--energy` run the routing and the energy benchmarks instead.
+//! `--routing`, `--energy` and `--queue` run the routing, energy and shared-queue benchmarks
+//! instead.
 
 pub mod energy;
+pub mod queue;
 
 use std::path::Path;
 use std::time::Instant;

@@ -1,6 +1,10 @@
-//! The planning job queue: a pool of workers that claim queued plans from SQLite, run the
+//! The planning job queue: a pool of workers that claim queued plans from the database, run the
 //! planner on blocking threads (off the async runtime), report progress, honour cancellation
 //! and time limits, and store the result or the error. A panic in a planner fails that plan only.
+//!
+//! Several replicas may share one PostgreSQL queue. Each claim carries a lease that the running
+//! job's heartbeat renews; a plan whose replica died is requeued by any replica once its lease
+//! has run out, and a heartbeat that finds its plan cancelled (on any replica) stops the job.
 
 use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -23,12 +27,16 @@ use crate::telemetry::Telemetry;
 /// time limit gives up on it and takes the next job.
 pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress, &Stop) -> Result<PlanOutput, PlanError> + Send + Sync>;
 
+/// How often a running job renews its lease, saves its progress and looks whether it was
+/// cancelled elsewhere.
+pub const HEARTBEAT: Duration = Duration::from_millis(500);
+
 /// How long past its time limit a worker waits for a planner that does not stop before
 /// failing the plan without it (its thread is left to finish on its own).
 pub const ABANDON_AFTER: Duration = Duration::from_millis(500);
 
 /// How the queue runs its jobs.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct QueueSettings {
     /// The longest any plan may take (`COVERPLAN_JOB_TIMEOUT_S`); a plan's own `time_limit_s`
     /// may only shorten it.
@@ -36,11 +44,17 @@ pub struct QueueSettings {
     /// Holds each job this long after claiming it (a test knob: makes "killed while running"
     /// reproducible). Zero in production.
     pub start_delay: Duration,
+    /// How long a claim holds without a heartbeat (`COVERPLAN_LEASE_S`): a plan whose replica
+    /// died is taken again this long after its last heartbeat.
+    pub lease: Duration,
+    /// This process's name in the claims it makes (`COVERPLAN_REPLICA`); by default the host's
+    /// name and a random suffix.
+    pub replica: Option<String>,
 }
 
 impl Default for QueueSettings {
     fn default() -> Self {
-        QueueSettings { time_limit: Duration::from_secs(120), start_delay: Duration::ZERO }
+        QueueSettings { time_limit: Duration::from_secs(120), start_delay: Duration::ZERO, lease: Duration::from_secs(30), replica: None }
     }
 }
 
@@ -77,6 +91,8 @@ struct RunningJob {
 
 pub struct JobQueue {
     db: Db,
+    /// This process's name in the claims it makes.
+    pub replica: String,
     runner: Runner,
     wake: Notify,
     running: Mutex<HashMap<String, RunningJob>>,
@@ -92,6 +108,7 @@ impl JobQueue {
     pub fn start(db: Db, workers: usize, runner: Runner, settings: QueueSettings) -> (Arc<JobQueue>, Vec<JoinHandle<()>>) {
         let queue = Arc::new(JobQueue {
             db,
+            replica: settings.replica.clone().unwrap_or_else(|| format!("{}-{}", hostname(), &uuid::Uuid::new_v4().simple().to_string()[..8])),
             runner,
             wake: Notify::new(),
             running: Mutex::new(HashMap::new()),
@@ -110,7 +127,31 @@ impl JobQueue {
                 })
             })
             .collect();
+        tokio::spawn(queue.clone().requeue_abandoned());
+        if let Db::Postgres(pool) = &queue.db {
+            tokio::spawn(listen_for_queued(pool.clone(), Arc::downgrade(&queue), queue.stopping.subscribe()));
+        }
         (queue, handles)
+    }
+
+    /// Every third of a lease, puts the plans of replicas that stopped renewing their leases back
+    /// in the queue, until the queue stops.
+    async fn requeue_abandoned(self: Arc<Self>) {
+        let mut stopping = self.stopping.subscribe();
+        loop {
+            tokio::select! {
+                _ = tokio::time::sleep(self.settings.lease / 3) => {}
+                _ = stopping.changed() => return,
+            }
+            match plans::requeue_abandoned(&self.db, false).await {
+                Ok((requeued, failed)) if requeued + failed > 0 => {
+                    tracing::warn!(requeued, failed, "plans whose replica stopped renewing their lease");
+                    self.notify();
+                }
+                Ok(_) => {}
+                Err(e) => tracing::warn!(error = %e, "looking for abandoned plans failed"),
+            }
+        }
     }
 
     /// Number of workers still taking jobs.
@@ -157,7 +198,7 @@ impl JobQueue {
             if *stopping.borrow() {
                 return;
             }
-            match plans::claim_next(&self.db).await {
+            match plans::claim_next(&self.db, &self.replica, self.settings.lease.as_secs_f64()).await {
                 Ok(Some(job)) => self.run(job).await,
                 Ok(None) => {
                     tokio::select! {
@@ -215,25 +256,25 @@ impl JobQueue {
         };
         tokio::pin!(task);
         let abandon_at = started + self.settings.start_delay + limit + ABANDON_AFTER;
-        let mut tick = tokio::time::interval(Duration::from_millis(250));
-        let mut reported = 0f64;
+        let mut heartbeat = tokio::time::interval(HEARTBEAT);
+        let claim = plans::Claim { plan: &id, replica: &self.replica };
         let outcome = loop {
             tokio::select! {
                 out = &mut task => break Some(out),
                 _ = tokio::time::sleep_until(abandon_at) => break None,
-                _ = tick.tick() => {
+                _ = heartbeat.tick() => {
                     let p = f64::from_bits(progress.load(Ordering::Relaxed));
-                    if p > reported {
-                        reported = p;
-                        if let Err(e) = plans::set_progress(&self.db, &id, p).await {
-                            tracing::warn!(error = %e, "progress not saved");
-                        }
+                    match plans::heartbeat(&self.db, claim, p, self.settings.lease.as_secs_f64()).await {
+                        // cancelled (here or on another replica), or taken over: stop
+                        Ok(false) => stop.request(),
+                        Ok(true) => {}
+                        Err(e) => tracing::warn!(error = %e, "heartbeat not saved"),
                     }
                 }
             }
         };
         let over_time = format!("the plan took longer than its time limit of {} s and was stopped", limit.as_secs_f64());
-        let timed_out = || plans::fail(&self.db, &id, "time_limit", &over_time);
+        let timed_out = || plans::fail(&self.db, claim, "time_limit", &over_time);
         let (ended, stored) = match outcome {
             None => {
                 tracing::error!("the planner did not stop at its time limit; its thread was left behind");
@@ -242,22 +283,22 @@ impl JobQueue {
             Some(Ok(Ok(Ok(output)))) => match serde_json::to_value(&output.stats) {
                 Ok(stats) => {
                     let trajectory = serde_json::to_string(&output.trajectory).unwrap_or_default();
-                    ("succeeded", plans::succeed(&self.db, &id, &stats, &trajectory).await)
+                    ("succeeded", plans::succeed(&self.db, claim, &stats, &trajectory).await)
                 }
-                Err(e) => ("failed", plans::fail(&self.db, &id, "internal", &format!("the plan's figures could not be stored: {e}")).await),
+                Err(e) => ("failed", plans::fail(&self.db, claim, "internal", &format!("the plan's figures could not be stored: {e}")).await),
             },
-            Some(Ok(Ok(Err(PlanError::Cancelled)))) if requeue.load(Ordering::SeqCst) => ("requeued", plans::requeue(&self.db, &id).await),
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) if requeue.load(Ordering::SeqCst) => ("requeued", plans::requeue(&self.db, claim).await),
             // a plan cancelled by its owner is marked so already; one that ran out of time is not
             Some(Ok(Ok(Err(PlanError::Cancelled)))) if stop.timed_out() => ("time_limit", timed_out().await),
-            Some(Ok(Ok(Err(PlanError::Cancelled)))) => ("cancelled", Ok(())),
-            Some(Ok(Ok(Err(PlanError::Input(e))))) => ("failed", plans::fail(&self.db, &id, e.code, &e.to_string()).await),
-            Some(Ok(Ok(Err(e)))) => ("failed", plans::fail(&self.db, &id, "infeasible", &e.to_string()).await),
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) => ("cancelled", plans::release(&self.db, claim, "cancelled").await),
+            Some(Ok(Ok(Err(PlanError::Input(e))))) => ("failed", plans::fail(&self.db, claim, e.code, &e.to_string()).await),
+            Some(Ok(Ok(Err(e)))) => ("failed", plans::fail(&self.db, claim, "infeasible", &e.to_string()).await),
             Some(Ok(Err(panic))) => {
                 let what = crate::panic_message(&*panic);
                 tracing::error!(panic = %what, "planner panicked");
-                ("failed", plans::fail(&self.db, &id, "internal", &format!("internal error in the planner ({what}); the plan was not made")).await)
+                ("failed", plans::fail(&self.db, claim, "internal", &format!("internal error in the planner ({what}); the plan was not made")).await)
             }
-            Some(Err(e)) => ("failed", plans::fail(&self.db, &id, "internal", &format!("the planning task was lost: {e}")).await),
+            Some(Err(e)) => ("failed", plans::fail(&self.db, claim, "internal", &format!("the planning task was lost: {e}")).await),
         };
         if let Err(e) = stored {
             tracing::error!(error = %e, "the outcome of a plan could not be stored");
@@ -266,6 +307,42 @@ impl JobQueue {
         self.telemetry.job(&planner, ended, started.elapsed());
         tracing::info!(outcome = ended, seconds = started.elapsed().as_secs_f64(), "plan ended");
     }
+}
+
+/// Wakes idle workers whenever any replica queues a plan (PostgreSQL's `LISTEN`), until the
+/// queue stops (the listener's connection must be back in the pool before it closes); the
+/// workers' slow poll covers the moments the listener is reconnecting.
+async fn listen_for_queued(pool: sqlx::PgPool, queue: std::sync::Weak<JobQueue>, mut stopping: watch::Receiver<bool>) {
+    loop {
+        let listening = async {
+            let mut listener = sqlx::postgres::PgListener::connect_with(&pool).await?;
+            listener.listen(plans::QUEUED_CHANNEL).await?;
+            loop {
+                listener.recv().await?;
+                match queue.upgrade() {
+                    Some(q) => q.notify(),
+                    None => return Ok::<(), sqlx::Error>(()),
+                }
+            }
+        };
+        tokio::select! {
+            biased;
+            _ = stopping.changed() => return,
+            ended = listening => match ended {
+                Ok(()) => return,
+                Err(e) => tracing::warn!(error = %e, "listening for queued plans failed; retrying in 1 s"),
+            },
+        }
+        tokio::select! {
+            _ = tokio::time::sleep(Duration::from_secs(1)) => {}
+            _ = stopping.changed() => return,
+        }
+    }
+}
+
+/// The machine's name, for the replica names in claims.
+fn hostname() -> String {
+    std::fs::read_to_string("/etc/hostname").map(|h| h.trim().to_owned()).ok().filter(|h| !h.is_empty()).unwrap_or_else(|| "coverplan".into())
 }
 
 /// Waits for every handle.

@@ -3,8 +3,8 @@
 
 use sqlx::FromRow;
 
-use super::{Db, begin_write};
-use crate::sql_now;
+use super::{Db, WritePool};
+use crate::{on_db, sql_now};
 
 /// Where a request with a key stands.
 pub enum Begin {
@@ -29,46 +29,57 @@ struct Kept {
 /// Takes `key` for a request with `fingerprint`. Keys older than a day are dropped first, and a
 /// key left unanswered for five minutes (its server stopped mid-request) is taken again.
 pub async fn begin(db: &Db, tenant: &str, key: &str, fingerprint: &str) -> Result<Begin, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    sqlx::query("DELETE FROM idempotency WHERE created_at < strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-1 day')").execute(&mut *tx).await?;
-    sqlx::query("DELETE FROM idempotency WHERE status IS NULL AND created_at < strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-5 minutes')").execute(&mut *tx).await?;
-    let kept: Option<Kept> =
-        sqlx::query_as("SELECT fingerprint, status, content_type, body FROM idempotency WHERE tenant = ? AND key = ?").bind(tenant).bind(key).fetch_optional(&mut *tx).await?;
-    let outcome = match kept {
-        Some(k) if k.fingerprint != fingerprint => Begin::Mismatch,
-        Some(Kept { status: None, .. }) => Begin::InProgress,
-        Some(Kept { status: Some(status), content_type, body, .. }) => Begin::Replay { status: status as u16, content_type, body: body.unwrap_or_default() },
-        None => {
-            sqlx::query(concat!("INSERT INTO idempotency (tenant, key, fingerprint, created_at) VALUES (?, ?, ?, ", sql_now!(), ")"))
-                .bind(tenant)
-                .bind(key)
-                .bind(fingerprint)
-                .execute(&mut *tx)
-                .await?;
-            Begin::New
-        }
-    };
-    tx.commit().await?;
-    Ok(outcome)
+    on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        sqlx::query(sql("DELETE FROM idempotency WHERE created_at < strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-1 day')")).execute(&mut *tx).await?;
+        sqlx::query(sql("DELETE FROM idempotency WHERE status IS NULL AND created_at < strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-5 minutes')")).execute(&mut *tx).await?;
+        let kept: Option<Kept> = sqlx::query_as(sql("SELECT fingerprint, status, content_type, body FROM idempotency WHERE tenant = ? AND key = ?"))
+            .bind(tenant)
+            .bind(key)
+            .fetch_optional(&mut *tx)
+            .await?;
+        let outcome = match kept {
+            Some(k) if k.fingerprint != fingerprint => Begin::Mismatch,
+            Some(Kept { status: None, .. }) => Begin::InProgress,
+            Some(Kept { status: Some(status), content_type, body, .. }) => Begin::Replay { status: status as u16, content_type, body: body.unwrap_or_default() },
+            None => {
+                // a concurrent first request with the same key inserts nothing here and is told so
+                let inserted =
+                    sqlx::query(sql(concat!("INSERT INTO idempotency (tenant, key, fingerprint, created_at) VALUES (?, ?, ?, ", sql_now!(), ") ON CONFLICT DO NOTHING")))
+                        .bind(tenant)
+                        .bind(key)
+                        .bind(fingerprint)
+                        .execute(&mut *tx)
+                        .await?;
+                if inserted.rows_affected() == 1 { Begin::New } else { Begin::InProgress }
+            }
+        };
+        tx.commit().await?;
+        Ok(outcome)
+    })
 }
 
 /// Keeps the answer to the request that took `key`.
 pub async fn finish(db: &Db, tenant: &str, key: &str, status: u16, content_type: Option<&str>, body: &[u8]) -> Result<(), sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    sqlx::query("UPDATE idempotency SET status = ?, content_type = ?, body = ? WHERE tenant = ? AND key = ?")
-        .bind(i64::from(status))
-        .bind(content_type)
-        .bind(body)
-        .bind(tenant)
-        .bind(key)
-        .execute(&mut *tx)
-        .await?;
-    tx.commit().await
+    on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        sqlx::query(sql("UPDATE idempotency SET status = ?, content_type = ?, body = ? WHERE tenant = ? AND key = ?"))
+            .bind(i64::from(status))
+            .bind(content_type)
+            .bind(body)
+            .bind(tenant)
+            .bind(key)
+            .execute(&mut *tx)
+            .await?;
+        tx.commit().await
+    })
 }
 
 /// Frees `key` (the server failed to answer: a retry should try again).
 pub async fn forget(db: &Db, tenant: &str, key: &str) -> Result<(), sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    sqlx::query("DELETE FROM idempotency WHERE tenant = ? AND key = ?").bind(tenant).bind(key).execute(&mut *tx).await?;
-    tx.commit().await
+    on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        sqlx::query(sql("DELETE FROM idempotency WHERE tenant = ? AND key = ?")).bind(tenant).bind(key).execute(&mut *tx).await?;
+        tx.commit().await
+    })
 }

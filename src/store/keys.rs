@@ -10,8 +10,8 @@ use sha2::{Digest, Sha256};
 use sqlx::FromRow;
 use subtle::ConstantTimeEq;
 
-use super::{Db, begin_write};
-use crate::sql_now;
+use super::{Db, WritePool};
+use crate::{on_db, sql_now};
 
 const PREFIX: &str = "cpk_";
 
@@ -58,38 +58,44 @@ fn hash(secret: &str) -> String {
 pub async fn create(db: &Db, tenant: &str, admin: bool) -> Result<(KeyInfo, String), sqlx::Error> {
     let id = uuid::Uuid::new_v4().simple().to_string()[..12].to_owned();
     let secret = format!("{}{}", uuid::Uuid::new_v4().simple(), uuid::Uuid::new_v4().simple());
-    let mut tx = begin_write(db).await?;
-    let info: KeyInfo = sqlx::query_as(concat!(
-        "INSERT INTO api_keys (id, tenant, admin, secret_hash, created_at) VALUES (?, ?, ?, ?, ",
-        sql_now!(),
-        ") RETURNING id, tenant, admin, created_at, revoked_at"
-    ))
-    .bind(&id)
-    .bind(tenant)
-    .bind(admin)
-    .bind(hash(&secret))
-    .fetch_one(&mut *tx)
-    .await?;
-    tx.commit().await?;
+    let info: KeyInfo = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let info = sqlx::query_as(sql(concat!(
+            "INSERT INTO api_keys (id, tenant, admin, secret_hash, created_at) VALUES (?, ?, ?, ?, ",
+            sql_now!(),
+            ") RETURNING id, tenant, admin, created_at, revoked_at"
+        )))
+        .bind(&id)
+        .bind(tenant)
+        .bind(admin)
+        .bind(hash(&secret))
+        .fetch_one(&mut *tx)
+        .await?;
+        tx.commit().await?;
+        info
+    });
     Ok((info, format!("{PREFIX}{id}_{secret}")))
 }
 
 pub async fn list(db: &Db) -> Result<Vec<KeyInfo>, sqlx::Error> {
-    sqlx::query_as("SELECT id, tenant, admin, created_at, revoked_at FROM api_keys ORDER BY created_at, id").fetch_all(db).await
+    on_db!(db, |pool, _sql| sqlx::query_as("SELECT id, tenant, admin, created_at, revoked_at FROM api_keys ORDER BY created_at, id").fetch_all(pool).await)
 }
 
 /// Revokes a key; false when there is no such key or it was revoked already.
 pub async fn revoke(db: &Db, id: &str) -> Result<bool, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    let done = sqlx::query(concat!("UPDATE api_keys SET revoked_at = ", sql_now!(), " WHERE id = ? AND revoked_at IS NULL")).bind(id).execute(&mut *tx).await?;
-    tx.commit().await?;
-    Ok(done.rows_affected() > 0)
+    let revoked = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let done = sqlx::query(sql(concat!("UPDATE api_keys SET revoked_at = ", sql_now!(), " WHERE id = ? AND revoked_at IS NULL"))).bind(id).execute(&mut *tx).await?;
+        tx.commit().await?;
+        done.rows_affected()
+    });
+    Ok(revoked > 0)
 }
 
 /// True once any key was ever made: from then on every API request needs one (revoking the
 /// last key does not open the server).
 pub async fn required(db: &Db) -> Result<bool, sqlx::Error> {
-    sqlx::query_scalar("SELECT EXISTS (SELECT 1 FROM api_keys)").fetch_one(db).await
+    on_db!(db, |pool, _sql| sqlx::query_scalar("SELECT EXISTS (SELECT 1 FROM api_keys)").fetch_one(pool).await)
 }
 
 #[derive(FromRow)]
@@ -102,6 +108,7 @@ struct StoredKey {
 /// The caller a presented key stands for; `None` for a malformed, unknown or revoked key.
 pub async fn authenticate(db: &Db, presented: &str) -> Result<Option<Caller>, sqlx::Error> {
     let Some((id, secret)) = presented.strip_prefix(PREFIX).and_then(|rest| rest.split_once('_')) else { return Ok(None) };
-    let stored: Option<StoredKey> = sqlx::query_as("SELECT tenant, admin, secret_hash FROM api_keys WHERE id = ? AND revoked_at IS NULL").bind(id).fetch_optional(db).await?;
+    let stored: Option<StoredKey> =
+        on_db!(db, |pool, sql| sqlx::query_as(sql("SELECT tenant, admin, secret_hash FROM api_keys WHERE id = ? AND revoked_at IS NULL")).bind(id).fetch_optional(pool).await?);
     Ok(stored.filter(|k| bool::from(k.secret_hash.as_bytes().ct_eq(hash(secret).as_bytes()))).map(|k| Caller { tenant: k.tenant, admin: k.admin, key_id: Some(id.to_owned()) }))
 }

@@ -7,7 +7,8 @@ use sqlx::FromRow;
 use sqlx::types::Json;
 use utoipa::ToSchema;
 
-use super::{Db, begin_write, new_id};
+use super::{Db, WritePool, new_id};
+use crate::on_db;
 
 #[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct Mission {
@@ -82,92 +83,99 @@ macro_rules! columns {
     };
 }
 
+/// Binds a mission's content in the order `name, area, no_fly_zones, obstacles, home_lon, home_lat`.
+macro_rules! bind_content {
+    ($query:expr, $m:expr) => {
+        $query
+            .bind(&$m.name)
+            .bind(Json(&$m.area))
+            .bind($m.no_fly_zones.as_ref().map(Json))
+            .bind($m.obstacles.as_ref().map(Json))
+            .bind($m.home.map(|h| h[0]))
+            .bind($m.home.map(|h| h[1]))
+    };
+}
+
 pub async fn create(db: &Db, tenant: &str, m: &NewMission) -> Result<Mission, sqlx::Error> {
     let id = new_id();
-    let mut tx = begin_write(db).await?;
-    let row: MissionRow = sqlx::query_as(concat!(
-        "INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
+    let row: MissionRow = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let query = sqlx::query_as(sql(concat!(
+            "INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
          VALUES (?, ?, ?, ?, ?, ?, ?, ?, ",
-        crate::sql_now!(),
-        ", ",
-        crate::sql_now!(),
-        ") RETURNING ",
-        columns!()
-    ))
-    .bind(&id)
-    .bind(tenant)
-    .bind(&m.name)
-    .bind(Json(&m.area))
-    .bind(m.no_fly_zones.as_ref().map(Json))
-    .bind(m.obstacles.as_ref().map(Json))
-    .bind(m.home.map(|h| h[0]))
-    .bind(m.home.map(|h| h[1]))
-    .fetch_one(&mut *tx)
-    .await?;
-    tx.commit().await?;
+            crate::sql_now!(),
+            ", ",
+            crate::sql_now!(),
+            ") RETURNING ",
+            columns!()
+        )));
+        let row = bind_content!(query.bind(&id).bind(tenant), m).fetch_one(&mut *tx).await?;
+        tx.commit().await?;
+        row
+    });
     Ok(row.into())
 }
 
 /// A mission of `tenant`'s; another tenant's is `None`, as one that does not exist.
 pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<Mission>, sqlx::Error> {
-    let row: Option<MissionRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM missions WHERE id = ? AND tenant = ?")).bind(id).bind(tenant).fetch_optional(db).await?;
+    let row: Option<MissionRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(concat!("SELECT ", columns!(), " FROM missions WHERE id = ? AND tenant = ?")))
+        .bind(id)
+        .bind(tenant)
+        .fetch_optional(pool)
+        .await?);
     Ok(row.map(Into::into))
 }
 
 /// How many missions a tenant has, for the pages' totals.
 async fn count(db: &Db, tenant: &str) -> Result<i64, sqlx::Error> {
-    sqlx::query_scalar("SELECT COUNT(*) FROM missions WHERE tenant = ?").bind(tenant).fetch_one(db).await
+    on_db!(db, |pool, sql| sqlx::query_scalar(sql("SELECT COUNT(*) FROM missions WHERE tenant = ?")).bind(tenant).fetch_one(pool).await)
 }
 
 /// A page of a tenant's rows read by `select` (which ends `WHERE tenant = ? … LIMIT ? OFFSET ?`),
 /// and the tenant's total count.
-async fn page<T>(db: &Db, select: &'static str, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<T>, i64), sqlx::Error>
-where
-    T: for<'r> FromRow<'r, sqlx::sqlite::SqliteRow> + Send + Unpin,
-{
-    let rows = sqlx::query_as(select).bind(tenant).bind(limit).bind(offset).fetch_all(db).await?;
-    Ok((rows, count(db, tenant).await?))
+macro_rules! page {
+    ($db:expr, $select:expr, $tenant:expr, $limit:expr, $offset:expr) => {{
+        let rows = on_db!($db, |pool, sql| sqlx::query_as(sql($select)).bind($tenant).bind($limit).bind($offset).fetch_all(pool).await?);
+        (rows, count($db, $tenant).await?)
+    }};
 }
 
 /// A page of a tenant's missions, newest first, and the total count.
 pub async fn list(db: &Db, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
     let select = concat!("SELECT ", columns!(), " FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?");
-    let (rows, total): (Vec<MissionRow>, i64) = page(db, select, tenant, limit, offset).await?;
+    let (rows, total): (Vec<MissionRow>, i64) = page!(db, select, tenant, limit, offset);
     Ok((rows.into_iter().map(Into::into).collect(), total))
 }
 
 /// A page of a tenant's mission summaries, newest first, and the total count.
 pub async fn list_summaries(db: &Db, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<MissionSummary>, i64), sqlx::Error> {
-    page(db, "SELECT id, name, created_at, updated_at FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?", tenant, limit, offset).await
+    Ok(page!(db, "SELECT id, name, created_at, updated_at FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?", tenant, limit, offset))
 }
 
 /// Replaces a mission's content; `None` when the tenant has no such mission.
 pub async fn update(db: &Db, tenant: &str, id: &str, m: &NewMission) -> Result<Option<Mission>, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    let row: Option<MissionRow> = sqlx::query_as(concat!(
-        "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ",
-        crate::sql_now!(),
-        " WHERE id = ? AND tenant = ? RETURNING ",
-        columns!()
-    ))
-    .bind(&m.name)
-    .bind(Json(&m.area))
-    .bind(m.no_fly_zones.as_ref().map(Json))
-    .bind(m.obstacles.as_ref().map(Json))
-    .bind(m.home.map(|h| h[0]))
-    .bind(m.home.map(|h| h[1]))
-    .bind(id)
-    .bind(tenant)
-    .fetch_optional(&mut *tx)
-    .await?;
-    tx.commit().await?;
+    let row: Option<MissionRow> = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let query = sqlx::query_as(sql(concat!(
+            "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ",
+            crate::sql_now!(),
+            " WHERE id = ? AND tenant = ? RETURNING ",
+            columns!()
+        )));
+        let row = bind_content!(query, m).bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
+        tx.commit().await?;
+        row
+    });
     Ok(row.map(Into::into))
 }
 
 /// Deletes a mission and its plans; false when the tenant had none.
 pub async fn delete(db: &Db, tenant: &str, id: &str) -> Result<bool, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    let done = sqlx::query("DELETE FROM missions WHERE id = ? AND tenant = ?").bind(id).bind(tenant).execute(&mut *tx).await?;
-    tx.commit().await?;
-    Ok(done.rows_affected() > 0)
+    let deleted = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let done = sqlx::query(sql("DELETE FROM missions WHERE id = ? AND tenant = ?")).bind(id).bind(tenant).execute(&mut *tx).await?;
+        tx.commit().await?;
+        done.rows_affected()
+    });
+    Ok(deleted > 0)
 }

@@ -7,7 +7,8 @@ use sqlx::FromRow;
 use sqlx::types::Json;
 use utoipa::ToSchema;
 
-use super::{Db, begin_write, new_id};
+use super::{Db, WritePool, new_id};
+use crate::{on_db, sql_epoch, sql_now};
 
 /// A job that was interrupted this many times is failed instead of requeued again.
 pub const MAX_ATTEMPTS: i64 = 3;
@@ -93,45 +94,61 @@ macro_rules! columns {
     };
 }
 
+/// The channel on which PostgreSQL announces newly queued plans to every replica.
+pub const QUEUED_CHANNEL: &str = "coverplan_queued";
+
 /// Queues a plan of `tenant`'s mission (a snapshot of its geometry) with `params`; `None` when
 /// the tenant has `most_active` plans queued or running already (counted in the same write
-/// transaction, so concurrent requests cannot pass the cap together).
+/// transaction, so concurrent requests cannot pass the cap together: SQLite's write lock, or on
+/// PostgreSQL a lock on the tenant held to the commit).
 pub async fn create(db: &Db, tenant: &str, mission_id: &str, params: &Value, mission: &Value, most_active: i64) -> Result<Option<Plan>, sqlx::Error> {
     let id = new_id();
-    let mut tx = begin_write(db).await?;
-    let active: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM plans WHERE tenant = ? AND status IN ('queued', 'running')").bind(tenant).fetch_one(&mut *tx).await?;
-    if active >= most_active {
-        return Ok(None);
-    }
-    let row: PlanRow = sqlx::query_as(concat!(
-        "INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, ?, 'queued', ",
-        crate::sql_now!(),
-        ") RETURNING ",
-        columns!()
-    ))
-    .bind(&id)
-    .bind(tenant)
-    .bind(mission_id)
-    .bind(Json(params))
-    .bind(Json(mission))
-    .fetch_one(&mut *tx)
-    .await?;
-    tx.commit().await?;
-    Ok(Some(row.into()))
+    let row: Option<PlanRow> = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        if db.is_postgres() {
+            sqlx::query("SELECT pg_advisory_xact_lock(hashtext($1))").bind(tenant).execute(&mut *tx).await?;
+        }
+        let active: i64 = sqlx::query_scalar(sql("SELECT COUNT(*) FROM plans WHERE tenant = ? AND status IN ('queued', 'running')")).bind(tenant).fetch_one(&mut *tx).await?;
+        if active >= most_active {
+            return Ok(None);
+        }
+        let row = sqlx::query_as(sql(concat!(
+            "INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, ?, 'queued', ",
+            sql_now!(),
+            ") RETURNING ",
+            columns!()
+        )))
+        .bind(&id)
+        .bind(tenant)
+        .bind(mission_id)
+        .bind(Json(params))
+        .bind(Json(mission))
+        .fetch_one(&mut *tx)
+        .await?;
+        if db.is_postgres() {
+            // delivered at the commit, to every replica listening
+            sqlx::query("SELECT pg_notify($1, '')").bind(QUEUED_CHANNEL).execute(&mut *tx).await?;
+        }
+        tx.commit().await?;
+        Some(row)
+    });
+    Ok(row.map(Into::into))
 }
 
 /// A plan of `tenant`'s; another tenant's is `None`, as one that does not exist.
 pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<Plan>, sqlx::Error> {
-    let row: Option<PlanRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE id = ? AND tenant = ?")).bind(id).bind(tenant).fetch_optional(db).await?;
+    let row: Option<PlanRow> =
+        on_db!(db, |pool, sql| sqlx::query_as(sql(concat!("SELECT ", columns!(), " FROM plans WHERE id = ? AND tenant = ?"))).bind(id).bind(tenant).fetch_optional(pool).await?);
     Ok(row.map(Into::into))
 }
 
 pub async fn list_for_mission(db: &Db, tenant: &str, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
-    let rows: Vec<PlanRow> = sqlx::query_as(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? AND tenant = ? ORDER BY created_at DESC, rowid DESC"))
-        .bind(mission_id)
-        .bind(tenant)
-        .fetch_all(db)
-        .await?;
+    let rows: Vec<PlanRow> =
+        on_db!(db, |pool, sql| sqlx::query_as(sql(concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? AND tenant = ? ORDER BY created_at DESC, rowid DESC")))
+            .bind(mission_id)
+            .bind(tenant)
+            .fetch_all(pool)
+            .await?);
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
@@ -149,11 +166,13 @@ pub struct ExportSource {
 }
 
 pub async fn export_source(db: &Db, tenant: &str, id: &str) -> Result<Option<ExportSource>, sqlx::Error> {
-    sqlx::query_as("SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ?")
-        .bind(id)
-        .bind(tenant)
-        .fetch_optional(db)
-        .await
+    on_db!(db, |pool, sql| sqlx::query_as(sql(
+        "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ?"
+    ))
+    .bind(id)
+    .bind(tenant)
+    .fetch_optional(pool)
+    .await)
 }
 
 /// A job taken off the queue.
@@ -167,101 +186,221 @@ pub struct Job {
     pub mission: Value,
 }
 
-/// Atomically takes the oldest queued plan and marks it running.
-pub async fn claim_next(db: &Db) -> Result<Option<Job>, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    let job = sqlx::query_as(concat!(
-        "UPDATE plans SET status = 'running', progress = 0, started_at = ",
-        crate::sql_now!(),
-        ", attempts = attempts + 1
-         WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1)
-         RETURNING id, tenant, params, mission"
-    ))
-    .fetch_optional(&mut *tx)
-    .await?;
-    tx.commit().await?;
-    Ok(job)
+/// The claim a replica holds on a running plan: only its holder may write the outcome, and only
+/// while its lease is renewed.
+#[derive(Debug, Clone, Copy)]
+pub struct Claim<'a> {
+    pub plan: &'a str,
+    pub replica: &'a str,
 }
 
-pub async fn set_progress(db: &Db, id: &str, progress: f64) -> Result<(), sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    sqlx::query("UPDATE plans SET progress = ? WHERE id = ? AND status = 'running'").bind(progress).bind(id).execute(&mut *tx).await?;
-    tx.commit().await
+/// Records the end of a claim, in the transaction that ends it.
+const CLOSE_CLAIM: &str = concat!("UPDATE plan_claims SET ended_at = ", sql_epoch!(), ", outcome = ? WHERE plan_id = ? AND replica = ? AND ended_at IS NULL");
+
+/// Atomically takes the oldest queued plan for `replica`, marks it running under a lease of
+/// `lease_s` seconds and records the claim. On PostgreSQL the row is locked with `SKIP LOCKED`,
+/// so replicas claiming at once take different plans without waiting for each other.
+pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<Job>, sqlx::Error> {
+    const SQLITE: &str = concat!(
+        "UPDATE plans SET status = 'running', progress = 0, started_at = ",
+        sql_now!(),
+        ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
+        sql_epoch!(),
+        " + ?
+         WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1)
+         RETURNING id, tenant, params, mission"
+    );
+    const POSTGRES: &str = concat!(
+        "UPDATE plans SET status = 'running', progress = 0, started_at = ",
+        sql_now!(),
+        ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
+        sql_epoch!(),
+        " + ?
+         WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1 FOR UPDATE SKIP LOCKED)
+         RETURNING id, tenant, params, mission"
+    );
+    on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let job: Option<Job> = sqlx::query_as(sql(if db.is_postgres() { POSTGRES } else { SQLITE })).bind(replica).bind(lease_s).fetch_optional(&mut *tx).await?;
+        if let Some(job) = &job {
+            sqlx::query(sql(concat!("INSERT INTO plan_claims (plan_id, replica, claimed_at) VALUES (?, ?, ", sql_epoch!(), ")")))
+                .bind(&job.id)
+                .bind(replica)
+                .execute(&mut *tx)
+                .await?;
+        }
+        tx.commit().await?;
+        Ok(job)
+    })
+}
+
+/// Renews the lease on a running plan for `lease_s` seconds and saves its progress. False when
+/// the plan is no longer this claim's to run (cancelled, or taken over after the lease ran out):
+/// its holder should stop.
+pub async fn heartbeat(db: &Db, claim: Claim<'_>, progress: f64, lease_s: f64) -> Result<bool, sqlx::Error> {
+    let renewed = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let done = sqlx::query(sql(concat!("UPDATE plans SET progress = ?, lease_until = ", sql_epoch!(), " + ? WHERE id = ? AND claimed_by = ? AND status = 'running'")))
+            .bind(progress)
+            .bind(lease_s)
+            .bind(claim.plan)
+            .bind(claim.replica)
+            .execute(&mut *tx)
+            .await?;
+        tx.commit().await?;
+        done.rows_affected()
+    });
+    Ok(renewed > 0)
+}
+
+/// Ends `claim` with `outcome` by `update` (which binds its own values, then the plan id and
+/// the replica): the plan's row and the claim's record change together or not at all, retried
+/// on failures that may pass.
+macro_rules! end_claim {
+    ($db:expr, $claim:expr, $outcome:expr, $update:expr, |$q:ident| $bind:expr) => {{
+        let claim: Claim<'_> = $claim;
+        super::retrying(|| async move {
+            on_db!($db, |pool, sql| {
+                let mut tx = pool.begin_write().await?;
+                let $q = sqlx::query(sql($update));
+                $bind.bind(claim.plan).bind(claim.replica).execute(&mut *tx).await?;
+                sqlx::query(sql(CLOSE_CLAIM)).bind($outcome).bind(claim.plan).bind(claim.replica).execute(&mut *tx).await?;
+                tx.commit().await
+            })
+        })
+        .await
+    }};
 }
 
 /// Stores a finished plan in one statement: stats, trajectory and status together or nothing.
-/// A plan cancelled meanwhile stays cancelled.
-pub async fn succeed(db: &Db, id: &str, stats: &Value, trajectory: &str) -> Result<(), sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    sqlx::query(concat!(
-        "UPDATE plans SET status = 'succeeded', progress = 1, stats = ?, trajectory = ?, finished_at = ",
-        crate::sql_now!(),
-        "
-         WHERE id = ? AND status = 'running'"
-    ))
-    .bind(Json(stats))
-    .bind(trajectory)
-    .bind(id)
-    .execute(&mut *tx)
-    .await?;
-    tx.commit().await
+/// A plan cancelled meanwhile stays cancelled; a claim taken over writes nothing.
+pub async fn succeed(db: &Db, claim: Claim<'_>, stats: &Value, trajectory: &str) -> Result<(), sqlx::Error> {
+    end_claim!(
+        db,
+        claim,
+        "succeeded",
+        concat!(
+            "UPDATE plans SET status = 'succeeded', progress = 1, stats = ?, trajectory = ?, claimed_by = NULL, lease_until = NULL, finished_at = ",
+            sql_now!(),
+            " WHERE id = ? AND claimed_by = ? AND status = 'running'"
+        ),
+        |q| q.bind(Json(stats)).bind(trajectory)
+    )
 }
 
 /// Fails a running plan with a code for programs and words for people.
-pub async fn fail(db: &Db, id: &str, code: &str, error: &str) -> Result<(), sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    sqlx::query(concat!("UPDATE plans SET status = 'failed', error_code = ?, error = ?, finished_at = ", crate::sql_now!(), " WHERE id = ? AND status = 'running'"))
-        .bind(code)
-        .bind(error)
-        .bind(id)
-        .execute(&mut *tx)
-        .await?;
-    tx.commit().await
+pub async fn fail(db: &Db, claim: Claim<'_>, code: &str, error: &str) -> Result<(), sqlx::Error> {
+    end_claim!(
+        db,
+        claim,
+        "failed",
+        concat!(
+            "UPDATE plans SET status = 'failed', error_code = ?, error = ?, claimed_by = NULL, lease_until = NULL, finished_at = ",
+            sql_now!(),
+            " WHERE id = ? AND claimed_by = ? AND status = 'running'"
+        ),
+        |q| q.bind(code).bind(error)
+    )
+}
+
+/// Puts a running plan back in the queue (its replica is shutting down), for any replica to
+/// take at once.
+pub async fn requeue(db: &Db, claim: Claim<'_>) -> Result<(), sqlx::Error> {
+    end_claim!(
+        db,
+        claim,
+        "handed_back",
+        "UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE id = ? AND claimed_by = ? AND status = 'running'",
+        |q| q
+    )
+}
+
+/// Records the end of a claim whose plan was cancelled by its owner while it ran.
+pub async fn release(db: &Db, claim: Claim<'_>, outcome: &str) -> Result<(), sqlx::Error> {
+    on_db!(db, |pool, sql| sqlx::query(sql(CLOSE_CLAIM)).bind(outcome).bind(claim.plan).bind(claim.replica).execute(pool).await.map(|_| ()))
 }
 
 /// Cancels a queued or running plan of `tenant`'s. Returns its status afterwards (`None`: the
-/// tenant has no such plan).
+/// tenant has no such plan). A replica running it sees at its next heartbeat that it is no
+/// longer running and stops.
 pub async fn cancel(db: &Db, tenant: &str, id: &str) -> Result<Option<PlanStatus>, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    sqlx::query(concat!("UPDATE plans SET status = 'cancelled', finished_at = ", crate::sql_now!(), " WHERE id = ? AND tenant = ? AND status IN ('queued', 'running')"))
-        .bind(id)
-        .bind(tenant)
+    on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        sqlx::query(sql(concat!("UPDATE plans SET status = 'cancelled', finished_at = ", sql_now!(), " WHERE id = ? AND tenant = ? AND status IN ('queued', 'running')")))
+            .bind(id)
+            .bind(tenant)
+            .execute(&mut *tx)
+            .await?;
+        let status = sqlx::query_scalar(sql("SELECT status FROM plans WHERE id = ? AND tenant = ?")).bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
+        tx.commit().await?;
+        Ok(status)
+    })
+}
+
+/// Plans whose replica stopped renewing their lease (it died, or lost the database) go back to
+/// the queue, unless they were interrupted too often (then they fail, so that a plan that kills
+/// its process cannot loop forever). With `every_running`, all running plans count as
+/// abandoned: a single SQLite server at start-up holds none. Returns (requeued, failed).
+pub async fn requeue_abandoned(db: &Db, every_running: bool) -> Result<(u64, u64), sqlx::Error> {
+    // a running plan whose lease has run out (or, with the first bind `true`, any running plan)
+    macro_rules! abandoned {
+        () => {
+            concat!("status = 'running' AND (? OR lease_until IS NULL OR lease_until < ", sql_epoch!(), ")")
+        };
+    }
+    on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        sqlx::query(sql(concat!(
+            "UPDATE plan_claims SET ended_at = ",
+            sql_epoch!(),
+            ", outcome = 'abandoned' WHERE ended_at IS NULL AND plan_id IN (SELECT id FROM plans WHERE ",
+            abandoned!(),
+            ")"
+        )))
+        .bind(every_running)
         .execute(&mut *tx)
         .await?;
-    let status = sqlx::query_scalar("SELECT status FROM plans WHERE id = ? AND tenant = ?").bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
-    tx.commit().await?;
-    Ok(status)
-}
-
-/// Puts a running plan back in the queue (the worker stopped before finishing it).
-pub async fn requeue(db: &Db, id: &str) -> Result<(), sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    sqlx::query("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL WHERE id = ? AND status = 'running'").bind(id).execute(&mut *tx).await?;
-    tx.commit().await
-}
-
-/// At start-up: plans left running by a process that died go back to the queue, unless they
-/// were interrupted too often (then they fail, so that a plan that kills the process cannot
-/// loop forever). Returns (requeued, failed).
-pub async fn recover_interrupted(db: &Db) -> Result<(u64, u64), sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    let failed = sqlx::query(concat!(
-        "UPDATE plans SET status = 'failed', error_code = 'interrupted', finished_at = ",
-        crate::sql_now!(),
-        ",
-            error = 'the server stopped during this plan ' || attempts || ' times; it was not retried again'
-         WHERE status = 'running' AND attempts >= ?"
-    ))
-    .bind(MAX_ATTEMPTS)
-    .execute(&mut *tx)
-    .await?
-    .rows_affected();
-    let requeued = sqlx::query("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL WHERE status = 'running'").execute(&mut *tx).await?.rows_affected();
-    tx.commit().await?;
-    Ok((requeued, failed))
+        let failed = sqlx::query(sql(concat!(
+            "UPDATE plans SET status = 'failed', error_code = 'interrupted', claimed_by = NULL, lease_until = NULL, finished_at = ",
+            sql_now!(),
+            ",
+                error = 'the server stopped during this plan ' || attempts || ' times; it was not retried again'
+             WHERE attempts >= ? AND ",
+            abandoned!()
+        )))
+        .bind(MAX_ATTEMPTS)
+        .bind(every_running)
+        .execute(&mut *tx)
+        .await?
+        .rows_affected();
+        let requeued = sqlx::query(sql(concat!("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE ", abandoned!())))
+            .bind(every_running)
+            .execute(&mut *tx)
+            .await?
+            .rows_affected();
+        tx.commit().await?;
+        Ok((requeued, failed))
+    })
 }
 
 /// Plans waiting for a worker, all tenants.
 pub async fn queued_count(db: &Db) -> Result<i64, sqlx::Error> {
-    sqlx::query_scalar("SELECT COUNT(*) FROM plans WHERE status = 'queued'").fetch_one(db).await
+    on_db!(db, |pool, _sql| sqlx::query_scalar("SELECT COUNT(*) FROM plans WHERE status = 'queued'").fetch_one(pool).await)
+}
+
+/// One replica's hold on a plan, as recorded (`plan_claims`): who, when (seconds since 1970),
+/// and how it ended (`succeeded`, `failed`, `cancelled`, `handed_back`, `abandoned`; `None`
+/// while it runs).
+#[derive(Debug, Clone, FromRow)]
+pub struct ClaimRecord {
+    pub plan_id: String,
+    pub replica: String,
+    pub claimed_at: f64,
+    pub ended_at: Option<f64>,
+    pub outcome: Option<String>,
+}
+
+/// Every claim ever made, in the order they were made.
+pub async fn claims(db: &Db) -> Result<Vec<ClaimRecord>, sqlx::Error> {
+    on_db!(db, |pool, _sql| sqlx::query_as("SELECT plan_id, replica, claimed_at, ended_at, outcome FROM plan_claims ORDER BY claimed_at, plan_id").fetch_all(pool).await)
 }

@@ -8,9 +8,9 @@ use sqlx::FromRow;
 use sqlx::types::Json;
 use utoipa::ToSchema;
 
-use super::{Db, begin_write};
+use super::{Db, WritePool};
 use crate::planner::vehicle::{Vehicle, builtin_profiles};
-use crate::sql_now;
+use crate::{on_db, sql_now};
 
 /// A stored profile.
 #[derive(Debug, Clone, Serialize, ToSchema)]
@@ -48,21 +48,31 @@ macro_rules! columns {
 const SHARED: &str = "";
 
 pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    for v in builtin_profiles() {
-        sqlx::query(concat!("INSERT OR IGNORE INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', ?, 1, ?, ", sql_now!(), ", ", sql_now!(), ")"))
+    on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        for v in builtin_profiles() {
+            sqlx::query(sql(concat!(
+                "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', ?, TRUE, ?, ",
+                sql_now!(),
+                ", ",
+                sql_now!(),
+                ") ON CONFLICT DO NOTHING"
+            )))
             .bind(&v.profile)
             .bind(Json(&v))
             .execute(&mut *tx)
             .await?;
-    }
-    tx.commit().await
+        }
+        tx.commit().await
+    })
 }
 
 /// The built-ins and `tenant`'s own profiles.
 pub async fn list(db: &Db, tenant: &str) -> Result<Vec<StoredVehicle>, sqlx::Error> {
-    let rows: Vec<VehicleRow> =
-        sqlx::query_as(concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', ?) ORDER BY builtin DESC, id")).bind(tenant).fetch_all(db).await?;
+    let rows: Vec<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', ?) ORDER BY builtin DESC, id")))
+        .bind(tenant)
+        .fetch_all(pool)
+        .await?);
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
@@ -73,47 +83,58 @@ pub async fn profiles(db: &Db, tenant: &str) -> Result<Vec<Vehicle>, sqlx::Error
 
 /// A built-in or one of `tenant`'s profiles.
 pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<StoredVehicle>, sqlx::Error> {
-    let row: Option<VehicleRow> =
-        sqlx::query_as(concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ? AND tenant IN ('', ?)")).bind(id).bind(tenant).fetch_optional(db).await?;
+    let row: Option<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ? AND tenant IN ('', ?)")))
+        .bind(id)
+        .bind(tenant)
+        .fetch_optional(pool)
+        .await?);
     Ok(row.map(Into::into))
 }
 
 /// Inserts a new profile of `tenant`'s; `None` when its id is a built-in's or one of the
 /// tenant's own.
 pub async fn create(db: &Db, tenant: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    let taken: bool = sqlx::query_scalar("SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = ? AND tenant IN ('', ?))").bind(&v.profile).bind(tenant).fetch_one(&mut *tx).await?;
-    if taken {
-        return Ok(None);
-    }
-    let row: Option<VehicleRow> = sqlx::query_as(concat!(
-        "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES (?, ?, 0, ?, ",
-        sql_now!(),
-        ", ",
-        sql_now!(),
-        ") RETURNING ",
-        columns!()
-    ))
-    .bind(tenant)
-    .bind(&v.profile)
-    .bind(Json(v))
-    .fetch_optional(&mut *tx)
-    .await?;
-    tx.commit().await?;
+    let row: Option<VehicleRow> = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let taken: bool =
+            sqlx::query_scalar(sql("SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = ? AND tenant IN ('', ?))")).bind(&v.profile).bind(tenant).fetch_one(&mut *tx).await?;
+        if taken {
+            return Ok(None);
+        }
+        // a concurrent insert of the same id inserts nothing here
+        let row = sqlx::query_as(sql(concat!(
+            "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES (?, ?, FALSE, ?, ",
+            sql_now!(),
+            ", ",
+            sql_now!(),
+            ") ON CONFLICT DO NOTHING RETURNING ",
+            columns!()
+        )))
+        .bind(tenant)
+        .bind(&v.profile)
+        .bind(Json(v))
+        .fetch_optional(&mut *tx)
+        .await?;
+        tx.commit().await?;
+        row
+    });
     Ok(row.map(Into::into))
 }
 
 /// Replaces the figures of one of `tenant`'s profiles, or of a built-in when `tenant` is
 /// `None` (an administrator); `None` when there is no such profile.
 pub async fn update(db: &Db, tenant: Option<&str>, id: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    let row: Option<VehicleRow> = sqlx::query_as(concat!("UPDATE vehicles SET body = ?, updated_at = ", sql_now!(), " WHERE id = ? AND tenant = ? RETURNING ", columns!()))
-        .bind(Json(v))
-        .bind(id)
-        .bind(tenant.unwrap_or(SHARED))
-        .fetch_optional(&mut *tx)
-        .await?;
-    tx.commit().await?;
+    let row: Option<VehicleRow> = on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let row = sqlx::query_as(sql(concat!("UPDATE vehicles SET body = ?, updated_at = ", sql_now!(), " WHERE id = ? AND tenant = ? RETURNING ", columns!())))
+            .bind(Json(v))
+            .bind(id)
+            .bind(tenant.unwrap_or(SHARED))
+            .fetch_optional(&mut *tx)
+            .await?;
+        tx.commit().await?;
+        row
+    });
     Ok(row.map(Into::into))
 }
 
@@ -125,16 +146,19 @@ pub enum Deleted {
 
 /// Deletes one of `tenant`'s profiles (built-ins stay).
 pub async fn delete(db: &Db, tenant: &str, id: &str) -> Result<Deleted, sqlx::Error> {
-    let mut tx = begin_write(db).await?;
-    let builtin: Option<i64> = sqlx::query_scalar("SELECT builtin FROM vehicles WHERE id = ? AND tenant IN ('', ?)").bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
-    let outcome = match builtin {
-        None => Deleted::NotFound,
-        Some(b) if b != 0 => Deleted::Builtin,
-        Some(_) => {
-            sqlx::query("DELETE FROM vehicles WHERE id = ? AND tenant = ?").bind(id).bind(tenant).execute(&mut *tx).await?;
-            Deleted::Yes
-        }
-    };
-    tx.commit().await?;
-    Ok(outcome)
+    on_db!(db, |pool, sql| {
+        let mut tx = pool.begin_write().await?;
+        let builtin: Option<bool> =
+            sqlx::query_scalar(sql("SELECT builtin FROM vehicles WHERE id = ? AND tenant IN ('', ?)")).bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
+        let outcome = match builtin {
+            None => Deleted::NotFound,
+            Some(true) => Deleted::Builtin,
+            Some(false) => {
+                sqlx::query(sql("DELETE FROM vehicles WHERE id = ? AND tenant = ?")).bind(id).bind(tenant).execute(&mut *tx).await?;
+                Deleted::Yes
+            }
+        };
+        tx.commit().await?;
+        Ok(outcome)
+    })
 }

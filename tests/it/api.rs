@@ -1,6 +1,6 @@
 //! The HTTP API end to end, against the real server on port 0 with a fresh SQLite file.
 
-use crate::common::{TestApp, fresh_db_path, mission_body};
+use crate::common::{TestApp, fresh_db_url, mission_body};
 use serde_json::{Value, json};
 
 fn square(lon: f64, lat: f64, d: f64) -> Value {
@@ -278,7 +278,7 @@ async fn concurrent_writes_never_fail_with_a_locked_database() {
 
 #[tokio::test]
 async fn plans_survive_a_restart() {
-    let db = fresh_db_path();
+    let db = fresh_db_url().await;
     let app = TestApp::spawn_with(db.clone(), |_| {}).await;
     let id = app.create_mission(&mission_body("real-fields/nl-parcel-17ha.json")).await;
     let (_, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &json!({"line_spacing_m": 15})).await;
@@ -299,7 +299,7 @@ async fn plans_survive_a_restart() {
 
 #[tokio::test]
 async fn queued_and_running_plans_can_be_cancelled() {
-    let app = TestApp::spawn_with(fresh_db_path(), |c| {
+    let app = TestApp::spawn_with(fresh_db_url().await, |c| {
         c.workers = 1;
         c.queue.start_delay = std::time::Duration::from_secs(60);
     })
@@ -456,7 +456,7 @@ async fn retried_posts_with_an_idempotency_key_make_nothing_twice() {
 #[tokio::test]
 async fn an_idempotency_key_being_answered_is_busy_and_belongs_to_one_tenant() {
     use coverplan::store::idempotency::{self, Begin};
-    let db = coverplan::store::connect(&format!("sqlite://{}", fresh_db_path().display())).await.unwrap();
+    let db = coverplan::store::connect(&fresh_db_url().await).await.unwrap();
     assert!(matches!(idempotency::begin(&db, "farm-a", "k", "f1").await.unwrap(), Begin::New));
     assert!(matches!(idempotency::begin(&db, "farm-a", "k", "f1").await.unwrap(), Begin::InProgress));
     assert!(matches!(idempotency::begin(&db, "farm-a", "k", "f2").await.unwrap(), Begin::Mismatch));

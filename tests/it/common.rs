@@ -1,4 +1,6 @@
-//! Starts the real application on port 0 with a fresh SQLite file.
+//! Starts the real application on port 0 with a fresh database: a new SQLite file, or with
+//! `COVERPLAN_TEST_POSTGRES` (a PostgreSQL server's admin URL, as `tests/run_all.sh` sets it for
+//! its second pass) a new database on that server.
 #![allow(dead_code)]
 
 use std::path::PathBuf;
@@ -11,7 +13,7 @@ use tokio::sync::oneshot;
 pub struct TestApp {
     pub base: String,
     pub client: reqwest::Client,
-    pub db_path: PathBuf,
+    pub db_url: String,
     stop: Option<oneshot::Sender<()>>,
     handle: Option<tokio::task::JoinHandle<()>>,
 }
@@ -20,6 +22,27 @@ pub fn fresh_db_path() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("coverplan-test-{}", uuid::Uuid::new_v4()));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join("test.db")
+}
+
+/// The admin URL of the PostgreSQL server the tests run on, when they do.
+pub fn test_postgres() -> Option<String> {
+    std::env::var("COVERPLAN_TEST_POSTGRES").ok().filter(|u| !u.is_empty())
+}
+
+/// A URL of a new, empty database of the backend under test.
+pub async fn fresh_db_url() -> String {
+    match test_postgres() {
+        Some(admin) => {
+            use sqlx::Connection;
+            let name = format!("coverplan_test_{}", uuid::Uuid::new_v4().simple());
+            let mut conn = sqlx::PgConnection::connect(&admin).await.unwrap_or_else(|e| panic!("{admin}: {e}"));
+            sqlx::query(sqlx::AssertSqlSafe(format!("CREATE DATABASE {name}"))).execute(&mut conn).await.unwrap();
+            conn.close().await.unwrap();
+            let (server, _) = admin.rsplit_once('/').expect("the admin URL names a database");
+            format!("{server}/{name}")
+        }
+        None => format!("sqlite://{}", fresh_db_path().display()),
+    }
 }
 
 pub fn fixture(path: &str) -> Value {
@@ -35,13 +58,13 @@ pub fn mission_body(path: &str) -> Value {
 
 impl TestApp {
     pub async fn spawn() -> TestApp {
-        Self::spawn_with(fresh_db_path(), |_| {}).await
+        Self::spawn_with(fresh_db_url().await, |_| {}).await
     }
 
-    pub async fn spawn_with(db_path: PathBuf, adjust: impl FnOnce(&mut Config)) -> TestApp {
+    pub async fn spawn_with(db_url: String, adjust: impl FnOnce(&mut Config)) -> TestApp {
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
         let addr = listener.local_addr().unwrap();
-        let mut config = Config::new(addr, format!("sqlite://{}", db_path.display()));
+        let mut config = Config::new(addr, db_url.clone());
         config.workers = 2;
         config.shutdown_grace = Duration::from_secs(5);
         adjust(&mut config);
@@ -57,7 +80,7 @@ impl TestApp {
             served.expect("server runs");
         });
         let _ = ready_rx.await;
-        let app = TestApp { base: format!("http://{addr}"), client: reqwest::Client::new(), db_path, stop: Some(stop), handle: Some(handle) };
+        let app = TestApp { base: format!("http://{addr}"), client: reqwest::Client::new(), db_url, stop: Some(stop), handle: Some(handle) };
         app.wait_ready().await;
         app
     }

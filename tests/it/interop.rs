@@ -232,7 +232,7 @@ async fn fields_come_back_where_they_were_zurich_and_the_antimeridian() {
 
 #[tokio::test]
 async fn exports_say_what_is_wrong() {
-    let app = TestApp::spawn_with(common::fresh_db_path(), |c| c.queue.start_delay = std::time::Duration::from_secs(60)).await;
+    let app = TestApp::spawn_with(common::fresh_db_url().await, |c| c.queue.start_delay = std::time::Duration::from_secs(60)).await;
     let id = app.create_mission(&field_mission()).await;
     let (_, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &json!({"line_spacing_m": 20})).await;
     let plan = plan["id"].as_str().unwrap();

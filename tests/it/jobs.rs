@@ -14,7 +14,7 @@ use serde_json::json;
 
 /// A fresh database holding one mission, and the snapshot of it a plan is queued with.
 async fn fresh_mission() -> (store::Db, missions::Mission, serde_json::Value) {
-    let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
+    let db = store::connect(&common::fresh_db_url().await).await.unwrap();
     let body = common::mission_body("real-fields/nl-parcel-b.json");
     let mission =
         missions::create(&db, OPEN_TENANT, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
@@ -65,7 +65,7 @@ async fn queued_plans_are_claimed_in_the_order_they_were_created() {
         created.push(plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot, i64::MAX).await.unwrap().unwrap().id);
     }
     let mut claimed = Vec::new();
-    while let Some(job) = plans::claim_next(&db).await.unwrap() {
+    while let Some(job) = plans::claim_next(&db, "test-replica", 30.0).await.unwrap() {
         claimed.push(job.id);
     }
     assert_eq!(claimed, created);
@@ -107,7 +107,7 @@ async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
         })
     };
     let limit = Duration::from_secs(1);
-    let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings { time_limit: limit, start_delay: Duration::ZERO });
+    let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings { time_limit: limit, ..QueueSettings::default() });
     let polite = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 1.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
     let deaf = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 2.0, "time_limit_s": 0.5}), &snapshot, i64::MAX).await.unwrap().unwrap();
     let good = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
@@ -131,7 +131,7 @@ async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
 /// its worker at once: the plan queued behind it starts within moments.
 #[tokio::test]
 async fn cancelling_a_running_plan_frees_its_worker_at_once() {
-    let db = store::connect(&format!("sqlite://{}", common::fresh_db_path().display())).await.unwrap();
+    let db = store::connect(&common::fresh_db_url().await).await.unwrap();
     let field = common::fixture("random-fields/h14_00.json");
     let new = missions::NewMission { name: "h14".into(), area: field["area"].clone(), no_fly_zones: Some(field["no_fly_zones"].clone()), obstacles: None, home: None };
     let mission = missions::create(&db, OPEN_TENANT, &new).await.unwrap();

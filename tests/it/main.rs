@@ -9,6 +9,7 @@ mod observability;
 mod openapi;
 mod planner_properties;
 mod process;
+mod replicas;
 mod repository;
 mod tenancy;
 mod vehicles;

@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use serde_json::{Value, json};
 
-use crate::common::{TestApp, fresh_db_path, mission_body};
+use crate::common::{TestApp, fresh_db_path, fresh_db_url, mission_body};
 
 /// The value of the sample `name{labels}` in OpenMetrics text (labels in the order written).
 fn sample(text: &str, series: &str) -> Option<f64> {
@@ -39,7 +39,7 @@ async fn metrics_count_requests_by_route_and_jobs_by_planner() {
 #[tokio::test]
 async fn metrics_are_for_admin_keys_once_keys_exist() {
     let app = TestApp::spawn().await;
-    let db = coverplan::store::connect(&format!("sqlite://{}", app.db_path.display())).await.unwrap();
+    let db = coverplan::store::connect(&app.db_url).await.unwrap();
     let (_, user) = coverplan::store::keys::create(&db, "farm-a", false).await.unwrap();
     let (_, admin) = coverplan::store::keys::create(&db, "ops", true).await.unwrap();
     db.close().await;
@@ -59,6 +59,7 @@ async fn metrics_are_for_admin_keys_once_keys_exist() {
 async fn json_logs_name_the_plan_and_tenant_of_every_job_line() {
     let db = fresh_db_path();
     let log = db.with_file_name("server.log");
+    let db = fresh_db_url().await;
     let port = std::net::TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
     let mut child = Command::new(env!("CARGO_BIN_EXE_coverplan"))
         .arg("serve")

@@ -4,7 +4,8 @@
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use crate::common::{fresh_db_path, mission_body};
+use crate::common::{self, fresh_db_path, fresh_db_url, mission_body};
+use coverplan::store::plans;
 use serde_json::{Value, json};
 
 fn free_port() -> u16 {
@@ -24,14 +25,23 @@ impl Server {
     }
 }
 
-fn start(db: &std::path::Path, port: u16, delay_ms: u64) -> Server {
+fn start(db: &str, port: u16, delay_ms: u64) -> Server {
+    start_replica(db, port, delay_ms, "solo")
+}
+
+fn start_replica(db: &str, port: u16, delay_ms: u64, replica: &str) -> Server {
     // started away from the repository: the binary carries its page
+    let away = fresh_db_path();
     let child = Command::new(env!("CARGO_BIN_EXE_coverplan"))
         .arg("serve")
-        .current_dir(db.parent().expect("the database is in a folder"))
+        .current_dir(away.parent().expect("a fresh folder"))
         .env("COVERPLAN_ADDR", format!("127.0.0.1:{port}"))
         .env("COVERPLAN_DATABASE_URL", db)
         .env("COVERPLAN_WORKERS", "1")
+        // a killed replica's plans are taken again 3 s after its last heartbeat
+        .env("COVERPLAN_LEASE_S", "3")
+        .env("COVERPLAN_REPLICA", replica)
+        .env("COVERPLAN_MAX_QUEUED", "100")
         .env("COVERPLAN_SHUTDOWN_GRACE_S", "1")
         .env("COVERPLAN_JOB_START_DELAY_MS", delay_ms.to_string())
         .env("COVERPLAN_LOG", "warn")
@@ -74,7 +84,7 @@ async fn queue_plan(client: &reqwest::Client, base: &str) -> String {
 
 #[tokio::test]
 async fn the_binary_serves_its_page_from_any_working_directory() {
-    let db = fresh_db_path();
+    let db = fresh_db_url().await;
     let mut server = start(&db, free_port(), 0);
     let client = reqwest::Client::new();
     for (path, kind, needle) in [("/", "text/html", "<html"), ("/app.js", "javascript", "import"), ("/vendor/leaflet/leaflet.js", "javascript", "Leaflet")] {
@@ -94,8 +104,8 @@ async fn the_binary_serves_its_page_from_any_working_directory() {
 }
 
 /// A server (on a fresh database) whose only worker holds a plan running for a minute.
-async fn a_server_with_a_running_plan() -> (std::path::PathBuf, u16, Server, String) {
-    let db = fresh_db_path();
+async fn a_server_with_a_running_plan() -> (String, u16, Server, String) {
+    let db = fresh_db_url().await;
     let port = free_port();
     let server = start(&db, port, 60_000);
     let client = reqwest::Client::new();
@@ -129,6 +139,57 @@ async fn sigterm_requeues_unfinished_work_and_exits_cleanly() {
     let client = reqwest::Client::new(); // the old one pools a connection to the dead process
     wait_status(&client, &server.base, &plan, "succeeded").await;
     server.kill();
+}
+
+/// Two `coverplan serve` processes on one PostgreSQL database take 40 plans queued through both;
+/// one is killed with SIGKILL while it runs a plan. Every plan succeeds exactly once, both
+/// replicas took plans, and the record of claims shows no plan held by two replicas at once.
+#[tokio::test]
+async fn replicas_on_postgres_share_the_queue_and_a_killed_one_loses_no_plan() {
+    if common::test_postgres().is_none() {
+        eprintln!("skipped: needs COVERPLAN_TEST_POSTGRES (tests/run_all.sh runs it on PostgreSQL)");
+        return;
+    }
+    let db = fresh_db_url().await;
+    let mut a = start_replica(&db, free_port(), 400, "a");
+    let mut b = start_replica(&db, free_port(), 400, "b");
+    let client = reqwest::Client::new();
+    let m: Value = client.post(format!("{}/api/v1/missions", a.base)).json(&mission_body("real-fields/nl-parcel-b.json")).send().await.unwrap().json().await.unwrap();
+    let mut ids = Vec::new();
+    for k in 0..40 {
+        let base = if k % 2 == 0 { &a.base } else { &b.base };
+        let r = client.post(format!("{base}/api/v1/missions/{}/plans", m["id"].as_str().unwrap())).json(&json!({"line_spacing_m": 20})).send().await.unwrap();
+        assert_eq!(r.status(), 202);
+        ids.push(r.json::<Value>().await.unwrap()["id"].as_str().unwrap().to_owned());
+    }
+    let store = coverplan::store::connect(&db).await.unwrap();
+    let started = std::time::Instant::now();
+    loop {
+        let claims = plans::claims(&store).await.unwrap();
+        let of_a: Vec<_> = claims.iter().filter(|c| c.replica == "a").collect();
+        if of_a.len() >= 3 && of_a.iter().any(|c| c.ended_at.is_none()) {
+            break;
+        }
+        assert!(started.elapsed() < Duration::from_secs(60), "replica a took {} plans", of_a.len());
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    a.kill();
+    for id in &ids {
+        wait_status(&client, &b.base, id, "succeeded").await;
+    }
+    let claims = plans::claims(&store).await.unwrap();
+    for id in &ids {
+        let of_plan: Vec<_> = claims.iter().filter(|c| &c.plan_id == id).collect();
+        assert_eq!(of_plan.iter().filter(|c| c.outcome.as_deref() == Some("succeeded")).count(), 1, "{of_plan:?}");
+        for pair in of_plan.windows(2) {
+            let ended = pair[0].ended_at.expect("an earlier claim ended");
+            assert!(pair[1].claimed_at >= ended, "two replicas held {id} at once: {of_plan:?}");
+        }
+    }
+    let by = |r: &str| claims.iter().filter(|c| c.replica == r).count();
+    assert!(by("a") >= 3 && by("b") >= 1, "a took {}, b took {}", by("a"), by("b"));
+    assert!(claims.iter().any(|c| c.replica == "a" && c.outcome.as_deref() == Some("abandoned")), "the killed replica's plan was taken over");
+    b.kill();
 }
 
 #[test]

@@ -63,7 +63,9 @@ fn the_fixtures_readme_describes_files_that_exist() {
 
 #[test]
 fn every_sql_file_is_a_migration_the_binary_runs() {
-    let files: BTreeSet<String> = files_under(&root().join("migrations"), "sql").iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
-    let embedded: BTreeSet<String> = coverplan::store::MIGRATOR.iter().map(|m| format!("{:04}_{}.sql", m.version, m.description.replace(' ', "_"))).collect();
-    assert_eq!(files, embedded);
+    for (folder, migrator) in [("sqlite", &coverplan::store::MIGRATOR), ("postgres", &coverplan::store::POSTGRES_MIGRATOR)] {
+        let files: BTreeSet<String> = files_under(&root().join("migrations").join(folder), "sql").iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
+        let embedded: BTreeSet<String> = migrator.iter().map(|m| format!("{:04}_{}.sql", m.version, m.description.replace(' ', "_"))).collect();
+        assert_eq!(files, embedded, "{folder}");
+    }
 }

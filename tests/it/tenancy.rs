@@ -6,7 +6,7 @@ use std::time::Duration;
 use reqwest::Method;
 use serde_json::{Value, json};
 
-use crate::common::{TestApp, fresh_db_path, mission_body};
+use crate::common::{TestApp, fresh_db_url, mission_body};
 use coverplan::store::{self, keys};
 
 /// A client sending one key (or none).
@@ -58,7 +58,7 @@ impl As {
 
 /// Keys made in the app's database, as an operator would with `coverplan keys create`.
 async fn make_key(app: &TestApp, tenant: &str, admin: bool) -> String {
-    let db = store::connect(&format!("sqlite://{}", app.db_path.display())).await.unwrap();
+    let db = store::connect(&app.db_url).await.unwrap();
     let (_, key) = keys::create(&db, tenant, admin).await.unwrap();
     db.close().await;
     key
@@ -165,7 +165,7 @@ async fn keys_are_required_once_one_exists_and_checked() {
         assert_eq!(open.get(path).await.0, 200, "{path}");
     }
     // revoking the last key does not open the server again
-    let db = store::connect(&format!("sqlite://{}", app.db_path.display())).await.unwrap();
+    let db = store::connect(&app.db_url).await.unwrap();
     assert!(keys::revoke(&db, id).await.unwrap());
     db.close().await;
     assert_eq!(a.get("/api/v1/missions").await.0, 401);
@@ -195,7 +195,7 @@ async fn built_in_profiles_are_edited_by_admin_keys_only() {
 
 #[tokio::test]
 async fn each_tenant_may_queue_a_bounded_number_of_plans() {
-    let app = TestApp::spawn_with(fresh_db_path(), |c| {
+    let app = TestApp::spawn_with(fresh_db_url().await, |c| {
         c.workers = 1;
         c.max_queued = 2;
         c.queue.start_delay = Duration::from_secs(60);
@@ -226,7 +226,7 @@ async fn each_tenant_may_queue_a_bounded_number_of_plans() {
 
 #[tokio::test]
 async fn each_key_is_rate_limited_apart() {
-    let app = TestApp::spawn_with(fresh_db_path(), |c| c.rate_limit = coverplan::http::auth::RateLimit { per_second: 2, burst: 5 }).await;
+    let app = TestApp::spawn_with(fresh_db_url().await, |c| c.rate_limit = coverplan::http::auth::RateLimit { per_second: 2, burst: 5 }).await;
     let a = As::new(&app, Some(&make_key(&app, "farm-a", false).await));
     let b = As::new(&app, Some(&make_key(&app, "farm-b", false).await));
     let mut statuses = Vec::new();
@@ -246,7 +246,7 @@ async fn each_key_is_rate_limited_apart() {
 #[tokio::test]
 async fn a_server_that_requires_keys_refuses_to_start_without_one() {
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let mut config = coverplan::config::Config::new(listener.local_addr().unwrap(), format!("sqlite://{}", fresh_db_path().display()));
+    let mut config = coverplan::config::Config::new(listener.local_addr().unwrap(), fresh_db_url().await);
     config.require_auth = true;
     let refused = coverplan::server::serve(listener, config, async {}).await;
     let message = format!("{:#}", refused.expect_err("refused to start"));

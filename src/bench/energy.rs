@@ -1,6 +1,7 @@
 //! `coverplan bench --energy`: E-Spiral against E-BF on generated polygons as in seed 002
 //! §5.1 (6 to 10 vertices, 200 to 600 m across, convex and concave), priced by the IRIS
-//! model; then EG-CPP's planning time on rectangular grids of 16 to 48 cells.
+//! model, with coverage and energy per covered hectare; then EG-CPP's planning time, energy and
+//! optimality on rectangular grids of 16 to 100 cells.
 
 use std::fmt::Write;
 use std::time::Instant;
@@ -50,43 +51,107 @@ fn plan(area: &Value, planner: &str, profiles: &[planner::vehicle::Vehicle]) -> 
     planner::plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never())
 }
 
+/// Shoelace area of a ring in metres.
+fn area_m2(points: &[[f64; 2]]) -> f64 {
+    let n = points.len();
+    (0..n).map(|i| points[i][0] * points[(i + 1) % n][1] - points[(i + 1) % n][0] * points[i][1]).sum::<f64>().abs() / 2.0
+}
+
+/// One planner's results over a row of fields.
+#[derive(Default)]
+struct Tally {
+    planned: usize,
+    energy_j: f64,
+    duration_s: f64,
+    covered_ha: f64,
+    least_coverage: Option<f64>,
+    /// The first refusal, to say why a field was not planned.
+    refusal: Option<String>,
+}
+
+impl Tally {
+    fn add(&mut self, result: &Result<planner::PlanOutput, planner::PlanError>, area_m2: f64) {
+        match result {
+            Ok(p) => {
+                self.planned += 1;
+                self.energy_j += p.stats.energy_j;
+                self.duration_s += p.stats.duration_s;
+                self.covered_ha += p.stats.coverage_ratio * area_m2 / 1e4;
+                self.least_coverage = Some(self.least_coverage.map_or(p.stats.coverage_ratio, |c| c.min(p.stats.coverage_ratio)));
+            }
+            Err(e) => {
+                self.refusal.get_or_insert_with(|| e.to_string());
+            }
+        }
+    }
+
+    fn kj_per_ha(&self) -> f64 {
+        self.energy_j / 1000.0 / self.covered_ha
+    }
+}
+
 pub fn run(fields_per_row: usize) -> String {
     let mut profiles = planner::vehicle::builtin_profiles();
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5); // no sorties
     let mut out = format!(
-        "E-Spiral against E-BF: IRIS model, lines 20 m apart, {fields_per_row} generated polygons per row, irregularity 0..0.5\n\n\
-         | vertices | shape | diameter m | fields | E-BF kJ | E-Spiral kJ | spiral saves | spiral cheaper | E-BF s | E-Spiral s | spiral coverage |\n\
-         |---------:|:------|-----------:|-------:|--------:|------------:|-------------:|---------------:|-------:|-----------:|----------------:|\n"
+        "E-Spiral against E-BF: IRIS model, lines 20 m apart, {fields_per_row} generated polygons per row, irregularity 0..0.5; \
+         energy and time are means over the fields both planned, kJ/ha is energy per hectare covered\n\n\
+         | vertices | shape | diameter m | planned E-BF | planned E-Spiral | E-BF kJ | E-Spiral kJ | E-BF kJ/ha | E-Spiral kJ/ha | spiral saves per ha | spiral cheaper per ha | E-BF s | E-Spiral s | least coverage E-BF | least coverage E-Spiral |\n\
+         |---------:|:------|-----------:|-------------:|-----------------:|--------:|------------:|-----------:|---------------:|--------------------:|----------------------:|-------:|-----------:|-----------------:|--------------------:|\n"
     );
+    let mut refusals = Vec::new();
     let mut rng = Rng(0x5eed_0002);
     for n in 6..=10 {
         for (shape, spikiness) in [("convex", 0.0), ("concave", 0.4)] {
             for diameter in [200.0, 600.0] {
-                let (mut bf, mut sp, mut bf_t, mut sp_t, mut wins, mut cov, mut count) = (0.0, 0.0, 0.0, 0.0, 0, f64::INFINITY, 0);
+                let (mut bf, mut sp) = (Tally::default(), Tally::default());
+                // over the fields both planned
+                let (mut both_bf, mut both_sp) = (Tally::default(), Tally::default());
+                let mut cheaper = 0;
                 for _ in 0..fields_per_row {
                     let irregularity = 0.5 * rng.next();
-                    let area = geojson(&polygon(&mut rng, n, diameter, irregularity, spikiness));
-                    let (Ok(b), Ok(s)) = (plan(&area, "e_bf", &profiles), plan(&area, "e_spiral", &profiles)) else { continue };
-                    bf += b.stats.energy_j;
-                    sp += s.stats.energy_j;
-                    bf_t += b.stats.duration_s;
-                    sp_t += s.stats.duration_s;
-                    wins += usize::from(s.stats.energy_j < b.stats.energy_j);
-                    cov = f64::min(cov, s.stats.coverage_ratio);
-                    count += 1;
+                    let points = polygon(&mut rng, n, diameter, irregularity, spikiness);
+                    let (area, m2) = (geojson(&points), area_m2(&points));
+                    let (b, s) = (plan(&area, "e_bf", &profiles), plan(&area, "e_spiral", &profiles));
+                    bf.add(&b, m2);
+                    sp.add(&s, m2);
+                    if let (Ok(bo), Ok(so)) = (&b, &s) {
+                        both_bf.add(&b, m2);
+                        both_sp.add(&s, m2);
+                        let per_ha = |o: &planner::PlanOutput| o.stats.energy_j / (o.stats.coverage_ratio * m2);
+                        cheaper += usize::from(per_ha(so) < per_ha(bo));
+                    }
                 }
-                let k = count.max(1) as f64;
+                let both = both_bf.planned.max(1) as f64;
+                let coverage = |t: &Tally| t.least_coverage.map_or("-".to_string(), |c| format!("{c:.4}"));
                 let _ = writeln!(
                     out,
-                    "| {n:8} | {shape:5} | {diameter:10.0} | {count:6} | {:7.1} | {:11.1} | {:10.1} % | {wins:>8} of {count:<3} | {:6.0} | {:10.0} | {cov:15.4} |",
-                    bf / k / 1000.0,
-                    sp / k / 1000.0,
-                    100.0 * (1.0 - sp / bf),
-                    bf_t / k,
-                    sp_t / k,
+                    "| {n:8} | {shape:7} | {diameter:10.0} | {:>6} of {fields_per_row:<3} | {:>8} of {fields_per_row:<5} | {:7.1} | {:11.1} | {:10.1} | {:14.1} | {:18.1} % | {cheaper:>10} of {:<8} | {:6.0} | {:10.0} | {:>16} | {:>19} |",
+                    bf.planned,
+                    sp.planned,
+                    both_bf.energy_j / both / 1000.0,
+                    both_sp.energy_j / both / 1000.0,
+                    both_bf.kj_per_ha(),
+                    both_sp.kj_per_ha(),
+                    100.0 * (1.0 - both_sp.kj_per_ha() / both_bf.kj_per_ha()),
+                    both_bf.planned,
+                    both_bf.duration_s / both,
+                    both_sp.duration_s / both,
+                    coverage(&bf),
+                    coverage(&sp),
                 );
+                for (planner, t) in [("e_bf", &bf), ("e_spiral", &sp)] {
+                    if let Some(why) = &t.refusal {
+                        refusals.push(format!("- {planner}, {n} vertices, {shape}, {diameter:.0} m: {why}"));
+                    }
+                }
             }
         }
+    }
+    if !refusals.is_empty() {
+        out.push_str("\nFirst refusal per row and planner:\n\n");
+        out.push_str(&refusals.join("\n"));
+        out.push('\n');
     }
     out.push_str(
         "\nEG-CPP: rectangles of n × 4 cells 20 m apart, every start cell searched (IRIS)\n\n| cells | plan ms | energy kJ | result | gap |\n|------:|--------:|----------:|:-------|----:|\n",

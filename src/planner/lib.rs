@@ -324,8 +324,8 @@ fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan, still_heading
 /// Sweep directions tried by `sweep_direction: optimal`: every 2°, then 0.5° around the best.
 const DIRECTION_STEP_DEG: f64 = 2.0;
 
-/// A direction tried by `sweep_direction: optimal`: its angle, the area its plan covers, and
-/// the plan.
+/// A direction tried by `sweep_direction: optimal`: its angle, the share of the field its plan
+/// covers, and the plan.
 type Tried = (f64, f64, planners::PlannedPath);
 
 /// Plans with every sweep direction and keeps the shortest plan by [`metrics::best_covering`],
@@ -333,7 +333,8 @@ type Tried = (f64, f64, planners::PlannedPath);
 /// lines stop short of a no-fly zone); ties: the smaller angle.
 fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, progress: &dyn Progress) -> Result<planners::PlannedPath, PlanError> {
     use rayon::prelude::*;
-    let run = |angle: f64| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true).map(|p| (angle, metrics::covered_area(&p.path, problem.region), p));
+    let area = problem.region.unsigned_area();
+    let run = |angle: f64| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true).map(|p| (angle, metrics::covered_area(&p.path, problem.region) / area, p));
     let best = |tried: &[Tried]| metrics::best_covering(tried, |t| t.1, |t| t.2.path.length()).expect("at least one direction was tried");
     let grid: Vec<f64> = (0..(180.0 / DIRECTION_STEP_DEG) as usize).map(|k| (k as f64 * DIRECTION_STEP_DEG).to_radians()).collect();
     let mut tried: Vec<Tried> = Vec::with_capacity(grid.len() + 6);

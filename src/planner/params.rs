@@ -48,8 +48,8 @@ pub struct PlanParams {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading_deg: Option<f64>,
     /// Without `heading_deg`: `planner` (default) lets the planner apply its own rule;
-    /// `optimal` plans every direction (2° apart, refined to 0.5°) and keeps the shortest
-    /// among those that cover within 1 % of the best-covering one.
+    /// `optimal` plans every direction (2° apart, refined to 0.5°) and keeps the shortest per
+    /// covered area among those that cover 99 % (or, when none does, within 1 % of the best).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep_direction: Option<SweepDirection>,
     #[serde(default)]

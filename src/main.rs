@@ -73,6 +73,9 @@ enum Command {
         /// Instead: E-Spiral against E-BF energy on generated polygons, and EG-CPP time by grid size.
         #[arg(long)]
         energy: bool,
+        /// Instead: the patrolling experiments of seed 002 §5.3 (30 seeds a row) beside the published means.
+        #[arg(long)]
+        patrol: bool,
         /// Instead: the shared job queue on the PostgreSQL server at this admin URL
         /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
         /// the time of one claim at 10 000 queued plans.
@@ -200,6 +203,10 @@ fn main() -> ExitCode {
         }
         Command::Bench { queue: Some(admin), .. } => {
             tokio::runtime::Runtime::new().map_err(Into::into).and_then(|rt| rt.block_on(coverplan::bench::queue::run(&admin))).map(|table| print!("{table}"))
+        }
+        Command::Bench { patrol: true, .. } => {
+            print!("{}", coverplan::bench::patrol::run());
+            Ok(())
         }
         Command::Bench { routing: true, .. } => {
             print!("{}", coverplan::bench::routing());

@@ -4,7 +4,8 @@
 //! these are for the hot loops that hold open vertex lists (`&[Coord]`) and would otherwise
 //! build a `LineString` per call.
 
-use geo::{Coord, Rect};
+use geo::algorithm::buffer::{BufferStyle, LineJoin};
+use geo::{Buffer, Coord, MultiPolygon, Rect};
 
 /// Euclidean distance between two points.
 ///
@@ -58,6 +59,14 @@ pub fn point_in_ring(p: Coord, ring: &[Coord]) -> bool {
         }
     }
     inside
+}
+
+/// Grows the zones by `d` metres with mitred corners (no more vertices than the input).
+pub fn grow(zones: &MultiPolygon, d: f64) -> MultiPolygon {
+    if zones.0.is_empty() {
+        return MultiPolygon(vec![]);
+    }
+    zones.buffer_with_style(BufferStyle::new(d).line_join(LineJoin::Miter(2.0)))
 }
 
 #[cfg(test)]

@@ -18,6 +18,8 @@
 //! - `sortie`: splitting a plan that needs several batteries;
 //! - [`metrics`]: one measure of every plan, and the rule that chooses among plans;
 //! - [`planners`]: each composes the stages into a method; its registry lists every planner;
+//! - [`patrol`]: several UAVs revisiting the cells of a grid over the area (NC-Drone and the
+//!   methods it was compared with), simulated, with the metrics of seed 002;
 //! - [`export`]: the trajectory as GeoJSON, and the files of flight planners, Google Earth and
 //!   farm terminals written from it; [`import`]: missions read from such files;
 //!   [`estimate`]: a given route's time and energy;
@@ -39,6 +41,7 @@ pub mod import;
 pub mod metrics;
 pub mod params;
 pub mod path;
+pub mod patrol;
 pub mod planners;
 mod route;
 pub mod routing_study;
@@ -50,8 +53,7 @@ pub mod vehicle;
 
 use std::time::Instant;
 
-use geo::algorithm::buffer::{BufferStyle, LineJoin};
-use geo::{Area, BooleanOps, Buffer, Contains, Coord, MultiPolygon};
+use geo::{Area, BooleanOps, Contains, Coord, MultiPolygon};
 
 pub use error::{InputError, PlanError};
 pub use field::{FieldLimits, MissionGeometry};
@@ -65,7 +67,7 @@ pub use planners::Progress;
 pub use stop::Stop;
 
 use field::Field;
-use geom::polyline_length;
+use geom::{grow, polyline_length};
 use path::{FlightPath, PieceKind};
 use planners::Problem;
 use route::connect::Connector;
@@ -90,14 +92,6 @@ pub const MAX_ROUTED_LINES: usize = 800;
 /// Most corners transits are routed around (the visibility graph checks every pair of them
 /// against every zone: 1.4 s for 1 921 corners on two cores).
 pub const MAX_TRANSIT_CORNERS: usize = 2000;
-
-/// Grows the zones by `d` metres with mitred corners (no more vertices than the input).
-fn grow(zones: &MultiPolygon, d: f64) -> MultiPolygon {
-    if zones.0.is_empty() {
-        return MultiPolygon(vec![]);
-    }
-    zones.buffer_with_style(BufferStyle::new(d).line_join(LineJoin::Miter(2.0)))
-}
 
 /// Checks a mission without planning it: the same validation as [`plan`] applies first.
 pub fn validate_mission(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> Result<(), InputError> {

@@ -3,4 +3,5 @@
 mod architecture;
 mod energy_planners;
 mod obstacles;
+mod patrolling;
 mod seed004;

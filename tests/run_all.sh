@@ -43,7 +43,7 @@ cargo test --workspace --all-targets --locked --no-fail-fast
 # replicas sharing it, one killed mid-plan)
 eval "$(bash tests/postgres.sh start)"
 trap 'bash tests/postgres.sh stop "$COVERPLAN_TEST_PGDATA"' EXIT
-cargo test -p coverplan --test it --locked --no-fail-fast -- api:: jobs:: tenancy:: vehicles:: process:: replicas:: observability::
+cargo test -p coverplan --test it --locked --no-fail-fast -- api:: jobs:: tenancy:: vehicles:: process:: replicas:: observability:: patrols::
 unset COVERPLAN_TEST_POSTGRES
 # --all-targets leaves out the documentation examples
 cargo test --workspace --doc --locked

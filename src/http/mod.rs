@@ -11,6 +11,7 @@ pub mod idempotency;
 pub mod metrics;
 pub mod missions;
 pub mod openapi;
+pub mod patrols;
 pub mod planners;
 pub mod plans;
 pub mod ui;
@@ -55,6 +56,10 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(plans::list, plans::create))
         .routes(routes!(plans::get, plans::cancel))
         .routes(routes!(plans::trajectory))
+        .routes(routes!(patrols::create))
+        .routes(routes!(patrols::get, patrols::cancel))
+        .routes(routes!(patrols::trajectory))
+        .routes(routes!(patrols::next_moves))
         .routes(routes!(planners::list))
         .routes(routes!(planners::cameras))
         .routes(routes!(vehicles::list, vehicles::create))

@@ -12,7 +12,7 @@ use super::error;
         store fields as missions, queue plans, fetch GeoJSON trajectories with length, time and energy. \
         Every error is an RFC 9457 problem (application/problem+json).", license(name = "MIT")),
     components(schemas(error::Problem, crate::planner::Stats, crate::planner::path::PieceKind)),
-    tags((name = "missions"), (name = "plans"), (name = "planners"), (name = "vehicles"), (name = "health"))
+    tags((name = "missions"), (name = "plans"), (name = "patrols"), (name = "planners"), (name = "vehicles"), (name = "health"))
 )]
 pub struct ApiDoc;
 

@@ -59,13 +59,18 @@ pub async fn create(
     responses((status = 200, body = Vec<Plan>, description = "newest first"), (status = 404, body = Problem)))]
 pub async fn list(State(state): State<AppState>, caller: Caller, Path(mission_id): Path<String>) -> Result<Json<Vec<Plan>>, ApiError> {
     missions::get(&state.db, &caller.tenant, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
-    Ok(Json(plans::list_for_mission(&state.db, &caller.tenant, &mission_id).await?))
+    Ok(Json(plans::list_for_mission(&state.db, &caller.tenant, &mission_id).await?.into_iter().filter(|p| !plans::is_patrol(&p.params)).collect()))
 }
 
 #[utoipa::path(get, operation_id = "get_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, body = Plan), (status = 404, body = Problem)))]
 pub async fn get(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<Json<Plan>, ApiError> {
-    plans::get(&state.db, &caller.tenant, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("plan", &id))
+    find(&state, &caller, &id).await.map(Json)
+}
+
+/// A plan of the caller's (patrols share the queue, not these routes).
+async fn find(state: &AppState, caller: &Caller, id: &str) -> Result<Plan, ApiError> {
+    plans::get(&state.db, &caller.tenant, id).await?.filter(|p| !plans::is_patrol(&p.params)).ok_or_else(|| ApiError::not_found("plan", id))
 }
 
 /// `GET /api/v1/plans/{id}/trajectory` options.
@@ -104,7 +109,7 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
         Some("px4") => Firmware::Px4,
         Some(other) => return Err(ApiError::bad_request("unknown_firmware", "/firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
     };
-    let mut source = plans::export_source(&state.db, &caller.tenant, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
+    let mut source = plans::export_source(&state.db, &caller.tenant, &id).await?.filter(|s| !plans::is_patrol(&s.params)).ok_or_else(|| ApiError::not_found("plan", &id))?;
     let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
         let status = json!(source.status);
         return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", status.as_str().unwrap_or("?"))));
@@ -135,7 +140,8 @@ fn export_file(id: &str, format: &str, source: &plans::ExportSource, geojson: &s
 #[utoipa::path(delete, operation_id = "cancel_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
     responses((status = 200, body = Plan, description = "cancelled (or already finished: its status says which)"), (status = 404, body = Problem)))]
 pub async fn cancel(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<Json<Plan>, ApiError> {
+    find(&state, &caller, &id).await?;
     plans::cancel(&state.db, &caller.tenant, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
     state.jobs.cancel(&id);
-    plans::get(&state.db, &caller.tenant, &id).await?.map(Json).ok_or_else(|| ApiError::not_found("plan", &id))
+    find(&state, &caller, &id).await.map(Json)
 }

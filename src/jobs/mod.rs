@@ -12,20 +12,28 @@ use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use serde_json::Value;
+use serde_json::{Value, json};
 use tokio::sync::{Notify, watch};
 use tokio::task::JoinHandle;
 use tracing::Instrument;
 
+use crate::planner::patrol::PatrolParams;
 use crate::planner::vehicle::Vehicle;
-use crate::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
+use crate::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanParams, Stop};
 use crate::store::{Db, plans};
 use crate::telemetry::Telemetry;
 
 /// The function a worker runs for a job: `planner::plan` in production. It should return soon
 /// after its [`Stop`] is raised or times out; a worker that waited [`ABANDON_AFTER`] past the
 /// time limit gives up on it and takes the next job.
-pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress, &Stop) -> Result<PlanOutput, PlanError> + Send + Sync>;
+pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress, &Stop) -> Result<JobOutput, PlanError> + Send + Sync>;
+
+/// What a finished job stores: its figures and its GeoJSON.
+#[derive(Debug, Clone)]
+pub struct JobOutput {
+    pub stats: Value,
+    pub trajectory: String,
+}
 
 /// How often a running job renews its lease, saves its progress and looks whether it was
 /// cancelled elsewhere.
@@ -78,10 +86,20 @@ pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
 }
 
 /// Runs a stored job with the real planner.
-pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<PlanOutput, PlanError> {
-    let params: PlanParams = serde_json::from_value(job.params.clone()).map_err(|e| PlanError::Infeasible(format!("stored parameters are unreadable: {e}")))?;
+pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, PlanError> {
+    let unreadable = |e: serde_json::Error| PlanError::Infeasible(format!("stored parameters are unreadable: {e}"));
     let profiles = snapshot_profiles(&job.mission).map_err(PlanError::Infeasible)?;
-    planner::plan(&snapshot_geometry(&job.mission), &params, &profiles, limits, progress, stop)
+    let geometry = snapshot_geometry(&job.mission);
+    let (stats, trajectory) = if plans::is_patrol(&job.params) {
+        let params: PatrolParams = serde_json::from_value(plans::without_kind(&job.params)).map_err(unreadable)?;
+        let out = planner::patrol::patrol(&geometry, &params, &profiles, limits, stop)?;
+        (json!(out.stats), out.trajectory.to_string())
+    } else {
+        let params: PlanParams = serde_json::from_value(job.params.clone()).map_err(unreadable)?;
+        let out = planner::plan(&geometry, &params, &profiles, limits, progress, stop)?;
+        (json!(out.stats), serde_json::to_string(&out.trajectory).unwrap_or_default())
+    };
+    Ok(JobOutput { stats, trajectory })
 }
 
 struct RunningJob {
@@ -229,7 +247,7 @@ impl JobQueue {
 
     async fn run_in_span(&self, job: plans::Job) {
         let limit = self.time_limit(&job);
-        let planner = job.params.get("planner").and_then(Value::as_str).unwrap_or("boustrophedon").to_owned();
+        let planner = if plans::is_patrol(&job.params) { "patrol" } else { job.params.get("planner").and_then(Value::as_str).unwrap_or("boustrophedon") }.to_owned();
         let started = tokio::time::Instant::now();
         let stop = Stop::until(started.into_std() + self.settings.start_delay + limit);
         let requeue = Arc::new(AtomicBool::new(false));
@@ -280,13 +298,7 @@ impl JobQueue {
                 tracing::error!("the planner did not stop at its time limit; its thread was left behind");
                 ("time_limit", timed_out().await)
             }
-            Some(Ok(Ok(Ok(output)))) => match serde_json::to_value(&output.stats) {
-                Ok(stats) => {
-                    let trajectory = serde_json::to_string(&output.trajectory).unwrap_or_default();
-                    ("succeeded", plans::succeed(&self.db, claim, &stats, &trajectory).await)
-                }
-                Err(e) => ("failed", plans::fail(&self.db, claim, "internal", &format!("the plan's figures could not be stored: {e}")).await),
-            },
+            Some(Ok(Ok(Ok(output)))) => ("succeeded", plans::succeed(&self.db, claim, &output.stats, &output.trajectory).await),
             Some(Ok(Ok(Err(PlanError::Cancelled)))) if requeue.load(Ordering::SeqCst) => ("requeued", plans::requeue(&self.db, claim).await),
             // a plan cancelled by its owner is marked so already; one that ran out of time is not
             Some(Ok(Ok(Err(PlanError::Cancelled)))) if stop.timed_out() => ("time_limit", timed_out().await),

@@ -94,6 +94,20 @@ macro_rules! columns {
     };
 }
 
+/// True for the parameters of a patrol (`kind: "patrol"`), which runs in the same queue.
+pub fn is_patrol(params: &Value) -> bool {
+    params.get("kind").and_then(Value::as_str) == Some("patrol")
+}
+
+/// A patrol's parameters as it was asked for, without the `kind` the queue keeps beside them.
+pub fn without_kind(params: &Value) -> Value {
+    let mut params = params.clone();
+    if let Some(o) = params.as_object_mut() {
+        o.remove("kind");
+    }
+    params
+}
+
 /// The channel on which PostgreSQL announces newly queued plans to every replica.
 pub const QUEUED_CHANNEL: &str = "coverplan_queued";
 

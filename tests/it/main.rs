@@ -7,6 +7,7 @@ mod interop;
 mod jobs;
 mod observability;
 mod openapi;
+mod patrols;
 mod planner_properties;
 mod process;
 mod replicas;

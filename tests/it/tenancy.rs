@@ -101,6 +101,8 @@ async fn a_tenant_reaches_nothing_of_another_through_any_route() {
     }
     vehicle["profile"] = json!("farm-a-drone");
     assert_eq!(a.post("/api/v1/vehicles", &vehicle).await.0, 201);
+    let (_, patrol) = a.post(&format!("/api/v1/missions/{mission}/patrols"), &json!({"cycles": 100})).await;
+    let patrol = patrol["id"].as_str().unwrap().to_owned();
     let before = snapshot(&a, &mission, &plan).await;
 
     // every documented operation on A's ids, as B: 404, as for an id that does not exist
@@ -108,9 +110,18 @@ async fn a_tenant_reaches_nothing_of_another_through_any_route() {
     let mut tried = 0;
     for (path, item) in doc["paths"].as_object().unwrap().iter().filter(|(p, _)| p.contains("{id}")) {
         let (id, body) = if path.starts_with("/api/v1/missions/") {
-            (&mission, if path.ends_with("/plans") { json!({"line_spacing_m": 30}) } else { mission_body("real-fields/nl-parcel-b.json") })
+            let body = if path.ends_with("/plans") {
+                json!({"line_spacing_m": 30})
+            } else if path.ends_with("/patrols") {
+                json!({"cycles": 100})
+            } else {
+                mission_body("real-fields/nl-parcel-b.json")
+            };
+            (&mission, body)
         } else if path.starts_with("/api/v1/plans/") {
             (&plan, json!({}))
+        } else if path.starts_with("/api/v1/patrols/") {
+            (&patrol, json!({}))
         } else {
             (&"farm-a-drone".to_string(), vehicle.clone())
         };

@@ -31,59 +31,59 @@ pub enum StrategyName {
 }
 
 /// What a patrol is asked for.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PatrolParams {
     /// Side of a grid cell, metres, 1 to 1 000 (default 20: a camera footprint at a survey altitude).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cell_size_m: Option<f64>,
     /// How many UAVs, 1 to 64 (default 4), all starting on the free cell nearest the area's
     /// south-west corner as in the source; or give `starts`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uavs: Option<usize>,
     /// Start positions, [longitude, latitude] each: one UAV per position.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(value_type = Option<Vec<Vec<f64>>>))]
     pub starts: Option<Vec<[f64; 2]>>,
     /// Default `nc_drone`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strategy: Option<StrategyName>,
     /// Default `centralised`; `max`, `avg` and `multi` share between UAVs within
     /// `comm_radius_cells`; `periodic` merges every `sync_interval` cycles (CFS).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sharing: Option<Sharing>,
     /// Chebyshev range of the UAVs' radios, cells (default 3).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub comm_radius_cells: Option<usize>,
     /// Cycles between synchronisations with `periodic` sharing (default 100).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sync_interval: Option<u32>,
     /// Watershed (`visits`) or WSTS (`last_visit`); none by default.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub watershed: Option<Valleys>,
     /// Cycles between Watershed decisions with a central matrix (default 100).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ws_period: Option<u32>,
     /// TS: ties go to the least recently visited cell first.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_ties: Option<bool>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub evaporation: Option<Evaporation>,
     /// Overrides the strategy's tie rule.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tie_rule: Option<TieRule>,
     /// Cycles to simulate, 1 to 1 000 000 (default 10 000).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cycles: Option<u32>,
     /// Seed of the random choices (default 0): the same seed gives the same patrol.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
     /// Clearance around no-fly zones, metres (default 10): cells whose centre is nearer are blocked.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nfz_margin_m: Option<f64>,
     /// The vehicle whose model prices each path (default: the multirotor default).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_default")]
     pub vehicle: VehicleParams,
 }
 
@@ -116,6 +116,10 @@ pub struct PatrolOutput {
     /// A FeatureCollection: a LineString per UAV (`kind: "patrol"`), then a Polygon per free cell
     /// with its `visits` (`kind: "visits"`).
     pub trajectory: Value,
+}
+
+fn is_default(v: &VehicleParams) -> bool {
+    *v == VehicleParams::default()
 }
 
 fn out_of_range(pointer: &str, what: &str) -> InputError {
@@ -160,22 +164,38 @@ impl PatrolParams {
     }
 }
 
+impl PatrolParams {
+    /// Checks every figure against its range, and the strategy; the area is checked when the
+    /// patrol runs.
+    pub fn check(&self, profiles: &[Vehicle]) -> Result<(), InputError> {
+        self.strategy()?;
+        if !self.cell_size_m.is_none_or(|s| (1.0..=1000.0).contains(&s)) {
+            return Err(out_of_range("/cell_size_m", "cell_size_m is 1 to 1 000 m"));
+        }
+        if !self.cycles.is_none_or(|c| (1..=1_000_000).contains(&c)) {
+            return Err(out_of_range("/cycles", "cycles is 1 to 1 000 000"));
+        }
+        if !self.nfz_margin_m.is_none_or(|m| (0.0..=1000.0).contains(&m)) {
+            return Err(out_of_range("/nfz_margin_m", "nfz_margin_m is 0 to 1 000 m"));
+        }
+        if !self.uavs.is_none_or(|n| (1..=64).contains(&n)) {
+            return Err(out_of_range("/uavs", "uavs is 1 to 64"));
+        }
+        if self.starts.as_ref().is_some_and(|s| s.is_empty() || s.len() > 64) {
+            return Err(out_of_range("/starts", "give 1 to 64 start positions"));
+        }
+        self.vehicle.resolve(profiles).map(|_| ())
+    }
+}
+
 /// Simulates the patrol of `mission` asked for by `params`.
 pub fn patrol(mission: &MissionGeometry<'_>, params: &PatrolParams, profiles: &[Vehicle], limits: &FieldLimits, stop: &Stop) -> Result<PatrolOutput, PlanError> {
     let started = std::time::Instant::now();
+    params.check(profiles)?;
     let strategy = params.strategy()?;
     let size = params.cell_size_m.unwrap_or(20.0);
-    if !(1.0..=1000.0).contains(&size) {
-        return Err(out_of_range("/cell_size_m", "cell_size_m is 1 to 1 000 m").into());
-    }
     let cycles = params.cycles.unwrap_or(10_000);
-    if !(1..=1_000_000).contains(&cycles) {
-        return Err(out_of_range("/cycles", "cycles is 1 to 1 000 000").into());
-    }
     let margin = params.nfz_margin_m.unwrap_or(10.0);
-    if !(0.0..=1000.0).contains(&margin) {
-        return Err(out_of_range("/nfz_margin_m", "nfz_margin_m is 0 to 1 000 m").into());
-    }
     let vehicle = params.vehicle.resolve(profiles)?;
     let field = Field::parse(mission, limits)?;
     let keep_out = crate::geom::grow(&field.no_fly_zones, margin);
@@ -218,15 +238,9 @@ pub fn patrol(mission: &MissionGeometry<'_>, params: &PatrolParams, profiles: &[
 fn starts(grid: &CellGrid, params: &PatrolParams, field: &Field) -> Result<Vec<usize>, InputError> {
     let Some(given) = &params.starts else {
         let n = params.uavs.unwrap_or(4);
-        if !(1..=64).contains(&n) {
-            return Err(out_of_range("/uavs", "uavs is 1 to 64"));
-        }
         let first = grid.lower_left().ok_or_else(|| InputError::new("nothing_to_cover", "/cell_size_m", "no cell of the grid lies in the area: use smaller cells"))?;
         return Ok(vec![first; n]);
     };
-    if given.is_empty() || given.len() > 64 {
-        return Err(out_of_range("/starts", "give 1 to 64 start positions"));
-    }
     given
         .iter()
         .enumerate()

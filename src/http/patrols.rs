@@ -75,14 +75,8 @@ pub async fn create(
     let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "home": mission.home, "vehicles": [base]});
     let mut stored = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     stored["kind"] = json!("patrol");
-    let most = state.config.max_queued;
-    let plan = plans::create(&state.db, &caller.tenant, &mission_id, &stored, &snapshot, most).await?.ok_or_else(|| ApiError::TooMany {
-        code: "too_many_plans",
-        detail: format!("{most} plans and patrols of yours are queued or running, the most this server takes at once: wait for one to finish or cancel one"),
-        retry_after_s: 10,
-    })?;
-    state.jobs.notify();
-    Ok((StatusCode::ACCEPTED, Json(plan.into())))
+    let patrol = super::plans::enqueue(&state, &caller, &mission_id, &stored, &snapshot).await?;
+    Ok((StatusCode::ACCEPTED, Json(patrol.into())))
 }
 
 #[utoipa::path(get, operation_id = "get_patrol", path = "/api/v1/patrols/{id}", tag = "patrols", params(("id" = String, Path)),

@@ -45,14 +45,19 @@ pub async fn create(
     let base = profiles.iter().find(|p| p.profile == profile.profile);
     let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home, "vehicles": [base]});
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
+    Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &mission_id, &params, &snapshot).await?)))
+}
+
+/// Queues a job (a plan or a patrol) of the caller's, within the tenant's cap, and wakes a worker.
+pub(super) async fn enqueue(state: &AppState, caller: &Caller, mission_id: &str, params: &serde_json::Value, snapshot: &serde_json::Value) -> Result<Plan, ApiError> {
     let most = state.config.max_queued;
-    let plan = plans::create(&state.db, &caller.tenant, &mission_id, &params, &snapshot, most).await?.ok_or_else(|| ApiError::TooMany {
+    let plan = plans::create(&state.db, &caller.tenant, mission_id, params, snapshot, most).await?.ok_or_else(|| ApiError::TooMany {
         code: "too_many_plans",
-        detail: format!("{most} plans of yours are queued or running, the most this server takes at once: wait for one to finish or cancel one"),
+        detail: format!("{most} plans and patrols of yours are queued or running, the most this server takes at once: wait for one to finish or cancel one"),
         retry_after_s: 10,
     })?;
     state.jobs.notify();
-    Ok((StatusCode::ACCEPTED, Json(plan)))
+    Ok(plan)
 }
 
 #[utoipa::path(get, operation_id = "list_plans", path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)),

@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use crate::planner::patrol::{CellGrid, Evaporation, PatrolMetrics, Sharing, Strategy, UpdateRule, Valleys, metrics_over_seeds, simulate};
+use crate::planner::patrol::{CellGrid, Evaporation, PatrolMetrics, Sharing, Strategy, UpdateRule, Valleys, metrics_over_seeds, simulate, simulate_shared_cycle};
 
 pub const SEEDS: u64 = 30;
 
@@ -90,6 +90,8 @@ pub fn run() -> String {
         let _ = writeln!(out, "| {name} | {qmi:.2} ± {sd:.2} | {sdf:.2} | {:.1}k | {published} |", ntm / 1000.0);
     }
     let grid = CellGrid::open(50, 50);
+    let fixed = simulate_shared_cycle(&grid, 0, 4, 20_000).metrics;
+    let _ = writeln!(out, "| shared cycle (predictable, one run: no randomness) | {:.2} | {:.2} | {:.1}k | not in the source |", fixed.qmi, fixed.sdf, fixed.ntm as f64 / 1000.0);
     let one = Instant::now();
     simulate(&grid, &nd, &[0; 4], 20_000, 0, &|| false).expect("not stopped");
     let one_ms = one.elapsed().as_secs_f64() * 1000.0;

@@ -143,6 +143,9 @@ pub struct NextMovesResponse {
 #[utoipa::path(post, operation_id = "patrol_next_moves", path = "/api/v1/patrols/next-moves", tag = "patrols", request_body = NextMovesRequest,
     responses((status = 200, body = NextMovesResponse), (status = 422, body = Problem)))]
 pub async fn next_moves(ApiJson(request): ApiJson<NextMovesRequest>) -> Result<Json<NextMovesResponse>, ApiError> {
+    if request.strategy == Some(StrategyName::SharedCycle) {
+        return Err(ApiError::invalid("strategy_not_online", "/strategy", "shared_cycle is a fixed walk, not a cycle-by-cycle decision: use nc_drone or another online method"));
+    }
     let cells = request.cols.saturating_mul(request.rows);
     if cells == 0 || cells > patrol::MAX_CELLS {
         return Err(ApiError::invalid("parameter_out_of_range", "/cols", format!("the grid has 1 to {} cells", patrol::MAX_CELLS)));

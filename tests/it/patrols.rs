@@ -94,6 +94,9 @@ async fn next_moves_runs_a_patrol_one_cycle_at_a_time() {
         state = answer["state"].clone();
     }
     assert_eq!(state["cycle"], 21);
+    let fixed = json!({"cols": 6, "rows": 5, "state": state, "strategy": "shared_cycle"});
+    let (status, problem) = app.post("/api/v1/patrols/next-moves", &fixed).await;
+    assert_eq!((status, problem["code"].as_str()), (422, Some("strategy_not_online")), "{problem}");
     let short = json!({"cols": 6, "rows": 5, "state": {"u": [0.0], "last_visit": [0], "at": [0], "headings": [0], "cycle": 1}});
     let (status, problem) = app.post("/api/v1/patrols/next-moves", &short).await;
     assert_eq!((status, problem["code"].as_str()), (422, Some("state_mismatch")), "{problem}");
@@ -104,5 +107,25 @@ async fn next_moves_runs_a_patrol_one_cycle_at_a_time() {
     late["blocked"] = json!([0]);
     let (status, problem) = app.post("/api/v1/patrols/next-moves", &late).await;
     assert_eq!((status, problem["pointer"].as_str()), (422, Some("/state/at/0")), "{problem}");
+    app.stop().await;
+}
+
+/// The predictable baseline through the API, on a real field (a tree tour: no Hamiltonian cycle
+/// is built there): every cell visited, and the same walk on every run.
+#[tokio::test]
+async fn a_shared_cycle_patrol_visits_every_cell() {
+    let app = TestApp::spawn().await;
+    let mission = app.create_mission(&mission_body("real-fields/nl-parcel-b.json")).await;
+    let (status, queued) = app.post(&format!("/api/v1/missions/{mission}/patrols"), &json!({"strategy": "shared_cycle", "uavs": 2, "cycles": 1000, "cell_size_m": 25.0})).await;
+    assert_eq!(status, 202, "{queued}");
+    let done = wait_patrol(&app, queued["id"].as_str().unwrap()).await;
+    assert_eq!(done["status"], "succeeded", "{done}");
+    let trajectory = app.get(&format!("/api/v1/patrols/{}/trajectory", done["id"].as_str().unwrap())).await.1;
+    let cells: Vec<&Value> = trajectory["features"].as_array().unwrap().iter().filter(|f| f["properties"]["kind"] == "visits").collect();
+    assert!(!cells.is_empty() && cells.iter().all(|c| c["properties"]["visits"].as_u64().unwrap() > 0));
+    let (_, again) =
+        app.post(&format!("/api/v1/missions/{mission}/patrols"), &json!({"strategy": "shared_cycle", "uavs": 2, "cycles": 1000, "cell_size_m": 25.0, "seed": 9})).await;
+    let again = wait_patrol(&app, again["id"].as_str().unwrap()).await;
+    assert_eq!(again["stats"]["qmi"], done["stats"]["qmi"], "no randomness, whatever the seed");
     app.stop().await;
 }

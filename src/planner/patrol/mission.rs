@@ -8,6 +8,7 @@ use serde_json::{Value, json};
 
 use super::grid::{CellGrid, MAX_CELLS};
 use super::metrics::PatrolMetrics;
+use super::shared_cycle::simulate_shared_cycle;
 use super::simulate::{Evaporation, Sharing, Strategy, TieRule, Valleys, simulate};
 use super::update_rules::UpdateRule;
 use crate::energy::EnergyModel;
@@ -28,6 +29,9 @@ pub enum StrategyName {
     Tvur,
     Wvur,
     NcDrone,
+    /// The predictable baseline: all UAVs evenly spaced on one closed walk through every cell
+    /// (no randomness; sharing, Watershed, ties and evaporation do not apply).
+    SharedCycle,
 }
 
 /// What a patrol is asked for.
@@ -130,7 +134,7 @@ impl PatrolParams {
     /// The strategy these parameters describe, checked.
     pub fn strategy(&self) -> Result<Strategy, InputError> {
         let base = match self.strategy.unwrap_or(StrategyName::NcDrone) {
-            StrategyName::NcDrone => Strategy::nc_drone(),
+            StrategyName::NcDrone | StrategyName::SharedCycle => Strategy::nc_drone(),
             StrategyName::Nc => Strategy::classic(UpdateRule::Nc),
             StrategyName::Lrta => Strategy::classic(UpdateRule::Lrta),
             StrategyName::Tvur => Strategy::classic(UpdateRule::Tvur),
@@ -204,7 +208,11 @@ pub fn patrol(mission: &MissionGeometry<'_>, params: &PatrolParams, profiles: &[
     let grid = CellGrid::over(&area, bounds, size).ok_or_else(|| out_of_range("/cell_size_m", &format!("the grid would have more than {MAX_CELLS} cells: use larger cells")))?;
     let starts = starts(&grid, params, &field)?;
     let seed = params.seed.unwrap_or(0);
-    let run = simulate(&grid, &strategy, &starts, cycles, seed, &|| stop.requested()).ok_or(PlanError::Cancelled)?;
+    let run = if params.strategy == Some(StrategyName::SharedCycle) {
+        simulate_shared_cycle(&grid, starts[0], starts.len(), cycles)
+    } else {
+        simulate(&grid, &strategy, &starts, cycles, seed, &|| stop.requested()).ok_or(PlanError::Cancelled)?
+    };
     let model = vehicle.energy_model();
     let mut features = Vec::new();
     let mut uavs = Vec::new();

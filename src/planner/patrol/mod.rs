@@ -17,6 +17,7 @@
 mod grid;
 mod metrics;
 mod mission;
+mod shared_cycle;
 mod simulate;
 mod update_rules;
 mod watershed;
@@ -24,5 +25,6 @@ mod watershed;
 pub use grid::{CellGrid, MAX_CELLS};
 pub use metrics::{PatrolMetrics, Visits};
 pub use mission::{PatrolOutput, PatrolParams, PatrolStats, StrategyName, UavTotals, patrol};
+pub use shared_cycle::{closed_walk, simulate_shared_cycle};
 pub use simulate::{Evaporation, PatrolState, Sharing, Simulation, Strategy, TieRule, Valleys, metrics_over_seeds, next_moves, simulate};
 pub use update_rules::UpdateRule;

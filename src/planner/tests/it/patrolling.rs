@@ -2,7 +2,7 @@
 //! statistically over 30 seeds of the reference set-up; and its invariants over generated grids.
 
 use coverplan_planner::patrol::{
-    CellGrid, Evaporation, PatrolMetrics, PatrolState, Sharing, Strategy as Patrolling, UpdateRule, Valleys, metrics_over_seeds, next_moves, simulate,
+    CellGrid, Evaporation, PatrolMetrics, PatrolState, Sharing, Strategy as Patrolling, UpdateRule, Valleys, metrics_over_seeds, next_moves, simulate, simulate_shared_cycle,
 };
 use proptest::prelude::*;
 
@@ -34,6 +34,16 @@ fn nc_drone_keeps_the_published_orderings() {
     let evaporating = Patrolling { evaporation: Some(Evaporation { factor: 0.1, interval: 100, continuous: false }), ..own(Sharing::Multi) };
     let (multi_es_qmi, _) = reference(evaporating);
     assert!(multi_es_qmi < multi_qmi * 0.97, "MULTI-ES-100 {multi_es_qmi:.1}, MULTI {multi_qmi:.1}");
+}
+
+/// The predictable baseline spaces its visits more evenly and turns less than NC-Drone on the
+/// reference set-up: what unpredictability costs.
+#[test]
+fn the_shared_cycle_beats_nc_drone_on_evenness_and_turns() {
+    let fixed = simulate_shared_cycle(&CellGrid::open(50, 50), 0, 4, 20_000).metrics;
+    let (nd_qmi, nd_ntm) = reference(Patrolling::nc_drone());
+    assert!(fixed.qmi < 0.9 * nd_qmi, "shared cycle {:.1}, NC-Drone {nd_qmi:.1}", fixed.qmi);
+    assert!((fixed.ntm as f64) < 0.5 * nd_ntm, "shared cycle {} turns, NC-Drone {nd_ntm:.0}", fixed.ntm);
 }
 
 #[test]

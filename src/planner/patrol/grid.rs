@@ -3,8 +3,9 @@
 
 use geo::{Contains, Coord, MultiPolygon, Point, Rect};
 
-/// Most cells a patrol grid may have.
-pub const MAX_CELLS: usize = 250_000;
+/// Most cells a patrol grid may have (200 × 200: the heat map is a polygon per cell, about 8 MB
+/// of GeoJSON at this size).
+pub const MAX_CELLS: usize = 40_000;
 
 #[derive(Debug, Clone)]
 pub struct CellGrid {

@@ -77,7 +77,7 @@ pub struct PatrolParams {
     /// Overrides the strategy's tie rule.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tie_rule: Option<TieRule>,
-    /// Cycles to simulate, 1 to 1 000 000 (default 10 000).
+    /// Cycles to simulate, 1 to 1 000 000 (default 10 000), and at most 2 000 000 UAV moves in all.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cycles: Option<u32>,
     /// Seed of the random choices (default 0): the same seed gives the same patrol.
@@ -121,6 +121,10 @@ pub struct PatrolOutput {
     /// with its `visits` (`kind: "visits"`).
     pub trajectory: Value,
 }
+
+/// Most UAV moves one patrol may simulate (4 UAVs × 500 000 cycles; about 20 MB of paths at
+/// NC-Drone's rate of turns).
+pub const MAX_UAV_CYCLES: u64 = 2_000_000;
 
 fn is_default(v: &VehicleParams) -> bool {
     *v == VehicleParams::default()
@@ -178,6 +182,14 @@ impl PatrolParams {
         }
         if !self.cycles.is_none_or(|c| (1..=1_000_000).contains(&c)) {
             return Err(out_of_range("/cycles", "cycles is 1 to 1 000 000"));
+        }
+        let uavs = self.starts.as_ref().map_or(self.uavs.unwrap_or(4), Vec::len);
+        let moves = uavs as u64 * u64::from(self.cycles.unwrap_or(10_000));
+        if moves > MAX_UAV_CYCLES {
+            return Err(out_of_range(
+                "/cycles",
+                &format!("{uavs} UAVs × cycles is {moves}; the limit is {MAX_UAV_CYCLES} (the paths would make a very large file): fewer cycles or UAVs"),
+            ));
         }
         if !self.nfz_margin_m.is_none_or(|m| (0.0..=1000.0).contains(&m)) {
             return Err(out_of_range("/nfz_margin_m", "nfz_margin_m is 0 to 1 000 m"));

@@ -69,10 +69,8 @@ pub async fn create(
 ) -> Result<(StatusCode, Json<Patrol>), ApiError> {
     let mission = missions::get(&state.db, &caller.tenant, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
     let profiles = vehicles::profiles(&state.db, &caller.tenant).await?;
-    params.check(&profiles)?;
-    let profile = params.vehicle.resolve(&profiles)?;
-    let base = profiles.iter().find(|p| p.profile == profile.profile);
-    let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "home": mission.home, "vehicles": [base]});
+    let (_, vehicle) = params.resolve(&profiles)?;
+    let snapshot = super::plans::snapshot(&mission, &profiles, &vehicle);
     let mut stored = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     stored["kind"] = json!("patrol");
     let patrol = super::plans::enqueue(&state, &caller, &mission_id, &stored, &snapshot).await?;

@@ -14,6 +14,7 @@ use super::error::{ApiError, ApiJson, ApiQuery, Problem, off_the_async_threads};
 use crate::jobs;
 use crate::planner::export::{self, ExportFile, ExportOptions, ExportRequest, Firmware};
 use crate::planner::geojson::FeatureCollection;
+use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, MissionGeometry, PlanParams};
 use crate::store::plans::{self, Plan, PlanStatus};
 use crate::store::{missions, vehicles};
@@ -40,12 +41,16 @@ pub async fn create(
     if params.time_limit_s.is_some_and(|s| s > most) {
         return Err(ApiError::invalid("parameter_out_of_range", "/time_limit_s", format!("this server plans for at most {most} s; ask for that or less")));
     }
-    // the named profile as it is now: editing it later does not change a queued plan
-    let profile = params.vehicle.resolve(&profiles)?;
-    let base = profiles.iter().find(|p| p.profile == profile.profile);
-    let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home, "vehicles": [base]});
+    let snapshot = snapshot(&mission, &profiles, &params.vehicle.resolve(&profiles)?);
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &mission_id, &params, &snapshot).await?)))
+}
+
+/// What a job runs on: the mission's geometry and the stored profile of its vehicle as they are
+/// now, so that editing either later does not change a queued job.
+pub(super) fn snapshot(mission: &missions::Mission, profiles: &[Vehicle], vehicle: &Vehicle) -> serde_json::Value {
+    let base = profiles.iter().find(|p| p.profile == vehicle.profile);
+    json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home, "vehicles": [base]})
 }
 
 /// Queues a job (a plan or a patrol) of the caller's, within the tenant's cap, and wakes a worker.

@@ -215,24 +215,23 @@ const CLOSE_CLAIM: &str = concat!("UPDATE plan_claims SET ended_at = ", sql_epoc
 /// `lease_s` seconds and records the claim. On PostgreSQL the row is locked with `SKIP LOCKED`,
 /// so replicas claiming at once take different plans without waiting for each other.
 pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<Job>, sqlx::Error> {
-    const SQLITE: &str = concat!(
-        "UPDATE plans SET status = 'running', progress = 0, started_at = ",
-        sql_now!(),
-        ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
-        sql_epoch!(),
-        " + ?
-         WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1)
-         RETURNING id, tenant, params, mission"
-    );
-    const POSTGRES: &str = concat!(
-        "UPDATE plans SET status = 'running', progress = 0, started_at = ",
-        sql_now!(),
-        ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
-        sql_epoch!(),
-        " + ?
-         WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1 FOR UPDATE SKIP LOCKED)
-         RETURNING id, tenant, params, mission"
-    );
+    // the same claim on both; PostgreSQL locks the row it takes and skips those others hold
+    macro_rules! claim {
+        ($lock:literal) => {
+            concat!(
+                "UPDATE plans SET status = 'running', progress = 0, started_at = ",
+                sql_now!(),
+                ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
+                sql_epoch!(),
+                " + ?
+                 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1",
+                $lock,
+                ") RETURNING id, tenant, params, mission"
+            )
+        };
+    }
+    const SQLITE: &str = claim!("");
+    const POSTGRES: &str = claim!(" FOR UPDATE SKIP LOCKED");
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
         let job: Option<Job> = sqlx::query_as(sql(if db.is_postgres() { POSTGRES } else { SQLITE })).bind(replica).bind(lease_s).fetch_optional(&mut *tx).await?;

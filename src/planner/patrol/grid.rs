@@ -76,6 +76,11 @@ impl CellGrid {
         self.free[next].then_some(next)
     }
 
+    /// The heading (0 N, 1 E, 2 S, 3 W) of the step from `from` to its free neighbour `to`.
+    pub fn heading(&self, from: usize, to: usize) -> Option<usize> {
+        (0..4).find(|&h| self.step(from, h) == Some(to))
+    }
+
     /// The free cell nearest to the south-west corner (row first, as the source's lower left).
     pub fn lower_left(&self) -> Option<usize> {
         (0..self.len()).filter(|&c| self.free[c]).min_by_key(|&c| {

@@ -173,10 +173,10 @@ impl PatrolParams {
 }
 
 impl PatrolParams {
-    /// Checks every figure against its range, and the strategy; the area is checked when the
-    /// patrol runs.
-    pub fn check(&self, profiles: &[Vehicle]) -> Result<(), InputError> {
-        self.strategy()?;
+    /// Checks every figure against its range; returns the strategy and the vehicle. The area is
+    /// checked when the patrol runs.
+    pub fn resolve(&self, profiles: &[Vehicle]) -> Result<(Strategy, Vehicle), InputError> {
+        let strategy = self.strategy()?;
         if !self.cell_size_m.is_none_or(|s| (1.0..=1000.0).contains(&s)) {
             return Err(out_of_range("/cell_size_m", "cell_size_m is 1 to 1 000 m"));
         }
@@ -200,19 +200,17 @@ impl PatrolParams {
         if self.starts.as_ref().is_some_and(|s| s.is_empty() || s.len() > 64) {
             return Err(out_of_range("/starts", "give 1 to 64 start positions"));
         }
-        self.vehicle.resolve(profiles).map(|_| ())
+        Ok((strategy, self.vehicle.resolve(profiles)?))
     }
 }
 
 /// Simulates the patrol of `mission` asked for by `params`.
 pub fn patrol(mission: &MissionGeometry<'_>, params: &PatrolParams, profiles: &[Vehicle], limits: &FieldLimits, stop: &Stop) -> Result<PatrolOutput, PlanError> {
     let started = std::time::Instant::now();
-    params.check(profiles)?;
-    let strategy = params.strategy()?;
+    let (strategy, vehicle) = params.resolve(profiles)?;
     let size = params.cell_size_m.unwrap_or(20.0);
     let cycles = params.cycles.unwrap_or(10_000);
     let margin = params.nfz_margin_m.unwrap_or(10.0);
-    let vehicle = params.vehicle.resolve(profiles)?;
     let field = Field::parse(mission, limits)?;
     let keep_out = crate::geom::grow(&field.no_fly_zones, margin);
     let area = if keep_out.0.is_empty() { field.area.clone() } else { geo::BooleanOps::difference(&field.area, &keep_out) };

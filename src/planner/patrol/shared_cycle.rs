@@ -6,8 +6,7 @@
 //! observer who saw one pass knows every next one.
 
 use super::grid::CellGrid;
-use super::metrics::Visits;
-use super::simulate::Simulation;
+use super::simulate::{Log, Simulation};
 
 /// A closed walk through every free cell reachable from `start`, as cells in flight order
 /// (the last steps back to the first).
@@ -78,42 +77,21 @@ pub fn simulate_shared_cycle(grid: &CellGrid, start: usize, uavs: usize, cycles:
     let walk = closed_walk(grid, start);
     let len = walk.len().max(1);
     let offsets: Vec<usize> = (0..uavs).map(|k| k * len / uavs.max(1)).collect();
-    let mut visits = Visits::new(grid.len());
-    let mut first: Vec<usize> = offsets.iter().map(|&o| walk[o % len]).collect();
-    let mut corners: Vec<Vec<usize>> = first.iter().map(|&c| vec![c]).collect();
-    first.sort_unstable();
-    first.dedup();
-    for &c in &first {
-        visits.visit(c, 0);
-    }
-    let heading = |a: usize, b: usize| (0..4).find(|&h| grid.step(a, h) == Some(b));
-    let (mut turns, mut reversals) = (vec![0u64; uavs], 0u64);
-    let mut headings: Vec<Option<usize>> = vec![None; uavs];
+    let mut log = Log::new(grid.len(), &offsets.iter().map(|&o| walk[o % len]).collect::<Vec<_>>());
+    // each UAV starts heading along its first step: that step is no turn
+    let step_heading = |i: usize| grid.heading(walk[i % len], walk[(i + 1) % len]);
+    let mut headings: Vec<Option<usize>> = offsets.iter().map(|&o| step_heading(o)).collect();
     for t in 1..=cycles {
         for (k, &o) in offsets.iter().enumerate() {
             let i = (o + t as usize - 1) % len;
             let (here, next) = (walk[i], walk[(i + 1) % len]);
-            if here == next {
-                continue;
-            }
-            let h = heading(here, next).expect("a walk moves between neighbours");
-            if let Some(before) = headings[k] {
-                let change = (h + 4 - before) % 4;
-                if change != 0 {
-                    turns[k] += if change == 2 { 2 } else { 1 };
-                    reversals += u64::from(change == 2);
-                    corners[k].push(here);
-                }
-            }
+            let (Some(before), Some(h)) = (headings[k], step_heading(i)) else { continue }; // a one-cell walk
+            log.moved(k, here, next, t, before, h);
             headings[k] = Some(h);
-            visits.visit(next, t);
         }
     }
-    for (k, &o) in offsets.iter().enumerate() {
-        corners[k].push(walk[(o + cycles as usize) % len]);
-    }
-    let ntm = turns.iter().sum();
-    Simulation { metrics: visits.metrics(&grid.free, cycles, ntm, reversals), visits: visits.count, corners, turns }
+    let ends: Vec<usize> = offsets.iter().map(|&o| walk[(o + cycles as usize) % len]).collect();
+    log.finish(&grid.free, &ends, cycles)
 }
 
 #[cfg(test)]

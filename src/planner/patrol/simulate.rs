@@ -135,8 +135,8 @@ impl Matrix {
     }
 }
 
-/// What a patrol leaves behind as it runs.
-struct Log {
+/// What a patrol leaves behind as it runs: visits, turns and each UAV's corners.
+pub(super) struct Log {
     visits: Visits,
     turns: Vec<u64>,
     reversals: u64,
@@ -145,8 +145,36 @@ struct Log {
 }
 
 impl Log {
-    fn new(cells: usize, starts: &[usize]) -> Log {
-        Log { visits: Visits::new(cells), turns: vec![0; starts.len()], reversals: 0, corners: starts.iter().map(|&s| vec![s]).collect() }
+    /// UAVs on `starts`, which count as visited at cycle 0.
+    pub(super) fn new(cells: usize, starts: &[usize]) -> Log {
+        let mut visits = Visits::new(cells);
+        let mut first = starts.to_vec();
+        first.sort_unstable();
+        first.dedup();
+        for &s in &first {
+            visits.visit(s, 0);
+        }
+        Log { visits, turns: vec![0; starts.len()], reversals: 0, corners: starts.iter().map(|&s| vec![s]).collect() }
+    }
+
+    /// UAV `i` flew from `here` to `next` at cycle `t`, heading `before` then `after`.
+    pub(super) fn moved(&mut self, i: usize, here: usize, next: usize, t: u32, before: usize, after: usize) {
+        let change = (after + 4 - before) % 4;
+        if change != 0 {
+            self.turns[i] += if change == 2 { 2 } else { 1 };
+            self.reversals += u64::from(change == 2);
+            self.corners[i].push(here);
+        }
+        self.visits.visit(next, t);
+    }
+
+    /// The finished patrol, its UAVs ending on `at` after `cycles` cycles.
+    pub(super) fn finish(mut self, free: &[bool], at: &[usize], cycles: u32) -> Simulation {
+        for (corners, &end) in self.corners.iter_mut().zip(at) {
+            corners.push(end);
+        }
+        let ntm = self.turns.iter().sum();
+        Simulation { metrics: self.visits.metrics(free, cycles, ntm, self.reversals), visits: self.visits.count, corners: self.corners, turns: self.turns }
     }
 }
 
@@ -237,16 +265,10 @@ impl World<'_> {
         let m = &mut self.mats[own];
         m.u[here] = rule.update(m.evaporated(here, t, evaporation), next_value);
         m.tau[here] = t;
-        let h = (0..4).find(|&h| self.grid.step(here, h) == Some(next)).expect("a neighbour");
-        let change = (h + 4 - self.heading[i]) % 4;
-        if change != 0 {
-            log.turns[i] += if change == 2 { 2 } else { 1 };
-            log.reversals += u64::from(change == 2);
-            log.corners[i].push(here);
-        }
+        let h = self.grid.heading(here, next).expect("a neighbour");
+        log.moved(i, here, next, t, self.heading[i], h);
         self.heading[i] = h;
         self.at[i] = next;
-        log.visits.visit(next, t);
     }
 
     /// Merges matrices as the sharing mode says, after every UAV moved at cycle `t`; true
@@ -360,12 +382,6 @@ pub fn simulate(grid: &CellGrid, strategy: &Strategy, starts: &[usize], cycles: 
         rng: ChaCha8Rng::seed_from_u64(seed),
     };
     let mut log = Log::new(cells, starts);
-    let mut first: Vec<usize> = starts.to_vec();
-    first.sort_unstable();
-    first.dedup();
-    for &s in &first {
-        log.visits.visit(s, 0);
-    }
     for t in 1..=cycles {
         if t % 1024 == 0 && stopped() {
             return None;
@@ -393,11 +409,7 @@ pub fn simulate(grid: &CellGrid, strategy: &Strategy, starts: &[usize], cycles: 
             }
         }
     }
-    for (i, c) in log.corners.iter_mut().enumerate() {
-        c.push(world.at[i]);
-    }
-    let ntm = log.turns.iter().sum();
-    Some(Simulation { metrics: log.visits.metrics(&grid.free, cycles, ntm, log.reversals), visits: log.visits.count, corners: log.corners, turns: log.turns })
+    Some(log.finish(&grid.free, &world.at, cycles))
 }
 
 /// A centralised patrol between two cycles, as software that runs it online keeps it: the

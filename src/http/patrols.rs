@@ -70,7 +70,7 @@ pub async fn create(
     let mission = missions::get(&state.db, &caller.tenant, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
     let profiles = vehicles::profiles(&state.db, &caller.tenant).await?;
     let (_, vehicle) = params.resolve(&profiles)?;
-    let snapshot = super::plans::snapshot(&mission, &profiles, &vehicle);
+    let snapshot = super::plans::snapshot(&mission, &profiles, &[&vehicle]);
     let mut stored = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     stored["kind"] = json!("patrol");
     let patrol = super::plans::enqueue(&state, &caller, &mission_id, &stored, &snapshot).await?;

@@ -41,16 +41,18 @@ pub async fn create(
     if params.time_limit_s.is_some_and(|s| s > most) {
         return Err(ApiError::invalid("parameter_out_of_range", "/time_limit_s", format!("this server plans for at most {most} s; ask for that or less")));
     }
-    let snapshot = snapshot(&mission, &profiles, &params.vehicle.resolve(&profiles)?);
+    let resolved = params.resolve(&profiles)?;
+    let flown: Vec<&Vehicle> = if resolved.fleet.is_empty() { vec![&resolved.vehicle] } else { resolved.fleet.iter().map(|d| &d.vehicle).collect() };
+    let snapshot = snapshot(&mission, &profiles, &flown);
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &mission_id, &params, &snapshot).await?)))
 }
 
-/// What a job runs on: the mission's geometry and the stored profile of its vehicle as they are
-/// now, so that editing either later does not change a queued job.
-pub(super) fn snapshot(mission: &missions::Mission, profiles: &[Vehicle], vehicle: &Vehicle) -> serde_json::Value {
-    let base = profiles.iter().find(|p| p.profile == vehicle.profile);
-    json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home, "vehicles": [base]})
+/// What a job runs on: the mission's geometry and the stored profiles of its vehicles as they
+/// are now, so that editing either later does not change a queued job.
+pub(super) fn snapshot(mission: &missions::Mission, profiles: &[Vehicle], flown: &[&Vehicle]) -> serde_json::Value {
+    let base: Vec<&Vehicle> = profiles.iter().filter(|p| flown.iter().any(|v| v.profile == p.profile)).collect();
+    json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home, "vehicles": base})
 }
 
 /// Queues a job (a plan or a patrol) of the caller's, within the tenant's cap, and wakes a worker.

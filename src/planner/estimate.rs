@@ -90,7 +90,7 @@ fn waypoints(req: &EstimateRequest) -> Result<(Vec<Vec<f64>>, String), InputErro
 
 /// Checks the request and estimates the route with the vehicle resolved from `profiles`.
 pub fn estimate_route(req: &EstimateRequest, profiles: &[Vehicle]) -> Result<RouteEstimate, InputError> {
-    let vehicle = req.vehicle.resolve(profiles)?;
+    let vehicle = req.vehicle.resolve(profiles, "/vehicle")?;
     let (points, at) = waypoints(req)?;
     if points.len() < 2 || points.len() > MAX_WAYPOINTS {
         return Err(InputError::new("waypoint_count", at, format!("a route has 2 to {MAX_WAYPOINTS} waypoints; this one has {}", points.len())));

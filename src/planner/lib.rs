@@ -18,6 +18,8 @@
 //! - `sortie`: splitting a plan that needs several batteries;
 //! - [`metrics`]: one measure of every plan, and the rule that chooses among plans;
 //! - [`planners`]: each composes the stages into a method; its registry lists every planner;
+//! - `fleet`: one area flown by several drones at once (bands per drone sized so that they land
+//!   together, and the check that no two come too close at the same time);
 //! - [`patrol`]: several UAVs revisiting the cells of a grid over the area (NC-Drone and the
 //!   methods it was compared with), simulated, with the metrics of seed 002;
 //! - [`export`]: the trajectory as GeoJSON, and the files of flight planners, Google Earth and
@@ -35,6 +37,7 @@ pub mod error;
 pub mod estimate;
 pub mod export;
 mod field;
+mod fleet;
 pub mod frame;
 pub mod geom;
 pub mod import;
@@ -93,6 +96,11 @@ pub const MAX_ROUTED_LINES: usize = 800;
 /// against every zone: 1.4 s for 1 921 corners on two cores).
 pub const MAX_TRANSIT_CORNERS: usize = 2000;
 
+/// Planners a fleet's parts can be planned with: those whose lines follow a given direction
+/// everywhere, so that neighbouring parts' lines lie side by side (`energy_aware` and `e_bf`
+/// turn pockets their own way, the spiral and the grid search have no lines to share out).
+pub const FLEET_PLANNERS: &[&str] = &["boustrophedon", "naive", "eecd", "line_gtsp"];
+
 /// Checks a mission without planning it: the same validation as [`plan`] applies first.
 pub fn validate_mission(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> Result<(), InputError> {
     Field::parse(mission, limits).map(|_| ())
@@ -113,6 +121,13 @@ struct Prepared {
 fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<Prepared, InputError> {
     let resolved = params.resolve(profiles)?;
     let planner = planners::find(&params.planner).ok_or_else(|| unknown_planner(&params.planner))?;
+    if !resolved.fleet.is_empty() && !FLEET_PLANNERS.contains(&planner.id()) {
+        return Err(InputError::new(
+            "planner_not_for_fleets",
+            "/planner",
+            format!("a fleet's parts are planned with {}: their lines follow the bands the field is cut into", FLEET_PLANNERS.join(", ")),
+        ));
+    }
     let field = Field::parse(mission, limits)?;
     let sweep_km = field.area.unsigned_area() / resolved.line_spacing_m / 1000.0;
     if sweep_km > MAX_SWEEP_KM {
@@ -198,95 +213,327 @@ fn plan_until(
     stop: &Stop,
 ) -> Result<PlanOutput, PlanError> {
     let started = Instant::now();
-    let Prepared { resolved, planner, field, region, keep_out, walls, start, end } = prepare(mission, params, profiles, limits)?;
+    let prepared = prepare(mission, params, profiles, limits)?;
     if !progress.report(0.1) {
         return Err(PlanError::Cancelled);
     }
-    let transit = TransitPlanner::new(&keep_out, &walls);
-    let turn = resolved.vehicle.turn_model();
-    // fixed wing: corners far enough from the zones to turn around them
-    let detour = match turn {
-        TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), &walls)),
-        TurnModel::Straight => None,
-    };
-    let connector = Connector::new(turn, &transit, detour.as_ref()).stopping_on(stop);
+    let Prepared { resolved, field, region, keep_out, walls, .. } = &prepared;
+    let transit = TransitPlanner::new(keep_out, walls);
     let obstacles = resolved
         .altitude_m
         .filter(|_| !field.obstacles.is_empty())
         .map(|altitude| Obstacles::new(&field.obstacles, altitude, resolved.obstacle_clearance_m, resolved.max_climb_deg, resolved.coverage_penalty));
-    let problem = Problem {
-        region: &region,
-        keep_out: &keep_out,
-        transit: &transit,
-        connector: &connector,
-        layout: resolved.layout,
-        sweep_angle: resolved.sweep_angle,
-        start,
-        end,
-        start_heading: resolved.start_heading,
-        end_heading: resolved.end_heading,
-        allow_reentry: resolved.allow_reentry,
-        obstacles: obstacles.as_ref(),
-        coverage_penalty: resolved.coverage_penalty,
-        vehicle: &resolved.vehicle,
-        objective: resolved.objective,
+    let stages = Stages { prepared: &prepared, transit: &transit, obstacles: obstacles.as_ref(), stop };
+    let (flights, fleet) = if resolved.fleet.is_empty() {
+        let flight = stages.fly(&resolved.vehicle, Ends { start: prepared.start, end: prepared.end, home: field.home }, region, None, progress)?;
+        (vec![Some(flight)], None)
+    } else {
+        let (flights, fleet) = stages.fly_fleet(progress)?;
+        (flights, Some(fleet))
     };
-    let planned = if resolved.optimal_direction { plan_every_direction(planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
-    // climbs over obstacles are flown by every sortie, so they are priced when splitting
-    let raised = |p: &FlightPath| obstacles.as_ref().map_or((p.clone(), 0.0), |obs| obs.raise(p));
-    let model = resolved.vehicle.energy_model();
-    let energy_of = |p: &FlightPath| model.estimate(&raised(p).0, resolved.altitude_m).energy_j();
-    let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
-    let budget = sortie::Budget { home: field.home, usable_j: resolved.vehicle.battery.usable_j(), max_sorties: resolved.max_sorties, connect: &connect, energy: &energy_of };
-    let mut lost_coverage_m = 0.0;
-    let split = budget.split(&planned.path)?;
-    let sorties: Vec<FlightPath> = split
-        .sorties
-        .iter()
-        .map(|s| {
-            let (path, lost) = raised(s);
-            lost_coverage_m += lost;
-            path
-        })
-        .collect();
-    let estimates: Vec<energy::PathEstimate> = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
+    let flown: Vec<&Flight> = flights.iter().flatten().collect();
+    let sorties: Vec<FlightPath> = flown.iter().flat_map(|f| f.sorties.iter().cloned()).collect();
+    let estimates: Vec<energy::PathEstimate> = flown.iter().flat_map(|f| f.estimates.iter().cloned()).collect();
+    let usable_j: Vec<f64> = flown.iter().flat_map(|f| std::iter::repeat_n(f.vehicle.battery.usable_j(), f.sorties.len())).collect();
     let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
-    let photos = resolved.camera.map(|c| photo_positions(&path, &c, planned.sweep_angle));
+    let photos = resolved.camera.map(|c| {
+        flown.iter().flat_map(|f| photo_positions(&FlightPath { pieces: f.sorties.iter().flat_map(|s| s.pieces.clone()).collect() }, &c, f.planned.sweep_angle)).collect::<Vec<_>>()
+    });
     let swept = metrics::swept(&path);
+    let main = flown.first().ok_or_else(|| PlanError::Infeasible("no drone of the fleet has a part to fly".into()))?;
     let mut stats = metrics::measure(&metrics::MeasureInput {
         path: &path,
         swept: &swept,
         sorties: &sorties,
         estimates: &estimates,
-        usable_j: resolved.vehicle.battery.usable_j(),
-        region: &region,
+        usable_j: &usable_j,
+        region,
         no_fly_zones: &field.no_fly_zones,
         spacing: resolved.line_spacing_m,
-        sweep_heading_deg: params::math_to_bearing(planned.sweep_angle) % 180.0,
-        cells: planned.cells,
+        sweep_heading_deg: params::math_to_bearing(main.planned.sweep_angle) % 180.0,
+        cells: flown.iter().map(|f| f.planned.cells).sum(),
         photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
     });
     let photo_points = photos.as_deref().map(metrics::photo_points);
     let uncovered = metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones));
-    let marks = export::geojson::Marks { photos: photo_points.as_deref(), battery_swaps: &split.battery_swaps, uncovered: &uncovered };
-    let trajectory = export::geojson::feature_collection(&field.frame, &sorties, &estimates, resolved.altitude_m, resolved.vehicle.battery.usable_j(), &marks);
-    if !split.battery_swaps.is_empty() {
-        let batteries = split.battery_swaps.len() + 1;
-        stats.batteries_needed = batteries;
+    let vehicle_flights: Vec<export::geojson::VehicleFlight<'_>> = flights
+        .iter()
+        .enumerate()
+        .filter_map(|(k, f)| f.as_ref().map(|f| (k, f)))
+        .map(|(k, f)| export::geojson::VehicleFlight {
+            sorties: &f.sorties,
+            estimates: &f.estimates,
+            usable_j: f.vehicle.battery.usable_j(),
+            battery_swaps: &f.battery_swaps,
+            vehicle: fleet.is_some().then_some(k),
+        })
+        .collect();
+    let marks = export::geojson::Marks { photos: photo_points.as_deref(), uncovered: &uncovered };
+    let trajectory = export::geojson::feature_collection(&field.frame, &vehicle_flights, resolved.altitude_m, &marks);
+    for (k, f) in flights.iter().enumerate() {
+        let Some(f) = f else { continue };
+        if f.battery_swaps.is_empty() {
+            continue;
+        }
+        let batteries = f.battery_swaps.len() + 1;
+        let whose = if fleet.is_some() { format!("drone {k}'s part") } else { "this plan".to_string() };
         stats.warnings.push(format!(
-            "this plan needs {batteries} batteries ({:.0} kJ; {:.0} kJ usable per battery): without a home it is one route, with a battery_swap point where each \
+            "{whose} needs {batteries} batteries ({:.0} kJ; {:.0} kJ usable per battery): without a home it is one route, with a battery_swap point where each \
              battery runs out; give the mission a home to fly it in sorties with return flights",
-            split.needed_j / 1000.0,
-            resolved.vehicle.battery.usable_j() / 1000.0
+            f.needed_j / 1000.0,
+            f.vehicle.battery.usable_j() / 1000.0
         ));
     }
-    stats.lost_coverage_m = lost_coverage_m;
-    stats.planner = planned.planner.unwrap_or(planner.id()).to_string();
-    stats.alternatives = planned.alternatives;
-    stats.optimality = planned.optimality;
+    let swaps: usize = flown.iter().filter(|f| !f.battery_swaps.is_empty()).map(|f| f.battery_swaps.len() + 1).sum();
+    if fleet.is_some() {
+        stats.batteries_needed = flown.iter().map(|f| f.batteries_needed()).sum();
+    } else if swaps > 0 {
+        stats.batteries_needed = swaps;
+    }
+    if let Some(fleet) = fleet {
+        fleet.report(&flights, &field.frame, &mut stats);
+    }
+    stats.lost_coverage_m = flown.iter().map(|f| f.lost_coverage_m).sum();
+    stats.planner = main.planned.planner.unwrap_or(prepared.planner.id()).to_string();
+    stats.alternatives = main.planned.alternatives.clone();
+    stats.optimality = main.planned.optimality;
     stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     progress.report(1.0);
     Ok(PlanOutput { stats, trajectory })
+}
+
+/// Where a vehicle's flight starts and ends, and the home it returns to between sorties.
+#[derive(Debug, Clone, Copy)]
+struct Ends {
+    start: Option<Coord>,
+    end: Option<Coord>,
+    home: Option<Coord>,
+}
+
+/// What a fleet fixes for each drone's part: every part is swept along the bands it was cut
+/// into, so that neighbouring drones' lines lie side by side; transits fly in the drone's layer.
+#[derive(Debug, Clone, Copy)]
+struct FleetPart {
+    sweep_angle: f64,
+    transit_altitude_m: Option<f64>,
+}
+
+/// One vehicle's flight: what its planner made of its area, cut into sorties (raised over
+/// obstacles) and estimated by its energy model.
+struct Flight {
+    vehicle: vehicle::Vehicle,
+    planned: planners::PlannedPath,
+    sorties: Vec<FlightPath>,
+    estimates: Vec<energy::PathEstimate>,
+    /// Without a home: where its batteries run out.
+    battery_swaps: Vec<Coord>,
+    /// Energy of the whole route in one flight.
+    needed_j: f64,
+    lost_coverage_m: f64,
+}
+
+impl Flight {
+    fn duration_s(&self) -> f64 {
+        self.estimates.iter().map(energy::PathEstimate::duration_s).sum()
+    }
+
+    fn energy_j(&self) -> f64 {
+        self.estimates.iter().map(energy::PathEstimate::energy_j).sum()
+    }
+
+    fn batteries_needed(&self) -> usize {
+        if self.battery_swaps.is_empty() { (self.energy_j() / self.vehicle.battery.usable_j()).ceil().max(1.0) as usize } else { self.battery_swaps.len() + 1 }
+    }
+
+    /// Time of the pieces that do not grow with the area flown: the legs between home and the
+    /// area, take-off and landing.
+    fn fixed_s(&self) -> f64 {
+        let legs = |s: &FlightPath, e: &energy::PathEstimate| {
+            let first = s.pieces.first().filter(|p| p.kind == PieceKind::Transit).map_or(0.0, |_| e.pieces[0].duration_s);
+            let last = s.pieces.last().filter(|p| p.kind == PieceKind::Transit && s.pieces.len() > 1).map_or(0.0, |_| e.pieces[e.pieces.len() - 1].duration_s);
+            first + last + e.takeoff_landing_s
+        };
+        self.sorties.iter().zip(&self.estimates).map(|(s, e)| legs(s, e)).sum()
+    }
+}
+
+/// What every vehicle's flight shares.
+struct Stages<'a> {
+    prepared: &'a Prepared,
+    transit: &'a TransitPlanner,
+    obstacles: Option<&'a Obstacles>,
+    stop: &'a Stop,
+}
+
+impl Stages<'_> {
+    /// Plans `region` for `vehicle` and cuts the path into sorties from `ends.home`; a fleet's
+    /// `part` fixes the sweep direction and the altitude of transits.
+    fn fly(&self, vehicle: &vehicle::Vehicle, ends: Ends, region: &MultiPolygon, part: Option<FleetPart>, progress: &dyn Progress) -> Result<Flight, PlanError> {
+        let Prepared { resolved, planner, field, keep_out, walls, .. } = self.prepared;
+        let turn = vehicle.turn_model();
+        // fixed wing: corners far enough from the zones to turn around them
+        let detour = match turn {
+            TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), walls)),
+            TurnModel::Straight => None,
+        };
+        let connector = Connector::new(turn, self.transit, detour.as_ref()).stopping_on(self.stop);
+        let problem = Problem {
+            region,
+            keep_out,
+            transit: self.transit,
+            connector: &connector,
+            layout: resolved.layout,
+            sweep_angle: part.map_or(resolved.sweep_angle, |p| Some(p.sweep_angle)),
+            start: ends.start,
+            end: ends.end,
+            start_heading: resolved.start_heading,
+            end_heading: resolved.end_heading,
+            allow_reentry: resolved.allow_reentry,
+            obstacles: self.obstacles,
+            coverage_penalty: resolved.coverage_penalty,
+            vehicle,
+            objective: resolved.objective,
+        };
+        let planned = if resolved.optimal_direction { plan_every_direction(*planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
+        // climbs over obstacles are flown by every sortie, so they are priced when splitting
+        let flown = |p: &FlightPath| {
+            let (mut path, lost) = self.obstacles.map_or((p.clone(), 0.0), |obs| obs.raise(p));
+            if let Some(layer) = part.and_then(|p| p.transit_altitude_m) {
+                for piece in path.pieces.iter_mut().filter(|piece| piece.kind == PieceKind::Transit) {
+                    let below = resolved.altitude_m.unwrap_or(layer);
+                    piece.z = (0..piece.points.len()).map(|i| piece.z.get(i).copied().unwrap_or(below).max(layer)).collect();
+                }
+            }
+            (path, lost)
+        };
+        let model = vehicle.energy_model();
+        let energy_of = |p: &FlightPath| model.estimate(&flown(p).0, resolved.altitude_m).energy_j();
+        let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
+        let budget = sortie::Budget { home: ends.home, usable_j: vehicle.battery.usable_j(), max_sorties: resolved.max_sorties, connect: &connect, energy: &energy_of };
+        let split = budget.split(&planned.path)?;
+        let mut lost_coverage_m = 0.0;
+        let sorties: Vec<FlightPath> = split
+            .sorties
+            .iter()
+            .map(|s| {
+                let (path, lost) = flown(s);
+                lost_coverage_m += lost;
+                path
+            })
+            .collect();
+        let estimates = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
+        Ok(Flight { vehicle: vehicle.clone(), planned, sorties, estimates, battery_swaps: split.battery_swaps, needed_j: split.needed_j, lost_coverage_m })
+    }
+
+    /// Plans the fleet: the area split among the drones (docs/methods.md, fleets), each part
+    /// flown by its drone from its home. A drone not needed has no flight.
+    fn fly_fleet(&self, progress: &dyn Progress) -> Result<(Vec<Option<Flight>>, FleetPlan), PlanError> {
+        let Prepared { resolved, field, region, walls, .. } = self.prepared;
+        let homes: Vec<Option<Coord>> = resolved
+            .fleet
+            .iter()
+            .enumerate()
+            .map(|(k, d)| match d.home {
+                Some([lon, lat]) => {
+                    let c = field.frame.to_local(lon, lat);
+                    if walls.contains(&c) {
+                        return Err(InputError::new("point_in_no_fly_zone", format!("/fleet/{k}/home"), "this home lies inside a no-fly zone or its margin"));
+                    }
+                    Ok(Some(c))
+                }
+                None => Ok(field.home),
+            })
+            .collect::<Result<_, InputError>>()?;
+        let departures = fleet::timeline::departures(&homes);
+        let layers: Vec<Option<f64>> = (0..homes.len()).map(|k| resolved.altitude_separation_m.map(|sep| resolved.altitude_m.unwrap_or(0.0) + (k + 1) as f64 * sep)).collect();
+        let drones: Vec<fleet::Drone> = resolved
+            .fleet
+            .iter()
+            .zip(&homes)
+            .zip(&departures)
+            .map(|((d, &home), &departure_s)| fleet::Drone { cruise_speed_mps: d.vehicle.cruise_speed_mps, home, departure_s })
+            .collect();
+        let angle = resolved.sweep_angle.unwrap_or_else(|| sweep::fewest_lines_direction(region, resolved.layout));
+        let plan_part = |k: usize, part: &MultiPolygon| -> Result<(Flight, fleet::PartTimes), PlanError> {
+            let ends = Ends { start: homes[k], end: homes[k], home: homes[k] };
+            let flight = self.fly(&resolved.fleet[k].vehicle, ends, part, Some(FleetPart { sweep_angle: angle, transit_altitude_m: layers[k] }), &|_| true)?;
+            let times = fleet::PartTimes { duration_s: flight.duration_s(), fixed_s: flight.fixed_s() };
+            Ok((flight, times))
+        };
+        let rounds = |round: usize| !self.stop.requested() && progress.report(0.1 + 0.8 * (round + 1) as f64 / 4.0);
+        let assignment = fleet::assign(region, angle, resolved.line_spacing_m, &drones, &plan_part, &rounds)?;
+        let mut areas = Vec::with_capacity(drones.len());
+        let flights = assignment
+            .parts
+            .into_iter()
+            .map(|p| {
+                areas.push(p.as_ref().map_or(0.0, |(part, _)| part.unsigned_area()));
+                p.map(|(_, flight)| flight)
+            })
+            .collect();
+        Ok((flights, FleetPlan { departures, layers, areas, altitude_m: resolved.altitude_m }))
+    }
+}
+
+/// What a fleet plan adds to the statistics.
+struct FleetPlan {
+    departures: Vec<f64>,
+    layers: Vec<Option<f64>>,
+    areas: Vec<f64>,
+    altitude_m: Option<f64>,
+}
+
+impl FleetPlan {
+    /// Per-drone totals, the makespan, and the conflicts between drones.
+    fn report(&self, flights: &[Option<Flight>], frame: &frame::LocalFrame, stats: &mut Stats) {
+        let mut tracks = Vec::new();
+        let mut flying = Vec::new();
+        let mut sortie = 0;
+        for (k, f) in flights.iter().enumerate() {
+            let profile = f.as_ref().map_or_else(String::new, |f| f.vehicle.profile.clone());
+            let mut totals = metrics::VehicleTotals {
+                vehicle: k,
+                profile,
+                area_m2: self.areas[k],
+                sweep_lines: 0,
+                sorties: 0,
+                length_m: 0.0,
+                duration_s: 0.0,
+                energy_j: 0.0,
+                departure_s: self.departures[k],
+                landing_s: self.departures[k],
+                transit_altitude_m: self.layers[k],
+            };
+            if let Some(f) = f {
+                totals.sweep_lines = f.sorties.iter().flat_map(|s| &s.pieces).filter(|p| p.kind == PieceKind::Sweep).count();
+                totals.sorties = f.sorties.len();
+                totals.length_m = f.sorties.iter().map(FlightPath::length).sum();
+                totals.duration_s = f.duration_s();
+                totals.energy_j = f.energy_j();
+                totals.landing_s = self.departures[k] + totals.duration_s;
+                for _ in &f.sorties {
+                    stats.sortie_totals[sortie].vehicle = Some(k);
+                    sortie += 1;
+                }
+                tracks.push(fleet::timeline::Track::new(&f.sorties, &f.estimates, self.departures[k], self.altitude_m.unwrap_or(0.0)));
+                flying.push(k);
+            }
+            stats.vehicles.push(totals);
+        }
+        let conflicts: Vec<metrics::Conflict> = fleet::timeline::encounters(&tracks)
+            .into_iter()
+            .map(|e| metrics::Conflict { vehicles: e.vehicles.map(|i| flying[i]), from_s: e.from_s, to_s: e.to_s, closest_m: e.closest_m, position: frame.to_wgs84(e.at) })
+            .collect();
+        if !conflicts.is_empty() {
+            stats.warnings.push(format!(
+                "{} times two drones come within {} m of each other at the same altitude (stats.conflicts): give altitude_separation_m, separate homes, or fewer drones",
+                conflicts.len(),
+                fleet::timeline::CONFLICT_DISTANCE_M
+            ));
+        }
+        stats.conflicts = Some(conflicts);
+        stats.makespan_s = Some(stats.vehicles.iter().map(|v| v.landing_s).fold(0.0, f64::max));
+    }
 }
 
 pub fn unknown_planner(id: &str) -> InputError {

@@ -70,6 +70,54 @@ pub struct Stats {
     /// From planners whose search can prove its result (`eg_cpp`): whether it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub optimality: Option<Optimality>,
+    /// Fleet: from the first take-off to the last landing (battery changes not counted). The
+    /// totals above add up every drone's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub makespan_s: Option<f64>,
+    /// Fleet: each drone's figures, in the request's order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vehicles: Vec<VehicleTotals>,
+    /// Fleet: every time two drones come within 10 m horizontally and 5 m vertically of each
+    /// other (empty: none do).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conflicts: Option<Vec<Conflict>>,
+}
+
+/// One drone's part of a fleet plan.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct VehicleTotals {
+    /// 0-based, as in the request's `fleet` (or the copy of `vehicles`).
+    pub vehicle: usize,
+    pub profile: String,
+    /// Area of its part of the field (0: the drone is not needed).
+    pub area_m2: f64,
+    pub sweep_lines: usize,
+    pub sorties: usize,
+    pub length_m: f64,
+    pub duration_s: f64,
+    pub energy_j: f64,
+    /// Seconds after the fleet's start it takes off (drones sharing a home leave in turn).
+    pub departure_s: f64,
+    /// Seconds after the fleet's start it lands for the last time.
+    pub landing_s: f64,
+    /// Altitude of its transits, with `altitude_separation_m`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transit_altitude_m: Option<f64>,
+}
+
+/// Two drones of a fleet too close at the same time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct Conflict {
+    pub vehicles: [usize; 2],
+    /// Seconds after the fleet's start.
+    pub from_s: f64,
+    pub to_s: f64,
+    /// Their least horizontal distance.
+    pub closest_m: f64,
+    /// [longitude, latitude] midway between them at their closest.
+    pub position: [f64; 2],
 }
 
 /// Whether a planner's search proved its plan the cheapest under the method's rules.
@@ -242,7 +290,8 @@ fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
         let half = pieces[i].half_swath_m;
         let mut line = pieces[i].points.clone();
         i += 1;
-        while let Some(next) = pieces.get(i).filter(|p| p.kind == PieceKind::Sweep && p.half_swath_m == half) {
+        // joined sweeps only: a fleet's path runs one drone's flight after another's
+        while let Some(next) = pieces.get(i).filter(|p| p.kind == PieceKind::Sweep && p.half_swath_m == half && line.last() == p.points.first()) {
             line.extend_from_slice(&next.points[1..]);
             i += 1;
         }
@@ -307,8 +356,8 @@ pub struct MeasureInput<'a> {
     pub sorties: &'a [FlightPath],
     /// One per sortie.
     pub estimates: &'a [PathEstimate],
-    /// Energy one battery gives above its reserve.
-    pub usable_j: f64,
+    /// Energy one battery gives above its reserve, for each sortie (a fleet's drones differ).
+    pub usable_j: &'a [f64],
     pub region: &'a MultiPolygon,
     /// [`swept`] of `path`.
     pub swept: &'a MultiPolygon,
@@ -345,17 +394,19 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
             .sorties
             .iter()
             .zip(m.estimates)
+            .zip(m.usable_j)
             .enumerate()
-            .map(|(k, (s, e))| SortieTotals {
+            .map(|(k, ((s, e), usable_j))| SortieTotals {
                 sortie: k + 1,
+                vehicle: None,
                 sweep_lines: s.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).count(),
                 length_m: s.length(),
                 duration_s: e.duration_s(),
                 energy_j: e.energy_j(),
-                battery_used: e.energy_j() / m.usable_j,
+                battery_used: e.energy_j() / usable_j,
             })
             .collect(),
-        batteries_needed: (energy_j / m.usable_j).ceil().max(1.0) as usize,
+        batteries_needed: m.estimates.iter().zip(m.usable_j).map(|(e, u)| e.energy_j() / u).sum::<f64>().ceil().max(1.0) as usize,
         warnings: Vec::new(),
         planner: String::new(),
         alternatives: Vec::new(),
@@ -375,6 +426,9 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         planning_time_ms: 0.0,
         lost_coverage_m: 0.0,
         optimality: None,
+        makespan_s: None,
+        vehicles: Vec::new(),
+        conflicts: None,
     }
 }
 

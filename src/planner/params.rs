@@ -87,6 +87,55 @@ pub struct PlanParams {
     /// service caps it at its own limit (`COVERPLAN_JOB_TIMEOUT_S`, also the default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_limit_s: Option<f64>,
+    /// Several drones fly the field together, 2 to 16 of them: each entry is a vehicle (as
+    /// `vehicle`) with an optional `home` of its own. The field is split so that the last drone
+    /// lands as early as possible. Instead of `vehicle` and `vehicles`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 16))]
+    pub fleet: Option<Vec<FleetMember>>,
+    /// A fleet of this many copies of `vehicle`, 2 to 16, all taking off from the mission's home.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vehicles: Option<u32>,
+    /// Fleet: each drone's transits fly in a layer of its own, this many metres above the
+    /// previous drone's (the first one this far above the survey altitude), 1 to 200 m.
+    /// Without it every drone flies at the survey altitude and the plan reports where two
+    /// drones come close at the same time (`stats.conflicts`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub altitude_separation_m: Option<f64>,
+}
+
+/// One drone of a fleet: the fields of `vehicle`, and `home`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+// read through a map: serde's `flatten` would let unknown fields pass unnoticed
+#[serde(try_from = "serde_json::Map<String, serde_json::Value>")]
+pub struct FleetMember {
+    #[serde(flatten)]
+    pub vehicle: VehicleParams,
+    /// [longitude, latitude] this drone takes off from and lands at; default: the mission's home.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
+    pub home: Option<[f64; 2]>,
+}
+
+impl TryFrom<serde_json::Map<String, serde_json::Value>> for FleetMember {
+    type Error = serde_json::Error;
+
+    fn try_from(mut fields: serde_json::Map<String, serde_json::Value>) -> Result<Self, Self::Error> {
+        let home = fields.remove("home").map(serde_json::from_value).transpose()?.flatten();
+        Ok(FleetMember { vehicle: serde_json::from_value(serde_json::Value::Object(fields))?, home })
+    }
+}
+
+/// Most drones in one fleet.
+pub const MAX_FLEET: usize = 16;
+
+/// A drone of a fleet, validated.
+#[derive(Debug, Clone)]
+pub struct FleetVehicle {
+    pub vehicle: Vehicle,
+    /// [longitude, latitude]; `None`: the mission's home.
+    pub home: Option<[f64; 2]>,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -143,6 +192,9 @@ pub struct Resolved {
     pub coverage_penalty: f64,
     pub objective: Objective,
     pub max_sorties: usize,
+    /// The drones of a fleet, in the request's order; empty for one vehicle (`vehicle`).
+    pub fleet: Vec<FleetVehicle>,
+    pub altitude_separation_m: Option<f64>,
 }
 
 /// Compass bearing (clockwise from north, degrees) to a math angle (counter-clockwise from
@@ -159,7 +211,15 @@ pub fn math_to_bearing(angle: f64) -> f64 {
 impl PlanParams {
     /// Validates the parameters; `vehicle.profile` is looked up in `profiles`.
     pub fn resolve(&self, profiles: &[Vehicle]) -> Result<Resolved, InputError> {
-        let vehicle = self.vehicle.resolve(profiles)?;
+        let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
+        let fleet = self.resolve_fleet(&vehicle, profiles)?;
+        let altitude_separation_m = match self.altitude_separation_m {
+            Some(_) if fleet.is_empty() => {
+                return Err(InputError::new("not_a_fleet", "/altitude_separation_m", "altitude layers separate the drones of a fleet: give fleet or vehicles"));
+            }
+            Some(sep) => Some(check_range(sep, 1.0, 200.0, "/altitude_separation_m", "m").map(|_| sep)?),
+            None => None,
+        };
         let overlap = |v: Option<f64>, default: f64, pointer: &str| -> Result<f64, InputError> {
             let v = v.unwrap_or(default);
             check_range(v, 0.0, 0.95, pointer, "")?;
@@ -187,6 +247,13 @@ impl PlanParams {
             check_range(h, -360.0, 360.0, "/heading_deg", "°")?;
         }
         let optimal_direction = self.sweep_direction == Some(SweepDirection::Optimal);
+        if optimal_direction && !fleet.is_empty() {
+            return Err(InputError::new(
+                "direction_for_fleet",
+                "/sweep_direction",
+                "a fleet sweeps every part along the bands the field is cut into: give heading_deg, or leave sweep_direction out",
+            ));
+        }
         if optimal_direction && self.heading_deg.is_some() {
             return Err(InputError::new("direction_twice", "/sweep_direction", "heading_deg fixes the direction: leave out sweep_direction \"optimal\""));
         }
@@ -236,7 +303,41 @@ impl PlanParams {
             coverage_penalty,
             objective: self.objective.unwrap_or_default(),
             max_sorties: max_sorties as usize,
+            fleet,
+            altitude_separation_m,
         })
+    }
+
+    /// The fleet asked for by `fleet` or `vehicles`; empty for one vehicle.
+    fn resolve_fleet(&self, vehicle: &Vehicle, profiles: &[Vehicle]) -> Result<Vec<FleetVehicle>, InputError> {
+        let size = |n: usize, pointer: &str| {
+            if (2..=MAX_FLEET).contains(&n) { Ok(()) } else { Err(InputError::new("fleet_size", pointer, format!("a fleet has 2 to {MAX_FLEET} drones, not {n}"))) }
+        };
+        match (&self.fleet, self.vehicles) {
+            (None, None) => Ok(Vec::new()),
+            (Some(_), Some(_)) => Err(InputError::new("fleet_twice", "/vehicles", "give either fleet (each drone) or vehicles (copies of vehicle), not both")),
+            (None, Some(n)) => {
+                size(n as usize, "/vehicles")?;
+                Ok(vec![FleetVehicle { vehicle: vehicle.clone(), home: None }; n as usize])
+            }
+            (Some(members), None) => {
+                size(members.len(), "/fleet")?;
+                if self.vehicle != VehicleParams::default() {
+                    return Err(InputError::new("fleet_twice", "/vehicle", "with fleet, give each drone's vehicle in its entry and leave out vehicle"));
+                }
+                members
+                    .iter()
+                    .enumerate()
+                    .map(|(k, m)| {
+                        if let Some([lon, lat]) = m.home {
+                            check_range(lon, -180.0, 180.0, &format!("/fleet/{k}/home/0"), "°")?;
+                            check_range(lat, -90.0, 90.0, &format!("/fleet/{k}/home/1"), "°")?;
+                        }
+                        Ok(FleetVehicle { vehicle: m.vehicle.resolve(profiles, &format!("/fleet/{k}"))?, home: m.home })
+                    })
+                    .collect()
+            }
+        }
     }
 }
 
@@ -249,6 +350,34 @@ mod tests {
         assert!((bearing_to_math(0.0) - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
         assert!((bearing_to_math(90.0)).abs() < 1e-12);
         assert!((math_to_bearing(std::f64::consts::PI) - 270.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn fleets_are_checked_drone_by_drone() {
+        let profiles = crate::vehicle::builtin_profiles();
+        let resolve = |v: serde_json::Value| {
+            serde_json::from_value::<PlanParams>(v).map_err(|e| e.to_string()).and_then(|p| p.resolve(&profiles).map_err(|e| format!("{} {}", e.code, e.pointer)))
+        };
+        let fleet =
+            resolve(serde_json::json!({"line_spacing_m": 20, "fleet": [{"profile": "iris", "home": [7.0, 45.0]}, {"profile": "generic_multirotor", "cruise_speed_mps": 5}]}))
+                .unwrap();
+        assert_eq!(fleet.fleet.len(), 2);
+        assert_eq!((fleet.fleet[0].vehicle.profile.as_str(), fleet.fleet[0].home), ("iris", Some([7.0, 45.0])));
+        assert_eq!(fleet.fleet[1].vehicle.cruise_speed_mps, 5.0);
+        let copies = resolve(serde_json::json!({"line_spacing_m": 20, "vehicles": 3, "vehicle": {"profile": "iris"}})).unwrap();
+        assert!(copies.fleet.iter().all(|d| d.vehicle.profile == "iris" && d.home.is_none()) && copies.fleet.len() == 3);
+        let refused = |v: serde_json::Value| resolve(v).unwrap_err();
+        assert!(refused(serde_json::json!({"line_spacing_m": 20, "fleet": [{"profil": "iris"}, {}]})).contains("profil"));
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "fleet": [{}, {"profile": "zeppelin"}]})), "unknown_vehicle_profile /fleet/1/profile");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "fleet": [{}, {"cruise_speed_mps": 1e9}]})), "parameter_out_of_range /fleet/1/cruise_speed_mps");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "fleet": [{}, {"home": [7.0, 95.0]}]})), "parameter_out_of_range /fleet/1/home/1");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "vehicles": 1})), "fleet_size /vehicles");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "vehicles": 17})), "fleet_size /vehicles");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "fleet": [{}]})), "fleet_size /fleet");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "fleet": [{}, {}], "vehicles": 2})), "fleet_twice /vehicles");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "fleet": [{}, {}], "vehicle": {"profile": "iris"}})), "fleet_twice /vehicle");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "altitude_separation_m": 10})), "not_a_fleet /altitude_separation_m");
+        assert_eq!(refused(serde_json::json!({"line_spacing_m": 20, "vehicles": 2, "altitude_separation_m": 0.5})), "parameter_out_of_range /altitude_separation_m");
     }
 
     #[test]

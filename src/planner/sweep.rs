@@ -37,7 +37,7 @@ impl LineLayout {
     pub fn count(&self, d: f64) -> usize {
         match self.footprint {
             None => line_count(d, self.spacing),
-            Some(f) => (((d - (f - self.spacing)) / self.spacing) - 1e-9).ceil().max(1.0) as usize,
+            Some(f) => (((d - (f - self.spacing)) / self.spacing) - WIDTH_TOLERANCE).ceil().max(1.0) as usize,
         }
     }
 
@@ -110,9 +110,14 @@ pub fn width_across(points: &[Coord], angle: f64) -> f64 {
     hi - lo
 }
 
+/// Share of a spacing by which a width may exceed a whole number of spacings and still take
+/// that many lines: widths measured after clipping (a fleet's bands, whole spacings wide) carry
+/// rounding of about 1e-8 of a spacing.
+const WIDTH_TOLERANCE: f64 = 1e-6;
+
 /// Number of lines of spacing `s` needed to span width `w`.
 pub fn line_count(w: f64, s: f64) -> usize {
-    ((w / s) - 1e-9).ceil().max(1.0) as usize
+    ((w / s) - WIDTH_TOLERANCE).ceil().max(1.0) as usize
 }
 
 /// Directions of the hull's edges (mod π) and a 1° grid: where the width function's minima

@@ -141,17 +141,18 @@ pub struct VehicleParams {
 }
 
 impl VehicleParams {
-    /// The profile named (or the kind's default) from `profiles`, with the overrides applied.
-    pub fn resolve(&self, profiles: &[Vehicle]) -> Result<Vehicle, InputError> {
+    /// The profile named (or the kind's default) from `profiles`, with the overrides applied;
+    /// `at` is the JSON pointer of these parameters in the request.
+    pub fn resolve(&self, profiles: &[Vehicle], at: &str) -> Result<Vehicle, InputError> {
         let name = self.profile.as_deref().unwrap_or(default_profile(self.kind));
         let mut v = profiles.iter().find(|p| p.profile == name).cloned().ok_or_else(|| {
             let known: Vec<&str> = profiles.iter().map(|p| p.profile.as_str()).collect();
-            InputError::new("unknown_vehicle_profile", "/vehicle/profile", format!("no vehicle profile named `{name}`; known: {}", known.join(", ")))
+            InputError::new("unknown_vehicle_profile", format!("{at}/profile"), format!("no vehicle profile named `{name}`; known: {}", known.join(", ")))
         })?;
         if let Some(kind) = self.kind
             && kind != v.kind
         {
-            return Err(InputError::new("vehicle_kind_mismatch", "/vehicle/kind", format!("profile `{}` is not of this kind", v.profile)));
+            return Err(InputError::new("vehicle_kind_mismatch", format!("{at}/kind"), format!("profile `{}` is not of this kind", v.profile)));
         }
         if let Some(s) = self.cruise_speed_mps {
             v.cruise_speed_mps = s;
@@ -165,7 +166,7 @@ impl VehicleParams {
         if let Some(r) = self.battery_reserve {
             v.battery.reserve = r;
         }
-        v.validate("/vehicle")?;
+        v.validate(at)?;
         Ok(v)
     }
 }
@@ -223,15 +224,15 @@ mod tests {
         for v in &all {
             v.validate("").unwrap_or_else(|e| panic!("{}: {e}", v.profile));
         }
-        let fixed = VehicleParams { kind: Some(VehicleKind::FixedWing), ..Default::default() }.resolve(&all).unwrap();
+        let fixed = VehicleParams { kind: Some(VehicleKind::FixedWing), ..Default::default() }.resolve(&all, "/vehicle").unwrap();
         assert_eq!(fixed.profile, "generic_fixed_wing");
-        let iris = VehicleParams { profile: Some("iris".into()), battery_wh: Some(20.0), ..Default::default() }.resolve(&all).unwrap();
+        let iris = VehicleParams { profile: Some("iris".into()), battery_wh: Some(20.0), ..Default::default() }.resolve(&all, "/vehicle").unwrap();
         assert_eq!(iris.battery.energy_wh, 20.0);
-        let bad = VehicleParams { profile: Some("iris".into()), battery_reserve: Some(1.5), ..Default::default() }.resolve(&all);
+        let bad = VehicleParams { profile: Some("iris".into()), battery_reserve: Some(1.5), ..Default::default() }.resolve(&all, "/vehicle");
         assert_eq!(bad.unwrap_err().pointer, "/vehicle/battery/reserve");
-        let unknown = VehicleParams { profile: Some("zeppelin".into()), ..Default::default() }.resolve(&all).unwrap_err();
+        let unknown = VehicleParams { profile: Some("zeppelin".into()), ..Default::default() }.resolve(&all, "/vehicle").unwrap_err();
         assert!(unknown.detail.contains("iris"), "{}", unknown.detail);
-        let mismatch = VehicleParams { profile: Some("maja".into()), kind: Some(VehicleKind::Multirotor), ..Default::default() }.resolve(&all);
+        let mismatch = VehicleParams { profile: Some("maja".into()), kind: Some(VehicleKind::Multirotor), ..Default::default() }.resolve(&all, "/vehicle");
         assert_eq!(mismatch.unwrap_err().code, "vehicle_kind_mismatch");
     }
 }

@@ -288,6 +288,47 @@ async fn a_plan_of_several_sorties_is_a_zip_of_flights() {
     app.stop().await;
 }
 
+/// A fleet's plan exports as a zip of one flight per drone, each the drone's own waypoints;
+/// the GeoJSON trajectory stays one document whose features say their drone.
+#[tokio::test]
+async fn a_fleet_plan_is_a_zip_of_one_flight_per_drone() {
+    let app = TestApp::spawn().await;
+    let mission = field_mission();
+    let params = json!({"line_spacing_m": 20, "vehicles": 3, "altitude_m": 60, "altitude_separation_m": 10});
+    let (plan, trajectory) = planned(&app, &mission, &params).await;
+    let drone = |f: &geojson::Feature| f.properties.as_ref()?.get("vehicle")?.as_u64();
+    assert!(
+        trajectory
+            .features
+            .iter()
+            .filter(|f| flown_pieces(&FeatureCollection { bbox: None, features: vec![(*f).clone()], foreign_members: None }) == 1)
+            .all(|f| drone(f).is_some_and(|k| k < 3))
+    );
+    for (format, extension) in [("waypoints", ".waypoints"), ("plan", ".plan"), ("kml", ".kml")] {
+        let (status, media, disposition, bytes) = download(&app, &plan, &format!("format={format}")).await;
+        assert_eq!((status, media.as_str()), (200, "application/zip"), "{format}");
+        assert!(disposition.contains(&format!("-{format}-fleet.zip")), "{disposition}");
+        let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+        let mut names: Vec<String> = zip.file_names().map(|n| n.unwrap().into_owned()).collect();
+        names.sort();
+        let expected: Vec<String> = (1..=3).map(|k| format!("North_field__h04-drone-{k}{extension}")).collect();
+        assert_eq!(names, expected, "{format}");
+        if format == "waypoints" {
+            for k in 0..3u64 {
+                let own = FeatureCollection { bbox: None, features: trajectory.features.iter().filter(|f| drone(f) == Some(k)).cloned().collect(), foreign_members: None };
+                let mut text = String::new();
+                zip.by_name(&expected[k as usize]).unwrap().read_to_string(&mut text).unwrap();
+                let mut visited = wpl_waypoints(&text);
+                visited.dedup_by(|a, b| close(*a, *b));
+                let points = flown_points(&own);
+                assert_eq!(visited.len(), points.len(), "drone {k}");
+                assert!(visited.iter().zip(&points).all(|(a, b)| close(*a, *b)), "drone {k}");
+            }
+        }
+    }
+    app.stop().await;
+}
+
 fn close(a: [f64; 2], b: [f64; 2]) -> bool {
     (a[0] - b[0]).abs() <= ONE_CM_DEG && (a[1] - b[1]).abs() <= ONE_CM_DEG
 }

@@ -3,6 +3,7 @@
 
 mod api;
 mod common;
+mod fleets;
 mod interop;
 mod jobs;
 mod observability;

@@ -37,7 +37,7 @@ fn planners() -> Vec<&'static str> {
 /// the corners their swaths cannot reach; a new planner gets that floor. Two methods fall short
 /// by the swath metric (a sweep's rectangle) for reasons stated here; every other property is
 /// checked for them as for the rest.
-fn coverage_floor(planner: &str, with_zones: bool) -> f64 {
+pub(crate) fn coverage_floor(planner: &str, with_zones: bool) -> f64 {
     match planner {
         // not judged yet: its rings leave the field's corners unswept, badly so when the
         // footprint is wide next to the field (a 180 m pentagon under a 126 m footprint: 0.38);
@@ -52,7 +52,7 @@ fn coverage_floor(planner: &str, with_zones: bool) -> f64 {
     }
 }
 
-fn params(planner: &str, spacing: f64, heading: Option<f64>) -> PlanParams {
+pub(crate) fn params(planner: &str, spacing: f64, heading: Option<f64>) -> PlanParams {
     PlanParams { planner: planner.into(), line_spacing_m: Some(spacing), heading_deg: heading, ..PlanParams::default() }
 }
 
@@ -69,7 +69,7 @@ fn check(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str) -> bool 
 }
 
 /// Checks the plan of `area` and returns it (`None`: the planner refused the field).
-fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str, min_coverage: f64) -> Option<PlanOutput> {
+pub(crate) fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str, min_coverage: f64) -> Option<PlanOutput> {
     let out = try_plan(area, nfz, p)?;
     let s = &out.stats;
     assert!(s.coverage_ratio >= min_coverage, "{name}: coverage {}", s.coverage_ratio);
@@ -131,7 +131,7 @@ fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str,
     Some(out)
 }
 
-fn collect_positions(v: &Value, out: &mut Vec<[f64; 2]>) {
+pub(crate) fn collect_positions(v: &Value, out: &mut Vec<[f64; 2]>) {
     match v {
         Value::Array(a) if a.len() >= 2 && a[0].is_number() => out.push([a[0].as_f64().unwrap(), a[1].as_f64().unwrap()]),
         Value::Array(a) => a.iter().for_each(|x| collect_positions(x, out)),
@@ -140,7 +140,7 @@ fn collect_positions(v: &Value, out: &mut Vec<[f64; 2]>) {
     }
 }
 
-fn to_local_mp(frame: &LocalFrame, v: &Value) -> MultiPolygon {
+pub(crate) fn to_local_mp(frame: &LocalFrame, v: &Value) -> MultiPolygon {
     let polys: Vec<Value> = match v["type"].as_str().unwrap() {
         "Polygon" => vec![v["coordinates"].clone()],
         _ => v["coordinates"].as_array().unwrap().clone(),
@@ -232,7 +232,7 @@ fn real_fields_are_covered_to_99_percent_in_any_direction() {
 }
 
 /// A star-shaped field around (lon, lat) with square holes; see `field_strategy`.
-fn star_field(lon: f64, lat: f64, radius: f64, radii: &[f64], jitter: &[f64], holes: usize) -> (Value, Value) {
+pub(crate) fn star_field(lon: f64, lat: f64, radius: f64, radii: &[f64], jitter: &[f64], holes: usize) -> (Value, Value) {
     let frame = LocalFrame::new(lon, lat);
     let n = radii.len();
     let to_ll = |c: Coord| {
@@ -382,7 +382,7 @@ fn swaths(out: &PlanOutput, frame: &LocalFrame, spacing: f64) -> MultiPolygon {
 
 /// The built-in profiles with a battery no plan here exhausts: these tests are about geometry,
 /// not sorties.
-fn unlimited_battery() -> Vec<planner::vehicle::Vehicle> {
+pub(crate) fn unlimited_battery() -> Vec<planner::vehicle::Vehicle> {
     let mut profiles = planner::vehicle::builtin_profiles();
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
     profiles

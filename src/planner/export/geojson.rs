@@ -33,56 +33,38 @@ fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
     Feature { geometry: Some(Geometry::new(value)), properties: Some(properties), ..Default::default() }
 }
 
+/// One vehicle's flight, as the trajectory shows it.
+pub struct VehicleFlight<'a> {
+    pub sorties: &'a [FlightPath],
+    /// One per sortie.
+    pub estimates: &'a [PathEstimate],
+    /// Energy one battery gives above its reserve.
+    pub usable_j: f64,
+    /// Without a home: where each battery runs out (ends of pieces, in flight order).
+    pub battery_swaps: &'a [Coord],
+    /// Fleet: the drone's index, written on each of its features.
+    pub vehicle: Option<usize>,
+}
+
 /// What the trajectory shows besides the flown pieces.
 pub struct Marks<'a> {
     pub photos: Option<&'a [Coord]>,
-    /// Where each battery runs out, without a home (ends of pieces, in flight order).
-    pub battery_swaps: &'a [Coord],
     /// The part of the field (outside the no-fly zones) no swath covers.
     pub uncovered: &'a MultiPolygon,
 }
 
-/// The sorties' pieces in flight order, each with its sortie (1-based), speeds, time and
-/// energy, and the battery left at its end (as a share of the usable energy). Without a home,
-/// a Point of kind `battery_swap` marks each place a battery runs out (the end of a piece at
-/// one of `battery_swaps`, in order); the count of the battery left starts again after it.
-/// Then the photos (a MultiPoint) and the uncovered ground (a MultiPolygon).
-pub fn feature_collection(frame: &LocalFrame, sorties: &[FlightPath], estimates: &[PathEstimate], altitude_m: Option<f64>, usable_j: f64, marks: &Marks<'_>) -> FeatureCollection {
-    let Marks { photos, battery_swaps, uncovered } = *marks;
+/// Each flight's sorties' pieces in flight order, each with its sortie (1-based), speeds, time
+/// and energy, and the battery left at its end (as a share of the usable energy); a fleet's
+/// features carry `vehicle`, and `seq` and `sortie` count each drone's own. Without a home, a
+/// Point of kind `battery_swap` marks each place a battery runs out (the end of a piece at one
+/// of `battery_swaps`, in order); the count of the battery left starts again after it. Then the
+/// photos (a MultiPoint) and the uncovered ground (a MultiPolygon).
+pub fn feature_collection(frame: &LocalFrame, flights: &[VehicleFlight<'_>], altitude_m: Option<f64>, marks: &Marks<'_>) -> FeatureCollection {
     let mut features = Vec::new();
-    let mut swaps = battery_swaps.iter().peekable();
-    for (k, (sortie, estimate)) in sorties.iter().zip(estimates).enumerate() {
-        // take-off is spent before the first piece
-        let mut used = estimate.takeoff_landing_j / 2.0;
-        for (piece, e) in sortie.pieces.iter().zip(&estimate.pieces) {
-            used += e.energy_j;
-            let coords = piece.points.iter().enumerate().map(|(i, &c)| position(frame, c, piece.z.get(i).copied().or(altitude_m))).collect();
-            let mut props = json!({
-                "seq": features.len(),
-                "sortie": k + 1,
-                "kind": piece.kind,
-                "length_m": round(piece.length(), 2),
-                "duration_s": round(e.duration_s, 2),
-                "energy_j": round(e.energy_j, 2),
-                "speed_mps": round(e.speed_mps, 2),
-                "v_in_mps": round(e.v_in_mps, 2),
-                "v_out_mps": round(e.v_out_mps, 2),
-                "cumulative_energy_j": round(used, 1),
-                "battery_remaining": round(1.0 - used / usable_j, 4),
-            });
-            if let Some(z) = altitude_m {
-                props["altitude_m"] = json!(round(z, 2));
-            }
-            features.push(feature(GeometryValue::LineString { coordinates: coords }, props));
-            if swaps.peek().is_some_and(|&&c| c == piece.end()) {
-                swaps.next();
-                let battery = battery_swaps.len() - swaps.len();
-                let props = json!({"seq": features.len(), "kind": "battery_swap", "battery": battery, "cumulative_energy_j": round(used, 1)});
-                features.push(feature(GeometryValue::Point { coordinates: position(frame, piece.end(), altitude_m) }, props));
-                used = estimate.takeoff_landing_j / 2.0;
-            }
-        }
+    for flight in flights {
+        features.extend(flight_features(frame, flight, altitude_m));
     }
+    let Marks { photos, uncovered } = *marks;
     if let Some(photos) = photos {
         let coords = photos.iter().map(|&c| position(frame, c, altitude_m)).collect();
         features.push(feature(GeometryValue::MultiPoint { coordinates: coords }, json!({"kind": "photos", "count": photos.len()})));
@@ -94,6 +76,51 @@ pub fn feature_collection(frame: &LocalFrame, sorties: &[FlightPath], estimates:
         features.push(feature(GeometryValue::MultiPolygon { coordinates }, json!({"kind": "uncovered", "area_m2": round(area, 1)})));
     }
     FeatureCollection { bbox: None, features, foreign_members: None }
+}
+
+/// The features of one vehicle's flight (see [`feature_collection`]).
+fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: Option<f64>) -> Vec<Feature> {
+    let mut features = Vec::new();
+    let mut swaps = flight.battery_swaps.iter().peekable();
+    let push = |features: &mut Vec<Feature>, geometry: GeometryValue, mut props: serde_json::Value| {
+        props["seq"] = json!(features.len());
+        if let Some(v) = flight.vehicle {
+            props["vehicle"] = json!(v);
+        }
+        features.push(feature(geometry, props));
+    };
+    for (k, (sortie, estimate)) in flight.sorties.iter().zip(flight.estimates).enumerate() {
+        // take-off is spent before the first piece
+        let mut used = estimate.takeoff_landing_j / 2.0;
+        for (piece, e) in sortie.pieces.iter().zip(&estimate.pieces) {
+            used += e.energy_j;
+            let coords = piece.points.iter().enumerate().map(|(i, &c)| position(frame, c, piece.z.get(i).copied().or(altitude_m))).collect();
+            let mut props = json!({
+                "sortie": k + 1,
+                "kind": piece.kind,
+                "length_m": round(piece.length(), 2),
+                "duration_s": round(e.duration_s, 2),
+                "energy_j": round(e.energy_j, 2),
+                "speed_mps": round(e.speed_mps, 2),
+                "v_in_mps": round(e.v_in_mps, 2),
+                "v_out_mps": round(e.v_out_mps, 2),
+                "cumulative_energy_j": round(used, 1),
+                "battery_remaining": round(1.0 - used / flight.usable_j, 4),
+            });
+            if let Some(z) = altitude_m {
+                props["altitude_m"] = json!(round(z, 2));
+            }
+            push(&mut features, GeometryValue::LineString { coordinates: coords }, props);
+            if swaps.peek().is_some_and(|&&c| c == piece.end()) {
+                swaps.next();
+                let battery = flight.battery_swaps.len() - swaps.len();
+                let props = json!({"kind": "battery_swap", "battery": battery, "cumulative_energy_j": round(used, 1)});
+                push(&mut features, GeometryValue::Point { coordinates: position(frame, piece.end(), altitude_m) }, props);
+                used = estimate.takeoff_landing_j / 2.0;
+            }
+        }
+    }
+    features
 }
 
 /// The trajectory as stored.

@@ -21,7 +21,7 @@ use serde::Deserialize;
 use super::archive;
 use super::error::{InputError, check_range};
 use super::field::{Field, FieldLimits, MissionGeometry};
-use super::params::PlanParams;
+use super::params::{PlanParams, Resolved};
 use super::vehicle::{Vehicle, VehicleKind};
 pub use flight::{Flight, FlownPiece};
 
@@ -135,43 +135,72 @@ pub fn file_stem(name: &str) -> String {
     if stem.is_empty() { "mission".to_owned() } else { stem.to_owned() }
 }
 
-/// Writes a plan in `format`.
+/// Writes a plan in `format`. A fleet's plan is a zip of one file per drone (and per sortie for
+/// one-flight formats), each written for that drone's vehicle and home; its GeoJSON stays the
+/// one trajectory, each feature with its `vehicle`.
 pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, InputError> {
     let exporter = find(format).ok_or_else(|| InputError::new("unknown_format", "/format", format!("no export format `{format}`; known: {}", format_ids().join(", "))))?;
-    let job = prepare(request)?;
+    let resolved = request.params.resolve(request.profiles)?;
     let stem = file_stem(request.name);
-    let sorties = job.flight.sorties.len();
     let Format { id, media_type, extension, one_flight_per_file } = *exporter.format();
-    if !one_flight_per_file || sorties <= 1 {
-        let bytes = exporter.write(&job, 0)?;
-        return Ok(ExportFile { file_name: format!("{stem}{extension}"), media_type, bytes });
+    let write_all = |job: &ExportJob<'_>, stem: &str| -> Result<Vec<(String, Vec<u8>)>, InputError> {
+        let sorties = job.flight.sorties.len();
+        if !one_flight_per_file || sorties <= 1 {
+            return Ok(vec![(format!("{stem}{extension}"), exporter.write(job, 0)?)]);
+        }
+        (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{extension}", k + 1), exporter.write(job, k)?))).collect()
+    };
+    if resolved.fleet.is_empty() || id == geojson::GeoJsonFile.format().id {
+        let job = prepare(request, &resolved, &resolved.vehicle, request.mission.home, request.trajectory)?;
+        let mut files = write_all(&job, &stem)?;
+        if files.len() == 1 {
+            let (file_name, bytes) = files.pop().expect("one file");
+            return Ok(ExportFile { file_name, media_type, bytes });
+        }
+        return Ok(ExportFile { file_name: format!("{stem}-{id}-sorties.zip"), media_type: "application/zip", bytes: archive::zip(&files) });
     }
-    let files = (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{extension}", k + 1), exporter.write(&job, k)?))).collect::<Result<Vec<_>, InputError>>()?;
-    Ok(ExportFile { file_name: format!("{stem}-{id}-sorties.zip"), media_type: "application/zip", bytes: archive::zip(&files) })
+    let mut files = Vec::new();
+    for (k, drone) in resolved.fleet.iter().enumerate() {
+        let own = |f: &&::geojson::Feature| f.property("vehicle").and_then(|v| v.as_u64()) == Some(k as u64);
+        let features: Vec<::geojson::Feature> = request.trajectory.features.iter().filter(own).cloned().collect();
+        if features.is_empty() {
+            continue;
+        }
+        let trajectory = ::geojson::FeatureCollection { bbox: None, features, foreign_members: None };
+        let job = prepare(request, &resolved, &drone.vehicle, drone.home.or(request.mission.home), &trajectory)?;
+        files.extend(write_all(&job, &format!("{stem}-drone-{}", k + 1))?);
+    }
+    Ok(ExportFile { file_name: format!("{stem}-{id}-fleet.zip"), media_type: "application/zip", bytes: archive::zip(&files) })
 }
 
-fn prepare<'a>(request: &ExportRequest<'a>) -> Result<ExportJob<'a>, InputError> {
-    let resolved = request.params.resolve(request.profiles)?;
+/// What one vehicle's files are written from: `trajectory` holds its pieces only.
+fn prepare<'a>(
+    request: &ExportRequest<'a>,
+    resolved: &Resolved,
+    vehicle: &Vehicle,
+    home: Option<[f64; 2]>,
+    trajectory: &'a ::geojson::FeatureCollection,
+) -> Result<ExportJob<'a>, InputError> {
     // the mission was validated when stored: its own limits, not the service's current ones
     let unlimited = FieldLimits { max_area_ha: f64::INFINITY, max_vertices: usize::MAX, max_radius_km: f64::INFINITY, min_area_m2: 0.0 };
     let field = Field::parse(&request.mission, &unlimited)?;
     let to_wgs84 = |p: &MultiPolygon| p.map_coords(|c| field.frame.to_wgs84(c).into());
-    let outlines = Outlines { fields: to_wgs84(&field.area), no_fly_zones: to_wgs84(&field.no_fly_zones), home: request.mission.home };
+    let outlines = Outlines { fields: to_wgs84(&field.area), no_fly_zones: to_wgs84(&field.no_fly_zones), home };
     if let Some(a) = request.options.altitude_m {
         check_range(a, 1.0, 10_000.0, "/altitude_m", "m above home")?;
     }
     let altitude_m = request.options.altitude_m.or(resolved.altitude_m).unwrap_or(DEFAULT_ALTITUDE_M);
     let settings = FlightSettings {
-        kind: resolved.vehicle.kind,
+        kind: vehicle.kind,
         firmware: request.options.firmware,
         altitude_m,
-        cruise_speed_mps: resolved.vehicle.cruise_speed_mps,
-        turn_radius_m: resolved.vehicle.turn_radius_m,
+        cruise_speed_mps: vehicle.cruise_speed_mps,
+        turn_radius_m: vehicle.turn_radius_m,
         line_spacing_m: resolved.line_spacing_m,
         trigger_distance_m: resolved.camera.map(|c| c.photo_spacing_m),
     };
-    let flight = Flight::from_trajectory(request.trajectory, altitude_m)?;
-    Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory: request.trajectory })
+    let flight = Flight::from_trajectory(trajectory, altitude_m)?;
+    Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory })
 }
 
 /// `v` rounded to `decimals` places, as text without trailing zeros.

@@ -200,7 +200,7 @@ impl PatrolParams {
         if self.starts.as_ref().is_some_and(|s| s.is_empty() || s.len() > 64) {
             return Err(out_of_range("/starts", "give 1 to 64 start positions"));
         }
-        Ok((strategy, self.vehicle.resolve(profiles)?))
+        Ok((strategy, self.vehicle.resolve(profiles, "/vehicle")?))
     }
 }
 

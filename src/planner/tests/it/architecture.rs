@@ -27,6 +27,7 @@ const LAYERS: &[&str] = &[
     "sortie",
     "metrics",
     "planners",
+    "fleet",
     "patrol",
     "export",
     "import",

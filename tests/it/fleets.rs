@@ -1,0 +1,152 @@
+//! Fleets: a field flown by several drones at once. Over generated fields: every property of a
+//! single plan holds for the fleet's plan as a whole (coverage, no metre in a zone, sweeps near
+//! the field, deterministic), each drone's features are its own numbered flight, the parts do
+//! not overlap, and the last landing comes no later than one drone's flight.
+
+use crate::planner_properties::{check_covering, coverage_floor, params, star_field, unlimited_battery};
+
+use coverplan::planner::frame::LocalFrame;
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop};
+use geo::Coord;
+use proptest::prelude::*;
+use serde_json::{Value, json};
+
+fn plan_with_home(area: &Value, nfz: Option<&Value>, home: [f64; 2], params: &PlanParams) -> PlanOutput {
+    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, home: Some(home) };
+    planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()).unwrap_or_else(|e| panic!("{}: {e}", params.planner))
+}
+
+fn property<'a>(f: &'a geojson::Feature, name: &str) -> Option<&'a Value> {
+    f.properties.as_ref().and_then(|p| p.get(name))
+}
+
+/// The fleet's own properties: numbered flights per drone, totals that add up, parts apart.
+fn check_fleet(out: &PlanOutput, single: &PlanOutput, drones: usize, spacing: f64, name: &str) {
+    let s = &out.stats;
+    assert_eq!(s.vehicles.len(), drones, "{name}");
+    let makespan = s.makespan_s.expect("a fleet has a makespan");
+    let latest = s.vehicles.iter().map(|v| v.landing_s).fold(0.0, f64::max);
+    assert!((makespan - latest).abs() < 1e-6, "{name}: makespan {makespan} is not the last landing {latest}");
+    let summed: f64 = s.vehicles.iter().map(|v| v.duration_s).sum();
+    assert!((summed - s.duration_s).abs() < 1e-6 * summed.max(1.0), "{name}: drones' durations do not add up");
+    // no later than one drone alone, but for the turns taken to leave a shared home
+    let stagger = 10.0 * (drones - 1) as f64;
+    assert!(makespan <= single.stats.duration_s + stagger, "{name}: makespan {makespan:.0} s, one drone {:.0} s", single.stats.duration_s);
+    assert!(s.coverage_ratio >= single.stats.coverage_ratio - 0.01, "{name}: coverage {} against one drone's {}", s.coverage_ratio, single.stats.coverage_ratio);
+    // every flown feature belongs to a drone, and each drone's seq counts 0, 1, 2, …
+    let mut next_seq = vec![0u64; drones];
+    for f in &out.trajectory.features {
+        let Some(kind) = property(f, "kind").and_then(Value::as_str) else { continue };
+        if ["photos", "uncovered"].contains(&kind) {
+            continue;
+        }
+        let v = property(f, "vehicle").and_then(Value::as_u64).unwrap_or_else(|| panic!("{name}: a {kind} without its vehicle")) as usize;
+        assert!(v < drones, "{name}");
+        assert_eq!(property(f, "seq").and_then(Value::as_u64), Some(next_seq[v]), "{name}: drone {v}'s seq");
+        next_seq[v] += 1;
+    }
+    for (k, v) in s.vehicles.iter().enumerate() {
+        assert_eq!(next_seq[k] > 0, v.area_m2 > 0.0, "{name}: drone {k} flies exactly when it has a part");
+    }
+    // parts are apart: each cut between two parts doubles at most one line's worth of swath
+    // beyond what one drone's plan doubles (interleaved parts would double far more)
+    let doubled = |o: &PlanOutput| o.stats.overlap_ratio * o.stats.sweep_length_m * spacing;
+    let longest = out
+        .trajectory
+        .features
+        .iter()
+        .filter(|f| property(f, "kind").and_then(Value::as_str) == Some("sweep"))
+        .filter_map(|f| property(f, "length_m")?.as_f64())
+        .fold(0.0, f64::max);
+    let allowed = doubled(single) + (drones - 1) as f64 * longest * spacing;
+    assert!(doubled(out) <= allowed + 1.0, "{name}: {:.0} m² swept twice, one drone {:.0} m²", doubled(out), doubled(single));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn fleets_cover_generated_fields_in_parts_and_finish_sooner(
+        lon in -179.0..179.0f64,
+        lat in -70.0..70.0f64,
+        radius in 200.0..1200.0f64,
+        shape in prop::collection::vec((0.6..1.0f64, -1.0..1.0f64), 5..12),
+        holes in 0usize..4,
+        lines in 8.0..30.0f64,
+        heading in prop::option::of(0.0..180.0f64),
+        drones in 2usize..6,
+        planner in prop::sample::select(planner::FLEET_PLANNERS.to_vec()),
+        home_corner in 0usize..4,
+    ) {
+        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
+        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, holes);
+        let nfz = (holes > 0).then_some(&nfz);
+        let spacing = radius * 2.0 / lines;
+        // home just outside the field, at one of four sides
+        let frame = LocalFrame::new(lon, lat);
+        let side = home_corner as f64 * std::f64::consts::FRAC_PI_2;
+        let home = frame.to_wgs84(Coord { x: 1.2 * radius * side.cos(), y: 1.2 * radius * side.sin() });
+        let single_params = params(planner, spacing, heading);
+        let fleet_params = PlanParams { vehicles: Some(drones as u32), ..single_params.clone() };
+        let name = format!("{drones} drones, {planner}, star at {lon},{lat} r={radius}");
+        // the fleet's plan has every property of a plan (checked without a home) …
+        let Some(_) = check_covering(&area, nfz, &fleet_params, &name, coverage_floor(planner, nfz.is_some())) else { return Ok(()) };
+        // … and, flying from a home, those of a fleet
+        let single = plan_with_home(&area, nfz, home, &single_params);
+        let fleet = plan_with_home(&area, nfz, home, &fleet_params);
+        check_fleet(&fleet, &single, drones, spacing, &name);
+    }
+}
+
+fn fixture_field(name: &str) -> (Value, Option<Value>, [f64; 2]) {
+    let m: Value = serde_json::from_str(&std::fs::read_to_string(format!("tests/fixtures/{name}")).unwrap()).unwrap();
+    let home: [f64; 2] = serde_json::from_value(m["area"]["coordinates"][0][0].clone()).unwrap();
+    (m["area"].clone(), m.get("no_fly_zones").filter(|v| !v.is_null()).cloned(), home)
+}
+
+/// More drones land sooner, within reach of the ideal: one drone's time shared out, plus the
+/// flight out to the farthest part.
+#[test]
+fn more_drones_land_sooner() {
+    let (area, nfz, home) = fixture_field("random-fields/h02_00.json");
+    let base = PlanParams { line_spacing_m: Some(20.0), ..PlanParams::default() };
+    let one = plan_with_home(&area, nfz.as_ref(), home, &base).stats.duration_s;
+    let mut previous = one;
+    for drones in [2, 4, 8] {
+        let out = plan_with_home(&area, nfz.as_ref(), home, &PlanParams { vehicles: Some(drones), ..base.clone() });
+        let makespan = out.stats.makespan_s.unwrap();
+        assert!(makespan < previous, "{drones} drones: {makespan:.0} s, fewer drones {previous:.0} s");
+        assert!(makespan < 1.5 * one / drones as f64 + 10.0 * drones as f64, "{drones} drones: {makespan:.0} s against {one:.0} s for one");
+        previous = makespan;
+    }
+}
+
+/// A faster drone is given more of the field, and the two land at about the same time.
+#[test]
+fn a_faster_drone_takes_a_larger_part() {
+    let (area, nfz, home) = fixture_field("random-fields/h00_00.json");
+    let fleet = json!([{"profile": "generic_multirotor", "cruise_speed_mps": 4}, {"profile": "generic_multirotor", "cruise_speed_mps": 12}]);
+    let params = PlanParams { line_spacing_m: Some(20.0), fleet: Some(serde_json::from_value(fleet).unwrap()), ..PlanParams::default() };
+    let out = plan_with_home(&area, nfz.as_ref(), home, &params);
+    let [slow, fast] = [&out.stats.vehicles[0], &out.stats.vehicles[1]];
+    assert!(fast.area_m2 > 1.5 * slow.area_m2, "fast {:.0} m², slow {:.0} m²", fast.area_m2, slow.area_m2);
+    let (a, b) = (slow.landing_s, fast.landing_s);
+    assert!((a - b).abs() < 0.15 * a.max(b), "landings at {a:.0} s and {b:.0} s");
+}
+
+/// Altitude layers: each drone's transits fly at its own height, and none then conflict.
+#[test]
+fn altitude_layers_separate_transits() {
+    let (area, nfz, home) = fixture_field("random-fields/h02_00.json");
+    let params = PlanParams { line_spacing_m: Some(20.0), altitude_m: Some(60.0), vehicles: Some(4), altitude_separation_m: Some(10.0), ..PlanParams::default() };
+    let out = plan_with_home(&area, nfz.as_ref(), home, &params);
+    assert_eq!(out.stats.conflicts.as_deref(), Some(&[][..]), "{:?}", out.stats.conflicts);
+    for f in &out.trajectory.features {
+        if property(f, "kind").and_then(Value::as_str) != Some("transit") {
+            continue;
+        }
+        let v = property(f, "vehicle").and_then(Value::as_u64).unwrap() as f64;
+        let geojson::GeometryValue::LineString { coordinates } = &f.geometry.as_ref().unwrap().value else { panic!("a transit is a line") };
+        assert!(coordinates.iter().all(|c| (c[2] - (60.0 + 10.0 * (v + 1.0))).abs() < 0.01), "drone {v}'s transit at {coordinates:?}");
+    }
+}

@@ -76,6 +76,9 @@ enum Command {
         /// Instead: the patrolling experiments of seed 002 §5.3 (30 seeds a row) beside the published means.
         #[arg(long)]
         patrol: bool,
+        /// Instead: the last landing of 1, 2, 4 and 8 drones sharing each field, against the ideal.
+        #[arg(long)]
+        fleet: bool,
         /// Instead: the shared job queue on the PostgreSQL server at this admin URL
         /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
         /// the time of one claim at 10 000 queued plans.
@@ -208,6 +211,7 @@ fn main() -> ExitCode {
             print!("{}", coverplan::bench::patrol::run());
             Ok(())
         }
+        Command::Bench { fleet: true, data, fields, .. } => coverplan::bench::fleet::run(&data, &fields).map(|table| print!("{table}")),
         Command::Bench { routing: true, .. } => {
             print!("{}", coverplan::bench::routing());
             Ok(())

@@ -1,9 +1,10 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
-//! `--routing`, `--energy`, `--patrol` and `--queue` run the routing, energy, patrolling and shared-queue benchmarks
+//! `--routing`, `--energy`, `--patrol`, `--fleet` and `--queue` run the routing, energy, patrolling, fleet and shared-queue benchmarks
 //! instead.
 
 pub mod energy;
+pub mod fleet;
 pub mod patrol;
 pub mod queue;
 

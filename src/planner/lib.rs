@@ -97,9 +97,11 @@ pub const MAX_ROUTED_LINES: usize = 800;
 pub const MAX_TRANSIT_CORNERS: usize = 2000;
 
 /// Planners a fleet's parts can be planned with: those whose lines follow a given direction
-/// everywhere, so that neighbouring parts' lines lie side by side (`energy_aware` and `e_bf`
-/// turn pockets their own way, the spiral and the grid search have no lines to share out).
-pub const FLEET_PLANNERS: &[&str] = &["boustrophedon", "naive", "eecd", "line_gtsp"];
+/// everywhere and merge cells across the cuts' rounding, so that neighbouring parts' lines lie
+/// side by side (`naive`, `eecd`, `energy_aware` and `e_bf` lay each cell's lines on its own width
+/// or turn pockets their own way, doubling swaths at the cuts; the spiral and the grid search have
+/// no lines to share out).
+pub const FLEET_PLANNERS: &[&str] = &["boustrophedon", "line_gtsp"];
 
 /// Checks a mission without planning it: the same validation as [`plan`] applies first.
 pub fn validate_mission(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> Result<(), InputError> {

@@ -20,8 +20,9 @@ function syncForm() {
   $('spacing-box').hidden = camera;
   $('fixed-heading-box').hidden = $('direction').value !== 'fixed';
   $('objective-box').hidden = $('planner').value !== 'auto';
+  $('layers-box').hidden = !(num('drones') > 1);
 }
-['camera', 'direction', 'planner'].forEach((id) => $(id).addEventListener('change', syncForm));
+['camera', 'direction', 'planner', 'drones'].forEach((id) => $(id).addEventListener('change', syncForm));
 
 const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
 
@@ -39,6 +40,10 @@ export function planParams() {
   if ($('direction').value === 'fixed') p.heading_deg = num('fixed-heading');
   if ($('direction').value === 'optimal') p.sweep_direction = 'optimal';
   if (p.planner === 'auto') p.objective = $('objective').value;
+  if (num('drones') > 1) {
+    p.vehicles = num('drones');
+    if (num('altitude-separation') !== undefined) p.altitude_separation_m = num('altitude-separation');
+  }
   for (const kind of ['start', 'end']) {
     const m = state.poses[kind];
     if (m) {
@@ -66,6 +71,8 @@ export function restoreParams(p) {
   $('direction').value = p.heading_deg !== undefined ? 'fixed' : p.sweep_direction === 'optimal' ? 'optimal' : 'planner';
   set('fixed-heading', p.heading_deg);
   set('objective', p.objective);
+  $('drones').value = p.vehicles || 1;
+  $('altitude-separation').value = p.altitude_separation_m ?? '';
   for (const kind of ['start', 'end']) {
     const pose = p[kind];
     if (pose && pose.position) setPose(kind, L.latLng(pose.position[1], pose.position[0]), pose.heading_deg ?? null);

@@ -17,12 +17,18 @@ function bearing(a, b) {
   return (Math.atan2(y, x) / rad + 360) % 360;
 }
 
+// a fleet's drones, each in its own colour (the kind still shows in weight and dashes)
+const droneColours = ['#1565c0', '#2e7d32', '#c2185b', '#ef6c00', '#6a1b9a', '#00838f', '#5d4037', '#9e9d24'];
+export const droneColour = (k) => droneColours[k % droneColours.length];
+
 function drawTrajectory(fc, faded) {
   const group = L.featureGroup();
   const lines = fc.features.filter((f) => f.geometry.type === 'LineString');
+  const style = (p) => (p.vehicle === undefined ? kindStyle[p.kind] : { ...kindStyle[p.kind], color: droneColour(p.vehicle) });
+  const drone = (p) => (p.vehicle === undefined ? '' : `drone ${p.vehicle + 1}, `);
   L.geoJSON({ type: 'FeatureCollection', features: lines }, {
-    style: (f) => ({ ...kindStyle[f.properties.kind], opacity: faded ? 0.35 : 0.9 }),
-    onEachFeature: (f, layer) => layer.bindTooltip(`${f.properties.kind} ${f.properties.length_m} m, ${f.properties.speed_mps} m/s, sortie ${f.properties.sortie}`),
+    style: (f) => ({ ...style(f.properties), opacity: faded ? 0.35 : 0.9 }),
+    onEachFeature: (f, layer) => layer.bindTooltip(`${drone(f.properties)}${f.properties.kind} ${f.properties.length_m} m, ${f.properties.speed_mps} m/s, sortie ${f.properties.sortie}`),
   }).addTo(group);
   if (!faded) {
     // flight direction on every sweep
@@ -107,11 +113,26 @@ const figureRows = [
   ['efficiency', (s) => `${(100 * s.efficiency).toFixed(1)} %`],
   ['turns', (s) => s.turns],
   ['sorties', (s) => s.sorties],
+  ['last landing', (s) => (s.makespan_s == null ? '' : `${(s.makespan_s / 60).toFixed(1)} min`)],
+  ['conflicts', (s) => (s.conflicts == null ? '' : s.conflicts.length)],
   ['photos', (s) => s.photos],
 ];
 
+/** A fleet's drones, one row each, in their colours. */
+function renderFleet(stats) {
+  const drones = (stats && stats.vehicles) || [];
+  $('fleet-figures').hidden = !drones.length;
+  const min = (s) => `${(s / 60).toFixed(1)} min`;
+  $('fleet-figures').tBodies[0].innerHTML = drones
+    .map((v) => `<tr data-drone="${v.vehicle}"><td><span class="sw" style="background:${droneColour(v.vehicle)}"></span>${v.vehicle + 1} ${v.profile}</td>`
+      + `<td>${(v.area_m2 / 1e4).toFixed(2)}</td><td>${v.sweep_lines}</td><td>${v.sorties}</td><td>${min(v.departure_s)}</td><td>${min(v.landing_s)}</td>`
+      + `<td>${(v.energy_j / 3600).toFixed(1)}</td></tr>`)
+    .join('');
+}
+
 function renderFigures() {
   const a = state.result, b = state.compared;
+  renderFleet(a && a.stats);
   $('col-b').hidden = !b;
   $('figures').tBodies[0].innerHTML = a
     ? figureRows.map(([name, f]) => `<tr><td>${name}</td><td data-figure="${name}">${f(a.stats, a.params)}</td>${b ? `<td>${f(b.stats, b.params)}</td>` : ''}</tr>`).join('')

@@ -131,6 +131,22 @@ try {
   const cells = await page.$$eval('#figures tbody tr:first-child td', (t) => t.map((x) => x.textContent));
   assert.deepEqual(cells.slice(1), ['e_spiral', 'boustrophedon']);
 
+  // three drones share the field: each drawn in its colour, each listed with its figures
+  await page.uncheck('#compare');
+  await page.selectOption('#planner', 'boustrophedon');
+  await page.fill('#drones', '3');
+  await page.dispatchEvent('#drones', 'change');
+  assert.ok(await page.isVisible('#layers-box'), 'layer spacing is offered to a fleet');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.click('#plan');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the fleet plan', 60000);
+  await waitFor(() => page.isVisible('#fleet-figures'), 'the fleet table');
+  assert.equal(await page.$$eval('#fleet-figures tbody tr', (rows) => rows.length), 3, 'a row per drone');
+  const strokes = await page.$$eval('path.leaflet-interactive', (paths) => [...new Set(paths.map((p) => p.getAttribute('stroke')))]);
+  assert.ok(strokes.length >= 3, `each drone in its own colour: ${strokes}`);
+  await page.fill('#drones', '1');
+  await page.dispatchEvent('#drones', 'change');
+
   // a camera plan from a start pose with a heading, then the shared link restores all of it
   await page.selectOption('#planner', 'boustrophedon');
   await page.selectOption('#camera', { index: 1 });

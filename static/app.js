@@ -1,18 +1,19 @@
 // coverplan's map page: draw a mission, plan it, look at the result. ES modules, no build step:
-// api.js (the server), map.js (the map and its state), mission.js, plan.js, result.js.
+// api.js (the server), map.js (the map and its state), mission.js, plan.js, result.js, patrol.js.
 
 import { $, api, status } from './js/api.js';
 import { map } from './js/map.js';
 import { clearMission, drawMission, listMissions } from './js/mission.js';
 import { fillForm, restoreParams } from './js/plan.js';
 import { clearResult, showPlan } from './js/result.js';
+import { clearPatrol } from './js/patrol.js';
 
 // map tiles: only when the server is configured with a tile URL (works offline without)
 api('GET', '/api/v1/ui-config').then((c) => {
   if (c && c.tile_url) L.tileLayer(c.tile_url, { maxZoom: 20, attribution: c.tile_attribution || '' }).addTo(map);
 }).catch(() => {});
 
-$('clear').onclick = () => { clearMission(); clearResult(); history.replaceState(null, '', '/'); };
+$('clear').onclick = () => { clearMission(); clearResult(); clearPatrol(); history.replaceState(null, '', '/'); };
 
 /** Opens a saved mission with its latest plan and that plan's parameters (a shared link). */
 async function openMission(id) {
@@ -20,6 +21,7 @@ async function openMission(id) {
   drawMission(m);
   history.replaceState(null, '', `/?mission=${id}`);
   clearResult();
+  clearPatrol();
   const plans = await api('GET', `/api/v1/missions/${id}/plans`);
   const latest = plans.find((p) => p.status === 'succeeded');
   if (latest) {

@@ -12,6 +12,7 @@ export const state = {
   result: null, // { layer, photos, fc, stats, params }
   compared: null,
   planId: null,
+  patrol: null, // { layer, stats }
 };
 
 window.coverplan = { map, state }; // for the browser test and the curious

@@ -147,6 +147,19 @@ try {
   await page.fill('#drones', '1');
   await page.dispatchEvent('#drones', 'change');
 
+  // a patrol of two UAVs: their paths and the visits per cell as a heat map
+  await page.click('#patrol-box summary');
+  await page.fill('#patrol-uavs', '2');
+  await page.fill('#patrol-cycles', '400');
+  await page.fill('#patrol-cell', '15');
+  await page.click('#patrol');
+  await waitFor(async () => /patrolled 400 cycles/.test(await page.textContent('#status')), 'the patrol', 60000);
+  assert.ok(await page.isVisible('#patrol-figures'), 'the patrol figures');
+  const cellFills = await page.$$eval('path.visits-cell', (cells) => cells.map((c) => c.getAttribute('fill')));
+  const listed = await page.textContent('td[data-patrol=cells]');
+  assert.equal(cellFills.length, Number(listed.split(' ')[0]), `a cell drawn per free cell (${listed})`);
+  assert.ok(new Set(cellFills).size > 1, 'the heat map shades cells by their visits');
+
   // a camera plan from a start pose with a heading, then the shared link restores all of it
   await page.selectOption('#planner', 'boustrophedon');
   await page.selectOption('#camera', { index: 1 });

@@ -39,6 +39,23 @@ async fn a_patrol_of_three_uavs_gives_paths_metrics_and_a_heat_map() {
     let paths: Vec<&Value> = features.iter().filter(|f| f["properties"]["kind"] == "patrol").collect();
     let cells: Vec<&Value> = features.iter().filter(|f| f["properties"]["kind"] == "visits").collect();
     assert_eq!(paths.len(), 3);
+    // each corner carries its cycle: from 0 to the last, at most one cell per cycle between
+    // corners (a UAV whose neighbours are all taken waits)
+    for path in &paths {
+        let coords = path["geometry"]["coordinates"].as_array().unwrap();
+        let cycles: Vec<u64> = path["properties"]["cycles"].as_array().unwrap().iter().map(|c| c.as_u64().unwrap()).collect();
+        assert_eq!((cycles.len(), cycles.first(), cycles.last()), (coords.len(), Some(&0), Some(&2000)));
+        let metres = |a: &Value, b: &Value| {
+            let (dx, dy) = (b[0].as_f64().unwrap() - a[0].as_f64().unwrap(), b[1].as_f64().unwrap() - a[1].as_f64().unwrap());
+            let lat = a[1].as_f64().unwrap().to_radians();
+            (dx * 111_320.0 * lat.cos()).hypot(dy * 110_574.0)
+        };
+        for (w, c) in coords.windows(2).zip(cycles.windows(2)) {
+            let cells = metres(&w[0], &w[1]) / 25.0;
+            let took = (c[1] - c[0]) as f64;
+            assert!(cells <= took * 1.01 + 0.05, "{cells} cells in {took} cycles");
+        }
+    }
     assert_eq!(cells.len() as u64, stats["free_cells"].as_u64().unwrap());
     // every cell was visited in 2 000 cycles, and the visits add up to the moves and starts
     let visits: u64 = cells.iter().map(|c| c["properties"]["visits"].as_u64().unwrap()).sum();
@@ -56,6 +73,27 @@ async fn a_patrol_of_three_uavs_gives_paths_metrics_and_a_heat_map() {
     app.stop().await;
 }
 
+/// A camera sets the cells: the square its footprint covers at the patrol altitude.
+#[tokio::test]
+async fn a_camera_sets_the_patrol_cells() {
+    let app = TestApp::spawn().await;
+    let mission = app.create_mission(&mission_body("real-fields/nl-parcel-b.json")).await;
+    let camera = json!({"preset": "dji_phantom4_pro"});
+    let footprint = serde_json::from_value::<coverplan::planner::camera::Camera>(camera.clone()).unwrap().plan(Some(40.0), None, 0.0, 0.0).unwrap();
+    let side = footprint.footprint_across_m.min(footprint.footprint_along_m);
+    let mut cells = Vec::new();
+    for params in [json!({"camera": camera, "altitude_m": 40, "cycles": 200}), json!({"cell_size_m": side, "cycles": 200})] {
+        let (status, queued) = app.post(&format!("/api/v1/missions/{mission}/patrols"), &params).await;
+        assert_eq!(status, 202, "{queued}");
+        let done = wait_patrol(&app, queued["id"].as_str().unwrap()).await;
+        assert_eq!(done["status"], "succeeded", "{done}");
+        assert!((done["stats"]["cell_size_m"].as_f64().unwrap() - side).abs() < 1e-9, "{}", done["stats"]);
+        cells.push(done["stats"]["free_cells"].clone());
+    }
+    assert_eq!(cells[0], cells[1], "the same grid as the same cell size given directly");
+    app.stop().await;
+}
+
 #[tokio::test]
 async fn bad_patrol_parameters_are_refused_with_where() {
     let app = TestApp::spawn().await;
@@ -67,6 +105,10 @@ async fn bad_patrol_parameters_are_refused_with_where() {
         (json!({"uavs": 8, "cycles": 300_000}), "/cycles"),
         (json!({"sync_interval": 0}), "/sync_interval"),
         (json!({"vehicle": {"profile": "no-such-drone"}}), "/vehicle/profile"),
+        (json!({"camera": {"preset": "dji_phantom4_pro"}, "altitude_m": 40, "cell_size_m": 20}), "/cell_size_m"),
+        (json!({"altitude_m": 40}), "/altitude_m"),
+        (json!({"camera": {"preset": "dji_phantom4_pro"}}), "/altitude_m"),
+        (json!({"camera": {"preset": "dji_phantom4_pro"}, "altitude_m": 0.2}), "/altitude_m"),
     ] {
         let (status, problem) = app.post(&format!("/api/v1/missions/{mission}/patrols"), &params).await;
         assert_eq!((status, problem["pointer"].as_str()), (422, Some(pointer)), "{params}: {problem}");

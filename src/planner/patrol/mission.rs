@@ -11,6 +11,7 @@ use super::metrics::PatrolMetrics;
 use super::shared_cycle::simulate_shared_cycle;
 use super::simulate::{Evaporation, Sharing, Strategy, TieRule, Valleys, simulate};
 use super::update_rules::UpdateRule;
+use crate::camera::Camera;
 use crate::energy::EnergyModel;
 use crate::error::{InputError, PlanError};
 use crate::field::{Field, FieldLimits, MissionGeometry};
@@ -39,9 +40,19 @@ pub enum StrategyName {
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PatrolParams {
-    /// Side of a grid cell, metres, 1 to 1 000 (default 20: a camera footprint at a survey altitude).
+    /// Side of a grid cell, metres, 1 to 1 000 (default 20, or the camera's footprint).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cell_size_m: Option<f64>,
+    /// The UAVs' camera, looking straight down: a cell is the square its footprint covers at
+    /// `altitude_m` (or at the altitude that gives `gsd_cm`), instead of `cell_size_m`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<Camera>,
+    /// Patrol altitude above ground, with `camera`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub altitude_m: Option<f64>,
+    /// Wanted ground sample distance, cm per pixel, with `camera` (instead of `altitude_m`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gsd_cm: Option<f64>,
     /// How many UAVs, 1 to 64 (default 4), all starting on the free cell nearest the area's
     /// south-west corner as in the source; or give `starts`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -108,6 +119,9 @@ pub struct PatrolStats {
     pub metrics: PatrolMetrics,
     pub cycles: u32,
     pub cell_size_m: f64,
+    /// With a camera: the altitude the cells are imaged from.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub altitude_m: Option<f64>,
     pub free_cells: usize,
     pub uavs: Vec<UavTotals>,
     pub energy_j: f64,
@@ -117,8 +131,9 @@ pub struct PatrolStats {
 #[derive(Debug, Clone)]
 pub struct PatrolOutput {
     pub stats: PatrolStats,
-    /// A FeatureCollection: a LineString per UAV (`kind: "patrol"`), then a Polygon per free cell
-    /// with its `visits` (`kind: "visits"`).
+    /// A FeatureCollection: a LineString per UAV (`kind: "patrol"`) through its start, turns and
+    /// end, with the cycle it was at each (`cycles`), then a Polygon per free cell with its
+    /// `visits` (`kind: "visits"`).
     pub trajectory: Value,
 }
 
@@ -180,6 +195,7 @@ impl PatrolParams {
         if !self.cell_size_m.is_none_or(|s| (1.0..=1000.0).contains(&s)) {
             return Err(out_of_range("/cell_size_m", "cell_size_m is 1 to 1 000 m"));
         }
+        self.cell()?;
         if !self.cycles.is_none_or(|c| (1..=1_000_000).contains(&c)) {
             return Err(out_of_range("/cycles", "cycles is 1 to 1 000 000"));
         }
@@ -204,11 +220,34 @@ impl PatrolParams {
     }
 }
 
+impl PatrolParams {
+    /// The side of a cell, and the altitude it is imaged from when a camera sets it: the square
+    /// inside the camera's footprint (spec §1, camera §2).
+    fn cell(&self) -> Result<(f64, Option<f64>), InputError> {
+        let Some(camera) = &self.camera else {
+            if self.altitude_m.is_some() || self.gsd_cm.is_some() {
+                let at = if self.altitude_m.is_some() { "/altitude_m" } else { "/gsd_cm" };
+                return Err(InputError::new("camera_missing", at, "the altitude or GSD sets the cells' size with a camera: give camera, or cell_size_m alone"));
+            }
+            return Ok((self.cell_size_m.unwrap_or(20.0), None));
+        };
+        if self.cell_size_m.is_some() {
+            return Err(InputError::new("cell_size_twice", "/cell_size_m", "the camera's footprint sets the cells' size: leave out cell_size_m"));
+        }
+        let footprint = camera.plan(self.altitude_m, self.gsd_cm, 0.0, 0.0)?;
+        let side = footprint.footprint_across_m.min(footprint.footprint_along_m);
+        if !(1.0..=1000.0).contains(&side) {
+            return Err(out_of_range("/altitude_m", &format!("the camera's footprint there is {side:.1} m; cells are 1 to 1 000 m")));
+        }
+        Ok((side, Some(footprint.altitude_m)))
+    }
+}
+
 /// Simulates the patrol of `mission` asked for by `params`.
 pub fn patrol(mission: &MissionGeometry<'_>, params: &PatrolParams, profiles: &[Vehicle], limits: &FieldLimits, stop: &Stop) -> Result<PatrolOutput, PlanError> {
     let started = std::time::Instant::now();
     let (strategy, vehicle) = params.resolve(profiles)?;
-    let size = params.cell_size_m.unwrap_or(20.0);
+    let (size, altitude_m) = params.cell()?;
     let cycles = params.cycles.unwrap_or(10_000);
     let margin = params.nfz_margin_m.unwrap_or(10.0);
     let field = Field::parse(mission, limits)?;
@@ -231,7 +270,7 @@ pub fn patrol(mission: &MissionGeometry<'_>, params: &PatrolParams, profiles: &[
         let totals = price(&points, run.turns[i], model.as_ref());
         let line: Vec<[f64; 2]> = points.iter().map(|&p| field.frame.to_wgs84(p)).collect();
         features.push(json!({"type": "Feature", "geometry": {"type": "LineString", "coordinates": line},
-            "properties": {"kind": "patrol", "uav": i, "turns": totals.turns, "length_m": totals.length_m, "duration_s": totals.duration_s, "energy_j": totals.energy_j}}));
+            "properties": {"kind": "patrol", "uav": i, "cycles": run.corner_cycles[i], "turns": totals.turns, "length_m": totals.length_m, "duration_s": totals.duration_s, "energy_j": totals.energy_j}}));
         uavs.push(totals);
     }
     let h = size / 2.0;
@@ -244,6 +283,7 @@ pub fn patrol(mission: &MissionGeometry<'_>, params: &PatrolParams, profiles: &[
         metrics: run.metrics,
         cycles,
         cell_size_m: size,
+        altitude_m,
         free_cells: grid.free.iter().filter(|&&f| f).count(),
         energy_j: uavs.iter().map(|u| u.energy_j).sum(),
         uavs,

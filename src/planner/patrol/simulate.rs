@@ -113,6 +113,8 @@ pub struct Simulation {
     pub visits: Vec<u32>,
     /// Each UAV's path as the cells where it started, turned and ended.
     pub corners: Vec<Vec<usize>>,
+    /// The cycle at which each UAV was on each of its corners.
+    pub corner_cycles: Vec<Vec<u32>>,
     /// Heading changes per UAV (NTM's share).
     pub turns: Vec<u64>,
 }
@@ -140,8 +142,9 @@ pub(super) struct Log {
     visits: Visits,
     turns: Vec<u64>,
     reversals: u64,
-    /// Per UAV: where it started and every cell it turned on.
+    /// Per UAV: where it started and every cell it turned on, and when.
     corners: Vec<Vec<usize>>,
+    corner_cycles: Vec<Vec<u32>>,
 }
 
 impl Log {
@@ -154,7 +157,7 @@ impl Log {
         for &s in &first {
             visits.visit(s, 0);
         }
-        Log { visits, turns: vec![0; starts.len()], reversals: 0, corners: starts.iter().map(|&s| vec![s]).collect() }
+        Log { visits, turns: vec![0; starts.len()], reversals: 0, corners: starts.iter().map(|&s| vec![s]).collect(), corner_cycles: vec![vec![0]; starts.len()] }
     }
 
     /// UAV `i` flew from `here` to `next` at cycle `t`, heading `before` then `after`.
@@ -164,17 +167,21 @@ impl Log {
             self.turns[i] += if change == 2 { 2 } else { 1 };
             self.reversals += u64::from(change == 2);
             self.corners[i].push(here);
+            // it reached `here` on the cycle before
+            self.corner_cycles[i].push(t - 1);
         }
         self.visits.visit(next, t);
     }
 
     /// The finished patrol, its UAVs ending on `at` after `cycles` cycles.
     pub(super) fn finish(mut self, free: &[bool], at: &[usize], cycles: u32) -> Simulation {
-        for (corners, &end) in self.corners.iter_mut().zip(at) {
+        for ((corners, times), &end) in self.corners.iter_mut().zip(&mut self.corner_cycles).zip(at) {
             corners.push(end);
+            times.push(cycles);
         }
         let ntm = self.turns.iter().sum();
-        Simulation { metrics: self.visits.metrics(free, cycles, ntm, self.reversals), visits: self.visits.count, corners: self.corners, turns: self.turns }
+        let metrics = self.visits.metrics(free, cycles, ntm, self.reversals);
+        Simulation { metrics, visits: self.visits.count, corners: self.corners, corner_cycles: self.corner_cycles, turns: self.turns }
     }
 }
 

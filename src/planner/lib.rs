@@ -96,12 +96,12 @@ pub const MAX_ROUTED_LINES: usize = 800;
 /// against every zone: 1.4 s for 1 921 corners on two cores).
 pub const MAX_TRANSIT_CORNERS: usize = 2000;
 
-/// Planners a fleet's parts can be planned with: those whose lines follow a given direction
-/// everywhere and merge cells across the cuts' rounding, so that neighbouring parts' lines lie
-/// side by side (`naive`, `eecd`, `energy_aware` and `e_bf` lay each cell's lines on its own width
-/// or turn pockets their own way, doubling swaths at the cuts; the spiral and the grid search have
-/// no lines to share out).
-pub const FLEET_PLANNERS: &[&str] = &["boustrophedon", "line_gtsp"];
+/// Planners a fleet's parts can be planned with: every one but `eg_cpp`, whose grid over a band
+/// often falls apart into cells no clear move joins. Parts are swept along the bands; the
+/// decomposition planners that lay each cell's lines on its own width (`naive`, `eecd`,
+/// `energy_aware`, `e_bf`) sweep more ground twice at the cuts than `boustrophedon` and
+/// `line_gtsp`, which `overlap_ratio` reports.
+pub const FLEET_PLANNERS: &[&str] = &["boustrophedon", "line_gtsp", "naive", "eecd", "energy_aware", "e_bf", "e_spiral", "auto"];
 
 /// Checks a mission without planning it: the same validation as [`plan`] applies first.
 pub fn validate_mission(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> Result<(), InputError> {

@@ -6,14 +6,24 @@
 use crate::planner_properties::{check_covering, coverage_floor, params, star_field, unlimited_battery};
 
 use coverplan::planner::frame::LocalFrame;
-use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop};
+use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
 use geo::Coord;
 use proptest::prelude::*;
 use serde_json::{Value, json};
 
 fn plan_with_home(area: &Value, nfz: Option<&Value>, home: [f64; 2], params: &PlanParams) -> PlanOutput {
+    try_plan_with_home(area, nfz, home, params).unwrap_or_else(|| panic!("{} refused the field", params.planner))
+}
+
+/// The plan, or `None` when the planner refuses the field with a documented refusal (as
+/// `planner_properties::try_plan`); any other error fails.
+fn try_plan_with_home(area: &Value, nfz: Option<&Value>, home: [f64; 2], params: &PlanParams) -> Option<PlanOutput> {
     let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, home: Some(home) };
-    planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()).unwrap_or_else(|e| panic!("{}: {e}", params.planner))
+    match planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()) {
+        Ok(out) => Some(out),
+        Err(PlanError::Input(e)) if ["planner_not_applicable", "instance_too_large"].contains(&e.code) => None,
+        Err(e) => panic!("{}: {e}", params.planner),
+    }
 }
 
 fn property<'a>(f: &'a geojson::Feature, name: &str) -> Option<&'a Value> {
@@ -32,7 +42,9 @@ fn check_fleet(out: &PlanOutput, single: &PlanOutput, drones: usize, spacing: f6
     // no later than one drone alone, but for the turns taken to leave a shared home
     let stagger = 10.0 * (drones - 1) as f64;
     assert!(makespan <= single.stats.duration_s + stagger, "{name}: makespan {makespan:.0} s, one drone {:.0} s", single.stats.duration_s);
-    assert!(s.coverage_ratio >= single.stats.coverage_ratio - 0.01, "{name}: coverage {} against one drone's {}", s.coverage_ratio, single.stats.coverage_ratio);
+    // (the spiral and the grid search are not judged on coverage; see coverage_floor)
+    let judged = coverage_floor(&single.stats.planner, false) > 0.0;
+    assert!(!judged || s.coverage_ratio >= single.stats.coverage_ratio - 0.01, "{name}: coverage {} against one drone's {}", s.coverage_ratio, single.stats.coverage_ratio);
     // every flown feature belongs to a drone, and each drone's seq counts 0, 1, 2, …
     let mut next_seq = vec![0u64; drones];
     for f in &out.trajectory.features {
@@ -48,8 +60,9 @@ fn check_fleet(out: &PlanOutput, single: &PlanOutput, drones: usize, spacing: f6
     for (k, v) in s.vehicles.iter().enumerate() {
         assert_eq!(next_seq[k] > 0, v.area_m2 > 0.0, "{name}: drone {k} flies exactly when it has a part");
     }
-    // parts are apart: each cut between two parts doubles at most one line's worth of swath
-    // beyond what one drone's plan doubles (interleaved parts would double far more)
+    // parts are apart: with the planners whose lines follow the bands, each cut between two
+    // parts doubles at most one line's worth of swath beyond what one drone's plan doubles
+    // (interleaved parts would double far more)
     let doubled = |o: &PlanOutput| o.stats.overlap_ratio * o.stats.sweep_length_m * spacing;
     let longest = out
         .trajectory
@@ -59,11 +72,16 @@ fn check_fleet(out: &PlanOutput, single: &PlanOutput, drones: usize, spacing: f6
         .filter_map(|f| property(f, "length_m")?.as_f64())
         .fold(0.0, f64::max);
     let allowed = doubled(single) + (drones - 1) as f64 * longest * spacing;
-    assert!(doubled(out) <= allowed + 1.0, "{name}: {:.0} m² swept twice, one drone {:.0} m²", doubled(out), doubled(single));
+    assert!(
+        !["boustrophedon", "line_gtsp"].contains(&name.split(", ").nth(1).unwrap()) || doubled(out) <= allowed + 1.0,
+        "{name}: {:.0} m² swept twice, one drone {:.0} m²",
+        doubled(out),
+        doubled(single)
+    );
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
 
     #[test]
     fn fleets_cover_generated_fields_in_parts_and_finish_sooner(
@@ -92,8 +110,8 @@ proptest! {
         // the fleet's plan has every property of a plan (checked without a home) …
         let Some(_) = check_covering(&area, nfz, &fleet_params, &name, coverage_floor(planner, nfz.is_some())) else { return Ok(()) };
         // … and, flying from a home, those of a fleet
-        let single = plan_with_home(&area, nfz, home, &single_params);
-        let fleet = plan_with_home(&area, nfz, home, &fleet_params);
+        // (a part may be refused where the whole is not: a spiral's band around a hole)
+        let (Some(single), Some(fleet)) = (try_plan_with_home(&area, nfz, home, &single_params), try_plan_with_home(&area, nfz, home, &fleet_params)) else { return Ok(()) };
         check_fleet(&fleet, &single, drones, spacing, &name);
     }
 }
@@ -149,4 +167,27 @@ fn altitude_layers_separate_transits() {
         let geojson::GeometryValue::LineString { coordinates } = &f.geometry.as_ref().unwrap().value else { panic!("a transit is a line") };
         assert!(coordinates.iter().all(|c| (c[2] - (60.0 + 10.0 * (v + 1.0))).abs() < 0.01), "drone {v}'s transit at {coordinates:?}");
     }
+}
+
+/// What a fleet cannot do is refused with its place.
+#[test]
+fn fleets_refuse_what_they_cannot_split() {
+    let (area, nfz, home) = fixture_field("random-fields/h02_00.json");
+    let mission = MissionGeometry { area: &area, no_fly_zones: nfz.as_ref(), obstacles: None, home: Some(home) };
+    let refused = |params: PlanParams| match planner::plan(&mission, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()) {
+        Err(PlanError::Input(e)) => (e.code, e.pointer),
+        other => panic!("not refused: {:?}", other.map(|o| o.stats.planner)),
+    };
+    let fleet = || PlanParams { line_spacing_m: Some(20.0), vehicles: Some(2), ..PlanParams::default() };
+    assert_eq!(refused(PlanParams { planner: "eg_cpp".into(), ..fleet() }), ("planner_not_for_fleets", "/planner".into()));
+    let optimal = serde_json::from_value(json!("optimal")).unwrap();
+    assert_eq!(refused(PlanParams { sweep_direction: Some(optimal), ..fleet() }), ("direction_for_fleet", "/sweep_direction".into()));
+    // a drone's home inside a no-fly zone
+    let zone = &nfz.as_ref().expect("h02 has zones")["coordinates"][0][0];
+    let inside: Vec<[f64; 2]> = zone.as_array().unwrap().iter().map(|p| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()]).collect();
+    let n = (inside.len() - 1) as f64;
+    let centre = inside[..inside.len() - 1].iter().fold([0.0, 0.0], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
+    let members = json!([{"profile": "iris"}, {"profile": "iris", "home": centre}]);
+    let params = PlanParams { line_spacing_m: Some(20.0), fleet: Some(serde_json::from_value(members).unwrap()), ..PlanParams::default() };
+    assert_eq!(refused(params), ("point_in_no_fly_zone", "/fleet/1/home".into()));
 }

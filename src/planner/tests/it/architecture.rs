@@ -33,6 +33,7 @@ const LAYERS: &[&str] = &[
     "import",
     "estimate",
     "routing_study",
+    "compose",
 ];
 
 /// Module path of a source file relative to the crate root (`route/gtsp/mod.rs` → route, gtsp).

@@ -1,0 +1,301 @@
+//! One vehicle's flight composed from the stages (plan its area, raise it over obstacles, cut
+//! it into sorties, estimate it), and a fleet's: the area shared out by `fleet`, each part
+//! flown by its drone, and what the fleet adds to the statistics.
+
+use geo::{Area, Contains, Coord, MultiPolygon};
+
+use super::energy::PathEstimate;
+use super::error::{InputError, PlanError};
+use super::field::Field;
+use super::frame::LocalFrame;
+use super::geom::grow;
+use super::metrics::{self, Stats};
+use super::path::{FlightPath, PieceKind};
+use super::planners::{self, Problem, Progress};
+use super::route::connect::Connector;
+use super::route::visibility::TransitPlanner;
+use super::stop::Stop;
+use super::turn::climb::Obstacles;
+use super::turn::{self, TurnModel};
+use super::{fleet, params, sortie, sweep, vehicle};
+
+/// Everything a planner needs, validated and in the local frame.
+pub(crate) struct Prepared {
+    pub resolved: params::Resolved,
+    pub planner: &'static dyn planners::Planner,
+    pub field: Field,
+    pub region: MultiPolygon,
+    pub keep_out: MultiPolygon,
+    pub walls: MultiPolygon,
+    pub start: Option<Coord>,
+    pub end: Option<Coord>,
+}
+
+/// Where a vehicle's flight starts and ends, and the home it returns to between sorties.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Ends {
+    pub start: Option<Coord>,
+    pub end: Option<Coord>,
+    pub home: Option<Coord>,
+}
+
+/// What a fleet fixes for each drone's part: every part is swept along the bands it was cut
+/// into, so that neighbouring drones' lines lie side by side; transits fly in the drone's layer.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FleetPart {
+    sweep_angle: f64,
+    transit_altitude_m: Option<f64>,
+}
+
+/// One vehicle's flight: what its planner made of its area, cut into sorties (raised over
+/// obstacles) and estimated by its energy model.
+pub(crate) struct Flight {
+    pub vehicle: vehicle::Vehicle,
+    pub planned: planners::PlannedPath,
+    pub sorties: Vec<FlightPath>,
+    pub estimates: Vec<PathEstimate>,
+    /// Without a home: where its batteries run out.
+    pub battery_swaps: Vec<Coord>,
+    /// Energy of the whole route in one flight.
+    pub needed_j: f64,
+    pub lost_coverage_m: f64,
+}
+
+impl Flight {
+    fn duration_s(&self) -> f64 {
+        self.estimates.iter().map(PathEstimate::duration_s).sum()
+    }
+
+    pub fn energy_j(&self) -> f64 {
+        self.estimates.iter().map(PathEstimate::energy_j).sum()
+    }
+
+    pub fn batteries_needed(&self) -> usize {
+        if self.battery_swaps.is_empty() { (self.energy_j() / self.vehicle.battery.usable_j()).ceil().max(1.0) as usize } else { self.battery_swaps.len() + 1 }
+    }
+
+    /// Time of the pieces that do not grow with the area flown: the legs between home and the
+    /// area, take-off and landing.
+    fn fixed_s(&self) -> f64 {
+        let legs = |s: &FlightPath, e: &PathEstimate| {
+            let first = s.pieces.first().filter(|p| p.kind == PieceKind::Transit).map_or(0.0, |_| e.pieces[0].duration_s);
+            let last = s.pieces.last().filter(|p| p.kind == PieceKind::Transit && s.pieces.len() > 1).map_or(0.0, |_| e.pieces[e.pieces.len() - 1].duration_s);
+            first + last + e.takeoff_landing_s
+        };
+        self.sorties.iter().zip(&self.estimates).map(|(s, e)| legs(s, e)).sum()
+    }
+}
+
+/// What every vehicle's flight shares.
+pub(crate) struct Stages<'a> {
+    pub prepared: &'a Prepared,
+    pub transit: &'a TransitPlanner,
+    pub obstacles: Option<&'a Obstacles>,
+    pub stop: &'a Stop,
+}
+
+impl Stages<'_> {
+    /// Plans `region` for `vehicle` and cuts the path into sorties from `ends.home`; a fleet's
+    /// `part` fixes the sweep direction and the altitude of transits.
+    pub fn fly(&self, vehicle: &vehicle::Vehicle, ends: Ends, region: &MultiPolygon, part: Option<FleetPart>, progress: &dyn Progress) -> Result<Flight, PlanError> {
+        let Prepared { resolved, planner, field, keep_out, walls, .. } = self.prepared;
+        let turn = vehicle.turn_model();
+        // fixed wing: corners far enough from the zones to turn around them
+        let detour = match turn {
+            TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), walls)),
+            TurnModel::Straight => None,
+        };
+        let connector = Connector::new(turn, self.transit, detour.as_ref()).stopping_on(self.stop);
+        let problem = Problem {
+            region,
+            keep_out,
+            transit: self.transit,
+            connector: &connector,
+            layout: resolved.layout,
+            sweep_angle: part.map_or(resolved.sweep_angle, |p| Some(p.sweep_angle)),
+            start: ends.start,
+            end: ends.end,
+            start_heading: resolved.start_heading,
+            end_heading: resolved.end_heading,
+            allow_reentry: resolved.allow_reentry,
+            obstacles: self.obstacles,
+            coverage_penalty: resolved.coverage_penalty,
+            vehicle,
+            objective: resolved.objective,
+        };
+        let planned = if resolved.optimal_direction { plan_every_direction(*planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
+        // climbs over obstacles are flown by every sortie, so they are priced when splitting
+        let flown = |p: &FlightPath| {
+            let (mut path, lost) = self.obstacles.map_or((p.clone(), 0.0), |obs| obs.raise(p));
+            if let Some(layer) = part.and_then(|p| p.transit_altitude_m) {
+                for piece in path.pieces.iter_mut().filter(|piece| piece.kind == PieceKind::Transit) {
+                    let below = resolved.altitude_m.unwrap_or(layer);
+                    piece.z = (0..piece.points.len()).map(|i| piece.z.get(i).copied().unwrap_or(below).max(layer)).collect();
+                }
+            }
+            (path, lost)
+        };
+        let model = vehicle.energy_model();
+        let energy_of = |p: &FlightPath| model.estimate(&flown(p).0, resolved.altitude_m).energy_j();
+        let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
+        let budget = sortie::Budget { home: ends.home, usable_j: vehicle.battery.usable_j(), max_sorties: resolved.max_sorties, connect: &connect, energy: &energy_of };
+        let split = budget.split(&planned.path)?;
+        let mut lost_coverage_m = 0.0;
+        let sorties: Vec<FlightPath> = split
+            .sorties
+            .iter()
+            .map(|s| {
+                let (path, lost) = flown(s);
+                lost_coverage_m += lost;
+                path
+            })
+            .collect();
+        let estimates = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
+        Ok(Flight { vehicle: vehicle.clone(), planned, sorties, estimates, battery_swaps: split.battery_swaps, needed_j: split.needed_j, lost_coverage_m })
+    }
+
+    /// Plans the fleet: the area split among the drones (docs/methods.md, fleets), each part
+    /// flown by its drone from its home. A drone not needed has no flight.
+    pub fn fly_fleet(&self, progress: &dyn Progress) -> Result<(Vec<Option<Flight>>, FleetPlan), PlanError> {
+        let Prepared { resolved, field, region, walls, .. } = self.prepared;
+        let homes: Vec<Option<Coord>> = resolved
+            .fleet
+            .iter()
+            .enumerate()
+            .map(|(k, d)| match d.home {
+                Some([lon, lat]) => {
+                    let c = field.frame.to_local(lon, lat);
+                    if walls.contains(&c) {
+                        return Err(InputError::new("point_in_no_fly_zone", format!("/fleet/{k}/home"), "this home lies inside a no-fly zone or its margin"));
+                    }
+                    Ok(Some(c))
+                }
+                None => Ok(field.home),
+            })
+            .collect::<Result<_, InputError>>()?;
+        let departures = fleet::timeline::departures(&homes);
+        let layers: Vec<Option<f64>> = (0..homes.len()).map(|k| resolved.altitude_separation_m.map(|sep| resolved.altitude_m.unwrap_or(0.0) + (k + 1) as f64 * sep)).collect();
+        let drones: Vec<fleet::Drone> = resolved
+            .fleet
+            .iter()
+            .zip(&homes)
+            .zip(&departures)
+            .map(|((d, &home), &departure_s)| fleet::Drone { cruise_speed_mps: d.vehicle.cruise_speed_mps, home, departure_s })
+            .collect();
+        let angle = resolved.sweep_angle.unwrap_or_else(|| sweep::fewest_lines_direction(region, resolved.layout));
+        let plan_part = |k: usize, part: &MultiPolygon| -> Result<(Flight, fleet::PartTimes), PlanError> {
+            let ends = Ends { start: homes[k], end: homes[k], home: homes[k] };
+            let flight = self.fly(&resolved.fleet[k].vehicle, ends, part, Some(FleetPart { sweep_angle: angle, transit_altitude_m: layers[k] }), &|_| true)?;
+            let times = fleet::PartTimes { duration_s: flight.duration_s(), fixed_s: flight.fixed_s() };
+            Ok((flight, times))
+        };
+        let rounds = |round: usize| !self.stop.requested() && progress.report(0.1 + 0.8 * (round + 1) as f64 / 4.0);
+        let assignment = fleet::assign(region, angle, resolved.line_spacing_m, &drones, &plan_part, &rounds)?;
+        let mut areas = Vec::with_capacity(drones.len());
+        let flights = assignment
+            .parts
+            .into_iter()
+            .map(|p| {
+                areas.push(p.as_ref().map_or(0.0, |(part, _)| part.unsigned_area()));
+                p.map(|(_, flight)| flight)
+            })
+            .collect();
+        Ok((flights, FleetPlan { departures, layers, areas, altitude_m: resolved.altitude_m }))
+    }
+}
+
+/// What a fleet plan adds to the statistics.
+pub(crate) struct FleetPlan {
+    departures: Vec<f64>,
+    layers: Vec<Option<f64>>,
+    areas: Vec<f64>,
+    altitude_m: Option<f64>,
+}
+
+impl FleetPlan {
+    /// Per-drone totals, the makespan, and the conflicts between drones.
+    pub fn report(&self, flights: &[Option<Flight>], frame: &LocalFrame, stats: &mut Stats) {
+        let mut tracks = Vec::new();
+        let mut flying = Vec::new();
+        let mut sortie = 0;
+        for (k, f) in flights.iter().enumerate() {
+            let profile = f.as_ref().map_or_else(String::new, |f| f.vehicle.profile.clone());
+            let mut totals = metrics::VehicleTotals {
+                vehicle: k,
+                profile,
+                area_m2: self.areas[k],
+                sweep_lines: 0,
+                sorties: 0,
+                length_m: 0.0,
+                duration_s: 0.0,
+                energy_j: 0.0,
+                departure_s: self.departures[k],
+                landing_s: self.departures[k],
+                transit_altitude_m: self.layers[k],
+            };
+            if let Some(f) = f {
+                totals.sweep_lines = f.sorties.iter().flat_map(|s| &s.pieces).filter(|p| p.kind == PieceKind::Sweep).count();
+                totals.sorties = f.sorties.len();
+                totals.length_m = f.sorties.iter().map(FlightPath::length).sum();
+                totals.duration_s = f.duration_s();
+                totals.energy_j = f.energy_j();
+                totals.landing_s = self.departures[k] + totals.duration_s;
+                for _ in &f.sorties {
+                    stats.sortie_totals[sortie].vehicle = Some(k);
+                    sortie += 1;
+                }
+                tracks.push(fleet::timeline::Track::new(&f.sorties, &f.estimates, self.departures[k], self.altitude_m.unwrap_or(0.0)));
+                flying.push(k);
+            }
+            stats.vehicles.push(totals);
+        }
+        let conflicts: Vec<metrics::Conflict> = fleet::timeline::encounters(&tracks)
+            .into_iter()
+            .map(|e| metrics::Conflict { vehicles: e.vehicles.map(|i| flying[i]), from_s: e.from_s, to_s: e.to_s, closest_m: e.closest_m, position: frame.to_wgs84(e.at) })
+            .collect();
+        if !conflicts.is_empty() {
+            stats.warnings.push(format!(
+                "{} times two drones come within {} m of each other at the same altitude (stats.conflicts): give altitude_separation_m, separate homes, or fewer drones",
+                conflicts.len(),
+                fleet::timeline::CONFLICT_DISTANCE_M
+            ));
+        }
+        stats.conflicts = Some(conflicts);
+        stats.makespan_s = Some(stats.vehicles.iter().map(|v| v.landing_s).fold(0.0, f64::max));
+    }
+}
+
+/// Sweep directions tried by `sweep_direction: optimal`: every 2°, then 0.5° around the best.
+const DIRECTION_STEP_DEG: f64 = 2.0;
+
+/// A direction tried by `sweep_direction: optimal`: its angle, the share of the field its plan
+/// covers, and the plan.
+type Tried = (f64, f64, planners::PlannedPath);
+
+/// Plans with every sweep direction and keeps the shortest plan by [`metrics::best_covering`],
+/// the rule `auto` chooses planners by (a fixed wing's shortest plan is often the one whose
+/// lines stop short of a no-fly zone); ties: the smaller angle.
+fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, progress: &dyn Progress) -> Result<planners::PlannedPath, PlanError> {
+    use rayon::prelude::*;
+    let area = problem.region.unsigned_area();
+    let run = |angle: f64| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true).map(|p| (angle, metrics::covered_area(&p.path, problem.region) / area, p));
+    let best = |tried: &[Tried]| metrics::best_covering(tried, |t| t.1, |t| t.2.path.length()).expect("at least one direction was tried");
+    let grid: Vec<f64> = (0..(180.0 / DIRECTION_STEP_DEG) as usize).map(|k| (k as f64 * DIRECTION_STEP_DEG).to_radians()).collect();
+    let mut tried: Vec<Tried> = Vec::with_capacity(grid.len() + 6);
+    // a chunk per progress report, so that a cancelled job stops soon
+    for (k, chunk) in grid.chunks(8).enumerate() {
+        let results: Vec<Result<Tried, PlanError>> = chunk.par_iter().map(|&a| run(a)).collect();
+        tried.extend(results.into_iter().collect::<Result<Vec<_>, _>>()?);
+        if !progress.report(0.1 + 0.8 * (k + 1) as f64 * 8.0 / grid.len() as f64) {
+            return Err(PlanError::Cancelled);
+        }
+    }
+    let around = tried[best(&tried)].0;
+    let fine: Vec<f64> = [-1.5f64, -1.0, -0.5, 0.5, 1.0, 1.5].iter().map(|d| (around + d.to_radians()).rem_euclid(std::f64::consts::PI)).collect();
+    let refined: Vec<Result<Tried, PlanError>> = fine.par_iter().map(|&a| run(a)).collect();
+    tried.extend(refined.into_iter().collect::<Result<Vec<_>, _>>()?);
+    // ties go to the smaller angle
+    tried.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (sweep_angle, _, planned) = tried.swap_remove(best(&tried));
+    Ok(planners::PlannedPath { sweep_angle, ..planned })
+}

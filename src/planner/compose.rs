@@ -8,9 +8,9 @@ use super::energy::PathEstimate;
 use super::error::{InputError, PlanError};
 use super::field::Field;
 use super::frame::LocalFrame;
-use super::geom::grow;
+use super::geom::{distance, grow, polyline_length};
 use super::metrics::{self, Stats};
-use super::path::{FlightPath, PieceKind};
+use super::path::{FlightPath, Piece, PieceKind};
 use super::planners::{self, Problem, Progress};
 use super::route::connect::Connector;
 use super::route::visibility::TransitPlanner;
@@ -128,9 +128,9 @@ impl Stages<'_> {
         let flown = |p: &FlightPath| {
             let (mut path, lost) = self.obstacles.map_or((p.clone(), 0.0), |obs| obs.raise(p));
             if let Some(layer) = part.and_then(|p| p.transit_altitude_m) {
+                let survey = resolved.altitude_m.unwrap_or(0.0);
                 for piece in path.pieces.iter_mut().filter(|piece| piece.kind == PieceKind::Transit) {
-                    let below = resolved.altitude_m.unwrap_or(layer);
-                    piece.z = (0..piece.points.len()).map(|i| piece.z.get(i).copied().unwrap_or(below).max(layer)).collect();
+                    lift(piece, survey, layer, resolved.max_climb_deg);
                 }
             }
             (path, lost)
@@ -173,7 +173,16 @@ impl Stages<'_> {
                 None => Ok(field.home),
             })
             .collect::<Result<_, InputError>>()?;
-        let departures = fleet::timeline::departures(&homes);
+        // a drone sharing a home waits until the one before has climbed and flown out of the way
+        let clear_s: Vec<f64> = resolved
+            .fleet
+            .iter()
+            .map(|d| {
+                let climb = d.vehicle.energy_model().estimate(&FlightPath::default(), resolved.altitude_m).takeoff_landing_s / 2.0;
+                climb + 2.0 * fleet::timeline::CONFLICT_DISTANCE_M / d.vehicle.cruise_speed_mps
+            })
+            .collect();
+        let departures = fleet::timeline::departures(&homes, &clear_s);
         let layers: Vec<Option<f64>> = (0..homes.len()).map(|k| resolved.altitude_separation_m.map(|sep| resolved.altitude_m.unwrap_or(0.0) + (k + 1) as f64 * sep)).collect();
         let drones: Vec<fleet::Drone> = resolved
             .fleet
@@ -202,6 +211,51 @@ impl Stages<'_> {
             .collect();
         Ok((flights, FleetPlan { departures, layers, areas, altitude_m: resolved.altitude_m }))
     }
+}
+
+/// Flies a transit in its drone's layer: it climbs from the survey altitude to `layer` over its
+/// first metres at `max_climb_deg`, and descends over its last (a transit too short to reach the
+/// layer peaks halfway), with a vertex where each ramp ends, so that the energy model prices the
+/// climb; altitudes already higher (over obstacles) are kept.
+fn lift(piece: &mut Piece, survey: f64, layer: f64, max_climb_deg: f64) {
+    let slope = max_climb_deg.to_radians().tan();
+    let ramp = (layer - survey) / slope;
+    let mut points: Vec<(Coord, f64)> = piece.points.iter().enumerate().map(|(i, &c)| (c, piece.z.get(i).copied().unwrap_or(survey))).collect();
+    let length = polyline_length(&piece.points);
+    for at in [ramp.min(length / 2.0), (length - ramp).max(length / 2.0)] {
+        points = with_vertex_at(&points, at);
+    }
+    let mut along = 0.0;
+    let mut previous = points[0].0;
+    for (c, z) in &mut points {
+        along += distance(previous, *c);
+        previous = *c;
+        let climbed = along.min(length - along).max(0.0) * slope;
+        *z = z.max(survey + climbed.min(layer - survey));
+    }
+    piece.points = points.iter().map(|p| p.0).collect();
+    piece.z = points.iter().map(|p| p.1).collect();
+}
+
+/// `points` (with altitudes) with a vertex at `at` metres along, unless one is within a centimetre.
+fn with_vertex_at(points: &[(Coord, f64)], at: f64) -> Vec<(Coord, f64)> {
+    let mut out = Vec::with_capacity(points.len() + 1);
+    let mut along = 0.0;
+    let mut placed = false;
+    for (i, &(c, z)) in points.iter().enumerate() {
+        if i > 0 && !placed {
+            let (a, za) = points[i - 1];
+            let step = distance(a, c);
+            if along + step > at + 0.01 && at > along + 0.01 {
+                let f = (at - along) / step;
+                out.push((a + (c - a) * f, za + (z - za) * f));
+                placed = true;
+            }
+            along += step;
+        }
+        out.push((c, z));
+    }
+    out
 }
 
 /// What a fleet plan adds to the statistics.

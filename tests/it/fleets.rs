@@ -40,7 +40,7 @@ fn check_fleet(out: &PlanOutput, single: &PlanOutput, drones: usize, spacing: f6
     let summed: f64 = s.vehicles.iter().map(|v| v.duration_s).sum();
     assert!((summed - s.duration_s).abs() < 1e-6 * summed.max(1.0), "{name}: drones' durations do not add up");
     // no later than one drone alone, but for the turns taken to leave a shared home
-    let stagger = 10.0 * (drones - 1) as f64;
+    let stagger = s.vehicles.iter().map(|v| v.departure_s).fold(0.0, f64::max);
     assert!(makespan <= single.stats.duration_s + stagger, "{name}: makespan {makespan:.0} s, one drone {:.0} s", single.stats.duration_s);
     // (the spiral and the grid search are not judged on coverage; see coverage_floor)
     let judged = coverage_floor(&single.stats.planner, false) > 0.0;
@@ -134,7 +134,8 @@ fn more_drones_land_sooner() {
         let out = plan_with_home(&area, nfz.as_ref(), home, &PlanParams { vehicles: Some(drones), ..base.clone() });
         let makespan = out.stats.makespan_s.unwrap();
         assert!(makespan < previous, "{drones} drones: {makespan:.0} s, fewer drones {previous:.0} s");
-        assert!(makespan < 1.5 * one / drones as f64 + 10.0 * drones as f64, "{drones} drones: {makespan:.0} s against {one:.0} s for one");
+        let last_off = out.stats.vehicles.iter().map(|v| v.departure_s).fold(0.0, f64::max);
+        assert!(makespan < 1.5 * one / drones as f64 + last_off, "{drones} drones: {makespan:.0} s against {one:.0} s for one");
         previous = makespan;
     }
 }
@@ -152,21 +153,45 @@ fn a_faster_drone_takes_a_larger_part() {
     assert!((a - b).abs() < 0.15 * a.max(b), "landings at {a:.0} s and {b:.0} s");
 }
 
-/// Altitude layers: each drone's transits fly at its own height, and none then conflict.
+/// Altitude layers: each drone's transits climb from the survey altitude to its own layer and
+/// back, no steeper than `max_climb_deg`, and the climbs cost energy. Conflicts are left only
+/// where the drones climb out of and back into the survey altitude at their shared home.
 #[test]
 fn altitude_layers_separate_transits() {
     let (area, nfz, home) = fixture_field("random-fields/h02_00.json");
-    let params = PlanParams { line_spacing_m: Some(20.0), altitude_m: Some(60.0), vehicles: Some(4), altitude_separation_m: Some(10.0), ..PlanParams::default() };
+    let level = PlanParams { line_spacing_m: Some(20.0), altitude_m: Some(60.0), vehicles: Some(4), ..PlanParams::default() };
+    let params = PlanParams { altitude_separation_m: Some(10.0), ..level.clone() };
     let out = plan_with_home(&area, nfz.as_ref(), home, &params);
-    assert_eq!(out.stats.conflicts.as_deref(), Some(&[][..]), "{:?}", out.stats.conflicts);
+    let flat = plan_with_home(&area, nfz.as_ref(), home, &level);
+    let layered = out.stats.conflicts.clone().expect("a fleet reports conflicts");
+    // the highest layer is 40 m up: its ramp ends 40 / tan 30° = 69 m from where it starts
+    let frame = LocalFrame::new(home[0], home[1]);
+    for c in &layered {
+        let at = frame.to_local(c.position[0], c.position[1]);
+        assert!(at.x.hypot(at.y) < 80.0, "a conflict away from the shared home: {c:?}");
+    }
+    assert!(out.stats.energy_j > flat.stats.energy_j, "climbing to the layers is priced: {} J against {} J", out.stats.energy_j, flat.stats.energy_j);
+    let mut reached = 0;
     for f in &out.trajectory.features {
         if property(f, "kind").and_then(Value::as_str) != Some("transit") {
             continue;
         }
         let v = property(f, "vehicle").and_then(Value::as_u64).unwrap() as f64;
+        let layer = 60.0 + 10.0 * (v + 1.0);
         let geojson::GeometryValue::LineString { coordinates } = &f.geometry.as_ref().unwrap().value else { panic!("a transit is a line") };
-        assert!(coordinates.iter().all(|c| (c[2] - (60.0 + 10.0 * (v + 1.0))).abs() < 0.01), "drone {v}'s transit at {coordinates:?}");
+        let (first, last) = (coordinates[0][2], coordinates[coordinates.len() - 1][2]);
+        assert!((first - 60.0).abs() < 0.01 && (last - 60.0).abs() < 0.01, "drone {v}'s transit leaves and rejoins the survey altitude: {coordinates:?}");
+        assert!(coordinates.iter().all(|c| c[2] <= layer + 0.01), "drone {v} above its layer");
+        reached += usize::from(coordinates.iter().any(|c| (c[2] - layer).abs() < 0.01));
+        // no ramp steeper than 30°
+        let frame = LocalFrame::new(coordinates[0][0], coordinates[0][1]);
+        for w in coordinates.windows(2) {
+            let (a, b) = (frame.to_local(w[0][0], w[0][1]), frame.to_local(w[1][0], w[1][1]));
+            let run = (b.x - a.x).hypot(b.y - a.y);
+            assert!((w[1][2] - w[0][2]).abs() <= run * 30f64.to_radians().tan() + 0.05, "drone {v}: a ramp steeper than 30°");
+        }
     }
+    assert!(reached > 0, "long transits reach their layer");
 }
 
 /// What a fleet cannot do is refused with its place.

@@ -14,10 +14,6 @@ use crate::path::FlightPath;
 pub const CONFLICT_DISTANCE_M: f64 = 10.0;
 pub const CONFLICT_HEIGHT_M: f64 = 5.0;
 
-/// Drones sharing a take-off point (within [`CONFLICT_DISTANCE_M`]) leave it one after another,
-/// this many seconds apart.
-pub const LAUNCH_INTERVAL_S: f64 = 10.0;
-
 /// Seconds between samples.
 const STEP_S: f64 = 1.0;
 
@@ -90,13 +86,14 @@ fn sample(knots: &[(f64, Coord, f64)]) -> Vec<(Coord, f64)> {
     out
 }
 
-/// Departure times: drones whose homes lie within [`CONFLICT_DISTANCE_M`] of an earlier drone's
-/// leave [`LAUNCH_INTERVAL_S`] after the last of them.
-pub fn departures(homes: &[Option<Coord>]) -> Vec<f64> {
+/// Departure times: a drone whose home lies within [`CONFLICT_DISTANCE_M`] of earlier drones'
+/// leaves once the last of them is clear of it, `clear_s[j]` seconds after drone j left (its
+/// climb to altitude and the flight out of conflict distance).
+pub fn departures(homes: &[Option<Coord>], clear_s: &[f64]) -> Vec<f64> {
     let mut out: Vec<f64> = Vec::with_capacity(homes.len());
     for (k, home) in homes.iter().enumerate() {
-        let shared = home.map_or(0, |h| homes[..k].iter().filter(|o| o.is_some_and(|o| distance(o, h) < CONFLICT_DISTANCE_M)).count());
-        out.push(shared as f64 * LAUNCH_INTERVAL_S);
+        let shared = |j: &usize| home.zip(homes[*j]).is_some_and(|(h, o)| distance(o, h) < CONFLICT_DISTANCE_M);
+        out.push((0..k).filter(shared).map(|j| out[j] + clear_s[j]).fold(0.0, f64::max));
     }
     out
 }
@@ -195,6 +192,6 @@ mod tests {
     fn shared_homes_take_off_in_turn() {
         let h = Some(Coord { x: 0.0, y: 0.0 });
         let elsewhere = Some(Coord { x: 500.0, y: 0.0 });
-        assert_eq!(departures(&[h, h, elsewhere, h]), vec![0.0, LAUNCH_INTERVAL_S, 0.0, 2.0 * LAUNCH_INTERVAL_S]);
+        assert_eq!(departures(&[h, h, elsewhere, h], &[30.0, 20.0, 5.0, 1.0]), vec![0.0, 30.0, 0.0, 50.0]);
     }
 }

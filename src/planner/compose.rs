@@ -198,7 +198,7 @@ impl Stages<'_> {
             let times = fleet::PartTimes { duration_s: flight.duration_s(), fixed_s: flight.fixed_s() };
             Ok((flight, times))
         };
-        let rounds = |round: usize| !self.stop.requested() && progress.report(0.1 + 0.8 * (round + 1) as f64 / 4.0);
+        let rounds = |round: usize| !self.stop.requested() && progress.report(0.1 + 0.8 * (round + 1) as f64 / fleet::ROUNDS as f64);
         let assignment = fleet::assign(region, angle, resolved.line_spacing_m, &drones, &plan_part, &rounds)?;
         let mut areas = Vec::with_capacity(drones.len());
         let flights = assignment

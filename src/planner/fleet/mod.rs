@@ -38,7 +38,7 @@ pub struct PartTimes {
 pub type PlanPart<'a, T> = dyn Fn(usize, &MultiPolygon) -> Result<(T, PartTimes), PlanError> + Sync + 'a;
 
 /// Rounds of resizing: each plans every part once.
-const ROUNDS: usize = 4;
+pub const ROUNDS: usize = 4;
 
 /// The fleet's parts: for each drone, in the request's order, its part of the region and what
 /// `plan_part` made of it (`None`: the drone is not needed).

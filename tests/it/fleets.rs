@@ -81,7 +81,7 @@ fn check_fleet(out: &PlanOutput, single: &PlanOutput, drones: usize, spacing: f6
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
     #[test]
     fn fleets_cover_generated_fields_in_parts_and_finish_sooner(

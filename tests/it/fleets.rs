@@ -80,6 +80,49 @@ fn check_fleet(out: &PlanOutput, single: &PlanOutput, drones: usize, spacing: f6
     );
 }
 
+/// The property test plans on a pool of its own: on the global one its long plans (every planner,
+/// debug build) would hold up the timed job tests that run beside it in this binary.
+fn own_pool() -> &'static rayon::ThreadPool {
+    static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
+    POOL.get_or_init(|| rayon::ThreadPoolBuilder::new().num_threads(2).build().expect("a thread pool"))
+}
+
+/// One generated case of the property test below.
+struct Case {
+    lon: f64,
+    lat: f64,
+    radius: f64,
+    shape: Vec<(f64, f64)>,
+    holes: usize,
+    lines: f64,
+    heading: Option<f64>,
+    drones: usize,
+    planner: &'static str,
+    home_side: usize,
+}
+
+fn check_case(c: Case) {
+    let (radii, jitter): (Vec<f64>, Vec<f64>) = c.shape.into_iter().unzip();
+    let (area, nfz) = star_field(c.lon, c.lat, c.radius, &radii, &jitter, c.holes);
+    let nfz = (c.holes > 0).then_some(&nfz);
+    let spacing = c.radius * 2.0 / c.lines;
+    // home just outside the field, at one of four sides
+    let frame = LocalFrame::new(c.lon, c.lat);
+    let side = c.home_side as f64 * std::f64::consts::FRAC_PI_2;
+    let home = frame.to_wgs84(Coord { x: 1.2 * c.radius * side.cos(), y: 1.2 * c.radius * side.sin() });
+    let single_params = params(c.planner, spacing, c.heading);
+    let fleet_params = PlanParams { vehicles: Some(c.drones as u32), ..single_params.clone() };
+    let name = format!("{} drones, {}, star at {},{} r={}", c.drones, c.planner, c.lon, c.lat, c.radius);
+    // the fleet's plan has every property of a plan (checked without a home) …
+    if check_covering(&area, nfz, &fleet_params, &name, coverage_floor(c.planner, nfz.is_some())).is_none() {
+        return;
+    }
+    // … and, flying from a home, those of a fleet (a part may be refused where the whole is not:
+    // a spiral's band around a hole)
+    let (Some(single), Some(fleet)) = (try_plan_with_home(&area, nfz, home, &single_params), try_plan_with_home(&area, nfz, home, &fleet_params)) else { return };
+    check_fleet(&fleet, &single, c.drones, spacing, &name);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
@@ -94,25 +137,9 @@ proptest! {
         heading in prop::option::of(0.0..180.0f64),
         drones in 2usize..6,
         planner in prop::sample::select(planner::FLEET_PLANNERS.to_vec()),
-        home_corner in 0usize..4,
+        home_side in 0usize..4,
     ) {
-        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
-        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, holes);
-        let nfz = (holes > 0).then_some(&nfz);
-        let spacing = radius * 2.0 / lines;
-        // home just outside the field, at one of four sides
-        let frame = LocalFrame::new(lon, lat);
-        let side = home_corner as f64 * std::f64::consts::FRAC_PI_2;
-        let home = frame.to_wgs84(Coord { x: 1.2 * radius * side.cos(), y: 1.2 * radius * side.sin() });
-        let single_params = params(planner, spacing, heading);
-        let fleet_params = PlanParams { vehicles: Some(drones as u32), ..single_params.clone() };
-        let name = format!("{drones} drones, {planner}, star at {lon},{lat} r={radius}");
-        // the fleet's plan has every property of a plan (checked without a home) …
-        let Some(_) = check_covering(&area, nfz, &fleet_params, &name, coverage_floor(planner, nfz.is_some())) else { return Ok(()) };
-        // … and, flying from a home, those of a fleet
-        // (a part may be refused where the whole is not: a spiral's band around a hole)
-        let (Some(single), Some(fleet)) = (try_plan_with_home(&area, nfz, home, &single_params), try_plan_with_home(&area, nfz, home, &fleet_params)) else { return Ok(()) };
-        check_fleet(&fleet, &single, drones, spacing, &name);
+        own_pool().install(|| check_case(Case { lon, lat, radius, shape, holes, lines, heading, drones, planner, home_side }));
     }
 }
 

@@ -2,10 +2,10 @@
 //! it into sorties, estimate it), and a fleet's: the area shared out by `fleet`, each part
 //! flown by its drone, and what the fleet adds to the statistics.
 
-use geo::{Area, Contains, Coord, MultiPolygon};
+use geo::{Area, Coord, MultiPolygon};
 
 use super::energy::PathEstimate;
-use super::error::{InputError, PlanError};
+use super::error::PlanError;
 use super::field::Field;
 use super::frame::LocalFrame;
 use super::geom::{distance, grow, polyline_length};
@@ -29,6 +29,8 @@ pub(crate) struct Prepared {
     pub walls: MultiPolygon,
     pub start: Option<Coord>,
     pub end: Option<Coord>,
+    /// Each fleet drone's home (its own, or the mission's).
+    pub fleet_homes: Vec<Option<Coord>>,
 }
 
 /// Where a vehicle's flight starts and ends, and the home it returns to between sorties.
@@ -157,22 +159,7 @@ impl Stages<'_> {
     /// Plans the fleet: the area split among the drones (docs/methods.md, fleets), each part
     /// flown by its drone from its home. A drone not needed has no flight.
     pub fn fly_fleet(&self, progress: &dyn Progress) -> Result<(Vec<Option<Flight>>, FleetPlan), PlanError> {
-        let Prepared { resolved, field, region, walls, .. } = self.prepared;
-        let homes: Vec<Option<Coord>> = resolved
-            .fleet
-            .iter()
-            .enumerate()
-            .map(|(k, d)| match d.home {
-                Some([lon, lat]) => {
-                    let c = field.frame.to_local(lon, lat);
-                    if walls.contains(&c) {
-                        return Err(InputError::new("point_in_no_fly_zone", format!("/fleet/{k}/home"), "this home lies inside a no-fly zone or its margin"));
-                    }
-                    Ok(Some(c))
-                }
-                None => Ok(field.home),
-            })
-            .collect::<Result<_, InputError>>()?;
+        let Prepared { resolved, region, fleet_homes: homes, .. } = self.prepared;
         // a drone sharing a home waits until the one before has climbed and flown out of the way
         let clear_s: Vec<f64> = resolved
             .fleet
@@ -182,12 +169,12 @@ impl Stages<'_> {
                 climb + 2.0 * fleet::timeline::CONFLICT_DISTANCE_M / d.vehicle.cruise_speed_mps
             })
             .collect();
-        let departures = fleet::timeline::departures(&homes, &clear_s);
+        let departures = fleet::timeline::departures(homes, &clear_s);
         let layers: Vec<Option<f64>> = (0..homes.len()).map(|k| resolved.altitude_separation_m.map(|sep| resolved.altitude_m.unwrap_or(0.0) + (k + 1) as f64 * sep)).collect();
         let drones: Vec<fleet::Drone> = resolved
             .fleet
             .iter()
-            .zip(&homes)
+            .zip(homes)
             .zip(&departures)
             .map(|((d, &home), &departure_s)| fleet::Drone { cruise_speed_mps: d.vehicle.cruise_speed_mps, home, departure_s })
             .collect();

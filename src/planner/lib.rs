@@ -169,7 +169,9 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
     }
     let start = resolved.start.map(|p| local(p, "/start/position")).transpose()?.or(field.home);
     let end = resolved.end.map(|p| local(p, "/end/position")).transpose()?.or(field.home);
-    Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end })
+    let fleet_homes =
+        resolved.fleet.iter().enumerate().map(|(k, d)| d.home.map(|p| local(p, &format!("/fleet/{k}/home"))).transpose().map(|h| h.or(field.home))).collect::<Result<_, _>>()?;
+    Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end, fleet_homes })
 }
 
 /// Checks a plan request without planning: what [`plan`] would refuse as input, this refuses.
@@ -228,9 +230,7 @@ fn plan_until(
     let estimates: Vec<energy::PathEstimate> = flown.iter().flat_map(|f| f.estimates.iter().cloned()).collect();
     let usable_j: Vec<f64> = flown.iter().flat_map(|f| std::iter::repeat_n(f.vehicle.battery.usable_j(), f.sorties.len())).collect();
     let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
-    let photos = resolved.camera.map(|c| {
-        flown.iter().flat_map(|f| photo_positions(&FlightPath { pieces: f.sorties.iter().flat_map(|s| s.pieces.clone()).collect() }, &c, f.planned.sweep_angle)).collect::<Vec<_>>()
-    });
+    let photos = resolved.camera.map(|c| flown.iter().flat_map(|f| f.sorties.iter().flat_map(move |s| photo_positions(s, &c, f.planned.sweep_angle))).collect::<Vec<_>>());
     let swept = metrics::swept(&path);
     let main = flown.first().ok_or_else(|| PlanError::Infeasible("no drone of the fleet has a part to fly".into()))?;
     let mut stats = metrics::measure(&metrics::MeasureInput {
@@ -239,6 +239,7 @@ fn plan_until(
         sorties: &sorties,
         estimates: &estimates,
         usable_j: &usable_j,
+        batteries_needed: flown.iter().map(|f| f.batteries_needed()).sum(),
         region,
         no_fly_zones: &field.no_fly_zones,
         spacing: resolved.line_spacing_m,
@@ -275,12 +276,6 @@ fn plan_until(
             f.needed_j / 1000.0,
             f.vehicle.battery.usable_j() / 1000.0
         ));
-    }
-    let swaps: usize = flown.iter().filter(|f| !f.battery_swaps.is_empty()).map(|f| f.battery_swaps.len() + 1).sum();
-    if fleet.is_some() {
-        stats.batteries_needed = flown.iter().map(|f| f.batteries_needed()).sum();
-    } else if swaps > 0 {
-        stats.batteries_needed = swaps;
     }
     if let Some(fleet) = fleet {
         fleet.report(&flights, &field.frame, &mut stats);

@@ -358,6 +358,8 @@ pub struct MeasureInput<'a> {
     pub estimates: &'a [PathEstimate],
     /// Energy one battery gives above its reserve, for each sortie (a fleet's drones differ).
     pub usable_j: &'a [f64],
+    /// Batteries the flights need (see [`Stats::batteries_needed`]), counted per vehicle.
+    pub batteries_needed: usize,
     pub region: &'a MultiPolygon,
     /// [`swept`] of `path`.
     pub swept: &'a MultiPolygon,
@@ -406,7 +408,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
                 battery_used: e.energy_j() / usable_j,
             })
             .collect(),
-        batteries_needed: m.estimates.iter().zip(m.usable_j).map(|(e, u)| e.energy_j() / u).sum::<f64>().ceil().max(1.0) as usize,
+        batteries_needed: m.batteries_needed,
         warnings: Vec::new(),
         planner: String::new(),
         alternatives: Vec::new(),

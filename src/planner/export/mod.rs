@@ -68,6 +68,7 @@ pub struct ExportFile {
 
 /// The mission's outlines in WGS84 (x = longitude, y = latitude): exteriors counter-clockwise,
 /// holes clockwise.
+#[derive(Clone)]
 pub struct Outlines {
     pub fields: MultiPolygon,
     pub no_fly_zones: MultiPolygon,
@@ -150,8 +151,9 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         }
         (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{extension}", k + 1), exporter.write(job, k)?))).collect()
     };
+    let (outlines, altitude_m) = outlines_and_altitude(request, &resolved)?;
     if resolved.fleet.is_empty() || id == geojson::GeoJsonFile.format().id {
-        let job = prepare(request, &resolved, &resolved.vehicle, request.mission.home, request.trajectory)?;
+        let job = prepare(request, &resolved, &resolved.vehicle, outlines, altitude_m, request.trajectory)?;
         let mut files = write_all(&job, &stem)?;
         if files.len() == 1 {
             let (file_name, bytes) = files.pop().expect("one file");
@@ -167,29 +169,36 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
             continue;
         }
         let trajectory = ::geojson::FeatureCollection { bbox: None, features, foreign_members: None };
-        let job = prepare(request, &resolved, &drone.vehicle, drone.home.or(request.mission.home), &trajectory)?;
+        let own_home = Outlines { home: drone.home.or(request.mission.home), ..outlines.clone() };
+        let job = prepare(request, &resolved, &drone.vehicle, own_home, altitude_m, &trajectory)?;
         files.extend(write_all(&job, &format!("{stem}-drone-{}", k + 1))?);
     }
     Ok(ExportFile { file_name: format!("{stem}-{id}-fleet.zip"), media_type: "application/zip", bytes: archive::zip(&files) })
 }
 
-/// What one vehicle's files are written from: `trajectory` holds its pieces only.
-fn prepare<'a>(
-    request: &ExportRequest<'a>,
-    resolved: &Resolved,
-    vehicle: &Vehicle,
-    home: Option<[f64; 2]>,
-    trajectory: &'a ::geojson::FeatureCollection,
-) -> Result<ExportJob<'a>, InputError> {
+/// The mission's outlines in WGS84 (with its home) and the altitude flight files are written at:
+/// read once for every vehicle's files.
+fn outlines_and_altitude(request: &ExportRequest<'_>, resolved: &Resolved) -> Result<(Outlines, f64), InputError> {
     // the mission was validated when stored: its own limits, not the service's current ones
     let unlimited = FieldLimits { max_area_ha: f64::INFINITY, max_vertices: usize::MAX, max_radius_km: f64::INFINITY, min_area_m2: 0.0 };
     let field = Field::parse(&request.mission, &unlimited)?;
     let to_wgs84 = |p: &MultiPolygon| p.map_coords(|c| field.frame.to_wgs84(c).into());
-    let outlines = Outlines { fields: to_wgs84(&field.area), no_fly_zones: to_wgs84(&field.no_fly_zones), home };
+    let outlines = Outlines { fields: to_wgs84(&field.area), no_fly_zones: to_wgs84(&field.no_fly_zones), home: request.mission.home };
     if let Some(a) = request.options.altitude_m {
         check_range(a, 1.0, 10_000.0, "/altitude_m", "m above home")?;
     }
-    let altitude_m = request.options.altitude_m.or(resolved.altitude_m).unwrap_or(DEFAULT_ALTITUDE_M);
+    Ok((outlines, request.options.altitude_m.or(resolved.altitude_m).unwrap_or(DEFAULT_ALTITUDE_M)))
+}
+
+/// What one vehicle's files are written from: `trajectory` holds its pieces only, `outlines` its home.
+fn prepare<'a>(
+    request: &ExportRequest<'a>,
+    resolved: &Resolved,
+    vehicle: &Vehicle,
+    outlines: Outlines,
+    altitude_m: f64,
+    trajectory: &'a ::geojson::FeatureCollection,
+) -> Result<ExportJob<'a>, InputError> {
     let settings = FlightSettings {
         kind: vehicle.kind,
         firmware: request.options.firmware,

@@ -15,6 +15,8 @@ pub struct Bands {
     /// Lowest and highest coordinate across the lines, in the sweep frame.
     low: f64,
     high: f64,
+    /// Extent along the lines, in the sweep frame, a metre beyond the region on each side.
+    along: (f64, f64),
     spacing: f64,
     /// Area of the region in each strip, lowest first.
     strip_areas: Vec<f64>,
@@ -24,7 +26,7 @@ impl Bands {
     pub fn new(region: &MultiPolygon, angle: f64, spacing: f64) -> Bands {
         let rotated = rotate(region, angle);
         let Some(bbox) = rotated.bounding_rect() else {
-            return Bands { angle, low: 0.0, high: 0.0, spacing, strip_areas: Vec::new() };
+            return Bands { angle, low: 0.0, high: 0.0, along: (0.0, 0.0), spacing, strip_areas: Vec::new() };
         };
         let (low, high) = (bbox.min().y, bbox.max().y);
         let strips = (((high - low) / spacing) - 1e-9).ceil().max(1.0) as usize;
@@ -36,7 +38,7 @@ impl Bands {
                 rotated.intersection(&band.to_polygon()).unsigned_area()
             })
             .collect();
-        Bands { angle, low, high, spacing, strip_areas }
+        Bands { angle, low, high, along: (x0, x1), spacing, strip_areas }
     }
 
     /// Number of strips.
@@ -81,8 +83,7 @@ impl Bands {
         let margin = self.spacing + (self.high - self.low);
         let lo = if from == 0 { self.low - margin } else { self.low + from as f64 * self.spacing };
         let hi = if to == self.len() { self.high + margin } else { self.low + to as f64 * self.spacing };
-        let Some(bbox) = rotate(region, self.angle).bounding_rect() else { return MultiPolygon(Vec::new()) };
-        let (x0, x1) = (bbox.min().x - 1.0, bbox.max().x + 1.0);
+        let (x0, x1) = self.along;
         let corners = [(x0, lo), (x1, lo), (x1, hi), (x0, hi), (x0, lo)].map(|(u, v)| from_sweep_frame(self.angle, u, v));
         let band = geo::Polygon::new(geo::LineString::from(corners.to_vec()), Vec::new());
         region.intersection(&band)

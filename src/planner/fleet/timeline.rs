@@ -6,7 +6,7 @@
 use geo::Coord;
 
 use crate::energy::PathEstimate;
-use crate::geom::distance;
+use crate::geom::{distance, polyline_length};
 use crate::path::FlightPath;
 
 /// Two drones closer than this horizontally, and [`CONFLICT_HEIGHT_M`] vertically, at the same
@@ -36,7 +36,7 @@ impl Track {
             knots.push((t, first.start(), first.z.first().copied().unwrap_or(altitude_m)));
             t += estimate.takeoff_landing_s / 2.0;
             for (piece, e) in sortie.pieces.iter().zip(&estimate.pieces) {
-                let length = piece.points.windows(2).map(|w| distance(w[0], w[1])).sum::<f64>();
+                let length = polyline_length(&piece.points);
                 let start = t;
                 let mut along = 0.0;
                 for (i, w) in piece.points.windows(2).enumerate() {

@@ -79,6 +79,9 @@ enum Command {
         /// Instead: the last landing of 1, 2, 4 and 8 drones sharing each field, against the ideal.
         #[arg(long)]
         fleet: bool,
+        /// Instead: ground vehicles (planner headland) on the real fields beside Fields2Cover's figures, and on the generated fields.
+        #[arg(long)]
+        ground: bool,
         /// Instead: the shared job queue on the PostgreSQL server at this admin URL
         /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
         /// the time of one claim at 10 000 queued plans.
@@ -211,6 +214,7 @@ fn main() -> ExitCode {
             print!("{}", coverplan::bench::patrol::run());
             Ok(())
         }
+        Command::Bench { ground: true, data, repeats, .. } => coverplan::bench::ground::run(&data, repeats).map(|table| print!("{table}")),
         Command::Bench { fleet: true, data, fields, .. } => coverplan::bench::fleet::run(&data, &fields).map(|table| print!("{table}")),
         Command::Bench { routing: true, .. } => {
             print!("{}", coverplan::bench::routing());

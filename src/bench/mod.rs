@@ -1,10 +1,11 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
-//! `--routing`, `--energy`, `--patrol`, `--fleet` and `--queue` run the routing, energy, patrolling, fleet and shared-queue benchmarks
-//! instead.
+//! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground` and `--queue` run the routing, energy,
+//! patrolling, fleet, ground-vehicle and shared-queue benchmarks instead.
 
 pub mod energy;
 pub mod fleet;
+pub mod ground;
 pub mod patrol;
 pub mod queue;
 
@@ -101,7 +102,7 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
     // a battery large enough that no plan is split into sorties
     let mut profiles = planner::vehicle::builtin_profiles();
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
-    for p in registry().iter().filter(|p| options.planner.is_none_or(|f| f == p.id())) {
+    for p in registry().iter().filter(|p| !p.for_ground_vehicles() && options.planner.is_none_or(|f| f == p.id())) {
         let mut rows: Vec<Row> = (0..=15)
             .map(|holes| Row { holes, refused: 0, times_ms: vec![], peak_mb: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![], vs_reference: vec![] })
             .collect();
@@ -111,7 +112,7 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
             let m: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(file))?)?;
             let area_m2 = e["area_m2"].as_f64().context("area_m2")?;
             let spacing = options.spacing_m.unwrap_or_else(|| bench_spacing(area_m2));
-            let mut params = PlanParams { planner: p.id().into(), line_spacing_m: Some(spacing), ..PlanParams::default() };
+            let mut params = PlanParams { planner: Some(p.id().into()), line_spacing_m: Some(spacing), ..PlanParams::default() };
             if fixed_wing {
                 params.vehicle = VehicleParams { kind: Some(VehicleKind::FixedWing), turn_radius_m: Some(spacing / 2.0), ..VehicleParams::default() };
             }

@@ -31,6 +31,8 @@ pub(crate) struct Prepared {
     pub end: Option<Coord>,
     /// Each fleet drone's home (its own, or the mission's).
     pub fleet_homes: Vec<Option<Coord>>,
+    /// A ground vehicle's headland.
+    pub ground: Option<planners::headland::GroundSetup>,
 }
 
 /// Where a vehicle's flight starts and ends, and the home it returns to between sorties.
@@ -124,6 +126,7 @@ impl Stages<'_> {
             coverage_penalty: resolved.coverage_penalty,
             vehicle,
             objective: resolved.objective,
+            ground: self.prepared.ground.as_ref(),
         };
         let planned = if resolved.optimal_direction { plan_every_direction(*planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
         // climbs over obstacles are flown by every sortie, so they are priced when splitting

@@ -112,7 +112,13 @@ pub fn validate_mission(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> 
 
 fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<Prepared, InputError> {
     let resolved = params.resolve(profiles)?;
-    let planner = planners::find(&params.planner).ok_or_else(|| unknown_planner(&params.planner))?;
+    let planner_id = params.planner_id(&resolved.vehicle);
+    let planner = planners::find(planner_id).ok_or_else(|| unknown_planner(planner_id))?;
+    if resolved.headland.is_some() != (planner.id() == "headland") {
+        let why =
+            if resolved.headland.is_some() { "a ground vehicle is planned with planner headland" } else { "planner headland plans ground vehicles: give vehicle kind ground" };
+        return Err(InputError::new("planner_vehicle_mismatch", "/planner", why));
+    }
     if !resolved.fleet.is_empty() && !FLEET_PLANNERS.contains(&planner.id()) {
         return Err(InputError::new(
             "planner_not_for_fleets",
@@ -167,11 +173,49 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
             "the mission has obstacles: give the flight altitude (altitude_m, or a camera with gsd_cm) so that the plan can climb over them",
         ));
     }
+    let ground = resolved.headland.map(|spec| ground_setup(spec, &resolved.vehicle, &field, &region)).transpose()?;
     let start = resolved.start.map(|p| local(p, "/start/position")).transpose()?.or(field.home);
     let end = resolved.end.map(|p| local(p, "/end/position")).transpose()?.or(field.home);
     let fleet_homes =
         resolved.fleet.iter().enumerate().map(|(k, d)| d.home.map(|p| local(p, &format!("/fleet/{k}/home"))).transpose().map(|h| h.or(field.home))).collect::<Result<_, _>>()?;
-    Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end, fleet_homes })
+    Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end, fleet_homes, ground })
+}
+
+/// A ground vehicle's headland, refused where it leaves no room: no mainland, or a headland
+/// narrower than the turning radius (no turn at a swath's end would stay in the field).
+fn ground_setup(spec: params::HeadlandSpec, vehicle: &vehicle::Vehicle, field: &Field, region: &geo::MultiPolygon) -> Result<planners::headland::GroundSetup, InputError> {
+    if !field.obstacles.is_empty() {
+        return Err(InputError::new("obstacles", "/obstacles", "a ground vehicle cannot climb over obstacles: give them as holes of the field or as no-fly zones"));
+    }
+    let radius = vehicle.planning_radius_m();
+    if radius > spec.width_m {
+        return Err(InputError::new(
+            "headland_too_narrow",
+            "/headland_passes",
+            format!("turning at a swath's end takes {radius:.1} m beyond it; the headland is {:.1} m wide: add passes or give headland_width_m", spec.width_m),
+        ));
+    }
+    let headland = decompose::headland::headland(region, spec.width_m, spec.passes, radius);
+    if headland.mainland.0.is_empty() {
+        // the widest place: the last point left as the field is shrunk
+        let (mut lo, mut hi) = (0.0, spec.width_m);
+        for _ in 0..12 {
+            let mid = (lo + hi) / 2.0;
+            if geo::Buffer::buffer(region, -mid).0.is_empty() { hi = mid } else { lo = mid }
+        }
+        let centre = geo::Centroid::centroid(&geo::Buffer::buffer(region, -lo)).map_or(Coord { x: 0.0, y: 0.0 }, |p| p.0);
+        let [lon, lat] = field.frame.to_wgs84(centre);
+        return Err(InputError::new(
+            "field_too_narrow",
+            "/headland_passes",
+            format!(
+                "the field is at most {:.1} m wide (at [{lon:.6}, {lat:.6}]): two headlands of {:.1} m leave no room for swaths; use fewer passes or a narrower headland_width_m",
+                2.0 * lo,
+                spec.width_m
+            ),
+        ));
+    }
+    Ok(planners::headland::GroundSetup { spec, headland, frame: field.frame })
 }
 
 /// Checks a plan request without planning: what [`plan`] would refuse as input, this refuses.
@@ -279,6 +323,15 @@ fn plan_until(
     }
     if let Some(fleet) = fleet {
         fleet.report(&flights, &field.frame, &mut stats);
+    }
+    if let Some(ground) = &prepared.ground {
+        let h = &ground.headland;
+        let zones = grow(&field.no_fly_zones, resolved.nfz_margin_m);
+        stats.ground = Some(metrics::GroundStats {
+            headland_width_m: ground.spec.width_m,
+            headland_passes: ground.spec.passes,
+            ..metrics::ground_stats(&path, &swept, &h.mainland, &h.band, &field.area, &zones)
+        });
     }
     stats.lost_coverage_m = flown.iter().map(|f| f.lost_coverage_m).sum();
     stats.planner = main.planned.planner.unwrap_or(prepared.planner.id()).to_string();

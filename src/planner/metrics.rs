@@ -1,6 +1,7 @@
 //! Metrics stage: one measure of every plan, whichever planner made it (docs/methods.md, metrics §1–§4).
 
-use geo::{Area, BooleanOps, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon, Simplify};
+use geo::algorithm::buffer::{BufferStyle, LineCap};
+use geo::{Area, BooleanOps, Buffer, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon, Simplify};
 use serde::{Deserialize, Serialize};
 
 use super::camera::CameraPlan;
@@ -81,6 +82,63 @@ pub struct Stats {
     /// other (empty: none do).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub conflicts: Option<Vec<Conflict>>,
+    /// Ground vehicle: the headland and the turns.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ground: Option<GroundStats>,
+}
+
+/// A ground plan's figures: how much of the mainland and of the headland is worked, and how
+/// the vehicle turns.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct GroundStats {
+    pub headland_width_m: f64,
+    pub headland_passes: usize,
+    pub headland_length_m: f64,
+    pub mainland_area_m2: f64,
+    pub headland_area_m2: f64,
+    /// Shares of the mainland and of the headland band the implement works.
+    pub mainland_coverage: f64,
+    pub headland_coverage: f64,
+    pub u_turns: usize,
+    pub omega_turns: usize,
+    pub fishtail_turns: usize,
+    /// Turns that leave the field or enter a hole or no-fly zone: 0 unless the planner is wrong.
+    pub turns_leaving_field: usize,
+    pub turns_crossing_holes: usize,
+}
+
+/// The ground figures of `path`, worked as `swept`, over the headland's `mainland` and `band`;
+/// `field` is the fields with their holes, `keep_out` the no-fly zones.
+pub fn ground_stats(path: &FlightPath, swept: &MultiPolygon, mainland: &MultiPolygon, band: &MultiPolygon, field: &MultiPolygon, keep_out: &MultiPolygon) -> GroundStats {
+    use super::path::TurnShape;
+    let turns: Vec<&super::path::Piece> = path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).collect();
+    let shaped = |shape: TurnShape| turns.iter().filter(|p| p.shape == Some(shape)).count();
+    let outer = MultiPolygon(field.iter().map(|p| Polygon::new(p.exterior().clone(), vec![])).collect());
+    let holes = MultiPolygon(field.iter().flat_map(|p| p.interiors().iter().map(|r| Polygon::new(r.clone(), vec![]))).chain(keep_out.iter().cloned()).collect());
+    let inside_length = |zones: &MultiPolygon, p: &&super::path::Piece| {
+        let line = MultiLineString(vec![LineString::from(p.points.clone())]);
+        zones.clip(&line, false).0.iter().map(|l| Euclidean.length(l)).sum::<f64>()
+    };
+    let share = |part: &MultiPolygon| {
+        let area = part.unsigned_area();
+        if area > 0.0 { (under(swept, part).0 / area).min(1.0) } else { 1.0 }
+    };
+    GroundStats {
+        headland_width_m: 0.0,
+        headland_passes: 0,
+        headland_length_m: path.pieces.iter().filter(|p| p.kind == PieceKind::Headland).map(|p| p.length()).sum(),
+        mainland_area_m2: mainland.unsigned_area(),
+        headland_area_m2: band.unsigned_area(),
+        mainland_coverage: share(mainland),
+        headland_coverage: share(band),
+        u_turns: shaped(TurnShape::U),
+        omega_turns: shaped(TurnShape::Omega),
+        fishtail_turns: shaped(TurnShape::Fishtail),
+        // a centimetre of slack: the turns' arcs are sampled
+        turns_leaving_field: turns.iter().filter(|p| inside_length(&outer, p) < p.length() - 0.01).count(),
+        turns_crossing_holes: turns.iter().filter(|p| inside_length(&holes, p) > 0.01).count(),
+    }
 }
 
 /// One drone's part of a fleet plan.
@@ -283,6 +341,13 @@ fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
     let pieces = &path.pieces;
     let mut i = 0;
     while i < pieces.len() {
+        if pieces[i].kind == PieceKind::Headland {
+            // a pass follows curves: its footprint is its buffer, joins rounded, ends cut square
+            let style = BufferStyle::new(pieces[i].half_swath_m).line_cap(LineCap::Butt);
+            strips.extend(LineString::from(pieces[i].points.clone()).buffer_with_style(style));
+            i += 1;
+            continue;
+        }
         if pieces[i].kind != PieceKind::Sweep {
             i += 1;
             continue;
@@ -431,6 +496,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         makespan_s: None,
         vehicles: Vec::new(),
         conflicts: None,
+        ground: None,
     }
 }
 

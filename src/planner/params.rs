@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 use super::camera::{Camera, CameraPlan};
 use super::error::{InputError, check_range};
 use super::sweep::LineLayout;
-use super::vehicle::{Vehicle, VehicleParams};
+use super::vehicle::{Vehicle, VehicleKind, VehicleParams};
 
 /// A position with a heading, as a compass bearing (degrees clockwise from north).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -24,9 +24,10 @@ pub struct PoseParam {
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PlanParams {
-    /// Planner id, as listed by `GET /api/v1/planners`.
-    #[serde(default = "default_planner")]
-    pub planner: String,
+    /// Planner id, as listed by `GET /api/v1/planners`; default `boustrophedon`, or `headland`
+    /// for a ground vehicle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub planner: Option<String>,
     /// Distance between sweep lines; required unless a camera is given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub line_spacing_m: Option<f64>,
@@ -102,6 +103,40 @@ pub struct PlanParams {
     /// drones come close at the same time (`stats.conflicts`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub altitude_separation_m: Option<f64>,
+    /// Ground vehicle: working passes round the field's edge and every hole, 1 to 20 (default
+    /// 2, or as many as cover `headland_width_m`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headland_passes: Option<u32>,
+    /// Ground vehicle: width of the headland, 1 to 500 m (default: the passes times the
+    /// working width).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headland_width_m: Option<f64>,
+    /// Ground vehicle: work the headland passes after the swaths (`last`, default) or before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headland_order: Option<HeadlandOrder>,
+    /// Ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5
+    /// (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub overlap: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum HeadlandOrder {
+    First,
+    #[default]
+    Last,
+}
+
+/// A ground vehicle's headland, validated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeadlandSpec {
+    pub width_m: f64,
+    pub passes: usize,
+    pub order: HeadlandOrder,
+    /// The implement's width: what each swath and pass works.
+    pub working_width_m: f64,
 }
 
 /// One drone of a fleet: the fields of `vehicle`, and `home`.
@@ -157,10 +192,6 @@ pub enum SweepDirection {
     Optimal,
 }
 
-fn default_planner() -> String {
-    "boustrophedon".into()
-}
-
 impl Default for PlanParams {
     fn default() -> Self {
         serde_json::from_str("{}").expect("defaults")
@@ -195,6 +226,8 @@ pub struct Resolved {
     /// The drones of a fleet, in the request's order; empty for one vehicle (`vehicle`).
     pub fleet: Vec<FleetVehicle>,
     pub altitude_separation_m: Option<f64>,
+    /// A ground vehicle's headland; `None` for an aircraft.
+    pub headland: Option<HeadlandSpec>,
 }
 
 /// Compass bearing (clockwise from north, degrees) to a math angle (counter-clockwise from
@@ -231,10 +264,21 @@ impl PlanParams {
             Some(c) => Some(c.plan(self.altitude_m, self.gsd_cm, side, front)?),
             None => None,
         };
-        let line_spacing_m = match (self.line_spacing_m, &camera) {
-            (Some(s), _) => s,
-            (None, Some(c)) => c.line_spacing_m,
-            (None, None) => {
+        let headland = self.headland(&vehicle)?;
+        if vehicle.kind == VehicleKind::Ground {
+            let refuse = |pointer: &str, why: &str| Err(InputError::new("not_for_ground_vehicles", pointer, why));
+            if self.line_spacing_m.is_some() || camera.is_some() {
+                return refuse(if camera.is_some() { "/camera" } else { "/line_spacing_m" }, "a ground vehicle's swaths are its working width apart (less the overlap)");
+            }
+            if !fleet.is_empty() {
+                return refuse("/fleet", "fleets are of drones");
+            }
+        }
+        let line_spacing_m = match (headland, self.line_spacing_m, &camera) {
+            (Some(h), _, _) => h.working_width_m * (1.0 - self.overlap.unwrap_or(0.0)),
+            (None, Some(s), _) => s,
+            (None, None, Some(c)) => c.line_spacing_m,
+            (None, None, None) => {
                 return Err(InputError::new("spacing_missing", "/line_spacing_m", "give line_spacing_m, or a camera to derive it from"));
             }
         };
@@ -275,7 +319,8 @@ impl PlanParams {
         let obstacle_clearance_m = within(self.obstacle_clearance_m, 10.0, 0.0, 200.0, "/obstacle_clearance_m", "m")?;
         let max_climb_deg = within(self.max_climb_deg, 30.0, 1.0, 60.0, "/max_climb_deg", "°")?;
         let coverage_penalty = within(self.coverage_penalty, 10.0, 0.0, 1000.0, "/coverage_penalty", "")?;
-        let nfz_margin_m = self.nfz_margin_m.unwrap_or(10.0);
+        // a tractor drives up to a fence; an aircraft keeps its distance
+        let nfz_margin_m = self.nfz_margin_m.unwrap_or(if headland.is_some() { 1.0 } else { 10.0 });
         check_range(nfz_margin_m, 1.0, 500.0, "/nfz_margin_m", "m")?;
         if let Some(limit) = self.time_limit_s {
             check_range(limit, 0.1, 86_400.0, "/time_limit_s", "s")?;
@@ -305,7 +350,56 @@ impl PlanParams {
             max_sorties: max_sorties as usize,
             fleet,
             altitude_separation_m,
+            headland,
         })
+    }
+
+    /// The planner asked for, or the default for the vehicle.
+    pub fn planner_id(&self, vehicle: &Vehicle) -> &str {
+        match &self.planner {
+            Some(id) => id,
+            None if vehicle.kind == VehicleKind::Ground => "headland",
+            None => "boustrophedon",
+        }
+    }
+
+    /// A ground vehicle's headland; the headland parameters are refused for an aircraft.
+    fn headland(&self, vehicle: &Vehicle) -> Result<Option<HeadlandSpec>, InputError> {
+        let Some(ground) = vehicle.ground.filter(|_| vehicle.kind == VehicleKind::Ground) else {
+            let given = [
+                ("/headland_passes", self.headland_passes.is_some()),
+                ("/headland_width_m", self.headland_width_m.is_some()),
+                ("/headland_order", self.headland_order.is_some()),
+                ("/overlap", self.overlap.is_some()),
+            ];
+            return match given.iter().find(|(_, set)| *set) {
+                Some((pointer, _)) => Err(InputError::new("not_a_ground_vehicle", *pointer, "headlands and swath overlap are for ground vehicles (vehicle kind ground)")),
+                None => Ok(None),
+            };
+        };
+        let overlap = self.overlap.unwrap_or(0.0);
+        check_range(overlap, 0.0, 0.5, "/overlap", "")?;
+        let step = ground.working_width_m * (1.0 - overlap);
+        if let Some(p) = self.headland_passes
+            && !(1..=20).contains(&p)
+        {
+            return Err(InputError::new("parameter_out_of_range", "/headland_passes", format!("{p} is outside the accepted range [1, 20]")));
+        }
+        if let Some(w) = self.headland_width_m {
+            check_range(w, 1.0, 500.0, "/headland_width_m", "m")?;
+        }
+        let (width_m, passes) = match (self.headland_width_m, self.headland_passes) {
+            (Some(w), Some(p)) if p as f64 * ground.working_width_m < w - 1e-9 => {
+                return Err(InputError::new("headland_not_covered", "/headland_passes", format!("{p} passes of {} m cannot work a headland {w} m wide", ground.working_width_m)));
+            }
+            (Some(w), Some(p)) => (w, p as usize),
+            (Some(w), None) => (w, ((w / step) - 1e-9).ceil().max(1.0) as usize),
+            (None, p) => {
+                let p = p.unwrap_or(2) as usize;
+                (p as f64 * step, p)
+            }
+        };
+        Ok(Some(HeadlandSpec { width_m, passes, order: self.headland_order.unwrap_or_default(), working_width_m: ground.working_width_m }))
     }
 
     /// The fleet asked for by `fleet` or `vehicles`; empty for one vehicle.

@@ -1,4 +1,4 @@
-//! The flown path: pieces of kind sweep, turn or transit, joined end to start.
+//! The flown path: pieces of kind sweep, headland, turn or transit, joined end to start.
 
 use geo::Coord;
 
@@ -11,6 +11,8 @@ use serde::Serialize;
 pub enum PieceKind {
     /// A coverage line, flown at survey altitude with the sensor on.
     Sweep,
+    /// A ground vehicle's working pass around the field's edge or a hole, in the headland.
+    Headland,
     /// The connection between two lines of the same cell.
     Turn,
     /// Any other connection: from the start, between cells or fields, to the end.
@@ -26,6 +28,30 @@ pub struct Piece {
     /// Altitude of each point where the piece climbs over obstacles; empty: flown at the
     /// plan's altitude.
     pub z: Vec<f64>,
+    /// A ground vehicle's turn between swaths: its shape.
+    pub shape: Option<TurnShape>,
+}
+
+/// The shape of a ground vehicle's turn at the end of a swath.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum TurnShape {
+    /// Arcs joined by a straight (Dubins CSC): the swaths are at least a turning diameter apart,
+    /// or one end lies further out than the other.
+    U,
+    /// Three arcs, the middle one bulging out (Dubins CCC): the swaths are closer than a
+    /// turning diameter and the vehicle cannot reverse.
+    Omega,
+    /// Forward arc, straight in reverse, forward arc: a three-point turn.
+    Fishtail,
+}
+
+impl PieceKind {
+    /// True for the pieces that work the ground: sweeps and headland passes.
+    pub fn works(self) -> bool {
+        matches!(self, PieceKind::Sweep | PieceKind::Headland)
+    }
 }
 
 impl Piece {
@@ -56,13 +82,22 @@ impl FlightPath {
     /// Appends a piece; a connection of zero length is dropped.
     pub fn push(&mut self, kind: PieceKind, points: Vec<Coord>, half_swath_m: f64) {
         debug_assert!(points.len() >= 2);
-        if kind != PieceKind::Sweep && polyline_length(&points) == 0.0 {
+        if !kind.works() && polyline_length(&points) == 0.0 {
             return;
         }
         if let Some(last) = self.pieces.last() {
             debug_assert_eq!(last.end(), points[0], "pieces must join exactly");
         }
-        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new() });
+        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new(), shape: None });
+    }
+
+    /// Appends a ground vehicle's turn of `shape`.
+    pub fn push_turn(&mut self, shape: TurnShape, points: Vec<Coord>) {
+        let before = self.pieces.len();
+        self.push(PieceKind::Turn, points, 0.0);
+        if self.pieces.len() > before {
+            self.pieces[before].shape = Some(shape);
+        }
     }
 
     pub fn end(&self) -> Option<Coord> {

@@ -4,10 +4,12 @@ use serde::{Deserialize, Serialize};
 
 use super::energy::constant_power::PowerFigures;
 use super::energy::fixed_wing::Airframe;
+use super::energy::ground::GroundPower;
 use super::energy::iem::IemCoefficients;
 use super::energy::{EnergyModel, EnergyParams, Motion};
 use super::error::{InputError, check_range};
 use super::turn::TurnModel;
+use super::turn::continuous_curvature::cc_circle_radius;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
@@ -15,6 +17,30 @@ use super::turn::TurnModel;
 pub enum VehicleKind {
     Multirotor,
     FixedWing,
+    /// A tractor, sprayer or mower: works swaths with an implement, turns in the headland.
+    Ground,
+}
+
+/// What only a ground vehicle has: its implement and how it may turn.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(deny_unknown_fields)]
+pub struct GroundFigures {
+    /// Width the implement works; the swath spacing is this less the plan's `overlap`.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.5, maximum = 100.0))]
+    pub working_width_m: f64,
+    /// May reverse: three-point (fishtail) turns where they are shorter or fit where a forward
+    /// turn does not.
+    #[serde(default)]
+    pub reverse_allowed: bool,
+    /// Steering limit for continuous-curvature turns, 1/m²: how fast the curvature may change
+    /// along the path. Absent: the curvature may jump (Dubins turns).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0001, maximum = 10.0))]
+    pub max_curvature_rate: Option<f64>,
+    /// Speed of turns and transits (the working speed is `cruise_speed_mps`).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 30.0))]
+    pub headland_speed_mps: f64,
 }
 
 /// The battery: its energy and the share kept in reserve at landing.
@@ -57,7 +83,11 @@ pub struct Vehicle {
     #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 20.0))]
     pub acceleration_mps2: f64,
     pub energy: EnergyParams,
+    /// For a ground vehicle, its tank: the fuel's energy.
     pub battery: Battery,
+    /// Ground vehicles only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ground: Option<GroundFigures>,
 }
 
 /// Built-in profiles. `iris` carries measured coefficients; the others' figures are assumed
@@ -76,6 +106,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             acceleration_mps2: 1.0,
             energy: EnergyParams::MultirotorIem(IemCoefficients::iris()),
             battery: li_ion(56.6),
+            ground: None,
         },
         Vehicle {
             profile: "maja".into(),
@@ -86,6 +117,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             acceleration_mps2: 1.0,
             energy: EnergyParams::FixedWing(Airframe::default()),
             battery: li_ion(74.0),
+            ground: None,
         },
         Vehicle {
             profile: "generic_multirotor".into(),
@@ -96,6 +128,21 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             acceleration_mps2: 2.0,
             energy: EnergyParams::ConstantPower(PowerFigures { cruise_power_w: 400.0, vertical_speed_mps: 2.0 }),
             battery: li_ion(548.0),
+            ground: None,
+        },
+        Vehicle {
+            profile: "tractor_sprayer".into(),
+            description: "Assumed tractor with a 6 m implement: works at 2.5 m/s (9 km/h), turns at 1.5 m/s on a 7 m radius, forward only; \
+                          60 kW of fuel power working (40 MJ per hectare, about 1.1 l of diesel), 30 kW turning; 200 l tank"
+                .into(),
+            kind: VehicleKind::Ground,
+            cruise_speed_mps: 2.5,
+            turn_radius_m: 7.0,
+            acceleration_mps2: 0.5,
+            energy: EnergyParams::Ground(GroundPower { working_power_w: 60_000.0, travel_power_w: 30_000.0 }),
+            // 200 l of diesel at 10 kWh per litre
+            battery: Battery { energy_wh: 2_000_000.0, reserve: 0.1 },
+            ground: Some(GroundFigures { working_width_m: 6.0, reverse_allowed: false, max_curvature_rate: None, headland_speed_mps: 1.5 }),
         },
         Vehicle {
             profile: "generic_fixed_wing".into(),
@@ -106,6 +153,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             acceleration_mps2: 1.0,
             energy: EnergyParams::FixedWing(Airframe::default()),
             battery: li_ion(74.0),
+            ground: None,
         },
     ]
 }
@@ -114,6 +162,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
 fn default_profile(kind: Option<VehicleKind>) -> &'static str {
     match kind {
         Some(VehicleKind::FixedWing) => "generic_fixed_wing",
+        Some(VehicleKind::Ground) => "tractor_sprayer",
         _ => "generic_multirotor",
     }
 }
@@ -130,14 +179,27 @@ pub struct VehicleParams {
     pub kind: Option<VehicleKind>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cruise_speed_mps: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// Minimum turning radius (also accepted as `min_turn_radius_m`).
+    #[serde(default, skip_serializing_if = "Option::is_none", alias = "min_turn_radius_m")]
     pub turn_radius_m: Option<f64>,
-    /// Battery energy, Wh.
+    /// Battery (or, ground vehicle, tank) energy, Wh.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub battery_wh: Option<f64>,
     /// Share of the battery kept at landing, 0 to 0.9.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub battery_reserve: Option<f64>,
+    /// Ground vehicle: width of the implement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub working_width_m: Option<f64>,
+    /// Ground vehicle: may reverse (three-point turns).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reverse_allowed: Option<bool>,
+    /// Ground vehicle: continuous-curvature turns with this steering limit, 1/m².
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_curvature_rate: Option<f64>,
+    /// Ground vehicle: speed of turns and transits.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub headland_speed_mps: Option<f64>,
 }
 
 impl VehicleParams {
@@ -166,8 +228,38 @@ impl VehicleParams {
         if let Some(r) = self.battery_reserve {
             v.battery.reserve = r;
         }
+        self.apply_ground(&mut v, at)?;
         v.validate(at)?;
         Ok(v)
+    }
+
+    /// The ground vehicle's overrides; refused for an aircraft.
+    fn apply_ground(&self, v: &mut Vehicle, at: &str) -> Result<(), InputError> {
+        let given = [
+            ("working_width_m", self.working_width_m.is_some()),
+            ("reverse_allowed", self.reverse_allowed.is_some()),
+            ("max_curvature_rate", self.max_curvature_rate.is_some()),
+            ("headland_speed_mps", self.headland_speed_mps.is_some()),
+        ];
+        let Some(g) = v.ground.as_mut() else {
+            return match given.iter().find(|(_, set)| *set) {
+                Some((name, _)) => Err(InputError::new("not_a_ground_vehicle", format!("{at}/{name}"), format!("profile `{}` is not a ground vehicle", v.profile))),
+                None => Ok(()),
+            };
+        };
+        if let Some(w) = self.working_width_m {
+            g.working_width_m = w;
+        }
+        if let Some(r) = self.reverse_allowed {
+            g.reverse_allowed = r;
+        }
+        if let Some(k) = self.max_curvature_rate {
+            g.max_curvature_rate = Some(k);
+        }
+        if let Some(s) = self.headland_speed_mps {
+            g.headland_speed_mps = s;
+        }
+        Ok(())
     }
 }
 
@@ -177,17 +269,30 @@ impl Vehicle {
         match self.kind {
             VehicleKind::Multirotor => TurnModel::Straight,
             VehicleKind::FixedWing => TurnModel::Dubins(self.turn_radius_m),
+            VehicleKind::Ground => TurnModel::Dubins(self.planning_radius_m()),
+        }
+    }
+
+    /// The radius turns are planned on: the turning radius, or with a curvature rate the radius
+    /// of the circle that bounds the continuous-curvature turn (docs/methods.md, ground §3).
+    pub fn planning_radius_m(&self) -> f64 {
+        match self.ground.and_then(|g| g.max_curvature_rate) {
+            Some(rate) => cc_circle_radius(self.turn_radius_m, rate),
+            None => self.turn_radius_m,
         }
     }
 
     /// The energy model of this vehicle: its profile's model, flown at its speed and turns
     /// (a multirotor stops at corners, decelerating and accelerating at `acceleration_mps2`).
     pub fn energy_model(&self) -> Box<dyn EnergyModel + '_> {
+        let headland_speed_mps = self.ground.map_or(self.cruise_speed_mps, |g| g.headland_speed_mps);
         let corner_stop_s = match self.kind {
             VehicleKind::Multirotor => self.cruise_speed_mps / self.acceleration_mps2,
             VehicleKind::FixedWing => 0.0,
+            // a reversal: stop from the turning speed and start again
+            VehicleKind::Ground => 2.0 * headland_speed_mps / self.acceleration_mps2,
         };
-        self.energy.model(Motion { cruise_speed_mps: self.cruise_speed_mps, turn_radius_m: self.turn_radius_m, corner_stop_s })
+        self.energy.model(Motion { cruise_speed_mps: self.cruise_speed_mps, turn_radius_m: self.turn_radius_m, corner_stop_s, headland_speed_mps })
     }
 
     /// Checks every figure; `at` is the JSON pointer of the profile in the request.
@@ -200,13 +305,38 @@ impl Vehicle {
         range(self.cruise_speed_mps, 0.5, 100.0, "cruise_speed_mps", "m/s")?;
         range(self.turn_radius_m, 0.0, 5_000.0, "turn_radius_m", "m")?;
         range(self.acceleration_mps2, 0.1, 20.0, "acceleration_mps2", "m/s²")?;
-        range(self.battery.energy_wh, 1.0, 100_000.0, "battery/energy_wh", "Wh")?;
+        // a tractor's tank holds megawatt-hours of fuel
+        let most_wh = if self.kind == VehicleKind::Ground { 20_000_000.0 } else { 100_000.0 };
+        range(self.battery.energy_wh, 1.0, most_wh, "battery/energy_wh", "Wh")?;
         range(self.battery.reserve, 0.0, 0.9, "battery/reserve", "")?;
         if self.kind == VehicleKind::FixedWing && self.turn_radius_m < 1.0 {
             return Err(InputError::new("turn_radius_too_small", format!("{at}/turn_radius_m"), "a fixed-wing aircraft needs a turning radius of at least 1 m"));
         }
+        match (self.kind, &self.ground) {
+            (VehicleKind::Ground, None) => {
+                return Err(InputError::new("ground_figures_missing", format!("{at}/ground"), "a ground vehicle needs its working width and headland speed"));
+            }
+            (VehicleKind::Ground, Some(g)) => {
+                range(g.working_width_m, 0.5, 100.0, "ground/working_width_m", "m")?;
+                range(g.headland_speed_mps, 0.1, 30.0, "ground/headland_speed_mps", "m/s")?;
+                if let Some(k) = g.max_curvature_rate {
+                    range(k, 0.0001, 10.0, "ground/max_curvature_rate", "1/m²")?;
+                }
+                if self.turn_radius_m < 0.5 {
+                    return Err(InputError::new("turn_radius_too_small", format!("{at}/turn_radius_m"), "a ground vehicle needs a turning radius of at least 0.5 m"));
+                }
+            }
+            (_, Some(_)) => return Err(InputError::new("not_a_ground_vehicle", format!("{at}/ground"), "only a ground vehicle has ground figures")),
+            _ => {}
+        }
         self.energy.check(self.cruise_speed_mps, &format!("{at}/energy/parameters"))?;
-        let fits = self.energy.for_fixed_wing().is_none_or(|fixed_wing| fixed_wing == (self.kind == VehicleKind::FixedWing));
+        let fits = matches!(
+            (&self.energy, self.kind),
+            (EnergyParams::ConstantPower(_), _)
+                | (EnergyParams::MultirotorIem(_), VehicleKind::Multirotor)
+                | (EnergyParams::FixedWing(_), VehicleKind::FixedWing)
+                | (EnergyParams::Ground(_), VehicleKind::Ground)
+        );
         if !fits {
             return Err(InputError::new("vehicle_kind_mismatch", format!("{at}/energy/model"), "this energy model is for the other kind of vehicle"));
         }
@@ -226,6 +356,10 @@ mod tests {
         }
         let fixed = VehicleParams { kind: Some(VehicleKind::FixedWing), ..Default::default() }.resolve(&all, "/vehicle").unwrap();
         assert_eq!(fixed.profile, "generic_fixed_wing");
+        let tractor = VehicleParams { kind: Some(VehicleKind::Ground), working_width_m: Some(12.0), ..Default::default() }.resolve(&all, "/vehicle").unwrap();
+        assert_eq!(tractor.ground.unwrap().working_width_m, 12.0);
+        let drone_with_implement = VehicleParams { working_width_m: Some(6.0), ..Default::default() }.resolve(&all, "/vehicle").unwrap_err();
+        assert_eq!((drone_with_implement.code, drone_with_implement.pointer.as_str()), ("not_a_ground_vehicle", "/vehicle/working_width_m"));
         let iris = VehicleParams { profile: Some("iris".into()), battery_wh: Some(20.0), ..Default::default() }.resolve(&all, "/vehicle").unwrap();
         assert_eq!(iris.battery.energy_wh, 20.0);
         let bad = VehicleParams { profile: Some("iris".into()), battery_reserve: Some(1.5), ..Default::default() }.resolve(&all, "/vehicle");

@@ -9,26 +9,40 @@ import { keepForComparison, showPlan } from './result.js';
 export async function fillForm() {
   const [planners, vehicles, cameras] = await Promise.all([api('GET', '/api/v1/planners'), api('GET', '/api/v1/vehicles'), api('GET', '/api/v1/cameras')]);
   $('planner').innerHTML = planners.map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}">${p.id}</option>`).join('');
-  $('vehicle').innerHTML = vehicles.map((v) => `<option value="${v.profile}" title="${escapeHtml(v.description)}">${v.profile} (${v.kind.replace('_', ' ')})</option>`).join('');
+  $('vehicle').innerHTML = vehicles.map((v) => `<option value="${v.profile}" data-kind="${v.kind}" title="${escapeHtml(v.description)}">${v.profile} (${v.kind.replace('_', ' ')})</option>`).join('');
   $('vehicle').value = 'generic_multirotor';
   $('camera').innerHTML += cameras.map((c) => `<option value="${c.id}">${escapeHtml(c.name || c.id)}</option>`).join('');
   syncForm();
 }
 
+/** True when the chosen vehicle works the ground: it gets its implement's fields and the
+ * headland planner instead of a camera, a line spacing and drones. */
+const groundVehicle = () => $('vehicle').selectedOptions[0]?.dataset.kind === 'ground';
+
 function syncForm() {
-  const camera = $('camera').value !== '';
-  $('spacing-box').hidden = camera;
+  const ground = groundVehicle();
+  $('ground-box').hidden = !ground;
+  for (const id of ['camera-box', 'layers-box']) $(id).hidden = ground;
+  $('drones').closest('.row').hidden = ground;
+  if (ground) $('planner').value = 'headland';
+  else if ($('planner').value === 'headland') $('planner').value = 'boustrophedon';
+  const camera = !ground && $('camera').value !== '';
+  $('spacing-box').hidden = camera || ground;
   $('fixed-heading-box').hidden = $('direction').value !== 'fixed';
   $('objective-box').hidden = $('planner').value !== 'auto';
-  $('layers-box').hidden = !(num('drones') > 1);
+  $('layers-box').hidden = ground || !(num('drones') > 1);
 }
-['camera', 'direction', 'planner', 'drones'].forEach((id) => $(id).addEventListener('change', syncForm));
+['camera', 'direction', 'planner', 'drones', 'vehicle'].forEach((id) => $(id).addEventListener('change', syncForm));
 
 const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
 
 export function planParams() {
   const p = { planner: $('planner').value, vehicle: { profile: $('vehicle').value } };
-  if ($('camera').value) {
+  if (groundVehicle()) {
+    Object.assign(p.vehicle, { working_width_m: num('working-width'), turn_radius_m: num('turn-radius'), reverse_allowed: $('reverse-allowed').checked });
+    p.headland_passes = num('headland-passes');
+    p.headland_order = $('headland-order').value;
+  } else if ($('camera').value) {
     p.camera = { preset: $('camera').value };
     p.side_overlap = num('side-overlap');
     p.front_overlap = num('front-overlap');
@@ -40,7 +54,7 @@ export function planParams() {
   if ($('direction').value === 'fixed') p.heading_deg = num('fixed-heading');
   if ($('direction').value === 'optimal') p.sweep_direction = 'optimal';
   if (p.planner === 'auto') p.objective = $('objective').value;
-  if (num('drones') > 1) {
+  if (num('drones') > 1 && !groundVehicle()) {
     p.vehicles = num('drones');
     if (num('altitude-separation') !== undefined) p.altitude_separation_m = num('altitude-separation');
   }
@@ -62,6 +76,11 @@ export function restoreParams(p) {
   const set = (id, v) => { if (v !== undefined && v !== null) $(id).value = v; };
   set('planner', p.planner);
   set('vehicle', p.vehicle && p.vehicle.profile);
+  set('working-width', p.vehicle && p.vehicle.working_width_m);
+  set('turn-radius', p.vehicle && p.vehicle.turn_radius_m);
+  $('reverse-allowed').checked = Boolean(p.vehicle && p.vehicle.reverse_allowed);
+  set('headland-passes', p.headland_passes);
+  set('headland-order', p.headland_order);
   $('camera').value = (p.camera && p.camera.preset) || '';
   set('spacing', p.line_spacing_m);
   set('altitude', p.altitude_m);

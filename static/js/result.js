@@ -6,6 +6,7 @@ import { map, state } from './map.js';
 // ---- the result ----
 const kindStyle = {
   sweep: { color: '#1565c0', weight: 3 },
+  headland: { color: '#2e7d32', weight: 3 },
   turn: { color: '#ef6c00', weight: 2 },
   transit: { color: '#6a1b9a', weight: 2, dashArray: '6 4' },
 };
@@ -27,8 +28,12 @@ function drawTrajectory(fc, faded) {
   const style = (p) => (p.vehicle === undefined ? kindStyle[p.kind] : { ...kindStyle[p.kind], color: droneColour(p.vehicle) });
   const drone = (p) => (p.vehicle === undefined ? '' : `drone ${p.vehicle + 1}, `);
   L.geoJSON({ type: 'FeatureCollection', features: lines }, {
-    style: (f) => ({ ...style(f.properties), opacity: faded ? 0.35 : 0.9 }),
-    onEachFeature: (f, layer) => layer.bindTooltip(`${drone(f.properties)}${f.properties.kind} ${f.properties.length_m} m, ${f.properties.speed_mps} m/s, sortie ${f.properties.sortie}`),
+    style: (f) => ({ ...style(f.properties), opacity: faded ? 0.35 : 0.9, className: `kind-${f.properties.kind}` }),
+    onEachFeature: (f, layer) => {
+      const p = f.properties;
+      const shape = p.turn_type ? ` (${p.turn_type === 'u' ? 'U' : p.turn_type})` : '';
+      layer.bindTooltip(`${drone(p)}${p.kind}${shape} ${p.length_m} m, ${p.speed_mps} m/s, sortie ${p.sortie}`);
+    },
   }).addTo(group);
   if (!faded) {
     // flight direction on every sweep
@@ -116,6 +121,10 @@ const figureRows = [
   ['last landing', (s) => (s.makespan_s == null ? '' : `${(s.makespan_s / 60).toFixed(1)} min`)],
   ['conflicts', (s) => (s.conflicts == null ? '' : s.conflicts.length)],
   ['photos', (s) => s.photos],
+  ['mainland worked', (s) => (s.ground ? `${(100 * s.ground.mainland_coverage).toFixed(1)} %` : '')],
+  ['headland worked', (s) => (s.ground ? `${(100 * s.ground.headland_coverage).toFixed(1)} % (${s.ground.headland_passes} passes, ${s.ground.headland_width_m.toFixed(1)} m)` : '')],
+  ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail` : '')],
+  ['turns leaving the field', (s) => (s.ground ? s.ground.turns_leaving_field + s.ground.turns_crossing_holes : '')],
 ];
 
 /** A fleet's drones, one row each, in their colours. */

@@ -147,6 +147,22 @@ try {
   await page.fill('#drones', '1');
   await page.dispatchEvent('#drones', 'change');
 
+  // a tractor: its implement's fields instead of a camera, the headland planner, passes drawn
+  await page.selectOption('#vehicle', 'tractor_sprayer');
+  assert.ok(await page.isVisible('#ground-box'), 'the implement and headland fields');
+  assert.ok(!(await page.isVisible('#camera-box')) && !(await page.isVisible('#spacing-box')), 'no camera or spacing for a tractor');
+  assert.equal(await page.inputValue('#planner'), 'headland');
+  await page.fill('#working-width', '12');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.click('#plan');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the tractor plan', 60000);
+  await waitFor(async () => (await page.$$('path.kind-headland')).length > 0, 'the headland passes');
+  assert.ok((await page.$$('path.kind-sweep')).length > 0 && (await page.$$('path.kind-turn')).length > 0, 'swaths and turns');
+  assert.equal(await page.textContent('td[data-figure="turns leaving the field"]'), '0');
+  assert.match(await page.textContent('td[data-figure="turn shapes"]'), /\d+ U/);
+  await page.selectOption('#vehicle', 'generic_multirotor');
+  assert.equal(await page.inputValue('#planner'), 'boustrophedon', 'back to a drone planner');
+
   // a patrol of two UAVs: their paths and the visits per cell as a heat map
   await page.click('#patrol-box summary');
   await page.fill('#patrol-uavs', '2');

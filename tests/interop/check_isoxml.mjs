@@ -1,6 +1,7 @@
 // Reads coverplan's ISOXML TaskData exports with the isoxml library (ISO 11783-10) and checks
 // what they hold. usage: node check_isoxml.mjs DIR, where DIR/manifest.json lists the files:
-// {"files": [{"file", "format": "isoxml", "fields", "holes", "zones", "swath_width_mm", "lines"}]}
+// {"files": [{"file", "format": "isoxml", "fields", "holes", "zones", "swath_width_mm", "lines",
+// "headland_passes"?}]}: a ground plan's headland passes are curve patterns.
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { ISOXMLManager } from 'isoxml';
@@ -35,13 +36,17 @@ for (const spec of manifest.files.filter((f) => f.format === 'isoxml')) {
       }
     }
     const patterns = partfields.flatMap((p) => p.attributes.GuidanceGroup ?? []).flatMap((g) => g.attributes.GuidancePattern);
-    const swaths = patterns.filter((p) => code(p.attributes.GuidancePatternPropagationDirection) === 4);
+    const lines = patterns.filter((p) => code(p.attributes.GuidancePatternType) === 1);
+    const curves = patterns.filter((p) => code(p.attributes.GuidancePatternType) === 3);
+    check(lines.length + curves.length === patterns.length, 'guidance patterns are AB lines or curves');
+    const swaths = lines.filter((p) => code(p.attributes.GuidancePatternPropagationDirection) === 4);
     check(swaths.length === spec.lines, `${swaths.length} swaths, expected ${spec.lines}`);
+    check(curves.length === (spec.headland_passes ?? 0), `${curves.length} headland curves, expected ${spec.headland_passes ?? 0}`);
     for (const p of patterns) {
-      check(code(p.attributes.GuidancePatternType) === 1, 'guidance patterns are AB lines');
       const [line] = p.attributes.LineString;
-      check(code(line.attributes.LineStringType) === 5 && line.attributes.LineStringWidth === spec.swath_width_mm, 'an AB line is a guidance line string as wide as the swath');
-      check(line.attributes.Point.length === 2, 'an AB line has two points');
+      check(code(line.attributes.LineStringType) === 5 && line.attributes.LineStringWidth === spec.swath_width_mm, 'a guidance line string is as wide as the swath');
+      const curve = code(p.attributes.GuidancePatternType) === 3;
+      check(curve ? line.attributes.Point.length >= 3 : line.attributes.Point.length === 2, 'an AB line has two points, a curve three or more');
     }
     check(manager.getEntitiesOfTag('TSK').length === spec.fields, 'one task per partfield');
     passed += 1;

@@ -12,7 +12,7 @@ use proptest::prelude::*;
 use serde_json::{Value, json};
 
 fn plan_with_home(area: &Value, nfz: Option<&Value>, home: [f64; 2], params: &PlanParams) -> PlanOutput {
-    try_plan_with_home(area, nfz, home, params).unwrap_or_else(|| panic!("{} refused the field", params.planner))
+    try_plan_with_home(area, nfz, home, params).unwrap_or_else(|| panic!("{} refused the field", params.planner.as_deref().unwrap_or_default()))
 }
 
 /// The plan, or `None` when the planner refuses the field with a documented refusal (as
@@ -22,7 +22,7 @@ fn try_plan_with_home(area: &Value, nfz: Option<&Value>, home: [f64; 2], params:
     match planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()) {
         Ok(out) => Some(out),
         Err(PlanError::Input(e)) if ["planner_not_applicable", "instance_too_large"].contains(&e.code) => None,
-        Err(e) => panic!("{}: {e}", params.planner),
+        Err(e) => panic!("{}: {e}", params.planner.as_deref().unwrap_or_default()),
     }
 }
 
@@ -231,7 +231,7 @@ fn fleets_refuse_what_they_cannot_split() {
         other => panic!("not refused: {:?}", other.map(|o| o.stats.planner)),
     };
     let fleet = || PlanParams { line_spacing_m: Some(20.0), vehicles: Some(2), ..PlanParams::default() };
-    assert_eq!(refused(PlanParams { planner: "eg_cpp".into(), ..fleet() }), ("planner_not_for_fleets", "/planner".into()));
+    assert_eq!(refused(PlanParams { planner: Some("eg_cpp".into()), ..fleet() }), ("planner_not_for_fleets", "/planner".into()));
     let optimal = serde_json::from_value(json!("optimal")).unwrap();
     assert_eq!(refused(PlanParams { sweep_direction: Some(optimal), ..fleet() }), ("direction_for_fleet", "/sweep_direction".into()));
     // a drone's home inside a no-fly zone

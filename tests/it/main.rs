@@ -4,6 +4,7 @@
 mod api;
 mod common;
 mod fleets;
+mod ground_plans;
 mod interop;
 mod jobs;
 mod observability;

@@ -1,9 +1,11 @@
 //! Decompose stage: split the area to cover into cells that can each be flown back and forth,
-//! every cell with its own sweep direction and lines (docs/methods.md, decomposition §6–§9).
+//! every cell with its own sweep direction and lines (docs/methods.md, decomposition §6–§9);
+//! for a ground vehicle, the [`headland`] band and the mainland inside it.
 
 pub mod boustrophedon;
 pub mod eecd;
 pub mod energy_aware;
+pub mod headland;
 pub mod naive;
 pub mod polygon;
 

@@ -1,12 +1,14 @@
 //! Energy/time stage: speed, duration and energy of every piece of a flight path, one model
 //! per file: [`iem`] (measured multirotor), [`fixed_wing`] (physics of steady flight),
-//! [`constant_power`] (a single power figure). [`EnergyParams::model`] builds a profile's.
+//! [`constant_power`] (a single power figure), [`ground`] (a tractor's fuel, working and
+//! turning). [`EnergyParams::model`] builds a profile's.
 //!
 //! The models take plain numbers (their own figures and the speed, turning radius and corner
 //! stop of the flight) and check their own figures, so that they know nothing of vehicles.
 
 pub mod constant_power;
 pub mod fixed_wing;
+pub mod ground;
 pub mod iem;
 
 use serde::{Deserialize, Serialize};
@@ -15,6 +17,7 @@ use super::error::InputError;
 use super::path::FlightPath;
 use constant_power::PowerFigures;
 use fixed_wing::Airframe;
+use ground::GroundPower;
 use iem::IemCoefficients;
 
 /// The energy model of a vehicle profile and its parameters.
@@ -28,6 +31,8 @@ pub enum EnergyParams {
     FixedWing(Airframe),
     /// One power figure for the whole flight.
     ConstantPower(PowerFigures),
+    /// A ground vehicle's fuel: one power working, another turning and driving.
+    Ground(GroundPower),
 }
 
 /// How the vehicle flies, as far as the models need to know.
@@ -38,8 +43,11 @@ pub struct Motion {
     /// The tightest turn (fixed wing); sharper joints are flown as arcs of this radius.
     pub turn_radius_m: f64,
     /// Seconds a full stop at a corner adds to flying through it (0 when the vehicle does not
-    /// stop); used by the constant-power model.
+    /// stop); used by the constant-power model. For a ground vehicle, the time a reversal
+    /// adds.
     pub corner_stop_s: f64,
+    /// A ground vehicle's speed in turns and transits.
+    pub headland_speed_mps: f64,
 }
 
 impl EnergyParams {
@@ -49,6 +57,9 @@ impl EnergyParams {
             EnergyParams::MultirotorIem(c) => Box::new(iem::Iem { coefficients: c, max_speed_mps: motion.cruise_speed_mps }),
             EnergyParams::FixedWing(a) => Box::new(fixed_wing::FixedWing { airframe: a, speed_mps: motion.cruise_speed_mps, turn_radius_m: motion.turn_radius_m }),
             EnergyParams::ConstantPower(p) => Box::new(constant_power::ConstantPower { power: p, speed_mps: motion.cruise_speed_mps, corner_stop_s: motion.corner_stop_s }),
+            EnergyParams::Ground(p) => {
+                Box::new(ground::Ground { power: p, working_speed_mps: motion.cruise_speed_mps, headland_speed_mps: motion.headland_speed_mps, reversal_s: motion.corner_stop_s })
+            }
         }
     }
 
@@ -58,16 +69,7 @@ impl EnergyParams {
             EnergyParams::MultirotorIem(c) => c.check(cruise_speed_mps, at),
             EnergyParams::FixedWing(a) => a.check(at),
             EnergyParams::ConstantPower(p) => p.check(at),
-        }
-    }
-
-    /// `Some(true)` for a fixed-wing model, `Some(false)` for a multirotor one, `None` for a
-    /// model that fits either.
-    pub fn for_fixed_wing(&self) -> Option<bool> {
-        match self {
-            EnergyParams::MultirotorIem(_) => Some(false),
-            EnergyParams::FixedWing(_) => Some(true),
-            EnergyParams::ConstantPower(_) => None,
+            EnergyParams::Ground(p) => p.check(at),
         }
     }
 }

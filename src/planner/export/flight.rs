@@ -21,7 +21,7 @@ pub struct Flight {
 }
 
 impl Flight {
-    /// Reads the LineString features of kind sweep, turn or transit; points without a height
+    /// Reads the LineString features of kind sweep, headland, turn or transit; points without a height
     /// are flown at `altitude_m`.
     pub fn from_trajectory(trajectory: &FeatureCollection, altitude_m: f64) -> Result<Flight, InputError> {
         let mut sorties: Vec<Vec<FlownPiece>> = Vec::new();
@@ -29,6 +29,7 @@ impl Flight {
             let property = |key: &str| feature.properties.as_ref().and_then(|p| p.get(key));
             let kind = match property("kind").and_then(Value::as_str) {
                 Some("sweep") => PieceKind::Sweep,
+                Some("headland") => PieceKind::Headland,
                 Some("turn") => PieceKind::Turn,
                 Some("transit") => PieceKind::Transit,
                 _ => continue,

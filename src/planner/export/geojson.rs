@@ -110,6 +110,9 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
             if let Some(z) = altitude_m {
                 props["altitude_m"] = json!(round(z, 2));
             }
+            if let Some(shape) = piece.shape {
+                props["turn_type"] = json!(shape);
+            }
             push(&mut features, GeometryValue::LineString { coordinates: coords }, props);
             if swaps.peek().is_some_and(|&&c| c == piece.end()) {
                 swaps.next();

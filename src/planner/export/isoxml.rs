@@ -2,7 +2,8 @@
 //! a zip with `TASKDATA/TASKDATA.XML` holding one partfield per field (its boundary with the
 //! holes as interior rings, the no-fly zones as obstacle polygons), a task per partfield, and
 //! the sweep lines as guidance: per sweep direction a guidance group with a reference AB line
-//! and every swath as its own AB line, the line width being the line spacing. Written with
+//! and every swath as its own AB line, the line width being the line spacing; a ground plan's
+//! headland passes as curve patterns in a group of their own. Written with
 //! quick-xml: no Rust crate writes ISOXML.
 
 use geo::{Centroid, Contains, GeodesicArea, LineString, Point};
@@ -28,6 +29,9 @@ const PNT_GUIDANCE_A: &str = "6";
 const PNT_GUIDANCE_B: &str = "7";
 /// `GPN` type AB; propagation to both sides.
 const GPN_AB: &str = "1";
+const GPN_CURVE: &str = "3";
+/// Propagation: none (each swath and pass is its own pattern).
+const PROPAGATE_NONE: &str = "4";
 const PROPAGATE_BOTH: &str = "1";
 
 impl Exporter for TaskData {
@@ -56,6 +60,8 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
             [[a[0], a[1]], [b[0], b[1]]]
         })
         .collect();
+    let passes: Vec<Vec<[f64; 2]>> =
+        job.flight.sorties.iter().flatten().filter(|p| p.kind == PieceKind::Headland).map(|p| p.points.iter().map(|q| [q[0], q[1]]).collect()).collect();
     let width_mm = (job.settings.line_spacing_m * 1000.0).round().to_string();
     let mut x = Xml::new();
     x.open(
@@ -99,7 +105,17 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
             guidance(&mut x, pattern_id, "AB reference", &attributes, &reference, &width_mm);
             for (s, swath) in swaths.iter().enumerate() {
                 pattern_id += 1;
-                guidance(&mut x, pattern_id, &format!("Swath {}", s + 1), &[("C", GPN_AB), ("E", "4"), ("G", heading.as_str())], swath, &width_mm);
+                guidance(&mut x, pattern_id, &format!("Swath {}", s + 1), &[("C", GPN_AB), ("E", PROPAGATE_NONE), ("G", heading.as_str())], swath, &width_mm);
+            }
+            x.close("GGP");
+        }
+        let mine: Vec<&Vec<[f64; 2]>> = passes.iter().filter(|p| field_of(Point::new(p[0][0], p[0][1])) == k).collect();
+        if !mine.is_empty() {
+            group_id += 1;
+            x.open("GGP", &[("A", &format!("GGP{group_id}")), ("B", "Headland passes")]);
+            for (s, pass) in mine.iter().enumerate() {
+                pattern_id += 1;
+                guidance(&mut x, pattern_id, &format!("Headland pass {}", s + 1), &[("C", GPN_CURVE), ("E", PROPAGATE_NONE)], pass, &width_mm);
             }
             x.close("GGP");
         }
@@ -131,13 +147,22 @@ fn by_direction(lines: &[Line]) -> Vec<(f64, Vec<Line>)> {
     groups
 }
 
-fn guidance(x: &mut Xml, id: usize, designator: &str, attributes: &[(&str, &str)], line: &Line, width_mm: &str) {
+/// A guidance pattern through `points`: the first is its A point, the last its B point.
+fn guidance(x: &mut Xml, id: usize, designator: &str, attributes: &[(&str, &str)], points: &[[f64; 2]], width_mm: &str) {
     let id = format!("GPN{id}");
     let mut all = vec![("A", id.as_str()), ("B", designator)];
     all.extend_from_slice(attributes);
     x.open("GPN", &all).open("LSG", &[("A", LSG_GUIDANCE_PATTERN), ("C", width_mm)]);
-    point(x, PNT_GUIDANCE_A, line[0]);
-    point(x, PNT_GUIDANCE_B, line[1]);
+    for (i, &p) in points.iter().enumerate() {
+        let kind = if i == 0 {
+            PNT_GUIDANCE_A
+        } else if i + 1 == points.len() {
+            PNT_GUIDANCE_B
+        } else {
+            PNT_OTHER
+        };
+        point(x, kind, p);
+    }
     x.close("LSG").close("GPN");
 }
 

@@ -20,6 +20,7 @@ const STYLES: &[(&str, &str, &str, &str)] = &[
     ("field", "ff00d7ff", "4000d7ff", "2"),
     ("nfz", "ff0000ff", "600000ff", "2"),
     ("sweep", "ff00b000", "00000000", "3"),
+    ("headland", "ff008000", "00000000", "3"),
     ("turn", "ff0090ff", "00000000", "2"),
     ("transit", "ffff7000", "00000000", "2"),
 ];
@@ -96,7 +97,7 @@ fn flight_folders(x: &mut Xml, job: &ExportJob<'_>) {
         let properties = feature.properties.clone().unwrap_or_default();
         let kind = properties.get("kind").and_then(Value::as_str).unwrap_or_default();
         let Some(GeometryValue::LineString { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) else { continue };
-        if !matches!(kind, "sweep" | "turn" | "transit") {
+        if !matches!(kind, "sweep" | "headland" | "turn" | "transit") {
             continue;
         }
         let this = properties.get("sortie").and_then(Value::as_u64).unwrap_or(1);

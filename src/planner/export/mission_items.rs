@@ -50,6 +50,8 @@ pub fn mav_type(kind: VehicleKind) -> u8 {
     match kind {
         VehicleKind::FixedWing => 1,
         VehicleKind::Multirotor => 2,
+        // MAV_TYPE_GROUND_ROVER: ArduPilot Rover and PX4 rover missions
+        VehicleKind::Ground => 10,
     }
 }
 

@@ -29,7 +29,7 @@ impl Planner for Auto {
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
         let model = problem.vehicle.energy_model();
-        let others: Vec<&'static dyn Planner> = registry().iter().copied().filter(|p| p.id() != self.id()).collect();
+        let others: Vec<&'static dyn Planner> = registry().iter().copied().filter(|p| p.id() != self.id() && !p.for_ground_vehicles()).collect();
         let results: Vec<(&'static str, Result<PlannedPath, PlanError>)> = others.par_iter().map(|p| (p.id(), p.plan(problem, &|_| true))).collect();
         if !progress.report(0.8) {
             return Err(PlanError::Cancelled);

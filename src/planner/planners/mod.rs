@@ -5,6 +5,7 @@ pub mod auto;
 pub mod cell_planner;
 pub mod e_spiral;
 pub mod eg_cpp;
+pub mod headland;
 pub mod line_gtsp;
 
 use geo::{Coord, MultiPolygon};
@@ -24,6 +25,7 @@ use auto::Auto;
 use cell_planner::{BOUSTROPHEDON, E_BF, EECD, ENERGY_AWARE, NAIVE};
 use e_spiral::ESpiral;
 use eg_cpp::EgCpp;
+use headland::{GroundSetup, HeadlandPlanner};
 use line_gtsp::LineGtsp;
 
 /// What every planner receives, in the local frame.
@@ -54,6 +56,8 @@ pub struct Problem<'a> {
     pub vehicle: &'a Vehicle,
     /// What planner `auto` minimises.
     pub objective: Objective,
+    /// A ground vehicle's headland; `None` for an aircraft.
+    pub ground: Option<&'a GroundSetup>,
 }
 
 pub struct PlannedPath {
@@ -117,10 +121,15 @@ pub trait Planner: Send + Sync {
     /// How the planner picks the sweep direction when the user fixes none.
     fn direction_rule(&self) -> &'static str;
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError>;
+    /// True for a planner of ground vehicles (which plans nothing else, and which no other
+    /// planner's vehicle can use).
+    fn for_ground_vehicles(&self) -> bool {
+        false
+    }
 }
 
 /// Every planner the service offers, in the order listed to users.
-static REGISTRY: &[&dyn Planner] = &[&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &E_BF, &ESpiral, &EgCpp, &LineGtsp, &Auto];
+static REGISTRY: &[&dyn Planner] = &[&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &E_BF, &ESpiral, &EgCpp, &LineGtsp, &Auto, &HeadlandPlanner];
 
 /// Every planner the service offers.
 pub fn registry() -> &'static [&'static dyn Planner] {
@@ -160,14 +169,18 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
         p(
             "vehicle",
             "object",
-            "{profile} from GET /api/v1/vehicles, or {kind: multirotor|fixed_wing}, with overrides cruise_speed_mps, turn_radius_m, battery_wh, battery_reserve; fixed wing flies Dubins turns",
+            "{profile} from GET /api/v1/vehicles, or {kind: multirotor|fixed_wing|ground}, with overrides cruise_speed_mps, turn_radius_m (min_turn_radius_m), battery_wh, battery_reserve; ground: working_width_m, reverse_allowed, max_curvature_rate, headland_speed_mps; fixed wing flies Dubins turns",
         ),
         p("objective", "string", "auto only: energy (default), time or length"),
         p("max_sorties", "integer", "most sorties when one battery is not enough, 1 to 100 (default 20); needs the mission's home"),
         p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts and its compass heading (default: home, heading free)"),
         p("end", "object", "{position: [lon, lat], heading_deg}: where the flight ends (default: home)"),
         p("allow_reentry", "boolean", "line-level routing (line_gtsp, fixed wing) may leave a field and come back (default true)"),
-        p("nfz_margin_m", "number", "clearance kept from no-fly zones, 1 to 500 m (default 10)"),
+        p("nfz_margin_m", "number", "clearance kept from no-fly zones, 1 to 500 m (default 10; 1 for a ground vehicle)"),
+        p("headland_passes", "integer", "ground vehicle: working passes round the field's edge and every hole, 1 to 20 (default 2)"),
+        p("headland_width_m", "number", "ground vehicle: headland width, 1 to 500 m (default: passes × working width)"),
+        p("headland_order", "string", "ground vehicle: first or last (default): when the headland passes are worked"),
+        p("overlap", "number", "ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5 (default 0)"),
     ]
 }
 

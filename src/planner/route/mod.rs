@@ -2,11 +2,13 @@
 //!
 //! [`CellOrder`] implementations: [`nearest_cell::NearestCell`] (greedy, seed 000) and
 //! [`cell_tour::CellTour`] (generalised TSP over the cells' entry variants, docs/methods.md, routing §1–§4,
-//! solved by [`gtsp`]).
+//! solved by [`gtsp`]). A ground vehicle's swaths are ordered and joined in the headland by
+//! [`headland_route`].
 
 pub mod cell_tour;
 pub mod connect;
 pub mod gtsp;
+pub mod headland_route;
 pub mod line_tour;
 pub mod nearest_cell;
 pub mod visibility;

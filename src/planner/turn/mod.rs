@@ -1,10 +1,15 @@
 //! Turn stage: how the vehicle gets from the end of one line to the start of the next.
 //!
 //! A multirotor stops and flies straight ([`TurnModel::Straight`]); a fixed-wing aircraft
-//! flies the shortest [`dubins`] path for its turning radius.
+//! flies the shortest [`dubins`] path for its turning radius; a ground vehicle chooses among
+//! [`ground`] manoeuvres (Dubins words, the [`fishtail`] when it may reverse), planned on the
+//! [`continuous_curvature`] radius when its steering is slow.
 
 pub mod climb;
+pub mod continuous_curvature;
 pub mod dubins;
+pub mod fishtail;
+pub mod ground;
 
 use geo::Coord;
 

@@ -1,0 +1,100 @@
+//! `coverplan bench --ground`: planner `headland` on the real fields at the configuration of
+//! the Fields2Cover 2.1 figures measured on this machine (5 m wide, turning radius 3 m,
+//! headland 10 m, its route planner with Dubins turns), and with a 6 m sprayer turning on 7 m
+//! with two headland passes on the real and the generated fields: path length (and without
+//! the headland passes, which Fields2Cover's route does not drive), turns and their shapes,
+//! turns leaving the field or crossing a hole, mainland and headland coverage, planning time
+//! (median of the runs) and peak memory.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::Context;
+use serde_json::{Value, json};
+
+use super::{peak_mb, quantile, reset_peak};
+use crate::planner::{self, FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop};
+
+/// Fields2Cover 2.1 on this machine, process start included: (field, path m, turns, seconds).
+const F2C: [(&str, f64, usize, f64); 5] = [
+    ("nl-parcel-17ha", 32_316.0, 76, 1.6),
+    ("nl-parcel-b", 6_220.0, 30, 0.5),
+    ("us-field-two-cells", 26_202.0, 72, 1.5),
+    ("us-field-two-cells-1", 45_642.0, 112, 2.6),
+    ("ee-field-3-holes", 3_027.0, 44, 1.0),
+];
+
+fn params(width: f64, radius: f64, headland: Value) -> anyhow::Result<PlanParams> {
+    let mut p = json!({"vehicle": {"kind": "ground", "working_width_m": width, "turn_radius_m": radius}});
+    p.as_object_mut().context("object")?.extend(headland.as_object().context("object")?.clone());
+    Ok(serde_json::from_value(p)?)
+}
+
+/// The plan of `mission` (median time over `repeats` runs, peak memory of the last), or the
+/// reason it was refused.
+fn plan(mission: &Value, params: &PlanParams, repeats: usize) -> Result<(PlanOutput, f64, f64), String> {
+    let m = MissionGeometry { area: &mission["area"], no_fly_zones: None, obstacles: None, home: None };
+    let profiles = planner::vehicle::builtin_profiles();
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..repeats {
+        reset_peak();
+        let started = Instant::now();
+        let out = planner::plan(&m, params, &profiles, &FieldLimits::default(), &|_| true, &Stop::never()).map_err(|e| e.to_string())?;
+        times.push(started.elapsed().as_secs_f64() * 1000.0);
+        last = Some(out);
+    }
+    Ok((last.expect("one run"), quantile(&mut times, 0.5), peak_mb().unwrap_or(f64::NAN)))
+}
+
+fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), String>, f2c: Option<(f64, usize, f64)>) {
+    let (o, ms, mb) = match result {
+        Ok(r) => r,
+        Err(e) => {
+            let _ = writeln!(out, "| {name} | refused: {e} |");
+            return;
+        }
+    };
+    let (s, g) = (&o.stats, o.stats.ground.clone().unwrap_or_default());
+    let without = s.length_m - g.headland_length_m;
+    let (theirs, ratio, their_turns, speedup) = match f2c {
+        Some((len, turns, secs)) => (format!("{len:.0}"), format!("{:.3}", without / len), turns.to_string(), format!("{:.0}×", secs * 1000.0 / ms)),
+        None => ("".into(), "".into(), "".into(), "".into()),
+    };
+    let _ = writeln!(
+        out,
+        "| {name} | {:.0} | {without:.0} | {theirs} | {ratio} | {} ({} U, {} Ω, {} fishtail) | {their_turns} | {} | {} | {:.3} | {:.3} | {ms:.0} | {speedup} | {mb:.0} |",
+        s.length_m, s.turns, g.u_turns, g.omega_turns, g.fishtail_turns, g.turns_leaving_field, g.turns_crossing_holes, g.mainland_coverage, g.headland_coverage
+    );
+}
+
+const HEADER: &str = "| field | length m | without headland passes m | F2C m | ratio | turns | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+
+pub fn run(random_dir: &Path, repeats: usize) -> anyhow::Result<String> {
+    let real_dir = random_dir.parent().context("the fields' folder")?.join("real-fields");
+    let read = |path: &Path| -> anyhow::Result<Value> { Ok(serde_json::from_str(&std::fs::read_to_string(path).with_context(|| path.display().to_string())?)?) };
+    let repeats = repeats.max(1);
+    let mut out = String::new();
+    let _ = writeln!(out, "release build, median of {repeats} runs, process start not included (Fields2Cover's times include it)\n");
+    let _ = writeln!(out, "Fields2Cover's configuration: 5 m wide, turning radius 3 m, headland 10 m (2 passes), forward only\n");
+    out.push_str(HEADER);
+    let f2c = params(5.0, 3.0, json!({"headland_width_m": 10}))?;
+    for (name, length, turns, secs) in F2C {
+        let mission = read(&real_dir.join(format!("{name}.json")))?;
+        row(&mut out, name, plan(&mission, &f2c, repeats), Some((length, turns, secs)));
+    }
+    let _ = writeln!(out, "\nA 6 m sprayer turning on 7 m, 2 headland passes (12 m), forward only; generated fields: the `_00` of each hole count\n");
+    out.push_str(HEADER);
+    let sprayer = params(6.0, 7.0, json!({"headland_passes": 2}))?;
+    for (name, ..) in F2C {
+        let mission = read(&real_dir.join(format!("{name}.json")))?;
+        row(&mut out, name, plan(&mission, &sprayer, repeats), None);
+    }
+    for holes in 0..16 {
+        let name = format!("h{holes:02}_00");
+        let mission = read(&random_dir.join(format!("{name}.json")))?;
+        row(&mut out, &name, plan(&mission, &sprayer, repeats), None);
+    }
+    Ok(out)
+}

@@ -1,0 +1,103 @@
+//! Headlands (docs/methods.md, ground §1): a ground vehicle works a band along the field's
+//! edge and around every hole in passes that follow the boundary, and fills the mainland
+//! inside the band with straight swaths, turning at their ends in the band.
+//!
+//! The mainland is the area inset by the headland width. Pass `k` of `n` runs at
+//! `width · (k + ½) / n` from the boundary, on a ring whose corners are rounded to the turning
+//! radius (so that the vehicle can follow it): each boundary of the inset area opened and
+//! closed by the radius, three buffers.
+
+use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Polygon};
+
+/// Parts of inset areas smaller than this are slivers, not room to work.
+const SLIVER_M2: f64 = 1.0;
+
+#[derive(Debug, Clone)]
+pub struct Headland {
+    /// What the swaths cover: the area inset by the headland width.
+    pub mainland: MultiPolygon,
+    /// The passes, outermost first: each a set of closed rings (first point repeated last),
+    /// one per boundary that still has room at that offset.
+    pub passes: Vec<Vec<Vec<Coord>>>,
+    /// The band the passes cover: the area less the mainland.
+    pub band: MultiPolygon,
+}
+
+/// The headland of `region` (the field less its holes and zones): `passes` passes spread over
+/// `width_m`, rings rounded to `turn_radius_m`.
+pub fn headland(region: &MultiPolygon, width_m: f64, passes: usize, turn_radius_m: f64) -> Headland {
+    let mainland = without_slivers(inset(region, width_m));
+    let band = if mainland.0.is_empty() { region.clone() } else { region.difference(&mainland) };
+    let passes = (0..passes)
+        .map(|k| {
+            let offset = width_m * (k as f64 + 0.5) / passes as f64;
+            let at_offset = without_slivers(inset(region, offset));
+            let edges = at_offset.iter().map(|p| (p.exterior(), false));
+            let holes = at_offset.iter().flat_map(|p| p.interiors().iter().map(|ring| (ring, true)));
+            edges.chain(holes).filter_map(|(ring, around_hole)| drivable(ring, around_hole, region, turn_radius_m, offset)).flatten().collect()
+        })
+        .collect();
+    Headland { mainland, passes, band }
+}
+
+/// The rings a vehicle turning no tighter than `r` drives along `ring` (a boundary of the area
+/// inset by `offset`): the ring's shape opened and closed by `r` (convex corners rounded
+/// inwards, concave ones outwards), each ring on its own so that a narrow neck between a hole
+/// and the edge does not merge their passes. A hole too small to round is driven round at `r`
+/// from it; a rounded ring that would leave `region` is driven as it is, corners and all.
+fn drivable(ring: &LineString, around_hole: bool, region: &MultiPolygon, r: f64, offset: f64) -> Option<Vec<Vec<Coord>>> {
+    let shape = MultiPolygon(vec![Polygon::new(ring.clone(), vec![])]);
+    let mut rounded = without_slivers(inset(&inset(&shape, r).buffer(2.0 * r), r));
+    if rounded.0.is_empty() {
+        if !around_hole {
+            return None;
+        }
+        rounded = shape.buffer((r - offset).max(0.0));
+    }
+    let rings: Vec<Vec<Coord>> = rounded.iter().map(|p| p.exterior().0.clone()).filter(|ring| ring.len() >= 4).collect();
+    let inside = rings.iter().all(|ring| region.contains(&LineString::from(ring.clone())));
+    Some(if inside { rings } else { vec![ring.0.clone()] })
+}
+
+/// The area shrunk by `d` (empty when nothing is left).
+fn inset(area: &MultiPolygon, d: f64) -> MultiPolygon {
+    if area.0.is_empty() {
+        return area.clone();
+    }
+    area.buffer(-d)
+}
+
+fn without_slivers(area: MultiPolygon) -> MultiPolygon {
+    MultiPolygon(area.0.into_iter().filter(|p| p.unsigned_area() >= SLIVER_M2).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::polyline_length;
+    use geo::{Contains, Coord, LineString, Polygon, polygon};
+
+    #[test]
+    fn a_square_with_a_pond_gets_passes_round_both_and_a_mainland_inside() {
+        let pond = LineString::from(vec![(40.0, 40.0), (60.0, 40.0), (60.0, 60.0), (40.0, 60.0), (40.0, 40.0)]);
+        let field = Polygon::new(LineString::from(vec![(0.0, 0.0), (100.0, 0.0), (100.0, 100.0), (0.0, 100.0), (0.0, 0.0)]), vec![pond]);
+        let h = headland(&MultiPolygon(vec![field.clone()]), 12.0, 2, 7.0);
+        // mainland: the square inset by 12 less the pond grown by 12 (rounded corners)
+        let expected = 76.0 * 76.0 - (44.0 * 44.0 - (4.0 - std::f64::consts::PI) * 144.0);
+        assert!((h.mainland.unsigned_area() - expected).abs() < 5.0, "{}", h.mainland.unsigned_area());
+        assert_eq!(h.passes.len(), 2);
+        for rings in &h.passes {
+            assert_eq!(rings.len(), 2, "one ring round the edge, one round the pond");
+            for ring in rings {
+                assert!(ring.iter().all(|&p| field.contains(&p)));
+            }
+        }
+        // the outer pass runs 3 m in, its corners rounded on 7 m: 4 × 94 less 4 × (2 − π/2) × 7
+        let outer = h.passes[0].iter().map(|r| polyline_length(r)).fold(0.0, f64::max);
+        assert!((outer - (4.0 * 94.0 - 4.0 * (2.0 - std::f64::consts::FRAC_PI_2) * 7.0)).abs() < 1.0, "{outer}");
+        assert!((h.band.unsigned_area() + h.mainland.unsigned_area() - field.unsigned_area()).abs() < 1.0);
+        let narrow = polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 100.0, y: 20.0), (x: 0.0, y: 20.0)];
+        assert!(headland(&MultiPolygon(vec![narrow]), 12.0, 2, 7.0).mainland.0.is_empty());
+        let _ = Coord { x: 0.0, y: 0.0 };
+    }
+}

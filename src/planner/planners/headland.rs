@@ -1,0 +1,263 @@
+//! Planner `headland`, for ground vehicles (docs/methods.md, ground): passes round the field's
+//! edge and every hole, straight swaths over the mainland inside them, every turn between
+//! swaths in the headland, the swaths' order a generalised TSP over the real turns.
+
+use geo::{Coord, MultiPolygon};
+
+use super::{PlannedPath, Planner, Problem, Progress};
+use crate::decompose::headland::Headland;
+use crate::error::PlanError;
+use crate::frame::LocalFrame;
+use crate::geom::distance;
+use crate::params::{HeadlandOrder, HeadlandSpec};
+use crate::path::{FlightPath, PieceKind};
+use crate::route::headland_route::{HeadlandRoutes, SwathLinks, Way, connect_anywhere, order};
+use crate::route::line_tour::{Line, entry, exit};
+use crate::sweep::{fewest_lines_direction, from_sweep_frame, sweep};
+use crate::turn::dubins::Pose;
+
+/// A ground plan's headland, computed and checked when the request is.
+pub struct GroundSetup {
+    pub spec: HeadlandSpec,
+    pub headland: Headland,
+    /// For naming places in messages.
+    pub frame: LocalFrame,
+}
+
+pub struct HeadlandPlanner;
+
+impl Planner for HeadlandPlanner {
+    fn id(&self) -> &'static str {
+        "headland"
+    }
+
+    fn description(&self) -> &'static str {
+        "Ground vehicles: headland passes round the field's edge and every hole, swaths over the mainland, every turn inside the headland (Dubins, fishtail when the vehicle may reverse), swath order by GTSP over the real turns"
+    }
+
+    fn direction_rule(&self) -> &'static str {
+        "fewest swaths over the mainland (fewest turns)"
+    }
+
+    fn for_ground_vehicles(&self) -> bool {
+        true
+    }
+
+    fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
+        let setup = problem.ground.ok_or_else(|| PlanError::Infeasible("planner headland plans ground vehicles: give vehicle kind ground".into()))?;
+        let vehicle = problem.vehicle;
+        let reverse = vehicle.ground.is_some_and(|g| g.reverse_allowed);
+        let radius = vehicle.planning_radius_m();
+        let headland = &setup.headland;
+        let angle = problem.sweep_angle.unwrap_or_else(|| best_direction(&headland.mainland, problem.layout, radius));
+        // swaths run as far into the headland as their whole width needs (slanted ends), at
+        // most the headland's width, and are pulled back where no turn would fit
+        let slack = setup.spec.width_m;
+        let roads: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
+        let routes = HeadlandRoutes::new(problem.region, &headland.mainland, roads, radius, reverse, setup.spec.width_m);
+        // a swath's end in an acute corner is pulled back to where a turn fits in the field
+        let lines: Vec<Line> = swaths(&headland.mainland, problem.region, angle, problem.layout.spacing, slack)
+            .into_iter()
+            .filter_map(|l| routes.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l }))
+            .collect();
+        if !progress.report(0.3) {
+            return Err(PlanError::Cancelled);
+        }
+        let half = setup.spec.working_width_m / 2.0;
+        let mut drive = Drive { path: FlightPath::default(), at: problem.start.map(|p| Pose::at(p, problem.start_heading.unwrap_or(angle))), routes: &routes, frame: &setup.frame };
+        if setup.spec.order == HeadlandOrder::First {
+            drive.passes(headland, false, half)?;
+        }
+        let links = SwathLinks::new(&lines, &routes);
+        let seq = order(&links, drive.at, problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle))), &problem.connector.stop());
+        if !progress.report(0.8) {
+            return Err(PlanError::Cancelled);
+        }
+        let mut previous: Option<usize> = None;
+        for &v in &seq {
+            let (a, b) = (entry(&lines, v), exit(&lines, v));
+            match previous {
+                Some(u) => {
+                    let (way, _) = links.link(u, v).ok_or_else(|| drive.no_turn(exit(&lines, u).coord()))?;
+                    drive.follow(way, a);
+                }
+                None => drive.go_to(a),
+            }
+            drive.path.push(PieceKind::Sweep, vec![a.coord(), b.coord()], half);
+            drive.at = Some(b);
+            previous = Some(v);
+        }
+        if setup.spec.order == HeadlandOrder::Last {
+            drive.passes(headland, true, half)?;
+        }
+        if let Some(end) = problem.end {
+            drive.go_to(Pose::at(end, problem.end_heading.unwrap_or_else(|| drive.at.map_or(angle, |p| p.theta))));
+        }
+        Ok(PlannedPath::new(drive.path, angle, 1))
+    }
+}
+
+/// Directions whose swaths are counted and measured: the best by the width of the hull.
+const DIRECTIONS_MEASURED: usize = 8;
+
+/// The direction with the fewest swaths (turns), ties to the shortest: the hull's width ranks
+/// the candidate directions, the real swaths of the best few decide, each turn counted as a U
+/// turn's length.
+fn best_direction(mainland: &MultiPolygon, layout: crate::sweep::LineLayout, radius: f64) -> f64 {
+    use geo::ConvexHull;
+    let hull: Vec<Coord> = mainland.convex_hull().exterior().0.clone();
+    let mut ranked: Vec<(usize, f64, f64)> = crate::sweep::candidate_directions(&hull)
+        .into_iter()
+        .map(|a| {
+            let w = crate::sweep::width_across(&hull, a);
+            (layout.count(w), w, a)
+        })
+        .collect();
+    ranked.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    let mut picked: Vec<f64> = Vec::new();
+    for (_, _, a) in ranked {
+        // directions within a degree of one already picked give the same swaths
+        if picked.iter().all(|&p| ((a - p).rem_euclid(std::f64::consts::PI)).min((p - a).rem_euclid(std::f64::consts::PI)) > 1f64.to_radians()) {
+            picked.push(a);
+        }
+        if picked.len() == DIRECTIONS_MEASURED {
+            break;
+        }
+    }
+    let turn = std::f64::consts::PI * radius + 2.0 * radius;
+    let cost = |a: f64| {
+        let pattern = sweep(mainland, &MultiPolygon(vec![]), a, layout);
+        let segments = pattern.lines.iter().flatten();
+        segments.map(|s| s.b - s.a + turn).sum::<f64>()
+    };
+    picked.into_iter().map(|a| (cost(a), a)).min_by(|x, y| x.0.total_cmp(&y.0)).map_or_else(|| fewest_lines_direction(mainland, layout), |(_, a)| a)
+}
+
+/// The swaths over `mainland`: lines `spacing` apart at `angle`. The sweep prolongs each line
+/// so that its whole width reaches the mainland's edge; here the prolongation stops `slack`
+/// past the edge, leaving room in the headland to turn. Each is tagged with the field of
+/// `region` it lies in.
+fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f64, slack: f64) -> Vec<Line> {
+    use geo::Contains;
+    let pattern = sweep(mainland, &MultiPolygon(vec![]), angle, crate::sweep::LineLayout::centered(spacing));
+    let rotated = crate::sweep::rotate(mainland, angle);
+    pattern
+        .lines
+        .iter()
+        .flatten()
+        .filter_map(|s| {
+            let mid = (s.a + s.b) / 2.0;
+            let centreline = crate::sweep::scanline_intervals(&rotated, s.offset);
+            let (lo, hi) = centreline
+                .iter()
+                .copied()
+                .filter(|&(lo, hi)| lo <= s.b && hi >= s.a)
+                .fold(None, |acc: Option<(f64, f64)>, (lo, hi)| Some(acc.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi)))))?;
+            let (a, b) = (s.a.max(lo - slack), s.b.min(hi + slack));
+            (b - a > 0.05).then(|| {
+                let (a, b) = (from_sweep_frame(angle, a, s.offset), from_sweep_frame(angle, b, s.offset));
+                let centre = from_sweep_frame(angle, mid, s.offset);
+                let field = region.0.iter().position(|p| p.contains(&centre)).unwrap_or(0);
+                Line { a, b, region: field }
+            })
+        })
+        .collect()
+}
+
+/// Vertices of a ring tried as its entry.
+const RING_ENTRIES: usize = 16;
+
+/// The pose at vertex `i` of a closed ring, facing along it.
+fn ring_pose(ring: &[Coord], i: usize) -> Pose {
+    let next = ring[i + 1];
+    Pose::at(ring[i], (next.y - ring[i].y).atan2(next.x - ring[i].x))
+}
+
+/// The path as it is driven, and where the vehicle is.
+struct Drive<'a> {
+    path: FlightPath,
+    at: Option<Pose>,
+    routes: &'a HeadlandRoutes,
+    frame: &'a LocalFrame,
+}
+
+impl Drive<'_> {
+    /// Appends `way` (a turn or a transit) and stands at `to`.
+    fn follow(&mut self, way: Way, to: Pose) {
+        match way.shape {
+            Some(shape) => self.path.push_turn(shape, way.points),
+            None => self.path.push(PieceKind::Transit, way.points, 0.0),
+        }
+        self.at = Some(to);
+    }
+
+    /// A transit from where the vehicle is to `to` (nothing before the first piece).
+    fn go_to(&mut self, to: Pose) {
+        if let Some(at) = self.at {
+            self.path.push(PieceKind::Transit, connect_anywhere(self.routes, at, to).0.points, 0.0);
+        }
+        self.at = Some(to);
+    }
+
+    /// Where to enter `ring` (closed): the vertex nearest the vehicle that a transit inside the
+    /// field reaches, of the [`RING_ENTRIES`] nearest; else the nearest.
+    fn ring_entry(&self, ring: &[Coord]) -> usize {
+        let Some(here) = self.at else { return 0 };
+        let n = ring.len() - 1;
+        let mut near: Vec<(f64, usize)> = (0..n).map(|i| (distance(here.coord(), ring[i]), i)).collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let stride = (n / RING_ENTRIES).max(1);
+        near.iter().take(RING_ENTRIES * stride).step_by(stride).map(|&(_, i)| i).find(|&i| self.routes.transit(here, ring_pose(ring, i)).is_some()).unwrap_or(near[0].1)
+    }
+
+    /// Every headland pass, each ring once round: innermost first when `outwards`, else
+    /// outermost first; within a pass, the nearest ring next.
+    fn passes(&mut self, headland: &Headland, outwards: bool, half: f64) -> Result<(), PlanError> {
+        let mut order: Vec<&Vec<Vec<Coord>>> = headland.passes.iter().collect();
+        if outwards {
+            order.reverse();
+        }
+        for rings in order {
+            let mut left: Vec<&Vec<Coord>> = rings.iter().collect();
+            while !left.is_empty() {
+                // the ring nearest the vehicle next
+                let here = self.at.map(|p| p.coord());
+                let gap = |ring: &Vec<Coord>| here.map_or(0.0, |h| ring.iter().map(|&p| distance(h, p)).fold(f64::INFINITY, f64::min));
+                let k = (0..left.len()).min_by(|&a, &b| gap(left[a]).total_cmp(&gap(left[b]))).expect("rings left");
+                let ring = left.swap_remove(k);
+                let i = self.ring_entry(ring);
+                let n = ring.len() - 1;
+                let points: Vec<Coord> = (0..=n).map(|j| ring[(i + j) % n]).collect();
+                self.go_to(ring_pose(ring, i));
+                let last = points[n - 1];
+                self.path.push(PieceKind::Headland, points, half);
+                self.at = Some(Pose::at(ring[i], (ring[i].y - last.y).atan2(ring[i].x - last.x)));
+            }
+        }
+        Ok(())
+    }
+
+    /// The refusal when no turn joins two swaths inside the field: where, and what to change.
+    fn no_turn(&self, at: Coord) -> PlanError {
+        let [lon, lat] = self.frame.to_wgs84(at);
+        PlanError::Infeasible(format!(
+            "no turn stays inside the field at the swath end near [{lon:.6}, {lat:.6}]: the headland is too narrow there for this turning radius; \
+             add headland passes (or headland_width_m), allow reversing, or fix heading_deg along the narrow part"
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::polygon;
+
+    #[test]
+    fn swaths_fill_the_mainland_and_are_tagged_with_their_field() {
+        let field = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 100.0, y: 60.0), (x: 0.0, y: 60.0)]]);
+        let mainland = MultiPolygon(vec![polygon![(x: 12.0, y: 12.0), (x: 88.0, y: 12.0), (x: 88.0, y: 48.0), (x: 12.0, y: 48.0)]]);
+        let lines = swaths(&mainland, &field, 0.0, 6.0, 5.0);
+        assert_eq!(lines.len(), 6);
+        assert!(lines.iter().all(|l| l.region == 0 && (l.length() - 76.0).abs() < 0.1));
+    }
+}

@@ -1,0 +1,473 @@
+//! A ground vehicle's connections (docs/methods.md, ground §2–§4). Between two swaths the
+//! vehicle turns in the headland: the shortest manoeuvre (Dubins word, or fishtail when it may
+//! reverse) that crosses neither the field's edge, a hole, nor the mainland; where none fits,
+//! it drives onto a headland pass, along it, and off again (the headland ring as a road).
+//! Transits (from the start, between headland rings, to the end) may cross the mainland but
+//! never leave the field. Swaths of different fields are joined by the road outside, a Dubins
+//! path nothing constrains.
+//!
+//! The order of the swaths is a generalised TSP over their two directions
+//! ([`super::gtsp`]), priced lazily: a connection's floor is its length in open ground.
+
+use std::sync::OnceLock;
+
+use geo::{Coord, MultiPolygon};
+use rayon::prelude::*;
+use rstar::{AABB, RTree, RTreeObject};
+
+use super::gtsp::{Costs, Instance, KnownCosts};
+use super::line_tour::{CANDIDATES, Line, NO_WAY, entry, exit};
+use crate::geom::{cross, distance, polyline_length};
+use crate::path::TurnShape;
+use crate::stop::Stop;
+use crate::turn::dubins::{Pose, shortest};
+use crate::turn::fishtail::fishtail;
+use crate::turn::ground::manoeuvres;
+use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
+
+/// A boundary edge.
+struct Edge(Coord, Coord);
+
+impl RTreeObject for Edge {
+    type Envelope = AABB<[f64; 2]>;
+    fn envelope(&self) -> Self::Envelope {
+        AABB::from_corners([self.0.x, self.0.y], [self.1.x, self.1.y])
+    }
+}
+
+/// Boundary edges no path may cross, indexed.
+struct Walls(RTree<Edge>);
+
+impl Walls {
+    fn new(area: &MultiPolygon) -> Self {
+        let edges = area.iter().flat_map(|p| std::iter::once(p.exterior()).chain(p.interiors())).flat_map(|ring| ring.0.windows(2).map(|w| Edge(w[0], w[1]))).collect();
+        Walls(RTree::bulk_load(edges))
+    }
+
+    /// True when some leg of `points` crosses an edge (touching one does not count: swaths
+    /// end on the mainland's edge). The edges near the whole polyline are looked up once.
+    fn crossed(&self, points: &[Coord]) -> bool {
+        let Some(first) = points.first() else { return false };
+        let (lo, hi) = points.iter().fold((*first, *first), |(lo, hi), p| (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) }));
+        let near: Vec<&Edge> = self.0.locate_in_envelope_intersecting(&AABB::from_corners([lo.x, lo.y], [hi.x, hi.y])).collect();
+        if near.is_empty() {
+            return false;
+        }
+        let size = |a: Coord, b: Coord| (b.x - a.x).abs() + (b.y - a.y).abs();
+        points.windows(2).any(|w| {
+            let (a, b) = (w[0], w[1]);
+            let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
+            near.iter().any(|e| {
+                let (p, q) = (e.0, e.1);
+                if p.x.max(q.x) < seg_lo.x || p.x.min(q.x) > seg_hi.x || p.y.max(q.y) < seg_lo.y || p.y.min(q.y) > seg_hi.y {
+                    return false;
+                }
+                // orientations are products of two lengths: the tolerance scales with both
+                let eps = 1e-9 * size(a, b) * size(p, q);
+                let (d1, d2) = (cross(a, b, p), cross(a, b, q));
+                let (d3, d4) = (cross(p, q, a), cross(p, q, b));
+                ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
+            })
+        })
+    }
+}
+
+/// A headland pass as a road: a closed ring with its arc lengths.
+pub struct Road {
+    points: Vec<Coord>,
+    at: Vec<f64>,
+}
+
+impl Road {
+    /// The ring with a vertex at least every `step` metres, where ramps may join it.
+    fn new(ring: Vec<Coord>, step: f64) -> Self {
+        let mut points = vec![ring[0]];
+        for w in ring.windows(2) {
+            let k = (distance(w[0], w[1]) / step).ceil().max(1.0) as usize;
+            points.extend((1..=k).map(|i| w[0] + (w[1] - w[0]) * (i as f64 / k as f64)));
+        }
+        let mut at = vec![0.0];
+        for w in points.windows(2) {
+            at.push(at.last().expect("one") + distance(w[0], w[1]));
+        }
+        Road { points, at }
+    }
+
+    fn length(&self) -> f64 {
+        *self.at.last().expect("a road has points")
+    }
+
+    /// The pose at vertex `i`, facing along the ring (`forward`) or against it.
+    fn pose(&self, i: usize, forward: bool) -> Pose {
+        let n = self.points.len() - 1;
+        let (a, b) = if forward { (self.points[i % n], self.points[i % n + 1]) } else { (self.points[(i + n - 1) % n + 1], self.points[(i + n - 1) % n]) };
+        Pose::at(self.points[i % n], (b.y - a.y).atan2(b.x - a.x))
+    }
+
+    /// Metres from vertex `i` to vertex `j` in the direction of travel.
+    fn along(&self, i: usize, j: usize, forward: bool) -> f64 {
+        let d = self.at[j] - self.at[i];
+        let d = if forward { d } else { -d };
+        d.rem_euclid(self.length())
+    }
+
+    /// The ring's points from vertex `i` to vertex `j` in the direction of travel.
+    fn stretch(&self, i: usize, j: usize, forward: bool) -> Vec<Coord> {
+        let n = self.points.len() - 1;
+        let mut out = vec![self.points[i]];
+        let mut k = i;
+        loop {
+            k = if forward { (k + 1) % n } else { (k + n - 1) % n };
+            out.push(self.points[k]);
+            if k == j {
+                break;
+            }
+        }
+        out
+    }
+
+    /// Vertices at least `spacing` apart along the ring, where ramps join it.
+    fn stops(&self, spacing: f64) -> Vec<usize> {
+        let mut out = vec![0];
+        for i in 1..self.points.len() - 1 {
+            if self.at[i] - self.at[*out.last().expect("one")] >= spacing {
+                out.push(i);
+            }
+        }
+        out
+    }
+}
+
+/// A way found between two poses.
+#[derive(Debug, Clone)]
+pub struct Way {
+    pub points: Vec<Coord>,
+    pub length: f64,
+    /// `Some` for a turn in the headland, `None` for a transit.
+    pub shape: Option<TurnShape>,
+}
+
+/// Where the vehicle may go, and how it turns.
+pub struct HeadlandRoutes {
+    field: Walls,
+    mainland: Walls,
+    roads: Vec<Road>,
+    /// Each road's ramp stops: `(road, vertex, position)`.
+    stops: Vec<(usize, usize, Coord)>,
+    radius: f64,
+    reverse: bool,
+    /// How far from a pose ramps onto a road are looked for.
+    reach: f64,
+}
+
+/// What crossing the mainland between two swaths costs on top of its length, in metres: the
+/// route takes it only where no way through the headland joins them.
+const MAINLAND_CROSSING_M: f64 = 1000.0;
+
+/// Stops tried per road and direction of travel for ramps from or to a pose: the nearest.
+const RAMP_STOPS: usize = 12;
+/// Clear ramps kept per road and direction: the shortest.
+const RAMPS_KEPT: usize = 4;
+
+/// A Dubins ramp between a pose and a road's vertex, driven along the road `forward` or back.
+#[derive(Debug, Clone)]
+pub struct Ramp {
+    road: usize,
+    vertex: usize,
+    forward: bool,
+    points: Vec<Coord>,
+    length: f64,
+}
+
+/// What a connection may not cross: the field's edges, and for a turn the mainland's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bounds {
+    /// Inside the headland.
+    Headland,
+    /// Inside the field, across the mainland if need be.
+    Field,
+}
+
+impl HeadlandRoutes {
+    /// `region`: the field less its holes and zones; `mainland`: where turns may not go;
+    /// `roads`: the headland passes' rings; `radius`: the planning turning radius.
+    pub fn new(region: &MultiPolygon, mainland: &MultiPolygon, roads: Vec<Vec<Coord>>, radius: f64, reverse: bool, headland_m: f64) -> Self {
+        let spacing = (radius / 2.0).max(1.0);
+        let roads: Vec<Road> = roads.into_iter().filter(|r| r.len() >= 4).map(|r| Road::new(r, spacing)).collect();
+        let stops = roads.iter().enumerate().flat_map(|(k, road)| road.stops(spacing).into_iter().map(move |i| (k, i, road.points[i]))).collect();
+        HeadlandRoutes { field: Walls::new(region), mainland: Walls::new(mainland), roads, stops, radius, reverse, reach: 4.0 * radius + 2.0 * headland_m }
+    }
+
+    /// The length in open ground: no way between the poses is shorter (a fishtail can be
+    /// shorter than every forward path).
+    pub fn floor(&self, from: Pose, to: Pose) -> f64 {
+        let forward = shortest(from, to, self.radius).length();
+        let back = if self.reverse { fishtail(from, to, self.radius, CHORD_TOLERANCE_M).map_or(f64::INFINITY, |f| f.1) } else { f64::INFINITY };
+        0.99 * forward.min(back)
+    }
+
+    fn clear(&self, points: &[Coord], bounds: Bounds) -> bool {
+        !self.field.crossed(points) && (bounds == Bounds::Field || !self.mainland.crossed(points))
+    }
+
+    /// The shortest manoeuvre from `from` to `to` within `bounds`: a turn (with its shape)
+    /// inside the headland, a transit otherwise.
+    pub fn direct(&self, from: Pose, to: Pose, bounds: Bounds) -> Option<Way> {
+        manoeuvres(from, to, self.radius, self.reverse).into_iter().find_map(|m| {
+            let points = m.points();
+            self.clear(&points, bounds).then(|| Way { points, length: m.length, shape: (bounds == Bounds::Headland).then_some(m.shape) })
+        })
+    }
+
+    /// The stretch of the swath `a → b` whose ends the vehicle can turn at: each end pulled
+    /// back (in steps of an eighth of the radius) until a half circle to the left or the
+    /// right from it stays in the field; `None` when nothing is left (a swath in an acute
+    /// corner, where no turn fits).
+    pub fn turnable(&self, a: Coord, b: Coord) -> Option<(Coord, Coord)> {
+        let length = distance(a, b);
+        if length == 0.0 {
+            return None;
+        }
+        let dir = (b - a) / length;
+        let r = self.radius;
+        let fits = |at: Coord, out: Coord| {
+            [1.0, -1.0].into_iter().any(|side: f64| {
+                let centre = at + Coord { x: -out.y, y: out.x } * (side * r);
+                let phase = (at.y - centre.y).atan2(at.x - centre.x);
+                let arc: Vec<Coord> = (0..=18)
+                    .map(|k| {
+                        centre + Coord { x: (phase + side * std::f64::consts::PI * k as f64 / 18.0).cos(), y: (phase + side * std::f64::consts::PI * k as f64 / 18.0).sin() } * r
+                    })
+                    .collect();
+                !self.field.crossed(&arc)
+            })
+        };
+        let step = r / 8.0;
+        let mut from_a = 0.0;
+        while from_a <= length && !fits(a + dir * from_a, -dir) {
+            from_a += step;
+        }
+        let mut from_b = 0.0;
+        while length - from_b > from_a && !fits(b - dir * from_b, dir) {
+            from_b += step;
+        }
+        (length - from_b - from_a > 0.05).then(|| (a + dir * from_a, b - dir * from_b))
+    }
+
+    /// Between fields, on the road outside them.
+    pub fn outside(&self, from: Pose, to: Pose) -> Way {
+        let points = TurnModel::Dubins(self.radius).points(from, to);
+        Way { length: polyline_length(&points), points, shape: None }
+    }
+
+    /// Anywhere inside the field: straight there, or along a headland pass.
+    pub fn transit(&self, from: Pose, to: Pose) -> Option<Way> {
+        self.direct(from, to, Bounds::Field).map(|w| Way { shape: None, ..w }).or_else(|| {
+            let (on, off) = (self.ramps(from, true, Bounds::Field), self.ramps(to, false, Bounds::Field));
+            self.by_road(&on, &off)
+        })
+    }
+
+    /// The shortest way onto a road by one of `on`, along it, and off by one of `off`.
+    pub fn by_road(&self, on: &[Ramp], off: &[Ramp]) -> Option<Way> {
+        let mut best: Option<(f64, &Ramp, &Ramp)> = None;
+        for a in on {
+            for b in off.iter().filter(|b| b.road == a.road && b.forward == a.forward) {
+                let total = a.length + self.roads[a.road].along(a.vertex, b.vertex, a.forward) + b.length;
+                if best.is_none_or(|x| total < x.0) {
+                    best = Some((total, a, b));
+                }
+            }
+        }
+        let (length, a, b) = best?;
+        let mut points = a.points.clone();
+        if a.vertex != b.vertex {
+            points.extend(self.roads[a.road].stretch(a.vertex, b.vertex, a.forward).into_iter().skip(1));
+        }
+        points.extend(b.points.iter().skip(1));
+        Some(Way { points, length, shape: None })
+    }
+
+    /// Ramps within `bounds` between `pose` and the roads nearby, both directions of travel:
+    /// onto a road (`on`) or off it. Per road and direction, the shortest clear ones of the
+    /// nearest stops.
+    pub fn ramps(&self, pose: Pose, on: bool, bounds: Bounds) -> Vec<Ramp> {
+        let mut near: Vec<(f64, usize)> = self.stops.iter().enumerate().map(|(k, s)| (distance(s.2, pose.coord()), k)).filter(|(d, _)| *d <= self.reach).collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut out = Vec::new();
+        for forward in [true, false] {
+            let mut tried = vec![0; self.roads.len()];
+            let mut candidates: Vec<(f64, usize, usize, crate::turn::dubins::DubinsPath, Pose)> = Vec::new();
+            for &(_, k) in &near {
+                let (road, vertex, _) = self.stops[k];
+                if tried[road] == RAMP_STOPS {
+                    continue;
+                }
+                tried[road] += 1;
+                let at = self.roads[road].pose(vertex, forward);
+                let (a, b) = if on { (pose, at) } else { (at, pose) };
+                let word = shortest(a, b, self.radius);
+                candidates.push((word.length(), road, vertex, word, b));
+            }
+            candidates.sort_by(|x, y| x.0.total_cmp(&y.0));
+            let mut kept = vec![0; self.roads.len()];
+            for (length, road, vertex, word, end) in candidates {
+                if kept[road] == RAMPS_KEPT {
+                    continue;
+                }
+                let mut points = word.sample(CHORD_TOLERANCE_M);
+                *points.last_mut().expect("points") = end.coord();
+                if self.clear(&points, bounds) {
+                    kept[road] += 1;
+                    out.push(Ramp { road, vertex, forward, points, length });
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The connections between swaths: each swath end's ramps onto the roads, found once.
+pub struct SwathLinks<'a> {
+    lines: &'a [Line],
+    routes: &'a HeadlandRoutes,
+    /// Per node: ramps from its exit, and into its entry, inside the headland.
+    from_exit: Vec<Vec<Ramp>>,
+    to_entry: Vec<Vec<Ramp>>,
+    /// The same inside the field, for crossings of the mainland: found when first needed.
+    across_from_exit: Vec<OnceLock<Vec<Ramp>>>,
+    across_to_entry: Vec<OnceLock<Vec<Ramp>>>,
+}
+
+impl<'a> SwathLinks<'a> {
+    pub fn new(lines: &'a [Line], routes: &'a HeadlandRoutes) -> Self {
+        let n = 2 * lines.len();
+        let from_exit = (0..n).into_par_iter().map(|v| routes.ramps(exit(lines, v), true, Bounds::Headland)).collect();
+        let to_entry = (0..n).into_par_iter().map(|v| routes.ramps(entry(lines, v), false, Bounds::Headland)).collect();
+        let unknown = || (0..n).map(|_| OnceLock::new()).collect();
+        SwathLinks { lines, routes, from_exit, to_entry, across_from_exit: unknown(), across_to_entry: unknown() }
+    }
+
+    /// From the exit of node `u` to the entry of node `v`: a turn in the headland; else along
+    /// a headland pass (either way round: the twin's ramps may fit where these do not); else,
+    /// within a field, a transit across the mainland (`crossing` true); between fields, the
+    /// road outside.
+    pub fn link(&self, u: usize, v: usize) -> Option<(Way, bool)> {
+        let (from, to) = (exit(self.lines, u), entry(self.lines, v));
+        if self.lines[u / 2].region != self.lines[v / 2].region {
+            return Some((self.routes.outside(from, to), false));
+        }
+        // each manoeuvre drawn once: the first clear of the field's edges is the crossing's
+        let mut across: Option<Way> = None;
+        for m in manoeuvres(from, to, self.routes.radius, self.routes.reverse) {
+            let points = m.points();
+            if self.routes.field.crossed(&points) {
+                continue;
+            }
+            if !self.routes.mainland.crossed(&points) {
+                return Some((Way { points, length: m.length, shape: Some(m.shape) }, false));
+            }
+            if across.is_none() {
+                across = Some(Way { points, length: m.length, shape: None });
+            }
+        }
+        let road = self.routes.by_road(&self.from_exit[u], &self.to_entry[v]).or_else(|| {
+            self.routes.by_road(&self.from_exit[v ^ 1], &self.to_entry[u ^ 1]).map(|mut w| {
+                w.points.reverse();
+                w
+            })
+        });
+        if let Some(w) = road {
+            return Some((w, false));
+        }
+        let across = across.or_else(|| {
+            let on = self.across_from_exit[u].get_or_init(|| self.routes.ramps(from, true, Bounds::Field));
+            let off = self.across_to_entry[v].get_or_init(|| self.routes.ramps(to, false, Bounds::Field));
+            self.routes.by_road(on, off)
+        });
+        across.map(|w| (w, true))
+    }
+
+    /// The cost the route search sees: the length, plus [`MAINLAND_CROSSING_M`] for a crossing.
+    fn cost(&self, u: usize, v: usize) -> f64 {
+        if u / 2 == v / 2 {
+            return NO_WAY;
+        }
+        self.link(u, v).map_or(NO_WAY, |(w, crossing)| w.length + if crossing { MAINLAND_CROSSING_M } else { 0.0 })
+    }
+}
+
+/// Nodes up to which the floors are kept in a table (8 n² bytes: 32 MB at 2 000).
+const FLOORS_KEPT_UP_TO: usize = 2000;
+
+/// The swaths' order as a node sequence of [`super::line_tour`], from `start` to `end` (each
+/// optional, a pose).
+pub fn order(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<Pose>, stop: &Stop) -> Vec<usize> {
+    let (lines, routes) = (links.lines, links.routes);
+    let n = 2 * lines.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    // the search asks for the same floors many times: each is kept once computed (NaN: not yet)
+    let memo: Vec<std::cell::Cell<f64>> = if n <= FLOORS_KEPT_UP_TO { vec![std::cell::Cell::new(f64::NAN); n * n] } else { Vec::new() };
+    let floor = |u: usize, v: usize| {
+        if u / 2 == v / 2 {
+            return NO_WAY;
+        }
+        let kept = memo.get(u * n + v).map(std::cell::Cell::get).filter(|f| !f.is_nan());
+        kept.unwrap_or_else(|| {
+            let f = routes.floor(exit(lines, u), entry(lines, v));
+            if let Some(cell) = memo.get(u * n + v) {
+                cell.set(f);
+            }
+            f
+        })
+    };
+    let entries: Vec<Coord> = (0..n).map(|v| entry(lines, v).coord()).collect();
+    let candidates: Vec<Vec<usize>> = (0..n)
+        .into_par_iter()
+        .map(|u| {
+            let from = exit(lines, u).coord();
+            let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| (distance(from, entries[v]), v)).collect();
+            near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            near.truncate(CANDIDATES);
+            near.into_iter().map(|(_, v)| v).collect()
+        })
+        .collect();
+    let known: KnownCosts = candidates.par_iter().enumerate().flat_map_iter(|(u, c)| c.iter().map(move |&v| ((u, v), links.cost(u, v)))).collect();
+    let terminal = |p: Option<Pose>, to_line: bool| {
+        p.map(|p| {
+            (0..n)
+                .into_par_iter()
+                .map(|v| {
+                    let (a, b) = if to_line { (p, entry(lines, v)) } else { (exit(lines, v), p) };
+                    let (way, inside) = connect_anywhere(routes, a, b);
+                    way.length + if inside { 0.0 } else { LEAVING_FIELD_M }
+                })
+                .collect()
+        })
+    };
+    let inst = Instance {
+        clusters: (0..lines.len()).map(|k| vec![2 * k, 2 * k + 1]).collect(),
+        reverse: (0..n).map(|v| v ^ 1).collect(),
+        cost: Costs::lazy(n, known, |u, v| links.cost(u, v), floor),
+        node_cost: (0..n).map(|v| lines[v / 2].length()).collect(),
+        from_start: terminal(start, true),
+        to_end: terminal(end, false),
+        candidates: Some(candidates),
+        stop: stop.clone(),
+    };
+    super::gtsp::solve(&inst)
+}
+
+/// A transit inside the field when one is found (`true`), else by the road outside (a start or
+/// end beyond the field's edge, or a part of the field cut off from the rest).
+pub fn connect_anywhere(routes: &HeadlandRoutes, from: Pose, to: Pose) -> (Way, bool) {
+    match routes.transit(from, to) {
+        Some(w) => (w, true),
+        None => (routes.outside(from, to), false),
+    }
+}
+
+/// What leaving the field costs on top of a transit's length: every way inside is preferred.
+pub const LEAVING_FIELD_M: f64 = 10_000.0;

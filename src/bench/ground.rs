@@ -64,12 +64,22 @@ fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), Stri
     };
     let _ = writeln!(
         out,
-        "| {name} | {:.0} | {without:.0} | {theirs} | {ratio} | {} ({} U, {} Ω, {} fishtail) | {their_turns} | {} | {} | {:.3} | {:.3} | {ms:.0} | {speedup} | {mb:.0} |",
-        s.length_m, s.turns, g.u_turns, g.omega_turns, g.fishtail_turns, g.turns_leaving_field, g.turns_crossing_holes, g.mainland_coverage, g.headland_coverage
+        "| {name} | {:.0} | {without:.0} | {theirs} | {ratio} | {} ({} U, {} Ω, {} fishtail) + {} along a pass + {} across | {their_turns} | {} | {} | {:.3} | {:.3} | {ms:.0} | {speedup} | {mb:.0} |",
+        s.length_m,
+        s.turns,
+        g.u_turns,
+        g.omega_turns,
+        g.fishtail_turns,
+        g.headland_drives,
+        g.mainland_crossings,
+        g.turns_leaving_field,
+        g.turns_crossing_holes,
+        g.mainland_coverage,
+        g.headland_coverage
     );
 }
 
-const HEADER: &str = "| field | length m | without headland passes m | F2C m | ratio | turns | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+const HEADER: &str = "| field | length m | without headland passes m | F2C m | ratio | swath to swath: turns, drives along a pass, mainland crossings | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
 pub fn run(random_dir: &Path, repeats: usize) -> anyhow::Result<String> {
     let real_dir = random_dir.parent().context("the fields' folder")?.join("real-fields");

@@ -6,6 +6,7 @@
 
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
 use geo::{Buffer, Coord, MultiPolygon, Rect};
+use rstar::{AABB, RTree, RTreeObject};
 
 /// Euclidean distance between two points.
 ///
@@ -67,6 +68,54 @@ pub fn grow(zones: &MultiPolygon, d: f64) -> MultiPolygon {
         return MultiPolygon(vec![]);
     }
     zones.buffer_with_style(BufferStyle::new(d).line_join(LineJoin::Miter(2.0)))
+}
+
+/// An edge of an area's boundary.
+struct Edge(Coord, Coord);
+
+impl RTreeObject for Edge {
+    type Envelope = AABB<[f64; 2]>;
+    fn envelope(&self) -> Self::Envelope {
+        AABB::from_corners([self.0.x, self.0.y], [self.1.x, self.1.y])
+    }
+}
+
+/// The edges of an area's boundary in an R-tree: what a path inside the area may not cross.
+pub struct EdgeIndex(RTree<Edge>);
+
+impl EdgeIndex {
+    pub fn new(area: &MultiPolygon) -> Self {
+        let edges = area.iter().flat_map(|p| std::iter::once(p.exterior()).chain(p.interiors())).flat_map(|ring| ring.0.windows(2).map(|w| Edge(w[0], w[1]))).collect();
+        EdgeIndex(RTree::bulk_load(edges))
+    }
+
+    /// True when some leg of `points` crosses an edge properly (touching one does not count:
+    /// a ground vehicle's swaths end on the mainland's edge). The edges near the whole
+    /// polyline are looked up once.
+    pub fn crossed(&self, points: &[Coord]) -> bool {
+        let Some(first) = points.first() else { return false };
+        let (lo, hi) = points.iter().fold((*first, *first), |(lo, hi), p| (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) }));
+        let near: Vec<&Edge> = self.0.locate_in_envelope_intersecting(&AABB::from_corners([lo.x, lo.y], [hi.x, hi.y])).collect();
+        if near.is_empty() {
+            return false;
+        }
+        let size = |a: Coord, b: Coord| (b.x - a.x).abs() + (b.y - a.y).abs();
+        points.windows(2).any(|w| {
+            let (a, b) = (w[0], w[1]);
+            let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
+            near.iter().any(|e| {
+                let (p, q) = (e.0, e.1);
+                if p.x.max(q.x) < seg_lo.x || p.x.min(q.x) > seg_hi.x || p.y.max(q.y) < seg_lo.y || p.y.min(q.y) > seg_hi.y {
+                    return false;
+                }
+                // orientations are products of two lengths: the tolerance scales with both
+                let eps = 1e-9 * size(a, b) * size(p, q);
+                let (d1, d2) = (cross(a, b, p), cross(a, b, q));
+                let (d3, d4) = (cross(p, q, a), cross(p, q, b));
+                ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
+            })
+        })
+    }
 }
 
 #[cfg(test)]

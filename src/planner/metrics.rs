@@ -103,6 +103,10 @@ pub struct GroundStats {
     pub u_turns: usize,
     pub omega_turns: usize,
     pub fishtail_turns: usize,
+    /// Connections between two swaths driven along a headland pass (where no turn fits), and
+    /// those that cross the mainland (where nothing in the headland joins the swaths).
+    pub headland_drives: usize,
+    pub mainland_crossings: usize,
     /// Turns that leave the field or enter a hole or no-fly zone: 0 unless the planner is wrong.
     pub turns_leaving_field: usize,
     pub turns_crossing_holes: usize,
@@ -114,6 +118,11 @@ pub fn ground_stats(path: &FlightPath, swept: &MultiPolygon, mainland: &MultiPol
     use super::path::TurnShape;
     let turns: Vec<&super::path::Piece> = path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).collect();
     let shaped = |shape: TurnShape| turns.iter().filter(|p| p.shape == Some(shape)).count();
+    let pieces = &path.pieces;
+    let between_swaths: Vec<&super::path::Piece> = (1..pieces.len().saturating_sub(1))
+        .filter(|&i| pieces[i].kind == PieceKind::Transit && pieces[i - 1].kind == PieceKind::Sweep && pieces[i + 1].kind == PieceKind::Sweep)
+        .map(|i| &pieces[i])
+        .collect();
     let outer = MultiPolygon(field.iter().map(|p| Polygon::new(p.exterior().clone(), vec![])).collect());
     let holes = MultiPolygon(field.iter().flat_map(|p| p.interiors().iter().map(|r| Polygon::new(r.clone(), vec![]))).chain(keep_out.iter().cloned()).collect());
     let inside_length = |zones: &MultiPolygon, p: &&super::path::Piece| {
@@ -135,6 +144,8 @@ pub fn ground_stats(path: &FlightPath, swept: &MultiPolygon, mainland: &MultiPol
         u_turns: shaped(TurnShape::U),
         omega_turns: shaped(TurnShape::Omega),
         fishtail_turns: shaped(TurnShape::Fishtail),
+        mainland_crossings: between_swaths.iter().filter(|p| inside_length(mainland, p) > 1.0).count(),
+        headland_drives: between_swaths.iter().filter(|p| inside_length(mainland, p) <= 1.0).count(),
         // a centimetre of slack: the turns' arcs are sampled
         turns_leaving_field: turns.iter().filter(|p| inside_length(&outer, p) < p.length() - 0.01).count(),
         turns_crossing_holes: turns.iter().filter(|p| inside_length(&holes, p) > 0.01).count(),

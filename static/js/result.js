@@ -123,7 +123,7 @@ const figureRows = [
   ['photos', (s) => s.photos],
   ['mainland worked', (s) => (s.ground ? `${(100 * s.ground.mainland_coverage).toFixed(1)} %` : '')],
   ['headland worked', (s) => (s.ground ? `${(100 * s.ground.headland_coverage).toFixed(1)} % (${s.ground.headland_passes} passes, ${s.ground.headland_width_m.toFixed(1)} m)` : '')],
-  ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail` : '')],
+  ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail, ${s.ground.headland_drives} along a pass` : '')],
   ['turns leaving the field', (s) => (s.ground ? s.ground.turns_leaving_field + s.ground.turns_crossing_holes : '')],
 ];
 

@@ -9,6 +9,8 @@
 
 use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Polygon};
 
+use crate::geom::EdgeIndex;
+
 /// Parts of inset areas smaller than this are slivers, not room to work.
 const SLIVER_M2: f64 = 1.0;
 
@@ -28,13 +30,14 @@ pub struct Headland {
 pub fn headland(region: &MultiPolygon, width_m: f64, passes: usize, turn_radius_m: f64) -> Headland {
     let mainland = without_slivers(inset(region, width_m));
     let band = if mainland.0.is_empty() { region.clone() } else { region.difference(&mainland) };
+    let index = EdgeIndex::new(region);
     let passes = (0..passes)
         .map(|k| {
             let offset = width_m * (k as f64 + 0.5) / passes as f64;
             let at_offset = without_slivers(inset(region, offset));
             let edges = at_offset.iter().map(|p| (p.exterior(), false));
             let holes = at_offset.iter().flat_map(|p| p.interiors().iter().map(|ring| (ring, true)));
-            edges.chain(holes).filter_map(|(ring, around_hole)| drivable(ring, around_hole, region, turn_radius_m, offset)).flatten().collect()
+            edges.chain(holes).filter_map(|(ring, around_hole)| drivable(ring, around_hole, region, &index, turn_radius_m, offset)).flatten().collect()
         })
         .collect();
     Headland { mainland, passes, band }
@@ -45,7 +48,7 @@ pub fn headland(region: &MultiPolygon, width_m: f64, passes: usize, turn_radius_
 /// inwards, concave ones outwards), each ring on its own so that a narrow neck between a hole
 /// and the edge does not merge their passes. A hole too small to round is driven round at `r`
 /// from it; a rounded ring that would leave `region` is driven as it is, corners and all.
-fn drivable(ring: &LineString, around_hole: bool, region: &MultiPolygon, r: f64, offset: f64) -> Option<Vec<Vec<Coord>>> {
+fn drivable(ring: &LineString, around_hole: bool, region: &MultiPolygon, edges: &EdgeIndex, r: f64, offset: f64) -> Option<Vec<Vec<Coord>>> {
     let shape = MultiPolygon(vec![Polygon::new(ring.clone(), vec![])]);
     let mut rounded = without_slivers(inset(&inset(&shape, r).buffer(2.0 * r), r));
     if rounded.0.is_empty() {
@@ -55,7 +58,8 @@ fn drivable(ring: &LineString, around_hole: bool, region: &MultiPolygon, r: f64,
         rounded = shape.buffer((r - offset).max(0.0));
     }
     let rings: Vec<Vec<Coord>> = rounded.iter().map(|p| p.exterior().0.clone()).filter(|ring| ring.len() >= 4).collect();
-    let inside = rings.iter().all(|ring| region.contains(&LineString::from(ring.clone())));
+    // inside the area: its first point is, and it crosses none of the area's edges
+    let inside = rings.iter().all(|ring| !edges.crossed(ring) && region.contains(&ring[0]));
     Some(if inside { rings } else { vec![ring.0.clone()] })
 }
 

@@ -50,13 +50,11 @@ impl Planner for HeadlandPlanner {
         let radius = vehicle.planning_radius_m();
         let headland = &setup.headland;
         let angle = problem.sweep_angle.unwrap_or_else(|| best_direction(&headland.mainland, problem.layout, radius));
-        // swaths run as far into the headland as their whole width needs (slanted ends), at
-        // most the headland's width, and are pulled back where no turn would fit
-        let slack = setup.spec.width_m;
         let roads: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
         let routes = HeadlandRoutes::new(problem.region, &headland.mainland, roads, radius, reverse, setup.spec.width_m);
-        // a swath's end in an acute corner is pulled back to where a turn fits in the field
-        let lines: Vec<Line> = swaths(&headland.mainland, problem.region, angle, problem.layout.spacing, slack)
+        // swaths run as far into the headland as their whole width needs (slanted ends), at most
+        // its width, and are pulled back where no turn fits in the field (acute corners)
+        let lines: Vec<Line> = swaths(&headland.mainland, problem.region, angle, problem.layout.spacing, setup.spec.width_m)
             .into_iter()
             .filter_map(|l| routes.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l }))
             .collect();
@@ -66,7 +64,7 @@ impl Planner for HeadlandPlanner {
         let half = setup.spec.working_width_m / 2.0;
         let mut drive = Drive { path: FlightPath::default(), at: problem.start.map(|p| Pose::at(p, problem.start_heading.unwrap_or(angle))), routes: &routes, frame: &setup.frame };
         if setup.spec.order == HeadlandOrder::First {
-            drive.passes(headland, false, half)?;
+            drive.passes(headland, false, half);
         }
         let links = SwathLinks::new(&lines, &routes);
         let seq = order(&links, drive.at, problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle))), &problem.connector.stop());
@@ -88,7 +86,7 @@ impl Planner for HeadlandPlanner {
             previous = Some(v);
         }
         if setup.spec.order == HeadlandOrder::Last {
-            drive.passes(headland, true, half)?;
+            drive.passes(headland, true, half);
         }
         if let Some(end) = problem.end {
             drive.go_to(Pose::at(end, problem.end_heading.unwrap_or_else(|| drive.at.map_or(angle, |p| p.theta))));
@@ -148,11 +146,14 @@ fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f
         .filter_map(|s| {
             let mid = (s.a + s.b) / 2.0;
             let centreline = crate::sweep::scanline_intervals(&rotated, s.offset);
+            // where the centre line misses the mainland (a band grazing a tip or a pond's
+            // headland) the swath still works the band's part of it, end to end
             let (lo, hi) = centreline
                 .iter()
                 .copied()
                 .filter(|&(lo, hi)| lo <= s.b && hi >= s.a)
-                .fold(None, |acc: Option<(f64, f64)>, (lo, hi)| Some(acc.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi)))))?;
+                .fold(None, |acc: Option<(f64, f64)>, (lo, hi)| Some(acc.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi)))))
+                .unwrap_or((s.a, s.b));
             let (a, b) = (s.a.max(lo - slack), s.b.min(hi + slack));
             (b - a > 0.05).then(|| {
                 let (a, b) = (from_sweep_frame(angle, a, s.offset), from_sweep_frame(angle, b, s.offset));
@@ -167,9 +168,11 @@ fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f
 /// Vertices of a ring tried as its entry.
 const RING_ENTRIES: usize = 16;
 
-/// The pose at vertex `i` of a closed ring, facing along it.
-fn ring_pose(ring: &[Coord], i: usize) -> Pose {
-    let next = ring[i + 1];
+/// The pose at vertex `i` of a closed ring (first vertex repeated last), facing along it
+/// (`forward`) or back.
+fn ring_pose(ring: &[Coord], i: usize, forward: bool) -> Pose {
+    let n = ring.len() - 1;
+    let next = if forward { ring[i + 1] } else { ring[(i + n - 1) % n] };
     Pose::at(ring[i], (next.y - ring[i].y).atan2(next.x - ring[i].x))
 }
 
@@ -199,42 +202,69 @@ impl Drive<'_> {
         self.at = Some(to);
     }
 
-    /// Where to enter `ring` (closed): the vertex nearest the vehicle that a transit inside the
-    /// field reaches, of the [`RING_ENTRIES`] nearest; else the nearest.
-    fn ring_entry(&self, ring: &[Coord]) -> usize {
-        let Some(here) = self.at else { return 0 };
+    /// Where to enter `ring` (closed) and which way round to drive it: of the [`RING_ENTRIES`]
+    /// vertices nearest the vehicle, each way round, the first a transit inside the field
+    /// reaches. From a ring just driven, the vehicle may also drive on along it first (a pond's
+    /// own ring leads round the pond); `lap` is that ring from the vehicle's position, and the
+    /// answer's last figure is how many of its vertices to drive on. Else the nearest vertex.
+    fn ring_entry(&self, ring: &[Coord], lap: Option<&[Coord]>) -> (usize, bool, usize) {
+        let Some(here) = self.at else { return (0, true, 0) };
         let n = ring.len() - 1;
-        let mut near: Vec<(f64, usize)> = (0..n).map(|i| (distance(here.coord(), ring[i]), i)).collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let stride = (n / RING_ENTRIES).max(1);
-        near.iter().take(RING_ENTRIES * stride).step_by(stride).map(|&(_, i)| i).find(|&i| self.routes.transit(here, ring_pose(ring, i)).is_some()).unwrap_or(near[0].1)
+        let nearest = |from: Coord| {
+            let mut near: Vec<(f64, usize)> = (0..n).map(|i| (distance(from, ring[i]), i)).collect();
+            near.sort_by(|a, b| a.0.total_cmp(&b.0));
+            near
+        };
+        let lap = lap.unwrap_or(&[]);
+        let stride = (lap.len() / RING_ENTRIES).max(1);
+        let departures = std::iter::once((0, here))
+            .chain((stride..lap.len().saturating_sub(1)).step_by(stride).map(|d| (d, Pose::at(lap[d], (lap[d + 1].y - lap[d].y).atan2(lap[d + 1].x - lap[d].x)))));
+        for (d, from) in departures {
+            let near = nearest(from.coord());
+            let step = (n / RING_ENTRIES).max(1);
+            let found = near
+                .iter()
+                .take(RING_ENTRIES * step)
+                .step_by(step)
+                .flat_map(|&(_, i)| [(i, true), (i, false)])
+                .find(|&(i, forward)| self.routes.transit(from, ring_pose(ring, i, forward)).is_some());
+            if let Some((i, forward)) = found {
+                return (i, forward, d);
+            }
+        }
+        (nearest(here.coord())[0].1, true, 0)
     }
 
     /// Every headland pass, each ring once round: innermost first when `outwards`, else
     /// outermost first; within a pass, the nearest ring next.
-    fn passes(&mut self, headland: &Headland, outwards: bool, half: f64) -> Result<(), PlanError> {
+    fn passes(&mut self, headland: &Headland, outwards: bool, half: f64) {
         let mut order: Vec<&Vec<Vec<Coord>>> = headland.passes.iter().collect();
         if outwards {
             order.reverse();
         }
         for rings in order {
             let mut left: Vec<&Vec<Coord>> = rings.iter().collect();
+            let mut lap: Option<Vec<Coord>> = None;
             while !left.is_empty() {
                 // the ring nearest the vehicle next
                 let here = self.at.map(|p| p.coord());
                 let gap = |ring: &Vec<Coord>| here.map_or(0.0, |h| ring.iter().map(|&p| distance(h, p)).fold(f64::INFINITY, f64::min));
                 let k = (0..left.len()).min_by(|&a, &b| gap(left[a]).total_cmp(&gap(left[b]))).expect("rings left");
                 let ring = left.swap_remove(k);
-                let i = self.ring_entry(ring);
+                let (i, forward, drive_on) = self.ring_entry(ring, lap.as_deref());
+                if let Some(lap) = lap.as_ref().filter(|_| drive_on > 0) {
+                    self.path.push(PieceKind::Transit, lap[..=drive_on].to_vec(), 0.0);
+                    self.at = Some(Pose::at(lap[drive_on], (lap[drive_on + 1].y - lap[drive_on].y).atan2(lap[drive_on + 1].x - lap[drive_on].x)));
+                }
                 let n = ring.len() - 1;
-                let points: Vec<Coord> = (0..=n).map(|j| ring[(i + j) % n]).collect();
-                self.go_to(ring_pose(ring, i));
+                let points: Vec<Coord> = (0..=n).map(|j| if forward { ring[(i + j) % n] } else { ring[(i + n - j) % n] }).collect();
+                self.go_to(ring_pose(ring, i, forward));
                 let last = points[n - 1];
-                self.path.push(PieceKind::Headland, points, half);
+                self.path.push(PieceKind::Headland, points.clone(), half);
                 self.at = Some(Pose::at(ring[i], (ring[i].y - last.y).atan2(ring[i].x - last.x)));
+                lap = Some(points);
             }
         }
-        Ok(())
     }
 
     /// The refusal when no turn joins two swaths inside the field: where, and what to change.

@@ -13,64 +13,16 @@ use std::sync::OnceLock;
 
 use geo::{Coord, MultiPolygon};
 use rayon::prelude::*;
-use rstar::{AABB, RTree, RTreeObject};
 
 use super::gtsp::{Costs, Instance, KnownCosts};
 use super::line_tour::{CANDIDATES, Line, NO_WAY, entry, exit};
-use crate::geom::{cross, distance, polyline_length};
+use crate::geom::{EdgeIndex, distance, polyline_length};
 use crate::path::TurnShape;
 use crate::stop::Stop;
 use crate::turn::dubins::{Pose, shortest};
 use crate::turn::fishtail::fishtail;
 use crate::turn::ground::manoeuvres;
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
-
-/// A boundary edge.
-struct Edge(Coord, Coord);
-
-impl RTreeObject for Edge {
-    type Envelope = AABB<[f64; 2]>;
-    fn envelope(&self) -> Self::Envelope {
-        AABB::from_corners([self.0.x, self.0.y], [self.1.x, self.1.y])
-    }
-}
-
-/// Boundary edges no path may cross, indexed.
-struct Walls(RTree<Edge>);
-
-impl Walls {
-    fn new(area: &MultiPolygon) -> Self {
-        let edges = area.iter().flat_map(|p| std::iter::once(p.exterior()).chain(p.interiors())).flat_map(|ring| ring.0.windows(2).map(|w| Edge(w[0], w[1]))).collect();
-        Walls(RTree::bulk_load(edges))
-    }
-
-    /// True when some leg of `points` crosses an edge (touching one does not count: swaths
-    /// end on the mainland's edge). The edges near the whole polyline are looked up once.
-    fn crossed(&self, points: &[Coord]) -> bool {
-        let Some(first) = points.first() else { return false };
-        let (lo, hi) = points.iter().fold((*first, *first), |(lo, hi), p| (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) }));
-        let near: Vec<&Edge> = self.0.locate_in_envelope_intersecting(&AABB::from_corners([lo.x, lo.y], [hi.x, hi.y])).collect();
-        if near.is_empty() {
-            return false;
-        }
-        let size = |a: Coord, b: Coord| (b.x - a.x).abs() + (b.y - a.y).abs();
-        points.windows(2).any(|w| {
-            let (a, b) = (w[0], w[1]);
-            let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
-            near.iter().any(|e| {
-                let (p, q) = (e.0, e.1);
-                if p.x.max(q.x) < seg_lo.x || p.x.min(q.x) > seg_hi.x || p.y.max(q.y) < seg_lo.y || p.y.min(q.y) > seg_hi.y {
-                    return false;
-                }
-                // orientations are products of two lengths: the tolerance scales with both
-                let eps = 1e-9 * size(a, b) * size(p, q);
-                let (d1, d2) = (cross(a, b, p), cross(a, b, q));
-                let (d3, d4) = (cross(p, q, a), cross(p, q, b));
-                ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
-            })
-        })
-    }
-}
 
 /// A headland pass as a road: a closed ring with its arc lengths.
 pub struct Road {
@@ -149,8 +101,8 @@ pub struct Way {
 
 /// Where the vehicle may go, and how it turns.
 pub struct HeadlandRoutes {
-    field: Walls,
-    mainland: Walls,
+    field: EdgeIndex,
+    mainland: EdgeIndex,
     roads: Vec<Road>,
     /// Each road's ramp stops: `(road, vertex, position)`.
     stops: Vec<(usize, usize, Coord)>,
@@ -195,7 +147,7 @@ impl HeadlandRoutes {
         let spacing = (radius / 2.0).max(1.0);
         let roads: Vec<Road> = roads.into_iter().filter(|r| r.len() >= 4).map(|r| Road::new(r, spacing)).collect();
         let stops = roads.iter().enumerate().flat_map(|(k, road)| road.stops(spacing).into_iter().map(move |i| (k, i, road.points[i]))).collect();
-        HeadlandRoutes { field: Walls::new(region), mainland: Walls::new(mainland), roads, stops, radius, reverse, reach: 4.0 * radius + 2.0 * headland_m }
+        HeadlandRoutes { field: EdgeIndex::new(region), mainland: EdgeIndex::new(mainland), roads, stops, radius, reverse, reach: 4.0 * radius + 2.0 * headland_m }
     }
 
     /// The length in open ground: no way between the poses is shorter (a fishtail can be

@@ -104,7 +104,7 @@ pub struct TrajectoryQuery {
 
 #[utoipa::path(get, operation_id = "get_trajectory", path = "/api/v1/plans/{id}/trajectory", tag = "plans", params(("id" = String, Path), TrajectoryQuery),
     responses((status = 200, description = "The trajectory in the asked format, as an attachment named after the mission. GeoJSON: a FeatureCollection \
-        (RFC 7946) of LineStrings in flight order, `properties.kind` = sweep | turn | transit, with length_m, duration_s, energy_j, speed_mps, sortie; \
+        (RFC 7946) of LineStrings in flight order, `properties.kind` = sweep | headland | turn | transit (a ground vehicle's turns with turn_type u | omega | fishtail), with length_m, duration_s, energy_j, speed_mps, sortie; \
         a MultiPoint of kind `photos` when a camera was given", content_type = "application/geo+json", body = Object),
         (status = 400, body = Problem, description = "unknown format or firmware, or an unreadable query parameter"), (status = 404, body = Problem),
         (status = 409, body = Problem, description = "the plan has no trajectory (yet)"), (status = 422, body = Problem, description = "the format cannot say this plan")))]

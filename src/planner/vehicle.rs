@@ -48,7 +48,8 @@ pub struct GroundFigures {
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Battery {
-    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 100000.0))]
+    /// Wh: at most 100 000 for an aircraft's battery, 20 000 000 for a ground vehicle's tank.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 20000000.0))]
     pub energy_wh: f64,
     /// Fraction of `energy_wh` that must be left at landing (default 0.25).
     #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.9))]

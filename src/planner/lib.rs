@@ -114,9 +114,8 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
     let resolved = params.resolve(profiles)?;
     let planner_id = params.planner_id(&resolved.vehicle);
     let planner = planners::find(planner_id).ok_or_else(|| unknown_planner(planner_id))?;
-    if resolved.headland.is_some() != (planner.id() == "headland") {
-        let why =
-            if resolved.headland.is_some() { "a ground vehicle is planned with planner headland" } else { "planner headland plans ground vehicles: give vehicle kind ground" };
+    if resolved.headland.is_some() != planner.for_ground_vehicles() {
+        let why = if resolved.headland.is_some() { "a ground vehicle is planned with planner headland" } else { "this planner plans ground vehicles: give vehicle kind ground" };
         return Err(InputError::new("planner_vehicle_mismatch", "/planner", why));
     }
     if !resolved.fleet.is_empty() && !FLEET_PLANNERS.contains(&planner.id()) {
@@ -326,12 +325,7 @@ fn plan_until(
     }
     if let Some(ground) = &prepared.ground {
         let h = &ground.headland;
-        let zones = grow(&field.no_fly_zones, resolved.nfz_margin_m);
-        stats.ground = Some(metrics::GroundStats {
-            headland_width_m: ground.spec.width_m,
-            headland_passes: ground.spec.passes,
-            ..metrics::ground_stats(&path, &swept, &h.mainland, &h.band, &field.area, &zones)
-        });
+        stats.ground = Some(metrics::ground_stats(&path, &swept, &ground.spec, (&h.mainland, &h.band), &field.area, keep_out));
     }
     stats.lost_coverage_m = flown.iter().map(|f| f.lost_coverage_m).sum();
     stats.planner = main.planned.planner.unwrap_or(prepared.planner.id()).to_string();

@@ -112,20 +112,26 @@ pub struct GroundStats {
     pub turns_crossing_holes: usize,
 }
 
-/// The ground figures of `path`, worked as `swept`, over the headland's `mainland` and `band`;
-/// `field` is the fields with their holes, `keep_out` the no-fly zones.
-pub fn ground_stats(path: &FlightPath, swept: &MultiPolygon, mainland: &MultiPolygon, band: &MultiPolygon, field: &MultiPolygon, keep_out: &MultiPolygon) -> GroundStats {
-    use super::path::TurnShape;
-    let turns: Vec<&super::path::Piece> = path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).collect();
+/// The ground figures of `path`, worked as `swept`, with the headland `spec` over its
+/// `(mainland, band)`; `field` is the fields with their holes, `keep_out` the no-fly zones
+/// grown by the margin.
+pub fn ground_stats(
+    path: &FlightPath,
+    swept: &MultiPolygon,
+    spec: &super::params::HeadlandSpec,
+    (mainland, band): (&MultiPolygon, &MultiPolygon),
+    field: &MultiPolygon,
+    keep_out: &MultiPolygon,
+) -> GroundStats {
+    use super::path::{Piece, TurnShape};
+    let turns: Vec<&Piece> = path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).collect();
     let shaped = |shape: TurnShape| turns.iter().filter(|p| p.shape == Some(shape)).count();
     let pieces = &path.pieces;
-    let between_swaths: Vec<&super::path::Piece> = (1..pieces.len().saturating_sub(1))
-        .filter(|&i| pieces[i].kind == PieceKind::Transit && pieces[i - 1].kind == PieceKind::Sweep && pieces[i + 1].kind == PieceKind::Sweep)
-        .map(|i| &pieces[i])
-        .collect();
+    let between_swaths =
+        (1..pieces.len().saturating_sub(1)).filter(|&i| pieces[i].kind == PieceKind::Transit && pieces[i - 1].kind == PieceKind::Sweep && pieces[i + 1].kind == PieceKind::Sweep);
     let outer = MultiPolygon(field.iter().map(|p| Polygon::new(p.exterior().clone(), vec![])).collect());
     let holes = MultiPolygon(field.iter().flat_map(|p| p.interiors().iter().map(|r| Polygon::new(r.clone(), vec![]))).chain(keep_out.iter().cloned()).collect());
-    let inside_length = |zones: &MultiPolygon, p: &&super::path::Piece| {
+    let inside_length = |zones: &MultiPolygon, p: &Piece| {
         let line = MultiLineString(vec![LineString::from(p.points.clone())]);
         zones.clip(&line, false).0.iter().map(|l| Euclidean.length(l)).sum::<f64>()
     };
@@ -133,9 +139,10 @@ pub fn ground_stats(path: &FlightPath, swept: &MultiPolygon, mainland: &MultiPol
         let area = part.unsigned_area();
         if area > 0.0 { (under(swept, part).0 / area).min(1.0) } else { 1.0 }
     };
+    let crossings = between_swaths.clone().filter(|&i| inside_length(mainland, &pieces[i]) > 1.0).count();
     GroundStats {
-        headland_width_m: 0.0,
-        headland_passes: 0,
+        headland_width_m: spec.width_m,
+        headland_passes: spec.passes,
         headland_length_m: path.pieces.iter().filter(|p| p.kind == PieceKind::Headland).map(|p| p.length()).sum(),
         mainland_area_m2: mainland.unsigned_area(),
         headland_area_m2: band.unsigned_area(),
@@ -144,8 +151,8 @@ pub fn ground_stats(path: &FlightPath, swept: &MultiPolygon, mainland: &MultiPol
         u_turns: shaped(TurnShape::U),
         omega_turns: shaped(TurnShape::Omega),
         fishtail_turns: shaped(TurnShape::Fishtail),
-        mainland_crossings: between_swaths.iter().filter(|p| inside_length(mainland, p) > 1.0).count(),
-        headland_drives: between_swaths.iter().filter(|p| inside_length(mainland, p) <= 1.0).count(),
+        mainland_crossings: crossings,
+        headland_drives: between_swaths.count() - crossings,
         // a centimetre of slack: the turns' arcs are sampled
         turns_leaving_field: turns.iter().filter(|p| inside_length(&outer, p) < p.length() - 0.01).count(),
         turns_crossing_holes: turns.iter().filter(|p| inside_length(&holes, p) > 0.01).count(),

@@ -79,7 +79,7 @@ fn without_slivers(area: MultiPolygon) -> MultiPolygon {
 mod tests {
     use super::*;
     use crate::geom::polyline_length;
-    use geo::{Contains, Coord, LineString, Polygon, polygon};
+    use geo::{Contains, LineString, Polygon, polygon};
 
     #[test]
     fn a_square_with_a_pond_gets_passes_round_both_and_a_mainland_inside() {
@@ -102,6 +102,5 @@ mod tests {
         assert!((h.band.unsigned_area() + h.mainland.unsigned_area() - field.unsigned_area()).abs() < 1.0);
         let narrow = polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 100.0, y: 20.0), (x: 0.0, y: 20.0)];
         assert!(headland(&MultiPolygon(vec![narrow]), 12.0, 2, 7.0).mainland.0.is_empty());
-        let _ = Coord { x: 0.0, y: 0.0 };
     }
 }

@@ -11,7 +11,7 @@ use crate::frame::LocalFrame;
 use crate::geom::distance;
 use crate::params::{HeadlandOrder, HeadlandSpec};
 use crate::path::{FlightPath, PieceKind};
-use crate::route::headland_route::{HeadlandRoutes, SwathLinks, Way, connect_anywhere, order};
+use crate::route::headland_route::{HeadlandRoutes, SwathLinks, Way, connect_anywhere, order, ring_pose};
 use crate::route::line_tour::{Line, entry, exit};
 use crate::sweep::{fewest_lines_direction, from_sweep_frame, sweep};
 use crate::turn::dubins::Pose;
@@ -168,14 +168,6 @@ fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f
 /// Vertices of a ring tried as its entry.
 const RING_ENTRIES: usize = 16;
 
-/// The pose at vertex `i` of a closed ring (first vertex repeated last), facing along it
-/// (`forward`) or back.
-fn ring_pose(ring: &[Coord], i: usize, forward: bool) -> Pose {
-    let n = ring.len() - 1;
-    let next = if forward { ring[i + 1] } else { ring[(i + n - 1) % n] };
-    Pose::at(ring[i], (next.y - ring[i].y).atan2(next.x - ring[i].x))
-}
-
 /// The path as it is driven, and where the vehicle is.
 struct Drive<'a> {
     path: FlightPath,
@@ -217,8 +209,7 @@ impl Drive<'_> {
         };
         let lap = lap.unwrap_or(&[]);
         let stride = (lap.len() / RING_ENTRIES).max(1);
-        let departures = std::iter::once((0, here))
-            .chain((stride..lap.len().saturating_sub(1)).step_by(stride).map(|d| (d, Pose::at(lap[d], (lap[d + 1].y - lap[d].y).atan2(lap[d + 1].x - lap[d].x)))));
+        let departures = std::iter::once((0, here)).chain((stride..lap.len().saturating_sub(1)).step_by(stride).map(|d| (d, ring_pose(lap, d, true))));
         for (d, from) in departures {
             let near = nearest(from.coord());
             let step = (n / RING_ENTRIES).max(1);
@@ -254,7 +245,7 @@ impl Drive<'_> {
                 let (i, forward, drive_on) = self.ring_entry(ring, lap.as_deref());
                 if let Some(lap) = lap.as_ref().filter(|_| drive_on > 0) {
                     self.path.push(PieceKind::Transit, lap[..=drive_on].to_vec(), 0.0);
-                    self.at = Some(Pose::at(lap[drive_on], (lap[drive_on + 1].y - lap[drive_on].y).atan2(lap[drive_on + 1].x - lap[drive_on].x)));
+                    self.at = Some(ring_pose(lap, drive_on, true));
                 }
                 let n = ring.len() - 1;
                 let points: Vec<Coord> = (0..=n).map(|j| if forward { ring[(i + j) % n] } else { ring[(i + n - j) % n] }).collect();

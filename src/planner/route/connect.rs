@@ -13,7 +13,7 @@ use geo::{Coord, Rect};
 use super::visibility::TransitPlanner;
 use crate::stop::Stop;
 use crate::turn::dubins::{DubinsPath, Pose, all_words, shortest, to_point_lower_bound};
-use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
+use crate::turn::{CHORD_TOLERANCE_M, TurnModel, half_circles, turnable_stretch};
 
 pub struct Connector<'a> {
     pub turn: TurnModel,
@@ -136,41 +136,14 @@ impl Connector<'_> {
         if self.stopped() {
             return None;
         }
-        let length = crate::geom::distance(a, b);
-        if length == 0.0 {
-            return None;
-        }
-        let dir = (b - a) / length;
-        let step = r / 8.0;
-        let mut from_a = 0.0;
-        while from_a <= length && !self.can_turn_at(a + dir * from_a, -dir, r) {
-            from_a += step;
-        }
-        let mut from_b = 0.0;
-        while length - from_b > from_a && !self.can_turn_at(b - dir * from_b, dir, r) {
-            from_b += step;
-        }
-        (length - from_b - from_a > 1e-6).then(|| (a + dir * from_a, b - dir * from_b))
+        turnable_stretch(a, b, r, 1e-6, |at, out| self.can_turn_at(at, out, r))
     }
 
     /// True when a half circle of radius `r` turning left or right from `at`, flying `out`
     /// (unit), stays clear of the walls.
     fn can_turn_at(&self, at: Coord, out: Coord, r: f64) -> bool {
         let room = Rect::new(at - Coord { x: 2.0 * r, y: 2.0 * r }, at + Coord { x: 2.0 * r, y: 2.0 * r });
-        if !self.transit.any_wall_in(&room) {
-            return true;
-        }
-        [1.0, -1.0].into_iter().any(|side: f64| {
-            let centre = at + Coord { x: -out.y, y: out.x } * (side * r);
-            let phase = (at.y - centre.y).atan2(at.x - centre.x);
-            let arc: Vec<Coord> = (0..=16)
-                .map(|k| {
-                    let phi = phase + side * std::f64::consts::PI * k as f64 / 16.0;
-                    centre + Coord { x: phi.cos(), y: phi.sin() } * r
-                })
-                .collect();
-            self.transit.is_polyline_clear(&arc)
-        })
+        !self.transit.any_wall_in(&room) || half_circles(at, out, r).iter().any(|arc| self.transit.is_polyline_clear(arc))
     }
 
     /// A box that holds every connection between the two poses that has no detour.

@@ -14,15 +14,15 @@ use std::sync::OnceLock;
 use geo::{Coord, MultiPolygon};
 use rayon::prelude::*;
 
-use super::gtsp::{Costs, Instance, KnownCosts};
-use super::line_tour::{CANDIDATES, Line, NO_WAY, entry, exit};
+use super::gtsp::{Costs, KnownCosts};
+use super::line_tour::{Line, NO_WAY, entry, exit, line_instance, nearest_entries};
 use crate::geom::{EdgeIndex, distance, polyline_length};
 use crate::path::TurnShape;
 use crate::stop::Stop;
 use crate::turn::dubins::{Pose, shortest};
 use crate::turn::fishtail::fishtail;
 use crate::turn::ground::manoeuvres;
-use crate::turn::{CHORD_TOLERANCE_M, TurnModel};
+use crate::turn::{CHORD_TOLERANCE_M, TurnModel, half_circles, turnable_stretch};
 
 /// A headland pass as a road: a closed ring with its arc lengths.
 pub struct Road {
@@ -47,13 +47,6 @@ impl Road {
 
     fn length(&self) -> f64 {
         *self.at.last().expect("a road has points")
-    }
-
-    /// The pose at vertex `i`, facing along the ring (`forward`) or against it.
-    fn pose(&self, i: usize, forward: bool) -> Pose {
-        let n = self.points.len() - 1;
-        let (a, b) = if forward { (self.points[i % n], self.points[i % n + 1]) } else { (self.points[(i + n - 1) % n + 1], self.points[(i + n - 1) % n]) };
-        Pose::at(self.points[i % n], (b.y - a.y).atan2(b.x - a.x))
     }
 
     /// Metres from vertex `i` to vertex `j` in the direction of travel.
@@ -88,6 +81,14 @@ impl Road {
         }
         out
     }
+}
+
+/// The pose at vertex `i` (not the last) of a closed ring (first vertex repeated last), facing
+/// along the ring (`forward`) or back.
+pub fn ring_pose(ring: &[Coord], i: usize, forward: bool) -> Pose {
+    let n = ring.len() - 1;
+    let next = if forward { ring[i + 1] } else { ring[(i + n - 1) % n] };
+    Pose::at(ring[i], (next.y - ring[i].y).atan2(next.x - ring[i].x))
 }
 
 /// A way found between two poses.
@@ -162,48 +163,12 @@ impl HeadlandRoutes {
         !self.field.crossed(points) && (bounds == Bounds::Field || !self.mainland.crossed(points))
     }
 
-    /// The shortest manoeuvre from `from` to `to` within `bounds`: a turn (with its shape)
-    /// inside the headland, a transit otherwise.
-    pub fn direct(&self, from: Pose, to: Pose, bounds: Bounds) -> Option<Way> {
-        manoeuvres(from, to, self.radius, self.reverse).into_iter().find_map(|m| {
-            let points = m.points();
-            self.clear(&points, bounds).then(|| Way { points, length: m.length, shape: (bounds == Bounds::Headland).then_some(m.shape) })
-        })
-    }
-
     /// The stretch of the swath `a → b` whose ends the vehicle can turn at: each end pulled
     /// back (in steps of an eighth of the radius) until a half circle to the left or the
     /// right from it stays in the field; `None` when nothing is left (a swath in an acute
     /// corner, where no turn fits).
     pub fn turnable(&self, a: Coord, b: Coord) -> Option<(Coord, Coord)> {
-        let length = distance(a, b);
-        if length == 0.0 {
-            return None;
-        }
-        let dir = (b - a) / length;
-        let r = self.radius;
-        let fits = |at: Coord, out: Coord| {
-            [1.0, -1.0].into_iter().any(|side: f64| {
-                let centre = at + Coord { x: -out.y, y: out.x } * (side * r);
-                let phase = (at.y - centre.y).atan2(at.x - centre.x);
-                let arc: Vec<Coord> = (0..=18)
-                    .map(|k| {
-                        centre + Coord { x: (phase + side * std::f64::consts::PI * k as f64 / 18.0).cos(), y: (phase + side * std::f64::consts::PI * k as f64 / 18.0).sin() } * r
-                    })
-                    .collect();
-                !self.field.crossed(&arc)
-            })
-        };
-        let step = r / 8.0;
-        let mut from_a = 0.0;
-        while from_a <= length && !fits(a + dir * from_a, -dir) {
-            from_a += step;
-        }
-        let mut from_b = 0.0;
-        while length - from_b > from_a && !fits(b - dir * from_b, dir) {
-            from_b += step;
-        }
-        (length - from_b - from_a > 0.05).then(|| (a + dir * from_a, b - dir * from_b))
+        turnable_stretch(a, b, self.radius, 0.05, |at, out| half_circles(at, out, self.radius).iter().any(|arc| !self.field.crossed(arc)))
     }
 
     /// Between fields, on the road outside them.
@@ -212,9 +177,14 @@ impl HeadlandRoutes {
         Way { length: polyline_length(&points), points, shape: None }
     }
 
-    /// Anywhere inside the field: straight there, or along a headland pass.
+    /// Anywhere inside the field: the shortest manoeuvre that stays in it, or else along a
+    /// headland pass.
     pub fn transit(&self, from: Pose, to: Pose) -> Option<Way> {
-        self.direct(from, to, Bounds::Field).map(|w| Way { shape: None, ..w }).or_else(|| {
+        let direct = manoeuvres(from, to, self.radius, self.reverse).into_iter().find_map(|m| {
+            let points = m.points();
+            self.clear(&points, Bounds::Field).then_some(Way { points, length: m.length, shape: None })
+        });
+        direct.or_else(|| {
             let (on, off) = (self.ramps(from, true, Bounds::Field), self.ramps(to, false, Bounds::Field));
             self.by_road(&on, &off)
         })
@@ -256,7 +226,7 @@ impl HeadlandRoutes {
                     continue;
                 }
                 tried[road] += 1;
-                let at = self.roads[road].pose(vertex, forward);
+                let at = ring_pose(&self.roads[road].points, vertex, forward);
                 let (a, b) = if on { (pose, at) } else { (at, pose) };
                 let word = shortest(a, b, self.radius);
                 candidates.push((word.length(), road, vertex, word, b));
@@ -375,17 +345,7 @@ pub fn order(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<Pose>, sto
             f
         })
     };
-    let entries: Vec<Coord> = (0..n).map(|v| entry(lines, v).coord()).collect();
-    let candidates: Vec<Vec<usize>> = (0..n)
-        .into_par_iter()
-        .map(|u| {
-            let from = exit(lines, u).coord();
-            let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| (distance(from, entries[v]), v)).collect();
-            near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            near.truncate(CANDIDATES);
-            near.into_iter().map(|(_, v)| v).collect()
-        })
-        .collect();
+    let candidates = nearest_entries(lines);
     let known: KnownCosts = candidates.par_iter().enumerate().flat_map_iter(|(u, c)| c.iter().map(move |&v| ((u, v), links.cost(u, v)))).collect();
     let terminal = |p: Option<Pose>, to_line: bool| {
         p.map(|p| {
@@ -399,16 +359,8 @@ pub fn order(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<Pose>, sto
                 .collect()
         })
     };
-    let inst = Instance {
-        clusters: (0..lines.len()).map(|k| vec![2 * k, 2 * k + 1]).collect(),
-        reverse: (0..n).map(|v| v ^ 1).collect(),
-        cost: Costs::lazy(n, known, |u, v| links.cost(u, v), floor),
-        node_cost: (0..n).map(|v| lines[v / 2].length()).collect(),
-        from_start: terminal(start, true),
-        to_end: terminal(end, false),
-        candidates: Some(candidates),
-        stop: stop.clone(),
-    };
+    let mut inst = line_instance(lines, Costs::lazy(n, known, |u, v| links.cost(u, v), floor), terminal(start, true), terminal(end, false), stop.clone());
+    inst.candidates = Some(candidates);
     super::gtsp::solve(&inst)
 }
 

@@ -87,6 +87,43 @@ const CHORDS_AT_LEAST: f64 = 0.998;
 /// Entries nearest each exit whose connections are priced before the search.
 pub const CANDIDATES: usize = 24;
 
+/// For each node, the [`CANDIDATES`] nodes whose entry is nearest its exit in a straight line:
+/// where the cheap connections are (no turning path is shorter than the straight line). By
+/// brute force, O(n²) distances, a few milliseconds for thousands of lines.
+pub fn nearest_entries(lines: &[Line]) -> Vec<Vec<usize>> {
+    let n = 2 * lines.len();
+    let entries: Vec<Coord> = (0..n).map(|v| entry(lines, v).coord()).collect();
+    (0..n)
+        .into_par_iter()
+        .map(|u| {
+            let from = exit(lines, u).coord();
+            let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| (crate::geom::distance(from, entries[v]), v)).collect();
+            if near.len() > CANDIDATES {
+                near.select_nth_unstable_by(CANDIDATES, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                near.truncate(CANDIDATES);
+            }
+            near.into_iter().map(|(_, v)| v).collect()
+        })
+        .collect()
+}
+
+/// The GTSP instance of `lines`: clusters of each line's two directions, each node costing its
+/// line's length, connections by `cost`, start and end costs where there is a start or end
+/// (impossible ones at [`NO_WAY`]).
+pub fn line_instance<'c>(lines: &[Line], cost: Costs<'c>, from_start: Option<Vec<f64>>, to_end: Option<Vec<f64>>, stop: Stop) -> Instance<'c> {
+    let n = 2 * lines.len();
+    Instance {
+        clusters: (0..lines.len()).map(|k| vec![2 * k, 2 * k + 1]).collect(),
+        reverse: (0..n).map(|v| v ^ 1).collect(),
+        cost,
+        node_cost: (0..n).map(|v| lines[v / 2].length()).collect(),
+        from_start: from_start.map(|r| r.into_iter().map(finite).collect()),
+        to_end: to_end.map(|r| r.into_iter().map(finite).collect()),
+        candidates: None,
+        stop,
+    }
+}
+
 impl LineProblem<'_> {
     /// Cost of the connection from the exit of node `u` to the entry of node `v`: its length,
     /// or with obstacles its raised 3D length plus the penalty for the coverage it loses;
@@ -147,7 +184,7 @@ impl LineProblem<'_> {
     /// parallel (the search would ask for most of them, one at a time); on more, those to
     /// the candidates are, and the rest when the search first needs them.
     pub fn instance(&self) -> Instance<'_> {
-        let candidates = self.candidates();
+        let candidates = nearest_entries(self.lines);
         let n = 2 * self.lines.len();
         let mut inst = if self.lines.len() <= gtsp::ALL_NEIGHBOURS_UP_TO {
             let raw: Vec<f64> = (0..n * n).into_par_iter().map(|i| self.connection(i / n, i % n)).collect();
@@ -161,26 +198,6 @@ impl LineProblem<'_> {
         };
         inst.candidates = Some(candidates);
         inst
-    }
-
-    /// For each node, the nodes whose entry is nearest its exit in a straight line: where the
-    /// cheap connections are (a Dubins path is never shorter than the straight line). By brute
-    /// force, O(n²) distances, a few milliseconds for thousands of lines.
-    fn candidates(&self) -> Vec<Vec<usize>> {
-        let n = 2 * self.lines.len();
-        let entries: Vec<Coord> = (0..n).map(|v| entry(self.lines, v).coord()).collect();
-        (0..n)
-            .into_par_iter()
-            .map(|u| {
-                let from = exit(self.lines, u).coord();
-                let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| (crate::geom::distance(from, entries[v]), v)).collect();
-                if near.len() > CANDIDATES {
-                    near.select_nth_unstable_by(CANDIDATES, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                    near.truncate(CANDIDATES);
-                }
-                near.into_iter().map(|(_, v)| v).collect()
-            })
-            .collect()
     }
 
     /// The cost the solver sees: impossible connections get [`NO_WAY`], changes of region the
@@ -201,17 +218,7 @@ impl LineProblem<'_> {
     }
 
     fn instance_with<'c>(&self, cost: Costs<'c>, from_start: Option<Vec<f64>>, to_end: Option<Vec<f64>>) -> Instance<'c> {
-        let n = 2 * self.lines.len();
-        Instance {
-            clusters: (0..self.lines.len()).map(|k| vec![2 * k, 2 * k + 1]).collect(),
-            reverse: (0..n).map(|v| v ^ 1).collect(),
-            cost,
-            node_cost: (0..n).map(|v| self.lines[v / 2].length()).collect(),
-            from_start: from_start.map(|r| r.into_iter().map(finite).collect()),
-            to_end: to_end.map(|r| r.into_iter().map(finite).collect()),
-            candidates: None,
-            stop: self.connector.stop(),
-        }
+        line_instance(self.lines, cost, from_start, to_end, self.connector.stop())
     }
 
     /// The best node sequence found and its cost (without the region-change surcharge).

@@ -227,6 +227,13 @@ fn arc_centre(from: Pose, part: Part, r: f64) -> Coord {
     Coord { x: from.x - sigma * r * sin0, y: from.y + sigma * r * cos0 }
 }
 
+/// The angle between samples of an arc of radius `r` whose chords stray at most
+/// `chord_tolerance_m` from it, and at most 10°.
+pub fn arc_step(r: f64, chord_tolerance_m: f64) -> f64 {
+    let max_step = 10f64.to_radians();
+    if chord_tolerance_m < r { (2.0 * (1.0 - chord_tolerance_m / r).acos()).min(max_step) } else { max_step }
+}
+
 impl DubinsPath {
     pub fn length(&self) -> f64 {
         self.radius * (self.params[0] + self.params[1] + self.params[2])
@@ -265,8 +272,7 @@ impl DubinsPath {
     /// point is the end position.
     pub fn sample(&self, chord_tolerance_m: f64) -> Vec<Coord> {
         let r = self.radius;
-        let max_step = 10f64.to_radians();
-        let step = if chord_tolerance_m < r { (2.0 * (1.0 - chord_tolerance_m / r).acos()).min(max_step) } else { max_step };
+        let step = arc_step(r, chord_tolerance_m);
         let mut out = vec![self.start.coord()];
         let mut q = self.start;
         for (part, s) in self.segments() {

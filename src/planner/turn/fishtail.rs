@@ -8,7 +8,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use geo::Coord;
 
-use super::dubins::Pose;
+use super::dubins::{Pose, arc_step};
 
 /// A fishtail from `from` to `to`, or `None` unless the two face opposite ways (within 1e-6
 /// rad): the points (first and last exactly the poses), the length driven, and whether any of
@@ -26,7 +26,7 @@ pub fn fishtail(from: Pose, to: Pose, r: f64, chord_tolerance_m: f64) -> Option<
     let d = across.abs();
     let (first, last) = (along.max(0.0), (-along).max(0.0));
     let middle = d - 2.0 * r;
-    let step = if chord_tolerance_m < r { (2.0 * (1.0 - chord_tolerance_m / r).acos()).min(10f64.to_radians()) } else { 10f64.to_radians() };
+    let step = arc_step(r, chord_tolerance_m);
     let k = (FRAC_PI_2 / step).ceil() as usize;
     let mut local = vec![Coord { x: 0.0, y: 0.0 }, Coord { x: first, y: 0.0 }];
     // quarter circle about (first, r): from heading 0 to heading π/2

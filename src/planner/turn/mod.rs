@@ -47,3 +47,39 @@ impl TurnModel {
         }
     }
 }
+
+/// The stretch of the line `a → b` whose ends a vehicle of turning radius `r` can turn at:
+/// each end pulled back in steps of `r / 8` until `can_turn(at, out)` holds (`out`: the unit
+/// direction of leaving the line there); `None` when no more than `min_left` metres are left.
+pub fn turnable_stretch(a: Coord, b: Coord, r: f64, min_left: f64, can_turn: impl Fn(Coord, Coord) -> bool) -> Option<(Coord, Coord)> {
+    let length = crate::geom::distance(a, b);
+    if length == 0.0 {
+        return None;
+    }
+    let dir = (b - a) / length;
+    let step = r / 8.0;
+    let mut from_a = 0.0;
+    while from_a <= length && !can_turn(a + dir * from_a, -dir) {
+        from_a += step;
+    }
+    let mut from_b = 0.0;
+    while length - from_b > from_a && !can_turn(b - dir * from_b, dir) {
+        from_b += step;
+    }
+    (length - from_b - from_a > min_left).then(|| (a + dir * from_a, b - dir * from_b))
+}
+
+/// The two half circles of radius `r` from `at`, leaving in the unit direction `out`: turning
+/// left, then right, each 17 points.
+pub fn half_circles(at: Coord, out: Coord, r: f64) -> [Vec<Coord>; 2] {
+    [1.0, -1.0].map(|side: f64| {
+        let centre = at + Coord { x: -out.y, y: out.x } * (side * r);
+        let phase = (at.y - centre.y).atan2(at.x - centre.x);
+        (0..=16)
+            .map(|k| {
+                let phi = phase + side * std::f64::consts::PI * k as f64 / 16.0;
+                centre + Coord { x: phi.cos(), y: phi.sin() } * r
+            })
+            .collect()
+    })
+}

@@ -326,6 +326,7 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         area: mission.get("area").context("the mission has no `area`")?,
         no_fly_zones: mission.get("no_fly_zones").filter(|v| !v.is_null()),
         obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
+        structures: mission.get("structures").filter(|v| !v.is_null()),
         home,
     };
     let profiles = planner::vehicle::builtin_profiles();

@@ -56,7 +56,9 @@ impl Scratch {
 /// Queues `n` plans of one small mission.
 async fn queue(db: &store::Db, n: usize) -> anyhow::Result<()> {
     let area = small_field();
-    let mission = missions::create(db, OPEN_TENANT, &missions::NewMission { name: "bench".into(), area: area.clone(), no_fly_zones: None, obstacles: None, home: None }).await?;
+    let mission =
+        missions::create(db, OPEN_TENANT, &missions::NewMission { name: "bench".into(), area: area.clone(), no_fly_zones: None, obstacles: None, structures: None, home: None })
+            .await?;
     let snapshot = json!({"area": area});
     for _ in 0..n {
         plans::create(db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20}), &snapshot, i64::MAX).await?;

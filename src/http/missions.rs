@@ -32,6 +32,12 @@ pub struct MissionRequest {
     #[serde(default)]
     #[schema(value_type = Option<Object>)]
     pub obstacles: Option<Value>,
+    /// GeoJSON FeatureCollection of structures to inspect (planner `inspection`): Polygon
+    /// features, or Point features with `radius_m` (silos, trees), each with `height_m`, and
+    /// optionally `base_m` (metres above ground where it starts, default 0) and a unique `name`.
+    #[serde(default)]
+    #[schema(value_type = Option<Object>)]
+    pub structures: Option<Value>,
     /// [longitude, latitude] of the take-off and landing point.
     #[serde(default)]
     #[schema(min_items = 2, max_items = 2)]
@@ -47,13 +53,20 @@ impl MissionRequest {
         }
         let limits = state.config.limits;
         off_the_async_threads(move || {
-            let geometry = MissionGeometry { area: &self.area, no_fly_zones: self.no_fly_zones.as_ref(), obstacles: self.obstacles.as_ref(), home: self.home };
+            let geometry = MissionGeometry {
+                area: &self.area,
+                no_fly_zones: self.no_fly_zones.as_ref(),
+                obstacles: self.obstacles.as_ref(),
+                structures: self.structures.as_ref(),
+                home: self.home,
+            };
             planner::validate_mission(&geometry, &limits)?;
             Ok::<_, ApiError>(NewMission {
                 name,
                 area: self.area,
                 no_fly_zones: self.no_fly_zones.filter(|v| !v.is_null()),
                 obstacles: self.obstacles.filter(|v| !v.is_null()),
+                structures: self.structures.filter(|v| !v.is_null()),
                 home: self.home,
             })
         })
@@ -142,7 +155,7 @@ pub async fn import_file(
     let format = query.format.clone();
     let imported = off_the_async_threads(move || import::import(format.as_deref(), &body)).await?;
     let name = query.name.or(imported.name).unwrap_or_else(|| "Imported field".to_owned());
-    let request = MissionRequest { name, area: imported.area, no_fly_zones: imported.no_fly_zones, obstacles: imported.obstacles, home: imported.home };
+    let request = MissionRequest { name, area: imported.area, no_fly_zones: imported.no_fly_zones, obstacles: imported.obstacles, structures: None, home: imported.home };
     let new = request.validate(&state).await?;
     let mission = missions::create(&state.db, &caller.tenant, &new).await?;
     Ok((StatusCode::CREATED, Json(ImportedMission { mission, warnings: imported.warnings })))

@@ -32,7 +32,13 @@ pub async fn create(
     let profiles = vehicles::profiles(&state.db, &caller.tenant).await?;
     let limits = state.config.limits;
     let (mission, params, profiles) = off_the_async_threads(move || {
-        let geometry = MissionGeometry { area: &mission.area, no_fly_zones: mission.no_fly_zones.as_ref(), obstacles: mission.obstacles.as_ref(), home: mission.home };
+        let geometry = MissionGeometry {
+            area: &mission.area,
+            no_fly_zones: mission.no_fly_zones.as_ref(),
+            obstacles: mission.obstacles.as_ref(),
+            structures: mission.structures.as_ref(),
+            home: mission.home,
+        };
         planner::check_plan(&geometry, &params, &profiles, &limits)?;
         Ok::<_, ApiError>((mission, params, profiles))
     })
@@ -41,9 +47,13 @@ pub async fn create(
     if params.time_limit_s.is_some_and(|s| s > most) {
         return Err(ApiError::invalid("parameter_out_of_range", "/time_limit_s", format!("this server plans for at most {most} s; ask for that or less")));
     }
-    let resolved = params.resolve(&profiles)?;
-    let flown: Vec<&Vehicle> = if resolved.fleet.is_empty() { vec![&resolved.vehicle] } else { resolved.fleet.iter().map(|d| &d.vehicle).collect() };
-    let snapshot = snapshot(&mission, &profiles, &flown);
+    let flown: Vec<Vehicle> = if params.planner.as_deref() == Some(planner::INSPECTION) {
+        vec![params.resolve_inspection(&profiles)?.0]
+    } else {
+        let resolved = params.resolve(&profiles)?;
+        if resolved.fleet.is_empty() { vec![resolved.vehicle] } else { resolved.fleet.into_iter().map(|d| d.vehicle).collect() }
+    };
+    let snapshot = snapshot(&mission, &profiles, &flown.iter().collect::<Vec<_>>());
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &mission_id, &params, &snapshot).await?)))
 }
@@ -52,7 +62,7 @@ pub async fn create(
 /// are now, so that editing either later does not change a queued job.
 pub(super) fn snapshot(mission: &missions::Mission, profiles: &[Vehicle], flown: &[&Vehicle]) -> serde_json::Value {
     let base: Vec<&Vehicle> = profiles.iter().filter(|p| flown.iter().any(|v| v.profile == p.profile)).collect();
-    json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "home": mission.home, "vehicles": base})
+    json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones, "obstacles": mission.obstacles, "structures": mission.structures, "home": mission.home, "vehicles": base})
 }
 
 /// Queues a job (a plan or a patrol) of the caller's, within the tenant's cap, and wakes a worker.

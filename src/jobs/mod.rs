@@ -72,6 +72,7 @@ pub fn snapshot_geometry(mission: &Value) -> MissionGeometry<'_> {
         area: mission.get("area").unwrap_or(&Value::Null),
         no_fly_zones: mission.get("no_fly_zones").filter(|v| !v.is_null()),
         obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
+        structures: mission.get("structures").filter(|v| !v.is_null()),
         home: mission.get("home").and_then(|h| serde_json::from_value::<[f64; 2]>(h.clone()).ok()),
     }
 }

@@ -142,6 +142,14 @@ impl Camera {
         Ok((per_m, w, h))
     }
 
+    /// Horizontal and vertical fields of view in degrees (square pixels), and the ground
+    /// sample distance per metre of distance at the image centre.
+    pub fn field_of_view(&self) -> Result<([f64; 2], f64), InputError> {
+        let (per_m, w, h) = self.gsd_per_m()?;
+        let fov = |px: f64| 2.0 * (per_m * px / 2.0).atan().to_degrees();
+        Ok(([fov(w), fov(h)], per_m))
+    }
+
     /// Resolves the altitude (given, or from a wanted ground sample distance) and the spacings.
     pub fn plan(&self, altitude_m: Option<f64>, gsd_cm: Option<f64>, side_overlap: f64, front_overlap: f64) -> Result<CameraPlan, InputError> {
         let (per_m, w, h) = self.gsd_per_m()?;

@@ -31,6 +31,9 @@ pub struct MissionGeometry<'a> {
     pub no_fly_zones: Option<&'a Value>,
     /// Polygon features with a `height_m` property: may be overflown, not flown through.
     pub obstacles: Option<&'a Value>,
+    /// Polygon features (or Points with `radius_m`) with `height_m`, optional `base_m` and
+    /// `name`: structures to inspect, extruded from `base_m` to `base_m + height_m`.
+    pub structures: Option<&'a Value>,
     pub home: Option<[f64; 2]>,
 }
 
@@ -44,8 +47,23 @@ pub struct Field {
     pub no_fly_zones: MultiPolygon,
     /// Obstacle footprints with their height above ground, metres.
     pub obstacles: Vec<(Polygon, f64)>,
+    pub structures: Vec<Structure>,
     pub home: Option<Coord>,
 }
+
+/// A structure: its footprint extruded from `base_m` to `base_m + height_m` above ground.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Structure {
+    pub name: String,
+    pub footprint: Polygon,
+    pub base_m: f64,
+    pub height_m: f64,
+    /// Its feature's JSON pointer in the mission.
+    pub pointer: String,
+}
+
+/// Sides of the polygon that stands for a cylinder (a Point with `radius_m`).
+const CYLINDER_SIDES: usize = 16;
 
 /// A ring as parsed, with where it came from.
 struct RawRing {
@@ -72,10 +90,15 @@ impl Field {
             None | Some(Value::Null) => Vec::new(),
             Some(v) => parse_obstacles(v, "/obstacles")?,
         };
+        let structures = match mission.structures {
+            None | Some(Value::Null) => Vec::new(),
+            Some(v) => parse_structures(v, "/structures")?,
+        };
         if let Some(h) = mission.home {
             check_position(&h, "/home")?;
         }
-        let vertices: usize = area.iter().chain(&nfz).chain(obstacles.iter().map(|o| &o.0)).flat_map(|p| &p.rings).map(|r| r.positions.len()).sum();
+        let structure_polygons = structures.iter().filter_map(|s| if let RawShape::Polygon(p) = &s.shape { Some(p) } else { None });
+        let vertices: usize = area.iter().chain(&nfz).chain(obstacles.iter().map(|o| &o.0)).chain(structure_polygons).flat_map(|p| &p.rings).map(|r| r.positions.len()).sum();
         if vertices > limits.max_vertices {
             return Err(InputError::new("too_many_vertices", "/area", format!("the mission has {vertices} vertices; the limit is {}", limits.max_vertices)));
         }
@@ -85,6 +108,23 @@ impl Field {
         let area_polys = area.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
         let nfz_polys = nfz.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
         let obstacles = obstacles.iter().map(|(raw, h)| to_local(raw).map(|p| (p, *h))).collect::<Result<Vec<_>, _>>()?;
+        let structures = structures
+            .into_iter()
+            .map(|s| {
+                let footprint = match s.shape {
+                    RawShape::Polygon(raw) => to_local(&raw)?,
+                    RawShape::Circle { centre, radius_m } => {
+                        let c = frame.to_local(centre[0], centre[1]);
+                        let ring = (0..CYLINDER_SIDES).map(|k| {
+                            let a = std::f64::consts::TAU * k as f64 / CYLINDER_SIDES as f64;
+                            Coord { x: c.x + radius_m * a.cos(), y: c.y + radius_m * a.sin() }
+                        });
+                        Polygon::new(LineString::from_iter(ring), Vec::new())
+                    }
+                };
+                Ok(Structure { name: s.name, footprint, base_m: s.base_m, height_m: s.height_m, pointer: s.pointer })
+            })
+            .collect::<Result<Vec<_>, InputError>>()?;
 
         let area_mp = MultiPolygon(area_polys);
         // boxes first: overlaying every pair of thousands of fields would take minutes
@@ -111,7 +151,7 @@ impl Field {
         {
             return Err(InputError::new("home_in_no_fly_zone", "/home", "the home point lies inside a no-fly zone"));
         }
-        Ok(Field { frame, area: area_mp, no_fly_zones: nfz_mp, obstacles, home })
+        Ok(Field { frame, area: area_mp, no_fly_zones: nfz_mp, obstacles, structures, home })
     }
 }
 
@@ -160,6 +200,85 @@ fn parse_obstacles(value: &Value, pointer: &str) -> Result<Vec<(RawPolygon, f64)
         let mut polys = Vec::new();
         push_feature(&f, &fp, &mut polys)?;
         out.extend(polys.into_iter().map(|p| (p, height)));
+    }
+    Ok(out)
+}
+
+enum RawShape {
+    Polygon(RawPolygon),
+    Circle { centre: [f64; 2], radius_m: f64 },
+}
+
+struct RawStructure {
+    name: String,
+    shape: RawShape,
+    base_m: f64,
+    height_m: f64,
+    pointer: String,
+}
+
+/// A FeatureCollection of structures, each a Polygon (or a Point with `radius_m`, a cylinder
+/// such as a silo or a tree) with `height_m`, optional `base_m` (default 0) and a unique
+/// `name` (default `structure-<n>`, counted from 1).
+fn parse_structures(value: &Value, pointer: &str) -> Result<Vec<RawStructure>, InputError> {
+    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
+    let GeoJson::FeatureCollection(fc) = geojson else {
+        return Err(InputError::new("structures_not_a_collection", pointer, "structures are a FeatureCollection of Polygon or Point features"));
+    };
+    let mut out: Vec<RawStructure> = Vec::new();
+    for (i, f) in fc.features.iter().enumerate() {
+        let fp = format!("{pointer}/features/{i}");
+        let number = |key: &str, required: bool, lo: f64, hi: f64| -> Result<Option<f64>, InputError> {
+            let at = format!("{fp}/properties/{key}");
+            match f.property(key) {
+                None | Some(Value::Null) if !required => Ok(None),
+                Some(v) => match v.as_f64() {
+                    Some(x) if x >= lo && x <= hi => Ok(Some(x)),
+                    _ => Err(InputError::new("parameter_out_of_range", at, format!("{v} is not a number in [{lo}, {hi}]"))),
+                },
+                None => Err(InputError::new("structure_height_missing", at, format!("each structure needs `{key}` in metres"))),
+            }
+        };
+        let height_m = number("height_m", true, 0.1, MAX_OBSTACLE_HEIGHT_M)?.expect("required");
+        let base_m = number("base_m", false, 0.0, MAX_OBSTACLE_HEIGHT_M)?.unwrap_or(0.0);
+        let name = match f.property("name") {
+            None | Some(Value::Null) => format!("structure-{}", i + 1),
+            Some(Value::String(s)) if !s.trim().is_empty() && s.len() <= 200 => s.trim().to_owned(),
+            Some(_) => return Err(InputError::new("invalid_name", format!("{fp}/properties/name"), "a structure's name is a text of 1 to 200 characters")),
+        };
+        if out.iter().any(|s| s.name == name) {
+            return Err(InputError::new("structure_name_twice", format!("{fp}/properties/name"), format!("two structures are named `{name}`")));
+        }
+        let shape = match f.geometry.as_ref().map(|g| &g.value) {
+            Some(GeometryValue::Point { coordinates }) => {
+                let at = format!("{fp}/geometry/coordinates");
+                let c = coordinates.as_slice();
+                if c.len() < 2 {
+                    return Err(InputError::new("invalid_position", at, "a position needs a longitude and a latitude"));
+                }
+                let centre = [c[0], c[1]];
+                check_position(&centre, &at)?;
+                let radius_m = number("radius_m", true, 0.1, 500.0)
+                    .map_err(|e| {
+                        if e.code == "structure_height_missing" { InputError::new("radius_missing", e.pointer, "a Point structure is a cylinder: give its `radius_m`") } else { e }
+                    })?
+                    .expect("required");
+                RawShape::Circle { centre, radius_m }
+            }
+            _ => {
+                let mut polys = Vec::new();
+                push_feature(f, &fp, &mut polys)?;
+                if polys.len() != 1 {
+                    return Err(InputError::new(
+                        "structure_not_one_polygon",
+                        format!("{fp}/geometry"),
+                        "a structure is one Polygon (give each part of a MultiPolygon its own feature)",
+                    ));
+                }
+                RawShape::Polygon(polys.remove(0))
+            }
+        };
+        out.push(RawStructure { name, shape, base_m, height_m, pointer: fp });
     }
     Ok(out)
 }
@@ -403,7 +522,7 @@ mod tests {
     use serde_json::json;
 
     fn parse(area: Value) -> Result<Field, InputError> {
-        Field::parse(&MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, home: None }, &FieldLimits::default())
+        Field::parse(&MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None }, &FieldLimits::default())
     }
 
     fn square(lon: f64, lat: f64, d: f64) -> Value {

@@ -22,6 +22,8 @@
 //!   together, and the check that no two come too close at the same time);
 //! - [`patrol`]: several UAVs revisiting the cells of a grid over the area (NC-Drone and the
 //!   methods it was compared with), simulated, with the metrics of seed 002;
+//! - [`inspection`]: a multirotor's flight to viewpoints around structures that sees as much
+//!   of their faces as a budget allows (seed 001);
 //! - [`export`]: the trajectory as GeoJSON, and the files of flight planners, Google Earth and
 //!   farm terminals written from it; [`import`]: missions read from such files;
 //!   [`estimate`]: a given route's time and energy;
@@ -44,6 +46,7 @@ mod fleet;
 pub mod frame;
 pub mod geom;
 pub mod import;
+pub mod inspection;
 pub mod metrics;
 pub mod params;
 pub mod path;
@@ -219,7 +222,94 @@ fn ground_setup(spec: params::HeadlandSpec, vehicle: &vehicle::Vehicle, field: &
 
 /// Checks a plan request without planning: what [`plan`] would refuse as input, this refuses.
 pub fn check_plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<(), InputError> {
+    if params.planner.as_deref() == Some(INSPECTION) {
+        return prepare_inspection(mission, params, profiles, limits).map(|_| ());
+    }
     prepare(mission, params, profiles, limits).map(|_| ())
+}
+
+/// The planner id of the inspection of structures.
+pub const INSPECTION: &str = "inspection";
+
+/// What planner `inspection` says of itself in the planners' list.
+pub const INSPECTION_DESCRIPTION: &str = "Inspection of structures (seed 001): viewpoints around the mission's structures, chosen and ordered within a budget \
+     (length, time or energy) to see the largest weighted share of their walls and roofs; a multirotor, collision-free legs in 2.5D";
+
+struct InspectionSetup {
+    field: Field,
+    vehicle: vehicle::Vehicle,
+    spec: params::inspection::InspectionSpec,
+    fov_deg: [f64; 2],
+    gsd_range_m: Option<f64>,
+    start: Coord,
+    end: Coord,
+}
+
+/// The preset an inspection's camera defaults to.
+const INSPECTION_CAMERA: &str = "dji_mavic3_enterprise";
+
+fn prepare_inspection(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<InspectionSetup, InputError> {
+    let (vehicle, spec) = params.resolve_inspection(profiles)?;
+    let field = Field::parse(mission, limits)?;
+    if field.structures.is_empty() {
+        return Err(InputError::new("no_structures", "/structures", "an inspection needs the mission's structures: polygons with height_m"));
+    }
+    let camera = params.camera.clone().unwrap_or_else(|| camera::Camera { preset: Some(INSPECTION_CAMERA.into()), ..camera::Camera::default() });
+    let (fov_deg, gsd_per_m) = camera.field_of_view()?;
+    let gsd_range_m = match params.gsd_cm {
+        Some(g) => {
+            error::check_range(g, 0.01, 1_000.0, "/gsd_cm", "cm/px")?;
+            Some(g / 100.0 / gsd_per_m)
+        }
+        None => None,
+    };
+    let local = |p: Option<[f64; 2]>| p.map(|[lon, lat]| field.frame.to_local(lon, lat));
+    let start = local(params::checked_position(&params.start, "start")?)
+        .or(field.home)
+        .ok_or_else(|| InputError::new("start_missing", "/start", "an inspection starts somewhere: give start, or the mission's home"))?;
+    let end = local(params::checked_position(&params.end, "end")?).unwrap_or(start);
+    Ok(InspectionSetup { field, vehicle, spec, fov_deg, gsd_range_m, start, end })
+}
+
+fn plan_inspection(
+    mission: &MissionGeometry<'_>,
+    params: &PlanParams,
+    profiles: &[vehicle::Vehicle],
+    limits: &FieldLimits,
+    progress: &dyn Progress,
+    stop: &Stop,
+) -> Result<PlanOutput, PlanError> {
+    let started = Instant::now();
+    let s = prepare_inspection(mission, params, profiles, limits)?;
+    if !progress.report(0.1) {
+        return Err(PlanError::Cancelled);
+    }
+    let input = inspection::InspectionInput {
+        structures: &s.field.structures,
+        obstacles: &s.field.obstacles,
+        no_fly_zones: &s.field.no_fly_zones,
+        geofence: &s.field.area,
+        vehicle: &s.vehicle,
+        spec: &s.spec,
+        fov_deg: s.fov_deg,
+        gsd_range_m: s.gsd_range_m,
+        start: s.start,
+        end: s.end,
+    };
+    let planned = inspection::plan(&input, stop)?;
+    let trajectory = export::geojson::inspection_collection(&s.field.frame, &planned, s.spec.show_unseen);
+    let mut stats = planned.stats();
+    if planned.energy_j() > s.vehicle.battery.usable_j() {
+        stats.batteries_needed = (planned.energy_j() / s.vehicle.battery.usable_j()).ceil() as usize;
+        stats.warnings.push(format!(
+            "this flight needs {:.0} kJ; one battery gives {:.0} kJ above its reserve: give a budget in max_energy_j to keep it to one battery",
+            planned.energy_j() / 1000.0,
+            s.vehicle.battery.usable_j() / 1000.0
+        ));
+    }
+    stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
+    progress.report(1.0);
+    Ok(PlanOutput { stats, trajectory })
 }
 
 /// Plans `mission` with `params`; `vehicle.profile` names one of `profiles`. `progress` is
@@ -234,7 +324,12 @@ pub fn plan(
     stop: &Stop,
 ) -> Result<PlanOutput, PlanError> {
     let stopping = |fraction: f64| !stop.requested() && progress.report(fraction);
-    match plan_until(mission, params, profiles, limits, &stopping, stop) {
+    let planned = if params.planner.as_deref() == Some(INSPECTION) {
+        plan_inspection(mission, params, profiles, limits, &stopping, stop)
+    } else {
+        plan_until(mission, params, profiles, limits, &stopping, stop)
+    };
+    match planned {
         // stages cut short after a stop may fail or return anything: neither is the answer
         _ if stop.requested() => Err(PlanError::Cancelled),
         planned => planned,

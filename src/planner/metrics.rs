@@ -10,7 +10,7 @@ use super::geom::distance;
 use super::path::{FlightPath, PieceKind};
 use super::sortie::SortieTotals;
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Stats {
     pub length_m: f64,
@@ -85,6 +85,54 @@ pub struct Stats {
     /// Ground vehicle: the headland and the turns.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ground: Option<GroundStats>,
+    /// Inspection: the weighted share of the points of interest seen.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inspection_coverage: Option<f64>,
+    /// Inspection: what each target shows, the budget and the search.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inspection: Option<InspectionStats>,
+}
+
+/// An inspection's figures.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct InspectionStats {
+    /// Points of interest on the targets, and how many are seen.
+    pub pois: usize,
+    pub pois_seen: usize,
+    pub weighted_total: f64,
+    pub weighted_seen: f64,
+    /// Per structure and face.
+    pub targets: Vec<TargetCoverage>,
+    /// Viewpoints flown, and sampled in all (initial and added during the search).
+    pub viewpoints: usize,
+    pub viewpoints_sampled: usize,
+    /// `length_m`, `time_s` or `energy_j`.
+    pub budget_measure: String,
+    pub budget_limit: f64,
+    /// The path's cost in that measure (never above the limit).
+    pub budget_used: f64,
+    /// Search iterations, and why it stopped: `iterations`, `no_improvement` or `time_limit`.
+    pub iterations: usize,
+    pub search_end: String,
+    /// The camera's fields of view and the range a point counts as seen in, as planned.
+    pub fov_deg: [f64; 2],
+    pub range_m: [f64; 2],
+}
+
+/// What is seen of one target: a structure's walls or roof.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct TargetCoverage {
+    pub name: String,
+    /// `walls` or `roof`.
+    pub face: String,
+    pub seen: usize,
+    pub total: usize,
+    pub weighted_seen: f64,
+    pub weighted_total: f64,
+    /// `weighted_seen / weighted_total`.
+    pub coverage: f64,
 }
 
 /// A ground plan's figures: how much of the mainland and of the headland is worked, and how
@@ -515,6 +563,8 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         vehicles: Vec::new(),
         conflicts: None,
         ground: None,
+        inspection_coverage: None,
+        inspection: None,
     }
 }
 

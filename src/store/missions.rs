@@ -22,6 +22,9 @@ pub struct Mission {
     /// Polygon features with `height_m`.
     #[schema(value_type = Option<Object>)]
     pub obstacles: Option<Value>,
+    /// Structures to inspect: features with `height_m`, `base_m` and `name`.
+    #[schema(value_type = Option<Object>)]
+    pub structures: Option<Value>,
     /// [longitude, latitude]
     #[schema(min_items = 2, max_items = 2)]
     pub home: Option<[f64; 2]>,
@@ -45,6 +48,7 @@ pub struct NewMission {
     pub area: Value,
     pub no_fly_zones: Option<Value>,
     pub obstacles: Option<Value>,
+    pub structures: Option<Value>,
     pub home: Option<[f64; 2]>,
 }
 
@@ -56,6 +60,7 @@ struct MissionRow {
     area: Json<Value>,
     no_fly_zones: Option<Json<Value>>,
     obstacles: Option<Json<Value>>,
+    structures: Option<Json<Value>>,
     home_lon: Option<f64>,
     home_lat: Option<f64>,
     created_at: String,
@@ -70,6 +75,7 @@ impl From<MissionRow> for Mission {
             area: r.area.0,
             no_fly_zones: r.no_fly_zones.map(|j| j.0),
             obstacles: r.obstacles.map(|j| j.0),
+            structures: r.structures.map(|j| j.0),
             home: r.home_lon.zip(r.home_lat).map(|(lon, lat)| [lon, lat]),
             created_at: r.created_at,
             updated_at: r.updated_at,
@@ -79,11 +85,11 @@ impl From<MissionRow> for Mission {
 
 macro_rules! columns {
     () => {
-        "id, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at"
+        "id, name, area, no_fly_zones, obstacles, structures, home_lon, home_lat, created_at, updated_at"
     };
 }
 
-/// Binds a mission's content in the order `name, area, no_fly_zones, obstacles, home_lon, home_lat`.
+/// Binds a mission's content in the order `name, area, no_fly_zones, obstacles, structures, home_lon, home_lat`.
 macro_rules! bind_content {
     ($query:expr, $m:expr) => {
         $query
@@ -91,6 +97,7 @@ macro_rules! bind_content {
             .bind(Json(&$m.area))
             .bind($m.no_fly_zones.as_ref().map(Json))
             .bind($m.obstacles.as_ref().map(Json))
+            .bind($m.structures.as_ref().map(Json))
             .bind($m.home.map(|h| h[0]))
             .bind($m.home.map(|h| h[1]))
     };
@@ -101,8 +108,8 @@ pub async fn create(db: &Db, tenant: &str, m: &NewMission) -> Result<Mission, sq
     let row: MissionRow = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
         let query = sqlx::query_as(sql(concat!(
-            "INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, home_lon, home_lat, created_at, updated_at)
-         VALUES (?, ?, ?, ?, ?, ?, ?, ?, ",
+            "INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, structures, home_lon, home_lat, created_at, updated_at)
+         VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ",
             crate::sql_now!(),
             ", ",
             crate::sql_now!(),
@@ -157,7 +164,7 @@ pub async fn update(db: &Db, tenant: &str, id: &str, m: &NewMission) -> Result<O
     let row: Option<MissionRow> = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
         let query = sqlx::query_as(sql(concat!(
-            "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, home_lon = ?, home_lat = ?, updated_at = ",
+            "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, structures = ?, home_lon = ?, home_lat = ?, updated_at = ",
             crate::sql_now!(),
             " WHERE id = ? AND tenant = ? RETURNING ",
             columns!()

@@ -20,7 +20,7 @@ fn ground(width: f64, radius: f64, extra: Value) -> PlanParams {
 }
 
 fn run(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Result<PlanOutput, PlanError> {
-    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, home: None };
+    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, structures: None, home: None };
     planner::plan(&mission, params, &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never())
 }
 

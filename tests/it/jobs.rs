@@ -16,8 +16,13 @@ use serde_json::json;
 async fn fresh_mission() -> (store::Db, missions::Mission, serde_json::Value) {
     let db = store::connect(&common::fresh_db_url().await).await.unwrap();
     let body = common::mission_body("real-fields/nl-parcel-b.json");
-    let mission =
-        missions::create(&db, OPEN_TENANT, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
+    let mission = missions::create(
+        &db,
+        OPEN_TENANT,
+        &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, structures: None, home: None },
+    )
+    .await
+    .unwrap();
     let snapshot = json!({"area": mission.area});
     (db, mission, snapshot)
 }
@@ -133,7 +138,8 @@ async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
 async fn cancelling_a_running_plan_frees_its_worker_at_once() {
     let db = store::connect(&common::fresh_db_url().await).await.unwrap();
     let field = common::fixture("random-fields/h14_00.json");
-    let new = missions::NewMission { name: "h14".into(), area: field["area"].clone(), no_fly_zones: Some(field["no_fly_zones"].clone()), obstacles: None, home: None };
+    let new =
+        missions::NewMission { name: "h14".into(), area: field["area"].clone(), no_fly_zones: Some(field["no_fly_zones"].clone()), obstacles: None, structures: None, home: None };
     let mission = missions::create(&db, OPEN_TENANT, &new).await.unwrap();
     let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones});
     let runner: Runner = Arc::new(|job, progress, stop| jobs::plan_job(job, &FieldLimits::default(), progress, stop));

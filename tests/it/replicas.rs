@@ -15,8 +15,13 @@ use crate::common::{self, TestApp, mission_body};
 async fn db_with_a_plan() -> (store::Db, String) {
     let db = store::connect(&common::fresh_db_url().await).await.unwrap();
     let body = mission_body("real-fields/nl-parcel-b.json");
-    let mission =
-        missions::create(&db, OPEN_TENANT, &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, home: None }).await.unwrap();
+    let mission = missions::create(
+        &db,
+        OPEN_TENANT,
+        &missions::NewMission { name: "m".into(), area: body["area"].clone(), no_fly_zones: None, obstacles: None, structures: None, home: None },
+    )
+    .await
+    .unwrap();
     let plan = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20}), &json!({"area": mission.area}), 100).await.unwrap().unwrap();
     (db, plan.id)
 }

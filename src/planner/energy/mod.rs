@@ -154,6 +154,11 @@ pub fn legs(path: &FlightPath) -> Vec<Leg> {
             let d = b - a;
             let len = d.x.hypot(d.y);
             if len < 1e-9 {
+                // straight up or down: the climb belongs to the leg it starts or ends
+                if let (Some(za), Some(zb)) = (piece.z.get(k - 1), piece.z.get(k)) {
+                    current.climb_m += (zb - za).max(0.0);
+                    current.descent_m += (za - zb).max(0.0);
+                }
                 continue;
             }
             if let Some(prev) = last_dir {

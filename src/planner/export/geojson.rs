@@ -9,6 +9,7 @@ use super::{ExportJob, Exporter, Format};
 use crate::energy::PathEstimate;
 use crate::error::InputError;
 use crate::frame::LocalFrame;
+use crate::inspection::InspectionPlan;
 use crate::path::FlightPath;
 
 fn round(v: f64, decimals: i32) -> f64 {
@@ -74,6 +75,46 @@ pub fn feature_collection(frame: &LocalFrame, flights: &[VehicleFlight<'_>], alt
         let coordinates = uncovered.0.iter().map(|p| std::iter::once(ring(p.exterior())).chain(p.interiors().iter().map(ring)).collect()).collect();
         let area = uncovered.unsigned_area();
         features.push(feature(GeometryValue::MultiPolygon { coordinates }, json!({"kind": "uncovered", "area_m2": round(area, 1)})));
+    }
+    FeatureCollection { bbox: None, features, foreign_members: None }
+}
+
+/// An inspection in flight order: each leg a LineString with heights (kind `transit`), each
+/// viewpoint a Point (kind `viewpoint`) with its camera's yaw (compass bearing) and gimbal
+/// pitch, what it newly sees, and the time and energy on arrival; with `show_unseen`, the
+/// points of interest no viewpoint sees as one MultiPoint (kind `unseen`).
+pub fn inspection_collection(frame: &LocalFrame, plan: &InspectionPlan, show_unseen: bool) -> FeatureCollection {
+    let at = |p: [f64; 3]| position(frame, Coord { x: p[0], y: p[1] }, Some(p[2]));
+    let mut features = Vec::new();
+    for (i, leg) in plan.legs.iter().enumerate() {
+        let props = json!({
+            "seq": features.len(),
+            "kind": "transit",
+            "length_m": round(leg.length_m, 2),
+            "duration_s": round(leg.time_s, 2),
+            "energy_j": round(leg.energy_j, 1),
+        });
+        features.push(feature(GeometryValue::LineString { coordinates: leg.points.iter().map(|&p| at(p)).collect() }, props));
+        if let Some(v) = plan.viewpoints.get(i) {
+            let props = json!({
+                "seq": features.len(),
+                "kind": "viewpoint",
+                "order": i + 1,
+                "altitude_m": round(v.at[2], 2),
+                "yaw_deg": round(v.yaw_deg, 2),
+                "gimbal_pitch_deg": round(v.gimbal_pitch_deg, 2),
+                "new_pois_seen": v.new_pois,
+                "weighted_gain": round(v.weighted_gain, 3),
+                "eta_s": round(v.eta_s, 2),
+                "energy_j": round(v.energy_j, 1),
+            });
+            features.push(feature(GeometryValue::Point { coordinates: at(v.at) }, props));
+        }
+    }
+    if show_unseen {
+        let unseen: Vec<Position> = plan.pois.iter().zip(&plan.seen).filter(|(_, s)| !**s).map(|(p, _)| at(p.at)).collect();
+        let count = unseen.len();
+        features.push(feature(GeometryValue::MultiPoint { coordinates: unseen }, json!({"kind": "unseen", "count": count})));
     }
     FeatureCollection { bbox: None, features, foreign_members: None }
 }

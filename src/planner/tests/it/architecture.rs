@@ -29,6 +29,7 @@ const LAYERS: &[&str] = &[
     "planners",
     "fleet",
     "patrol",
+    "inspection",
     "export",
     "import",
     "estimate",

@@ -29,7 +29,7 @@ fn run(area: &[(f64, f64)], nfz: Option<&[(f64, f64)]>, home: Option<[f64; 2]>, 
     let area = json!({"type": "Polygon", "coordinates": [ring(area)]});
     let nfz = nfz.map(|z| json!({"type": "Polygon", "coordinates": [ring(z)]}));
     let params: PlanParams = serde_json::from_value(params).unwrap();
-    let mission = MissionGeometry { area: &area, no_fly_zones: nfz.as_ref(), obstacles: None, home };
+    let mission = MissionGeometry { area: &area, no_fly_zones: nfz.as_ref(), obstacles: None, structures: None, home };
     plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never())
 }
 
@@ -106,7 +106,7 @@ fn eg_cpp_covers_a_grid_around_a_no_fly_zone_and_refuses_what_it_cannot_search()
 fn eg_cpp_answers_within_its_time_limit_with_the_gap_it_left() {
     let area = json!({"type": "Polygon", "coordinates": [ring(&[(0.0, 0.0), (490.0, 0.0), (490.0, 70.0), (0.0, 70.0)])]});
     let params: PlanParams = serde_json::from_value(json!({"planner": "eg_cpp", "line_spacing_m": 20})).unwrap();
-    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, home: None };
+    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None };
     let started = std::time::Instant::now();
     let stop = Stop::until(started + std::time::Duration::from_millis(2400));
     let out = plan(&mission, &params, &profiles(1e5), &FieldLimits::default(), &|_| true, &stop).unwrap();

@@ -2,6 +2,7 @@
 
 mod architecture;
 mod energy_planners;
+mod inspection;
 mod obstacles;
 mod patrolling;
 mod seed004;

@@ -1,11 +1,14 @@
 //! Plan parameters as clients send them, and their validated form.
 
+pub mod inspection;
+
 use serde::{Deserialize, Serialize};
 
 use super::camera::{Camera, CameraPlan};
 use super::error::{InputError, check_range};
 use super::sweep::LineLayout;
 use super::vehicle::{Vehicle, VehicleKind, VehicleParams};
+use inspection::{Budget, InspectionOptions, InspectionRequest, InspectionSpec, Target};
 
 /// A position with a heading, as a compass bearing (degrees clockwise from north).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -17,6 +20,9 @@ pub struct PoseParam {
     pub position: [f64; 2],
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading_deg: Option<f64>,
+    /// Inspection: height above ground, 0 to 1 000 m (default 0: on the ground).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub altitude_m: Option<f64>,
 }
 
 /// Parameters of a plan.
@@ -118,6 +124,22 @@ pub struct PlanParams {
     /// (default 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub overlap: Option<f64>,
+    /// Inspection: what to look at (default: the walls and roof of every structure).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub targets: Option<Vec<Target>>,
+    /// Inspection: the flight's limit, in metres, seconds or joules.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub budget: Option<Budget>,
+    /// Inspection: the camera's reach, the gimbal, clearances and the search's effort.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inspection: Option<InspectionOptions>,
+    /// Inspection: the random seed; the same seed gives the same plan (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// Inspection: milliseconds the search may take before it returns its best path, 100 to
+    /// 600 000 (default 20 000).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_limit_ms: Option<u64>,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -230,6 +252,18 @@ pub struct Resolved {
     pub headland: Option<HeadlandSpec>,
 }
 
+/// A start or end's position, checked; `name` is its member.
+pub fn checked_position(p: &Option<PoseParam>, name: &str) -> Result<Option<[f64; 2]>, InputError> {
+    let Some(p) = p else { return Ok(None) };
+    let [lon, lat] = p.position;
+    check_range(lon, -180.0, 180.0, &format!("/{name}/position/0"), "°")?;
+    check_range(lat, -90.0, 90.0, &format!("/{name}/position/1"), "°")?;
+    if let Some(h) = p.heading_deg {
+        check_range(h, -360.0, 360.0, &format!("/{name}/heading_deg"), "°")?;
+    }
+    Ok(Some(p.position))
+}
+
 /// Compass bearing (clockwise from north, degrees) to a math angle (counter-clockwise from
 /// east, radians).
 pub fn bearing_to_math(bearing_deg: f64) -> f64 {
@@ -244,6 +278,18 @@ pub fn math_to_bearing(angle: f64) -> f64 {
 impl PlanParams {
     /// Validates the parameters; `vehicle.profile` is looked up in `profiles`.
     pub fn resolve(&self, profiles: &[Vehicle]) -> Result<Resolved, InputError> {
+        let inspection_members = [
+            ("/targets", self.targets.is_some()),
+            ("/budget", self.budget.is_some()),
+            ("/inspection", self.inspection.is_some()),
+            ("/seed", self.seed.is_some()),
+            ("/time_limit_ms", self.time_limit_ms.is_some()),
+            ("/start/altitude_m", self.start.as_ref().is_some_and(|p| p.altitude_m.is_some())),
+            ("/end/altitude_m", self.end.as_ref().is_some_and(|p| p.altitude_m.is_some())),
+        ];
+        if let Some((pointer, _)) = inspection_members.iter().find(|(_, given)| *given) {
+            return Err(InputError::new("not_an_inspection", *pointer, "this member is for planner inspection"));
+        }
         let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
         let fleet = self.resolve_fleet(&vehicle, profiles)?;
         let altitude_separation_m = match self.altitude_separation_m {
@@ -301,16 +347,6 @@ impl PlanParams {
         if optimal_direction && self.heading_deg.is_some() {
             return Err(InputError::new("direction_twice", "/sweep_direction", "heading_deg fixes the direction: leave out sweep_direction \"optimal\""));
         }
-        let pose = |p: &Option<PoseParam>, name: &str| -> Result<Option<[f64; 2]>, InputError> {
-            let Some(p) = p else { return Ok(None) };
-            let [lon, lat] = p.position;
-            check_range(lon, -180.0, 180.0, &format!("/{name}/position/0"), "°")?;
-            check_range(lat, -90.0, 90.0, &format!("/{name}/position/1"), "°")?;
-            if let Some(h) = p.heading_deg {
-                check_range(h, -360.0, 360.0, &format!("/{name}/heading_deg"), "°")?;
-            }
-            Ok(Some(p.position))
-        };
         let within = |v: Option<f64>, default: f64, lo: f64, hi: f64, pointer: &str, unit: &str| -> Result<f64, InputError> {
             let v = v.unwrap_or(default);
             check_range(v, lo, hi, pointer, unit)?;
@@ -337,8 +373,8 @@ impl PlanParams {
             altitude_m,
             sweep_angle: self.heading_deg.map(bearing_to_math),
             vehicle,
-            start: pose(&self.start, "start")?,
-            end: pose(&self.end, "end")?,
+            start: checked_position(&self.start, "start")?,
+            end: checked_position(&self.end, "end")?,
             start_heading: self.start.as_ref().and_then(|p| p.heading_deg).map(bearing_to_math),
             end_heading: self.end.as_ref().and_then(|p| p.heading_deg).map(bearing_to_math),
             allow_reentry: self.allow_reentry.unwrap_or(true),
@@ -352,6 +388,44 @@ impl PlanParams {
             altitude_separation_m,
             headland,
         })
+    }
+
+    /// The inspection's vehicle and parameters (planner `inspection`): a multirotor, which
+    /// stops and turns on the spot at each viewpoint.
+    pub fn resolve_inspection(&self, profiles: &[Vehicle]) -> Result<(Vehicle, InspectionSpec), InputError> {
+        let coverage_members = [
+            ("/line_spacing_m", self.line_spacing_m.is_some()),
+            ("/altitude_m", self.altitude_m.is_some()),
+            ("/heading_deg", self.heading_deg.is_some()),
+            ("/sweep_direction", self.sweep_direction.is_some()),
+            ("/side_overlap", self.side_overlap.is_some()),
+            ("/front_overlap", self.front_overlap.is_some()),
+            ("/fleet", self.fleet.is_some()),
+            ("/vehicles", self.vehicles.is_some()),
+            ("/headland_passes", self.headland_passes.is_some()),
+            ("/objective", self.objective.is_some()),
+        ];
+        if let Some((pointer, _)) = coverage_members.iter().find(|(_, given)| *given) {
+            return Err(InputError::new("not_for_inspection", *pointer, "an inspection flies to viewpoints around structures: this member is for coverage plans"));
+        }
+        let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
+        if vehicle.kind != VehicleKind::Multirotor {
+            return Err(InputError::new("not_a_multirotor", "/vehicle", "an inspection stops and turns at each viewpoint: give a multirotor"));
+        }
+        if let Some(limit) = self.time_limit_s {
+            check_range(limit, 0.1, 86_400.0, "/time_limit_s", "s")?;
+        }
+        let spec = InspectionRequest {
+            targets: self.targets.as_deref(),
+            budget: self.budget.as_ref(),
+            options: self.inspection.as_ref(),
+            seed: self.seed,
+            time_limit_ms: self.time_limit_ms,
+            start_altitude_m: self.start.as_ref().and_then(|p| p.altitude_m),
+            end_altitude_m: self.end.as_ref().and_then(|p| p.altitude_m),
+        }
+        .resolve()?;
+        Ok((vehicle, spec))
     }
 
     /// The planner asked for, or the default for the vehicle.

@@ -1,0 +1,72 @@
+//! Planner `inspection` through the public entry point, from WGS84 GeoJSON: seed 001's first
+//! scene rebuilt (spec `inspection.md` §11): one 8 × 8 m building of 4 floors (12 m), points
+//! of interest every 0.5 m on its walls and roof, the source's camera (57° × 44.3°, 160 × 120
+//! px) and range (0.3–5.5 m), a 0.5 m body.
+
+use coverplan_planner::frame::LocalFrame;
+use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop, plan};
+use geo::Coord;
+use serde_json::{Value, json};
+
+/// The building's corner at the frame's origin; the area a 60 m square around it.
+pub fn scene_one() -> (Value, Value, [f64; 2]) {
+    let frame = LocalFrame::new(10.0, 52.0);
+    let at = |x: f64, y: f64| {
+        let [lon, lat] = frame.to_wgs84(Coord { x, y });
+        json!([lon, lat])
+    };
+    let ring = |pts: &[(f64, f64)]| {
+        let mut r: Vec<Value> = pts.iter().map(|&(x, y)| at(x, y)).collect();
+        r.push(r[0].clone());
+        json!([r])
+    };
+    let area = json!({"type": "Polygon", "coordinates": ring(&[(-26.0, -26.0), (34.0, -26.0), (34.0, 34.0), (-26.0, 34.0)])});
+    let structures = json!({"type": "FeatureCollection", "features": [{
+        "type": "Feature",
+        "properties": {"name": "scene-1", "height_m": 12.0},
+        "geometry": {"type": "Polygon", "coordinates": ring(&[(0.0, 0.0), (8.0, 0.0), (8.0, 8.0), (0.0, 8.0)])},
+    }]});
+    let home = frame.to_wgs84(Coord { x: -12.0, y: 4.0 });
+    (area, structures, home)
+}
+
+pub fn scene_one_params(budget_m: f64, extension: &str, seed: u64) -> PlanParams {
+    serde_json::from_value(json!({
+        "planner": "inspection",
+        "camera": {"hfov_deg": 57.0, "image_width_px": 160, "image_height_px": 120},
+        "budget": {"max_length_m": budget_m},
+        "inspection": {"range_m": [0.3, 5.5], "body_radius_m": 0.5, "safety_margin_m": 0.5, "viewpoints": 300, "extension": extension},
+        "seed": seed,
+        "time_limit_ms": 120_000,
+    }))
+    .unwrap()
+}
+
+pub fn plan_scene_one(params: &PlanParams) -> PlanOutput {
+    let (area, structures, home) = scene_one();
+    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: Some(&structures), home: Some(home) };
+    plan(&mission, params, &coverplan_planner::vehicle::builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned")
+}
+
+#[test]
+fn scene_one_reaches_the_reference_shares() {
+    for (extension, least) in [("none", 0.84), ("sphere", 0.95)] {
+        let out = plan_scene_one(&scene_one_params(200.0, extension, 1));
+        let st = &out.stats;
+        let ins = st.inspection.as_ref().unwrap();
+        eprintln!(
+            "scene 1, 200 m, extension {extension}: {:.4} of {} points seen, {} viewpoints ({} sampled), {:.1} m, {} iterations ({}), {:.0} ms",
+            st.inspection_coverage.unwrap(),
+            ins.pois,
+            ins.viewpoints,
+            ins.viewpoints_sampled,
+            st.length_m,
+            ins.iterations,
+            ins.search_end,
+            st.planning_time_ms
+        );
+        assert_eq!(ins.pois, 4 * 16 * 24 + 16 * 16);
+        assert!(st.length_m <= 200.0 + 1e-6 && (ins.budget_used - st.length_m).abs() < 1e-6);
+        assert!(st.inspection_coverage.unwrap() >= least, "extension {extension}: {:?} below {least}", st.inspection_coverage);
+    }
+}

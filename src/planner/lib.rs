@@ -229,7 +229,7 @@ pub fn check_plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: 
 }
 
 /// The planner id of the inspection of structures.
-pub const INSPECTION: &str = "inspection";
+pub const INSPECTION: &str = params::inspection::PLANNER_ID;
 
 /// What planner `inspection` says of itself in the planners' list.
 pub const INSPECTION_DESCRIPTION: &str = "Inspection of structures (seed 001): viewpoints around the mission's structures, chosen and ordered within a budget \

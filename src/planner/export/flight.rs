@@ -14,19 +14,41 @@ pub struct FlownPiece {
     pub speed_mps: f64,
 }
 
-/// The pieces of each sortie in flight order.
+/// What the camera does at an inspection's viewpoint.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewAction {
+    /// `[lon, lat, altitude above home]`, as the leg that reaches it ends.
+    pub position: [f64; 3],
+    /// Compass bearing the vehicle faces.
+    pub yaw_deg: f64,
+    pub gimbal_pitch_deg: f64,
+}
+
+/// The pieces of each sortie in flight order, and an inspection's viewpoints.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Flight {
     pub sorties: Vec<Vec<FlownPiece>>,
+    pub views: Vec<ViewAction>,
 }
 
 impl Flight {
-    /// Reads the LineString features of kind sweep, headland, turn or transit; points without a height
-    /// are flown at `altitude_m`.
+    /// Reads the LineString features of kind sweep, headland, turn or transit, and the Points of
+    /// kind viewpoint; points without a height are flown at `altitude_m`.
     pub fn from_trajectory(trajectory: &FeatureCollection, altitude_m: f64) -> Result<Flight, InputError> {
         let mut sorties: Vec<Vec<FlownPiece>> = Vec::new();
+        let mut views = Vec::new();
         for (i, feature) in trajectory.features.iter().enumerate() {
             let property = |key: &str| feature.properties.as_ref().and_then(|p| p.get(key));
+            let number = |key: &str| property(key).and_then(Value::as_f64);
+            if property("kind").and_then(Value::as_str) == Some("viewpoint") {
+                let (Some(GeometryValue::Point { coordinates: p }), Some(yaw_deg), Some(gimbal_pitch_deg)) =
+                    (feature.geometry.as_ref().map(|g| &g.value), number("yaw_deg"), number("gimbal_pitch_deg"))
+                else {
+                    return Err(InputError::new("invalid_trajectory", format!("/features/{i}"), "a viewpoint is a Point with yaw_deg and gimbal_pitch_deg"));
+                };
+                views.push(ViewAction { position: [p[0], p[1], p.as_slice().get(2).copied().unwrap_or(altitude_m)], yaw_deg, gimbal_pitch_deg });
+                continue;
+            }
             let kind = match property("kind").and_then(Value::as_str) {
                 Some("sweep") => PieceKind::Sweep,
                 Some("headland") => PieceKind::Headland,
@@ -49,7 +71,7 @@ impl Flight {
         if sorties.is_empty() {
             return Err(InputError::new("invalid_trajectory", "/features", "the trajectory has no flown piece"));
         }
-        Ok(Flight { sorties })
+        Ok(Flight { sorties, views })
     }
 }
 

@@ -1,9 +1,11 @@
 //! MAVLink mission items of one sortie, shared by the QGroundControl `.plan` and the
 //! `QGC WPL 110` file (docs/methods.md, interop §4): take-off, a speed change wherever the speed
 //! changes, a waypoint at every line end and turn point, the camera triggered by distance on
-//! sweeps only, and a return to launch (or a landing, without a home) at the end.
+//! sweeps only, and a return to launch (or a landing, without a home) at the end. At an
+//! inspection's viewpoint the vehicle holds, turns to the viewpoint's yaw, points the gimbal
+//! and takes one picture.
 
-use super::flight::{FlownPiece, waypoints};
+use super::flight::{FlownPiece, ViewAction, waypoints};
 use super::{Firmware, FlightSettings};
 use crate::path::PieceKind;
 use crate::vehicle::VehicleKind;
@@ -14,6 +16,12 @@ pub const NAV_LAND: u16 = 21;
 pub const NAV_TAKEOFF: u16 = 22;
 pub const DO_CHANGE_SPEED: u16 = 178;
 pub const DO_SET_CAM_TRIGG_DIST: u16 = 206;
+pub const CONDITION_YAW: u16 = 115;
+pub const DO_GIMBAL_MANAGER_PITCHYAW: u16 = 1000;
+pub const IMAGE_START_CAPTURE: u16 = 2000;
+
+/// Waypoints lower than this above home are the take-off and the landing, not places to fly to.
+const GROUND_M: f64 = 0.5;
 
 /// `MAV_FRAME_MISSION`: a command without a position.
 pub const FRAME_MISSION: u8 = 2;
@@ -71,8 +79,9 @@ pub fn launch(pieces: &[FlownPiece], home: Option<[f64; 2]>) -> [f64; 2] {
     })
 }
 
-/// The items of one sortie, in order.
-pub fn mission_items(pieces: &[FlownPiece], settings: &FlightSettings, home: Option<[f64; 2]>) -> Vec<MissionItem> {
+/// The items of one sortie, in order; `views` are the inspection's viewpoints (empty for a
+/// coverage plan).
+pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], settings: &FlightSettings, home: Option<[f64; 2]>) -> Vec<MissionItem> {
     let fixed_wing = settings.kind == VehicleKind::FixedWing;
     // ArduPilot ignores a waypoint's yaw; PX4 reads 0 as "face north", NaN as "keep"
     let keep_yaw = match settings.firmware {
@@ -99,8 +108,29 @@ pub fn mission_items(pieces: &[FlownPiece], settings: &FlightSettings, home: Opt
             // the vehicle is at the line's start: trigger now and every `distance` metres
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [distance, 0.0, 1.0, 0.0]));
         }
+        if w.position[2] < GROUND_M {
+            continue;
+        }
         let acceptance = if w.on_arc { arc_radius } else { 0.0 };
-        items.push(MissionItem::at(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w.position));
+        let view = views.iter().find(|v| v.position == w.position);
+        let Some(view) = view else {
+            items.push(MissionItem::at(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w.position));
+            continue;
+        };
+        // PX4 turns to a waypoint's yaw; ArduCopter ignores it and is told with CONDITION_YAW
+        let yaw = match settings.firmware {
+            Firmware::Ardupilot => Some(0.0),
+            Firmware::Px4 => Some(view.yaw_deg),
+        };
+        items.push(MissionItem::at(NAV_WAYPOINT, [Some(settings.hold_s), Some(0.0), Some(0.0), yaw], w.position));
+        if settings.firmware == Firmware::Ardupilot {
+            // absolute bearing, default rate, the shorter way
+            items.push(MissionItem::command(CONDITION_YAW, [view.yaw_deg, 0.0, 0.0, 0.0]));
+        }
+        // pitch, yaw relative to the vehicle (facing the viewpoint's bearing), rates unset
+        items.push(MissionItem { command: DO_GIMBAL_MANAGER_PITCHYAW, frame: FRAME_MISSION, params: [Some(view.gimbal_pitch_deg), Some(0.0), None, None], position: None });
+        // camera 0 (all), no interval, one image
+        items.push(MissionItem::command(IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 0.0]));
         if settings.trigger_distance_m.is_some() && sweep_end {
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
         }
@@ -137,6 +167,7 @@ mod tests {
             turn_radius_m: 0.0,
             line_spacing_m: 20.0,
             trigger_distance_m: trigger,
+            hold_s: 0.0,
         }
     }
 
@@ -148,7 +179,7 @@ mod tests {
             piece(PieceKind::Turn, &[[2.0, 0.0], [2.0, 1.0]], 3.0),
             piece(PieceKind::Sweep, &[[2.0, 1.0], [1.0, 1.0]], 6.0),
         ];
-        let items = mission_items(&pieces, &settings(Some(12.0)), Some([0.0, 0.0]));
+        let items = mission_items(&pieces, &[], &settings(Some(12.0)), Some([0.0, 0.0]));
         let commands: Vec<u16> = items.iter().map(|i| i.command).collect();
         assert_eq!(commands, vec![22, 178, 16, 16, 178, 206, 16, 206, 178, 16, 178, 206, 16, 206, 20]);
         assert_eq!(items[5].params[0], Some(12.0));
@@ -160,13 +191,33 @@ mod tests {
     #[test]
     fn a_sortie_that_starts_on_a_sweep_triggers_on_it() {
         let pieces = [piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0), piece(PieceKind::Turn, &[[2.0, 0.0], [2.0, 1.0]], 6.0)];
-        let commands: Vec<u16> = mission_items(&pieces, &settings(Some(12.0)), None).iter().map(|i| i.command).collect();
+        let commands: Vec<u16> = mission_items(&pieces, &[], &settings(Some(12.0)), None).iter().map(|i| i.command).collect();
         assert_eq!(commands, vec![22, 178, 16, 206, 16, 206, 16, 21]);
     }
 
     #[test]
+    fn a_viewpoint_holds_turns_points_the_gimbal_and_takes_a_picture() {
+        let view = ViewAction { position: [1.0, 0.0, 12.0], yaw_deg: 135.0, gimbal_pitch_deg: -30.0 };
+        let pieces = [
+            FlownPiece { kind: PieceKind::Transit, points: vec![[0.0, 0.0, 0.0], [0.5, 0.0, 6.0], [1.0, 0.0, 12.0]], speed_mps: 0.0 },
+            FlownPiece { kind: PieceKind::Transit, points: vec![[1.0, 0.0, 12.0], [1.0, 1.0, 0.0]], speed_mps: 0.0 },
+        ];
+        let mut s = FlightSettings { hold_s: 2.0, ..settings(None) };
+        let px4 = mission_items(&pieces, &[view], &s, None);
+        let commands: Vec<u16> = px4.iter().map(|i| i.command).collect();
+        // the points on the ground are the take-off and the landing
+        assert_eq!(commands, vec![NAV_TAKEOFF, NAV_WAYPOINT, NAV_WAYPOINT, DO_GIMBAL_MANAGER_PITCHYAW, IMAGE_START_CAPTURE, NAV_LAND]);
+        assert_eq!(px4[2].params, [Some(2.0), Some(0.0), Some(0.0), Some(135.0)]);
+        assert_eq!(px4[3].params[0], Some(-30.0));
+        s.firmware = Firmware::Ardupilot;
+        let ardupilot = mission_items(&pieces, &[view], &s, None);
+        assert_eq!(ardupilot[3].command, CONDITION_YAW);
+        assert_eq!(ardupilot[3].params[0], Some(135.0));
+    }
+
+    #[test]
     fn lands_without_home() {
-        let items = mission_items(&[piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0)], &settings(None), None);
+        let items = mission_items(&[piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0)], &[], &settings(None), None);
         assert_eq!(items.first().unwrap().position, Some([0.0, 1.0, 40.0]));
         assert_eq!(items.last().unwrap().command, NAV_LAND);
         assert_eq!(items.last().unwrap().position, Some([0.0, 2.0, 0.0]));

@@ -21,7 +21,7 @@ use serde::Deserialize;
 use super::archive;
 use super::error::{InputError, check_range};
 use super::field::{Field, FieldLimits, MissionGeometry};
-use super::params::{PlanParams, Resolved};
+use super::params::{FleetVehicle, PlanParams, inspection};
 use super::vehicle::{Vehicle, VehicleKind};
 pub use flight::{Flight, FlownPiece};
 
@@ -87,6 +87,8 @@ pub struct FlightSettings {
     pub line_spacing_m: f64,
     /// Distance between photos on sweeps, when a camera was given.
     pub trigger_distance_m: Option<f64>,
+    /// Seconds held at an inspection's viewpoint for its picture.
+    pub hold_s: f64,
 }
 
 /// Everything an exporter writes from.
@@ -141,9 +143,16 @@ pub fn file_stem(name: &str) -> String {
 /// one trajectory, each feature with its `vehicle`.
 pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, InputError> {
     let exporter = find(format).ok_or_else(|| InputError::new("unknown_format", "/format", format!("no export format `{format}`; known: {}", format_ids().join(", "))))?;
-    let resolved = request.params.resolve(request.profiles)?;
+    let planned = FileParams::of(request.params, request.profiles)?;
     let stem = file_stem(request.name);
     let Format { id, media_type, extension, one_flight_per_file } = *exporter.format();
+    if planned.hold_s.is_some() && matches!(id, "wpml" | "isoxml") {
+        return Err(InputError::new(
+            "format_not_applicable",
+            "format",
+            "an inspection is exported as plan or waypoints (MAVLink, with yaw, gimbal and a picture per viewpoint), kml, kmz or geojson",
+        ));
+    }
     let write_all = |job: &ExportJob<'_>, stem: &str| -> Result<Vec<(String, Vec<u8>)>, InputError> {
         let sorties = job.flight.sorties.len();
         if !one_flight_per_file || sorties <= 1 {
@@ -151,9 +160,9 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         }
         (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{extension}", k + 1), exporter.write(job, k)?))).collect()
     };
-    let (outlines, altitude_m) = outlines_and_altitude(request, &resolved)?;
-    if resolved.fleet.is_empty() || id == geojson::GeoJsonFile.format().id {
-        let job = prepare(request, &resolved, &resolved.vehicle, outlines, altitude_m, request.trajectory)?;
+    let (outlines, altitude_m) = outlines_and_altitude(request, &planned)?;
+    if planned.fleet.is_empty() || id == geojson::GeoJsonFile.format().id {
+        let job = prepare(request, &planned, &planned.vehicle, outlines, altitude_m, request.trajectory)?;
         let mut files = write_all(&job, &stem)?;
         if files.len() == 1 {
             let (file_name, bytes) = files.pop().expect("one file");
@@ -162,7 +171,7 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         return Ok(ExportFile { file_name: format!("{stem}-{id}-sorties.zip"), media_type: "application/zip", bytes: archive::zip(&files) });
     }
     let mut files = Vec::new();
-    for (k, drone) in resolved.fleet.iter().enumerate() {
+    for (k, drone) in planned.fleet.iter().enumerate() {
         let own = |f: &&::geojson::Feature| f.property("vehicle").and_then(|v| v.as_u64()) == Some(k as u64);
         let features: Vec<::geojson::Feature> = request.trajectory.features.iter().filter(own).cloned().collect();
         if features.is_empty() {
@@ -170,15 +179,39 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         }
         let trajectory = ::geojson::FeatureCollection { bbox: None, features, foreign_members: None };
         let own_home = Outlines { home: drone.home.or(request.mission.home), ..outlines.clone() };
-        let job = prepare(request, &resolved, &drone.vehicle, own_home, altitude_m, &trajectory)?;
+        let job = prepare(request, &planned, &drone.vehicle, own_home, altitude_m, &trajectory)?;
         files.extend(write_all(&job, &format!("{stem}-drone-{}", k + 1))?);
     }
     Ok(ExportFile { file_name: format!("{stem}-{id}-fleet.zip"), media_type: "application/zip", bytes: archive::zip(&files) })
 }
 
+/// What the parameters say about the files: the vehicles, the altitude, the spacing, the
+/// camera's trigger and, for an inspection, the hold at each viewpoint.
+struct FileParams {
+    vehicle: Vehicle,
+    fleet: Vec<FleetVehicle>,
+    altitude_m: Option<f64>,
+    line_spacing_m: f64,
+    trigger_distance_m: Option<f64>,
+    hold_s: Option<f64>,
+}
+
+impl FileParams {
+    fn of(params: &PlanParams, profiles: &[Vehicle]) -> Result<FileParams, InputError> {
+        if params.planner.as_deref() == Some(inspection::PLANNER_ID) {
+            let (vehicle, spec) = params.resolve_inspection(profiles)?;
+            return Ok(FileParams { vehicle, fleet: Vec::new(), altitude_m: None, line_spacing_m: 0.0, trigger_distance_m: None, hold_s: Some(spec.capture_s) });
+        }
+        let r = params.resolve(profiles)?;
+        let trigger_distance_m = r.camera.map(|c| c.photo_spacing_m);
+        Ok(FileParams { vehicle: r.vehicle, fleet: r.fleet, altitude_m: r.altitude_m, line_spacing_m: r.line_spacing_m, trigger_distance_m, hold_s: None })
+    }
+}
+
 /// The mission's outlines in WGS84 (with its home) and the altitude flight files are written at:
-/// read once for every vehicle's files.
-fn outlines_and_altitude(request: &ExportRequest<'_>, resolved: &Resolved) -> Result<(Outlines, f64), InputError> {
+/// read once for every vehicle's files. An inspection takes off to its first point above the
+/// ground.
+fn outlines_and_altitude(request: &ExportRequest<'_>, planned: &FileParams) -> Result<(Outlines, f64), InputError> {
     // the mission was validated when stored: its own limits, not the service's current ones
     let unlimited = FieldLimits { max_area_ha: f64::INFINITY, max_vertices: usize::MAX, max_radius_km: f64::INFINITY, min_area_m2: 0.0 };
     let field = Field::parse(&request.mission, &unlimited)?;
@@ -187,13 +220,20 @@ fn outlines_and_altitude(request: &ExportRequest<'_>, resolved: &Resolved) -> Re
     if let Some(a) = request.options.altitude_m {
         check_range(a, 1.0, 10_000.0, "/altitude_m", "m above home")?;
     }
-    Ok((outlines, request.options.altitude_m.or(resolved.altitude_m).unwrap_or(DEFAULT_ALTITUDE_M)))
+    let first_airborne = || {
+        request.trajectory.features.iter().filter_map(|f| f.geometry.as_ref()).find_map(|g| match &g.value {
+            ::geojson::GeometryValue::LineString { coordinates } => coordinates.iter().filter_map(|p| p.as_slice().get(2).copied()).find(|&z| z >= 0.5),
+            _ => None,
+        })
+    };
+    let planned_altitude = planned.altitude_m.or_else(|| planned.hold_s.and_then(|_| first_airborne()));
+    Ok((outlines, request.options.altitude_m.or(planned_altitude).unwrap_or(DEFAULT_ALTITUDE_M)))
 }
 
 /// What one vehicle's files are written from: `trajectory` holds its pieces only, `outlines` its home.
 fn prepare<'a>(
     request: &ExportRequest<'a>,
-    resolved: &Resolved,
+    planned: &FileParams,
     vehicle: &Vehicle,
     outlines: Outlines,
     altitude_m: f64,
@@ -205,8 +245,9 @@ fn prepare<'a>(
         altitude_m,
         cruise_speed_mps: vehicle.cruise_speed_mps,
         turn_radius_m: vehicle.turn_radius_m,
-        line_spacing_m: resolved.line_spacing_m,
-        trigger_distance_m: resolved.camera.map(|c| c.photo_spacing_m),
+        line_spacing_m: planned.line_spacing_m,
+        trigger_distance_m: planned.trigger_distance_m,
+        hold_s: planned.hold_s.unwrap_or(0.0),
     };
     let flight = Flight::from_trajectory(trajectory, altitude_m)?;
     Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory })

@@ -22,7 +22,7 @@ impl Exporter for QgcPlan {
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
         let pieces = &job.flight.sorties[sortie];
         let s = &job.settings;
-        let items = mission_items::mission_items(pieces, s, job.outlines.home);
+        let items = mission_items::mission_items(pieces, &job.flight.views, s, job.outlines.home);
         let [lon, lat] = launch(pieces, job.outlines.home);
         let items: Vec<Value> = items.iter().enumerate().map(|(k, item)| simple_item(item, k + 1)).collect();
         let mut fences: Vec<Value> = job.outlines.fields.0.iter().map(|p| fence(p.exterior(), true)).collect();

@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
-use geo::{BoundingRect, Contains, Coord, LineString, MultiPolygon, Polygon, Rect};
+use geo::{BoundingRect, Coord, LineString, MultiPolygon, Polygon, Rect};
 
 use super::scene::{Point3, Scene};
 use crate::energy::{EnergyModel, EnergyParams};
@@ -88,16 +88,26 @@ impl<'a> LegPlanner<'a> {
         self.vehicle
     }
 
-    /// The cheapest free leg from `a` to `b` under `budget`'s measure, or `None` when none is
-    /// found.
+    /// The cheapest free leg from `a` to `b` under `budget`'s measure, with its time and
+    /// energy, or `None` when none is found.
     pub fn leg(&self, a: Point3, b: Point3, budget: BudgetLimit) -> Option<Leg> {
+        let leg = self.way(a, b, budget)?;
+        Some(if leg.time_s.is_nan() { price(leg.points, self.vehicle.energy_model().as_ref()) } else { leg })
+    }
+
+    /// As [`Self::leg`], but a leg chosen by its length is not priced in time and energy
+    /// (they are NaN): the search under a length budget needs only lengths.
+    pub fn way(&self, a: Point3, b: Point3, budget: BudgetLimit) -> Option<Leg> {
         let model = self.vehicle.energy_model();
         let hi = a[2].max(b[2]);
         let (a_hi, b_hi) = ([a[0], a[1], hi], [b[0], b[1], hi]);
         let mut best: Option<Leg> = None;
         let mut consider = |points: Vec<Point3>| {
             if points.windows(2).all(|w| self.scene.segment_free(w[0], w[1])) {
-                let leg = price(points, model.as_ref());
+                let leg = match budget {
+                    BudgetLimit::LengthM(_) => Leg { length_m: length_3d(&points), points, time_s: f64::NAN, energy_j: f64::NAN },
+                    _ => price(points, model.as_ref()),
+                };
                 if best.as_ref().is_none_or(|b| leg.cost(budget) < b.cost(budget)) {
                     best = Some(leg);
                 }
@@ -154,6 +164,9 @@ impl<'a> LegPlanner<'a> {
             let t = if total > 0.0 { run / total } else { 0.0 };
             out.push([c.x, c.y, a[2] + (b[2] - a[2]) * t]);
         }
+        // the ends exactly, so that legs join
+        out[0] = a;
+        *out.last_mut().expect("two points at least") = b;
         Some(out)
     }
 
@@ -178,8 +191,12 @@ pub fn reversed(leg: &Leg, vehicle: &Vehicle) -> Leg {
 }
 
 /// Length, time and energy of a leg flown from rest to rest.
+fn length_3d(points: &[Point3]) -> f64 {
+    points.windows(2).map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2) + (w[1][2] - w[0][2]).powi(2)).sqrt()).sum()
+}
+
 fn price(points: Vec<Point3>, model: &dyn EnergyModel) -> Leg {
-    let length_m = points.windows(2).map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2) + (w[1][2] - w[0][2]).powi(2)).sqrt()).sum();
+    let length_m = length_3d(&points);
     let flat: Vec<Coord> = points.iter().map(|p| Coord { x: p[0], y: p[1] }).collect();
     let (time_s, energy_j) = if flat.windows(2).all(|w| w[0] == w[1]) {
         let dz = points[points.len() - 1][2] - points[0][2];
@@ -201,9 +218,7 @@ impl Scene {
         if p[2] < 0.0 || q[2] < 0.0 {
             return false;
         }
-        let line = LineString::new(vec![a, b]);
-        let inside_fence = if a == b { self.geofence.contains(&a) } else { self.geofence.contains(&line) };
-        if !inside_fence || self.no_fly.0.iter().any(|z| inside_intervals(z, a, b).next().is_some()) {
+        if !self.inside_fence(a, b) || self.no_fly.0.iter().any(|z| inside_intervals(z, a, b).next().is_some()) {
             return false;
         }
         self.keep_out_near(Rect::new(a, b)).all(|i| {

@@ -16,10 +16,13 @@ pub mod scene;
 pub mod viewpoints;
 pub mod visibility;
 
+#[cfg(test)]
+mod tests;
+
+use std::sync::RwLock;
 use std::time::Instant;
 
 use geo::{BoundingRect, Coord, MultiPolygon, Polygon};
-use rayon::prelude::*;
 
 use crate::error::{InputError, PlanError};
 use crate::field::Structure;
@@ -28,7 +31,7 @@ use crate::params::inspection::{BudgetLimit, Extension, Face, InspectionSpec, Ta
 use crate::stop::Stop;
 use crate::vehicle::Vehicle;
 use legs::{Leg, LegPlanner, Stationary};
-use orienteering::{END, Instance, START, Search};
+use orienteering::{END, Instance, Pricer, START, Search};
 use poi::{Poi, TargetGroup};
 use scene::{Point3, Prism, Scene};
 use viewpoints::{Sampler, Viewpoint, halton};
@@ -69,6 +72,7 @@ pub struct InspectionInput<'a> {
 /// A viewpoint of the flown path, with what it adds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlownViewpoint {
+    pub pose: visibility::Pose,
     pub at: Point3,
     /// Compass bearing of the camera, degrees.
     pub yaw_deg: f64,
@@ -338,64 +342,35 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
     }
     let legs = LegPlanner::new(&scene, input.vehicle, ceiling);
     let still = Stationary::of(input.vehicle);
-    let measure = |l: &Leg| l.cost(spec.budget);
     let capture = |_: &Viewpoint| match spec.budget {
         BudgetLimit::LengthM(_) => 0.0,
         BudgetLimit::TimeS(_) => spec.capture_s,
         BudgetLimit::EnergyJ(_) => spec.capture_s * still.hover_w,
     };
-    let yaw_cost = |a: &Viewpoint, b: &Viewpoint| {
-        let (t, e) = still.yaw(turn_deg(a.pose.yaw, b.pose.yaw));
-        match spec.budget {
-            BudgetLimit::LengthM(_) => 0.0,
-            BudgetLimit::TimeS(_) => t,
-            BudgetLimit::EnergyJ(_) => e,
-        }
-    };
     let ends3 = [ends[0].0, ends[1].0];
-    let node_at = |views: &[Viewpoint], n: usize| if n < 2 { ends3[n] } else { views[n - 2].pose.at };
     let weights: Vec<f64> = pois.iter().map(|p| p.weight).collect();
-    let mut inst = Instance { sees: Vec::new(), weights, costs: vec![vec![f64::INFINITY; 2]; 2], node_cost: Vec::new(), budget: spec.budget.value() };
-    let start_end = legs.leg(ends3[START], ends3[END], spec.budget).ok_or_else(|| PlanError::Infeasible("no free way leads from the start to the end".into()))?;
-    inst.costs[START][END] = measure(&start_end);
-    // costs of the new viewpoints' legs to every node, both ways; yaw is counted between
-    // viewpoints (the take-off and landing headings are free)
-    let add_views = |inst: &mut Instance, all: &[Viewpoint], first_new: usize| {
-        let n_old = 2 + first_new;
-        let n_all = 2 + all.len();
-        let rows: Vec<Vec<(f64, f64)>> = (n_old..n_all)
-            .into_par_iter()
-            .map(|v| {
-                (0..v)
-                    .map(|u| match legs.leg(node_at(all, u), node_at(all, v), spec.budget) {
-                        Some(there) => {
-                            let back = legs::reversed(&there, input.vehicle);
-                            let yaw = if u >= 2 { yaw_cost(&all[u - 2], &all[v - 2]) } else { 0.0 };
-                            (measure(&there) + yaw, measure(&back) + yaw)
-                        }
-                        None => (f64::INFINITY, f64::INFINITY),
-                    })
-                    .collect()
-            })
-            .collect();
-        for row in inst.costs.iter_mut() {
-            row.resize(n_all, f64::INFINITY);
-        }
-        for (k, row) in rows.into_iter().enumerate() {
-            let v = n_old + k;
-            let mut own = vec![f64::INFINITY; n_all];
-            for (u, (there, back)) in row.into_iter().enumerate() {
-                inst.costs[u][v] = there;
-                own[u] = back;
+    let pricer = LegPricer { legs: &legs, nodes: RwLock::new(vec![(ends3[START], None), (ends3[END], None)]), budget: spec.budget, still };
+    let room = if spec.extension == Extension::None { views.len() } else { MAX_VIEWPOINTS };
+    let mut inst = Instance::new(&pricer, weights, spec.budget.value(), room);
+    if !inst.edge(START, END).is_finite() {
+        return Err(PlanError::Infeasible("no free way leads from the start to the end".into()));
+    }
+    if inst.edge(START, END) > inst.budget {
+        return Err(InputError::new(
+            "budget_too_small",
+            "/budget",
+            format!("the way from the start to the end alone costs {:.1} {}; the budget is {}", inst.edge(START, END), budget_unit(spec.budget), spec.budget.value()),
+        )
+        .into());
+    }
+    let add_views = |inst: &mut Instance, added: &[Viewpoint]| {
+        for view in added {
+            if inst.add_viewpoint(view.sees.clone(), capture(view)) {
+                pricer.nodes.write().expect("nodes").push((view.pose.at, Some(view.pose.yaw)));
             }
-            inst.costs.push(own);
-        }
-        for view in &all[first_new..] {
-            inst.sees.push(view.sees.clone());
-            inst.node_cost.push(capture(view));
         }
     };
-    add_views(&mut inst, &views, 0);
+    add_views(&mut inst, &views);
     let started = Instant::now();
     let mut search = Search::new(&inst, spec.seed);
     let search_end = loop {
@@ -423,19 +398,54 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
                     _ => s.in_ball(path[pick], mean_leg / 8.0),
                 })
             });
-            if !added.is_empty() {
-                let first_new = views.len();
-                views.extend(added);
-                add_views(&mut inst, &views, first_new);
-            }
+            add_views(&mut inst, &added);
+            views.extend(added);
         }
     };
     let tour = search.best.tour.clone();
     finish(FinishInput { inst: &inst, tour, views: &views, legs: &legs, ends: ends3, pois, groups, scene: &scene, still, spec, optics }, search, search_end, tries, warnings)
 }
 
+/// Legs between the nodes (the start, the end, then the viewpoints) under the budget's
+/// measure; the camera's turn between two viewpoints is part of their leg.
+struct LegPricer<'a> {
+    legs: &'a LegPlanner<'a>,
+    /// Each node's position, and its camera's yaw (none at the start and the end: the
+    /// take-off and landing headings are free).
+    nodes: RwLock<Vec<(Point3, Option<f64>)>>,
+    budget: BudgetLimit,
+    still: Stationary,
+}
+
+impl Pricer for LegPricer<'_> {
+    fn pair(&self, u: usize, v: usize) -> (f64, f64) {
+        let ((a, yaw_a), (b, yaw_b)) = {
+            let nodes = self.nodes.read().expect("nodes");
+            (nodes[u], nodes[v])
+        };
+        let Some(there) = self.legs.way(a, b, self.budget) else { return (f64::INFINITY, f64::INFINITY) };
+        let turn = match (yaw_a, yaw_b) {
+            (Some(x), Some(y)) => {
+                let (t, e) = self.still.yaw(turn_deg(x, y));
+                match self.budget {
+                    BudgetLimit::LengthM(_) => 0.0,
+                    BudgetLimit::TimeS(_) => t,
+                    BudgetLimit::EnergyJ(_) => e,
+                }
+            }
+            _ => 0.0,
+        };
+        let back = match self.budget {
+            // the same way backwards is as long
+            BudgetLimit::LengthM(_) => there.length_m,
+            _ => legs::reversed(&there, self.legs.vehicle()).cost(self.budget),
+        };
+        (there.cost(self.budget) + turn, back + turn)
+    }
+}
+
 struct FinishInput<'a> {
-    inst: &'a Instance,
+    inst: &'a Instance<'a>,
     tour: Vec<usize>,
     views: &'a [Viewpoint],
     legs: &'a LegPlanner<'a>,
@@ -484,6 +494,7 @@ fn finish(f: FinishInput<'_>, search: Search, search_end: SearchEnd, tries: usiz
         let new: Vec<u32> = v.sees.iter().copied().filter(|&p| !seen[p as usize]).collect();
         new.iter().for_each(|&p| seen[p as usize] = true);
         flown.push(FlownViewpoint {
+            pose: v.pose,
             at: v.pose.at,
             yaw_deg: crate::params::math_to_bearing(v.pose.yaw),
             gimbal_pitch_deg: v.pose.pitch.to_degrees(),
@@ -540,6 +551,14 @@ fn finish(f: FinishInput<'_>, search: Search, search_end: SearchEnd, tries: usiz
         warnings,
         optics: f.optics,
     })
+}
+
+fn budget_unit(b: BudgetLimit) -> &'static str {
+    match b {
+        BudgetLimit::LengthM(_) => "m",
+        BudgetLimit::TimeS(_) => "s",
+        BudgetLimit::EnergyJ(_) => "J",
+    }
 }
 
 /// The smaller turn from one yaw to another, degrees.

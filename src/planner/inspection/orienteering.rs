@@ -8,8 +8,11 @@
 //! Rewards are kept with a counter per point (O(|seen|) to add or remove a viewpoint), and a
 //! path's cost is updated by the change of its neighbouring legs only.
 
+use std::cell::Cell;
+
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{RngCore, SeedableRng};
+use rayon::prelude::*;
 
 /// Node 0 is the start, node 1 the end; viewpoint k is node k + 2.
 pub const START: usize = 0;
@@ -19,20 +22,69 @@ pub const END: usize = 1;
 /// three-hour cap.
 const LOCAL_SEARCH_ATTEMPTS: usize = 400;
 
-/// The problem: what each viewpoint sees, the points' weights, the legs' costs (directed:
-/// climbing costs more than descending) and each viewpoint's own cost (its capture).
-pub struct Instance {
-    pub sees: Vec<Vec<u32>>,
-    pub weights: Vec<f64>,
-    /// `costs[u][v]`: the leg from node u to node v, infinite where there is none.
-    pub costs: Vec<Vec<f64>>,
-    pub node_cost: Vec<f64>,
-    pub budget: f64,
+/// Prices legs on demand: the search asks for a small part of all pairs.
+pub trait Pricer: Sync {
+    /// Costs of the legs from node `u` to node `v` and back (`u < v`; infinite where there is
+    /// none).
+    fn pair(&self, u: usize, v: usize) -> (f64, f64);
 }
 
-impl Instance {
-    fn edge(&self, u: usize, v: usize) -> f64 {
-        self.costs[u][v]
+/// The problem: what each viewpoint sees, the points' weights, the legs' costs (directed:
+/// climbing costs more than descending, priced when first asked for) and each viewpoint's own
+/// cost (its capture).
+pub struct Instance<'a> {
+    pub sees: Vec<Vec<u32>>,
+    pub weights: Vec<f64>,
+    pub node_cost: Vec<f64>,
+    pub budget: f64,
+    pricer: &'a dyn Pricer,
+    /// `costs[u * stride + v]`: the leg from node u to node v; NaN until priced.
+    costs: Vec<Cell<f64>>,
+    stride: usize,
+}
+
+impl<'a> Instance<'a> {
+    /// Room for `max_viewpoints` viewpoints (the table is allocated once).
+    pub fn new(pricer: &'a dyn Pricer, weights: Vec<f64>, budget: f64, max_viewpoints: usize) -> Self {
+        let stride = max_viewpoints + 2;
+        Instance { sees: Vec::new(), weights, node_cost: Vec::new(), budget, pricer, costs: (0..stride * stride).map(|_| Cell::new(f64::NAN)).collect(), stride }
+    }
+
+    /// Adds a viewpoint; false when the table is full.
+    pub fn add_viewpoint(&mut self, sees: Vec<u32>, node_cost: f64) -> bool {
+        if self.sees.len() + 2 >= self.stride {
+            return false;
+        }
+        self.sees.push(sees);
+        self.node_cost.push(node_cost);
+        true
+    }
+
+    pub fn edge(&self, u: usize, v: usize) -> f64 {
+        let known = self.costs[u * self.stride + v].get();
+        if !known.is_nan() {
+            return known;
+        }
+        let (lo, hi) = (u.min(v), u.max(v));
+        let (there, back) = self.pricer.pair(lo, hi);
+        self.store(lo, hi, there, back);
+        if u < v { there } else { back }
+    }
+
+    fn store(&self, lo: usize, hi: usize, there: f64, back: f64) {
+        self.costs[lo * self.stride + hi].set(there);
+        self.costs[hi * self.stride + lo].set(back);
+    }
+
+    /// Prices the pairs not yet priced, in parallel.
+    fn prefetch(&self, pairs: impl Iterator<Item = (usize, usize)>) {
+        let mut missing: Vec<(usize, usize)> = pairs.filter(|&(u, v)| u != v && self.costs[u * self.stride + v].get().is_nan()).map(|(u, v)| (u.min(v), u.max(v))).collect();
+        missing.sort_unstable();
+        missing.dedup();
+        let priced: Vec<(f64, f64)> = missing.par_iter().map(|&(u, v)| self.pricer.pair(u, v)).collect();
+        for ((u, v), (there, back)) in missing.into_iter().zip(priced) {
+            self.store(u, v, there, back);
+        }
     }
 
     pub fn viewpoints(&self) -> usize {
@@ -273,6 +325,8 @@ impl Search {
 /// Greedy insertion by added weight per added cost, while anything fits.
 fn fill(inst: &Instance, s: &mut Solution) {
     loop {
+        let stops: Vec<usize> = [START, END].into_iter().chain(s.tour.iter().map(|&k| k + 2)).collect();
+        inst.prefetch((0..inst.viewpoints()).filter(|&k| !s.member[k]).flat_map(|k| stops.iter().map(move |&n| (n, k + 2))));
         let mut best: Option<(f64, usize, usize)> = None;
         for k in 0..inst.viewpoints() {
             if s.member[k] {
@@ -340,10 +394,22 @@ mod tests {
     use super::*;
 
     /// Viewpoints on a line at x = 1..=n, start and end at 0; each sees points {k, k+1}.
-    fn line(n: usize, budget: f64) -> Instance {
-        let x = |node: usize| if node < 2 { 0.0 } else { (node - 1) as f64 };
-        let costs = (0..n + 2).map(|u| (0..n + 2).map(|v| (x(u) - x(v)).abs()).collect()).collect();
-        Instance { sees: (0..n as u32).map(|k| vec![k, k + 1]).collect(), weights: vec![1.0; n + 1], costs, node_cost: vec![0.0; n], budget }
+    struct OnALine;
+
+    impl Pricer for OnALine {
+        fn pair(&self, u: usize, v: usize) -> (f64, f64) {
+            let x = |node: usize| if node < 2 { 0.0 } else { (node - 1) as f64 };
+            let d = (x(u) - x(v)).abs();
+            (d, d)
+        }
+    }
+
+    fn line(n: usize, budget: f64) -> Instance<'static> {
+        let mut inst = Instance::new(&OnALine, vec![1.0; n + 1], budget, n);
+        for k in 0..n as u32 {
+            assert!(inst.add_viewpoint(vec![k, k + 1], 0.0));
+        }
+        inst
     }
 
     #[test]

@@ -10,7 +10,7 @@ use parry3d::shape::TriMesh;
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
-use crate::geom::grow;
+use crate::geom::{EdgeIndex, grow};
 
 /// A point in the local frame: east, north, up (metres above ground).
 pub type Point3 = [f64; 3];
@@ -43,6 +43,7 @@ pub struct Scene {
     pub no_fly: MultiPolygon,
     /// Where the drone may fly: the mission's area.
     pub geofence: MultiPolygon,
+    fence_edges: EdgeIndex,
     /// Every face as triangles, relative to `origin` (f32 keeps millimetres within kilometres
     /// of it).
     mesh: Option<TriMesh>,
@@ -73,7 +74,8 @@ impl Scene {
         let origin = geofence.bounding_rect().map_or(Coord { x: 0.0, y: 0.0 }, |r| r.center());
         let mesh = triangles(&prisms, origin);
         let no_fly = if no_fly_zones.0.is_empty() { MultiPolygon(Vec::new()) } else { grow(no_fly_zones, clearance) };
-        Scene { prisms, keep_out, keep_out_index, no_fly, geofence, mesh, origin }
+        let fence_edges = EdgeIndex::new(&geofence);
+        Scene { prisms, keep_out, keep_out_index, no_fly, geofence, fence_edges, mesh, origin }
     }
 
     /// The keep-out volumes whose footprint's box meets `rect`.
@@ -93,6 +95,14 @@ impl Scene {
             let k = &self.keep_out[i];
             p[2] > k.z[0] && p[2] < k.z[1] && k.footprint.contains(&c)
         })
+    }
+
+    /// True when the segment stays in the geofence: its ends and middle inside (or on the
+    /// edge), and no edge of the fence crossed.
+    pub fn inside_fence(&self, a: Coord, b: Coord) -> bool {
+        let mid = Coord { x: (a.x + b.x) / 2.0, y: (a.y + b.y) / 2.0 };
+        let within = |c: Coord| geo::Intersects::intersects(&self.geofence, &c);
+        within(a) && within(b) && within(mid) && !self.fence_edges.crossed(&[a, b])
     }
 
     /// True when a solid face lies strictly between `from` and `to` (`to` may sit on a face

@@ -5,6 +5,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{InputError, check_range};
 
+/// The planner id of the inspection of structures.
+pub const PLANNER_ID: &str = "inspection";
+
 /// A structure's faces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]

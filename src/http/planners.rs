@@ -4,6 +4,7 @@ use axum::Json;
 use serde::Serialize;
 use utoipa::ToSchema;
 
+use crate::planner;
 use crate::planner::camera::{CameraPreset, PRESETS};
 use crate::planner::planners::{ParameterInfo, common_parameters, registry};
 
@@ -18,7 +19,14 @@ pub struct PlannerInfo {
 
 #[utoipa::path(get, operation_id = "list_planners", path = "/api/v1/planners", tag = "planners", responses((status = 200, body = Vec<PlannerInfo>)))]
 pub async fn list() -> Json<Vec<PlannerInfo>> {
-    Json(registry().iter().map(|p| PlannerInfo { id: p.id(), description: p.description(), direction_rule: p.direction_rule(), parameters: common_parameters() }).collect())
+    let coverage = registry().iter().map(|p| PlannerInfo { id: p.id(), description: p.description(), direction_rule: p.direction_rule(), parameters: common_parameters() });
+    let inspection = PlannerInfo {
+        id: planner::INSPECTION,
+        description: planner::INSPECTION_DESCRIPTION,
+        direction_rule: "none: viewpoints, not sweep lines",
+        parameters: planner::inspection::parameters(),
+    };
+    Json(coverage.chain([inspection]).collect())
 }
 
 /// Camera presets, for `camera: {"preset": id}`.

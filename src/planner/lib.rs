@@ -223,7 +223,7 @@ fn ground_setup(spec: params::HeadlandSpec, vehicle: &vehicle::Vehicle, field: &
 /// Checks a plan request without planning: what [`plan`] would refuse as input, this refuses.
 pub fn check_plan(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<(), InputError> {
     if params.planner.as_deref() == Some(INSPECTION) {
-        return prepare_inspection(mission, params, profiles, limits).map(|_| ());
+        return inspection::check(&prepare_inspection(mission, params, profiles, limits)?.input());
     }
     prepare(mission, params, profiles, limits).map(|_| ())
 }
@@ -243,6 +243,23 @@ struct InspectionSetup {
     gsd_range_m: Option<f64>,
     start: Coord,
     end: Coord,
+}
+
+impl InspectionSetup {
+    fn input(&self) -> inspection::InspectionInput<'_> {
+        inspection::InspectionInput {
+            structures: &self.field.structures,
+            obstacles: &self.field.obstacles,
+            no_fly_zones: &self.field.no_fly_zones,
+            geofence: &self.field.area,
+            vehicle: &self.vehicle,
+            spec: &self.spec,
+            fov_deg: self.fov_deg,
+            gsd_range_m: self.gsd_range_m,
+            start: self.start,
+            end: self.end,
+        }
+    }
 }
 
 /// The preset an inspection's camera defaults to.
@@ -284,19 +301,7 @@ fn plan_inspection(
     if !progress.report(0.1) {
         return Err(PlanError::Cancelled);
     }
-    let input = inspection::InspectionInput {
-        structures: &s.field.structures,
-        obstacles: &s.field.obstacles,
-        no_fly_zones: &s.field.no_fly_zones,
-        geofence: &s.field.area,
-        vehicle: &s.vehicle,
-        spec: &s.spec,
-        fov_deg: s.fov_deg,
-        gsd_range_m: s.gsd_range_m,
-        start: s.start,
-        end: s.end,
-    };
-    let planned = inspection::plan(&input, stop)?;
+    let planned = inspection::plan(&s.input(), stop)?;
     let trajectory = export::geojson::inspection_collection(&s.field.frame, &planned, s.spec.show_unseen);
     let mut stats = planned.stats();
     if planned.energy_j() > s.vehicle.battery.usable_j() {
@@ -432,7 +437,7 @@ fn plan_until(
 }
 
 pub fn unknown_planner(id: &str) -> InputError {
-    let known: Vec<&str> = planners::registry().iter().map(|p| p.id()).collect();
+    let known: Vec<&str> = planners::registry().iter().map(|p| p.id()).chain([INSPECTION]).collect();
     InputError::new("unknown_planner", "/planner", format!("no planner named `{id}`; known: {}", known.join(", ")))
 }
 

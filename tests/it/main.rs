@@ -5,6 +5,7 @@ mod api;
 mod common;
 mod fleets;
 mod ground_plans;
+mod inspection;
 mod interop;
 mod jobs;
 mod observability;

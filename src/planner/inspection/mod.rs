@@ -28,6 +28,7 @@ use crate::error::{InputError, PlanError};
 use crate::field::Structure;
 use crate::metrics::{InspectionStats, Stats, TargetCoverage};
 use crate::params::inspection::{BudgetLimit, Extension, Face, InspectionSpec, Target};
+use crate::planners::ParameterInfo;
 use crate::stop::Stop;
 use crate::vehicle::Vehicle;
 use legs::{Leg, LegPlanner, Stationary};
@@ -255,12 +256,51 @@ fn target_groups(structures: &[Structure], targets: &[Target]) -> Result<Vec<Tar
     Ok(groups)
 }
 
-/// Refusals that need the scene: no structures, too many points, a start or end inside a
-/// keep-out volume.
-pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, PlanError> {
+/// The parameters planner `inspection` reads, for `GET /api/v1/planners`.
+pub fn parameters() -> Vec<ParameterInfo> {
+    let p = |name, kind, description| ParameterInfo { name, kind, description };
+    vec![
+        p("planner", "string", "inspection"),
+        p("budget", "object", "one of {max_length_m} (10 to 100 000), {max_time_s} (10 to 86 400) or {max_energy_j} (1 000 to 10⁹): the flight's limit"),
+        p("targets", "array", "\"walls\", \"roof\", a structure's name, or {name, faces: [walls|roof], priority 0.01 to 100}; default: every structure's walls and roof"),
+        p("camera", "object", "as for coverage plans (default: the dji_mavic3_enterprise preset); with gsd_cm, the farthest a point may be"),
+        p("gsd_cm", "number", "finest ground sample distance wanted on the faces: limits the range"),
+        p("vehicle", "object", "a multirotor: it stops, turns and takes a picture at each viewpoint"),
+        p("start", "object", "{position: [lon, lat], altitude_m}: where the flight starts (default: the mission's home, on the ground)"),
+        p("end", "object", "{position: [lon, lat], altitude_m}: where it ends (default: the start)"),
+        p("seed", "integer", "random seed: the same seed gives the same plan (default 0)"),
+        p("time_limit_ms", "integer", "the search returns its best path after this, 100 to 600 000 (default 20 000)"),
+        p(
+            "inspection",
+            "object",
+            "poi_spacing_m (0.5), range_m ([1, 12]), max_incidence_deg (75), gimbal_pitch_deg ([-90, 30]), body_radius_m (0.5), safety_margin_m (2), \
+             altitude_range_m, viewpoints (300), extension none|sphere|ellipse (sphere), extension_per_iteration (5), capture_s (1), show_unseen (false)",
+        ),
+    ]
+}
+
+/// What the search starts from: the targets' points, the scene, the camera's reach, the ends.
+struct Setup {
+    groups: Vec<TargetGroup>,
+    scene: Scene,
+    pois: Vec<Poi>,
+    optics: Optics,
+    /// Lowest and highest viewpoint altitude, and the highest a leg may climb to.
+    altitudes: [f64; 2],
+    ceiling: f64,
+    ends: [Point3; 2],
+}
+
+/// Checks an inspection without planning it: what [`plan`] refuses as input before its
+/// search, this refuses.
+pub fn check(input: &InspectionInput<'_>) -> Result<(), InputError> {
+    setup(input).map(|_| ())
+}
+
+fn setup(input: &InspectionInput<'_>) -> Result<Setup, InputError> {
     let spec = input.spec;
     if input.structures.is_empty() {
-        return Err(InputError::new("no_structures", "/structures", "an inspection needs the mission's structures: polygons with height_m").into());
+        return Err(InputError::new("no_structures", "/structures", "an inspection needs the mission's structures: polygons with height_m"));
     }
     let groups = target_groups(input.structures, &spec.targets)?;
     let mut prisms: Vec<Prism> = input
@@ -282,11 +322,10 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
             "too_many_points",
             "/inspection/poi_spacing_m",
             format!("the targets give {} points of interest at this spacing; the limit is {MAX_POIS}: widen poi_spacing_m", pois.len()),
-        )
-        .into());
+        ));
     }
     if pois.is_empty() {
-        return Err(InputError::new("nothing_to_inspect", "/targets", "the targets have no face to see (every one lies inside another structure)").into());
+        return Err(InputError::new("nothing_to_inspect", "/targets", "the targets have no face to see (every one lies inside another structure)"));
     }
     let range = spec.range_m.unwrap_or(DEFAULT_RANGE_M);
     let optics = Optics {
@@ -301,8 +340,7 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
             "range_too_short",
             "/gsd_cm",
             format!("this ground sample distance needs the camera within {:.2} m, nearer than the least range", optics.max_range_m),
-        )
-        .into());
+        ));
     }
     let tallest = scene.prisms.iter().map(|p| p.top_m).fold(0.0, f64::max);
     let altitudes = spec.altitude_range_m.unwrap_or([2.0, tallest + spec.safety_margin_m + optics.max_range_m]);
@@ -310,11 +348,18 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
     let ends = [([input.start.x, input.start.y, spec.start_altitude_m], "/start"), ([input.end.x, input.end.y, spec.end_altitude_m], "/end")];
     for (p, at) in ends {
         if !scene.is_free(p) {
-            return Err(
-                InputError::new("position_not_free", at, "this position lies outside the area, in a no-fly zone, or within the clearance of a structure or obstacle").into()
-            );
+            return Err(InputError::new("position_not_free", at, "this position lies outside the area, in a no-fly zone, or within the clearance of a structure or obstacle"));
         }
     }
+    Ok(Setup { groups, scene, pois, optics, altitudes, ceiling, ends: [ends[0].0, ends[1].0] })
+}
+
+/// Plans the inspection; refusals that need the scene (no structures, too many points, a start
+/// or end within the clearance, a budget that does not reach from the start to the end) are
+/// input errors.
+pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, PlanError> {
+    let spec = input.spec;
+    let Setup { groups, scene, pois, optics, altitudes, ceiling, ends: ends3 } = setup(input)?;
     let index = poi::index(&pois);
     let pitch_range = spec.gimbal_pitch_deg.map(f64::to_radians);
     let mut sampler = Sampler::new(&scene, &pois, &index, optics, pitch_range, spec.seed);
@@ -347,7 +392,6 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         BudgetLimit::TimeS(_) => spec.capture_s,
         BudgetLimit::EnergyJ(_) => spec.capture_s * still.hover_w,
     };
-    let ends3 = [ends[0].0, ends[1].0];
     let weights: Vec<f64> = pois.iter().map(|p| p.weight).collect();
     let pricer = LegPricer { legs: &legs, nodes: RwLock::new(vec![(ends3[START], None), (ends3[END], None)]), budget: spec.budget, still };
     let room = if spec.extension == Extension::None { views.len() } else { MAX_VIEWPOINTS };

@@ -221,7 +221,7 @@ impl Search {
         fill(inst, &mut best);
         two_opt(inst, &mut best);
         fill(inst, &mut best);
-        Search { rng: ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_0f_1a5e), best, iterations: 0, since_improvement: 0 }
+        Search { rng: ChaCha8Rng::seed_from_u64(seed ^ 0x005e_ed0f_1a5e), best, iterations: 0, since_improvement: 0 }
     }
 
     fn below(&mut self, n: usize) -> usize {
@@ -304,15 +304,12 @@ impl Search {
                 let j = self.below(s.tour.len());
                 let before = (s.reward, s.cost);
                 let out = s.remove(inst, j);
-                let (pos, extra) = s.best_insertion(inst, k);
+                let (pos, _) = s.best_insertion(inst, k);
                 s.insert(inst, k, pos);
                 if s.cost > inst.budget || s.reward < before.0 - 1e-9 || (s.reward <= before.0 + 1e-9 && s.cost >= before.1) {
                     // undo
-                    let at = s.tour.iter().position(|&x| x == k).expect("just inserted");
-                    s.remove(inst, at);
-                    let (back, _) = s.best_insertion(inst, out);
-                    s.insert(inst, out, back);
-                    let _ = extra;
+                    s.remove(inst, pos);
+                    s.insert(inst, out, j);
                 } else {
                     two_opt(inst, s);
                 }

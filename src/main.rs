@@ -82,6 +82,9 @@ enum Command {
         /// Instead: ground vehicles (planner headland) on the real fields beside Fields2Cover's figures, and on the generated fields.
         #[arg(long)]
         ground: bool,
+        /// Instead: inspection (seed 001's first scene rebuilt, and a barn): budget × share seen × time.
+        #[arg(long)]
+        inspection: bool,
         /// Instead: the shared job queue on the PostgreSQL server at this admin URL
         /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
         /// the time of one claim at 10 000 queued plans.
@@ -212,6 +215,10 @@ fn main() -> ExitCode {
         }
         Command::Bench { patrol: true, .. } => {
             print!("{}", coverplan::bench::patrol::run());
+            Ok(())
+        }
+        Command::Bench { inspection: true, repeats, .. } => {
+            print!("{}", coverplan::bench::inspection::run(repeats));
             Ok(())
         }
         Command::Bench { ground: true, data, repeats, .. } => coverplan::bench::ground::run(&data, repeats).map(|table| print!("{table}")),

@@ -1,11 +1,13 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
-//! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground` and `--queue` run the routing, energy,
-//! patrolling, fleet, ground-vehicle and shared-queue benchmarks instead.
+//! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground`, `--inspection` and `--queue` run the
+//! routing, energy, patrolling, fleet, ground-vehicle, inspection and shared-queue benchmarks
+//! instead.
 
 pub mod energy;
 pub mod fleet;
 pub mod ground;
+pub mod inspection;
 pub mod patrol;
 pub mod queue;
 

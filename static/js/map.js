@@ -8,11 +8,21 @@ export const state = {
   fields: L.featureGroup().addTo(map), // polygons with holes
   zones: L.featureGroup().addTo(map),
   obstacles: L.featureGroup().addTo(map),
+  structures: L.featureGroup().addTo(map), // to inspect: polygons or circles with cpHeight, cpBase, cpName
   poses: { home: null, start: null, end: null },
   result: null, // { layer, photos, fc, stats, params }
   compared: null,
   planId: null,
   patrol: null, // { layer, stats }
 };
+
+/** Results are not drawn on: shapes drawn over a plan snap to the mission, not to its lines. */
+export function notForDrawing(group) {
+  group.eachLayer((l) => {
+    if (l.eachLayer) notForDrawing(l);
+    Object.assign(l.options, { snapIgnore: true, pmIgnore: true });
+  });
+  return group;
+}
 
 window.coverplan = { map, state }; // for the browser test and the curious

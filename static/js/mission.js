@@ -1,4 +1,4 @@
-// The mission: drawing fields, holes, zones, obstacles and poses; GeoJSON in and out;
+// The mission: drawing fields, holes, zones, obstacles, structures and poses; GeoJSON in and out;
 // saving, listing and dropped files.
 
 import { $, api, authorisedFetch, escapeHtml, status } from './api.js';
@@ -8,10 +8,13 @@ const styles = {
   field: { color: '#2e7d32', weight: 2, fillOpacity: 0.1 },
   nfz: { color: '#c62828', weight: 2, fillOpacity: 0.25, dashArray: '4 3' },
   obstacle: { color: '#6d4c41', weight: 2, fillOpacity: 0.3 },
+  structure: { color: '#455a64', weight: 2, fillOpacity: 0.45 },
 };
 
 // ---- drawing ----
 map.pm.setGlobalOptions({ allowSelfIntersection: false, snappable: true });
+
+const groupOf = (kind) => ({ field: state.fields, nfz: state.zones, obstacle: state.obstacles, structure: state.structures })[kind];
 
 function addPolygon(kind, latlngs, height) {
   const layer = L.polygon(latlngs, styles[kind]);
@@ -20,7 +23,16 @@ function addPolygon(kind, latlngs, height) {
     layer.cpHeight = height;
     layer.bindTooltip(`${height} m`);
   }
-  (kind === 'field' ? state.fields : kind === 'nfz' ? state.zones : state.obstacles).addLayer(layer);
+  groupOf(kind).addLayer(layer);
+  return layer;
+}
+
+/** A structure to inspect: a footprint (or a circle, for a silo) with its height, base and name. */
+function addStructure(shape, { height, base = 0, name }) {
+  const layer = shape.radius ? L.circle(shape.centre, { radius: shape.radius, ...styles.structure }) : L.polygon(shape, styles.structure);
+  Object.assign(layer, { cpKind: 'structure', cpHeight: height, cpBase: base, cpName: name || `structure-${state.structures.getLayers().length + 1}` });
+  layer.bindTooltip(`${layer.cpName}: ${height} m`);
+  state.structures.addLayer(layer);
   return layer;
 }
 
@@ -62,6 +74,8 @@ map.on('pm:create', (e) => {
     setPose(kind, e.layer.getLatLng(), kind === 'home' || h === '' ? null : Number(h));
   } else if (kind === 'hole') {
     cutHole(e.layer.getLatLngs()[0]);
+  } else if (kind === 'structure') {
+    addStructure(e.layer.getLatLngs(), { height: Number($('obstacle-height').value), name: $('structure-name').value.trim() || undefined });
   } else {
     addPolygon(kind, e.layer.getLatLngs(), Number($('obstacle-height').value));
   }
@@ -69,7 +83,8 @@ map.on('pm:create', (e) => {
 
 function syncDrawInputs() {
   const kind = $('draw-kind').value;
-  $('height-box').hidden = kind !== 'obstacle';
+  $('height-box').hidden = !['obstacle', 'structure'].includes(kind);
+  $('structure-name-box').hidden = kind !== 'structure';
   $('heading-box').hidden = !['start', 'end'].includes(kind);
 }
 $('draw-kind').onchange = syncDrawInputs;
@@ -79,6 +94,7 @@ export function clearMission() {
   state.fields.clearLayers();
   state.zones.clearLayers();
   state.obstacles.clearLayers();
+  state.structures.clearLayers();
   for (const k of Object.keys(state.poses)) {
     if (state.poses[k]) map.removeLayer(state.poses[k]);
     state.poses[k] = null;
@@ -108,12 +124,21 @@ function missionBody() {
   const obstacles = state.obstacles.getLayers().map((l) => ({
     type: 'Feature', properties: { height_m: l.cpHeight }, geometry: { type: 'Polygon', coordinates: polygonOf(l) },
   }));
+  const structures = state.structures.getLayers().map((l) => {
+    const properties = { name: l.cpName, height_m: l.cpHeight, base_m: l.cpBase };
+    if (l instanceof L.Circle) {
+      const c = l.getLatLng();
+      return { type: 'Feature', properties: { ...properties, radius_m: l.getRadius() }, geometry: { type: 'Point', coordinates: [c.lng, c.lat] } };
+    }
+    return { type: 'Feature', properties, geometry: { type: 'Polygon', coordinates: polygonOf(l) } };
+  });
   const home = state.poses.home && state.poses.home.getLatLng();
   return {
     name: $('mission-name').value || 'Unnamed field',
     area,
     no_fly_zones: multi(state.zones),
     obstacles: obstacles.length ? { type: 'FeatureCollection', features: obstacles } : null,
+    structures: structures.length ? { type: 'FeatureCollection', features: structures } : null,
     home: home ? [home.lng, home.lat] : null,
   };
 }
@@ -138,6 +163,12 @@ export function drawMission(m) {
   polygonsOf(m.area).forEach((p) => addPolygon('field', p));
   polygonsOf(m.no_fly_zones).forEach((p) => addPolygon('nfz', p));
   polygonsOf(m.obstacles).forEach((p) => addPolygon('obstacle', p, (p.properties && p.properties.height_m) || 20));
+  for (const f of (m.structures && m.structures.features) || []) {
+    const p = f.properties || {};
+    const solid = { height: p.height_m, base: p.base_m || 0, name: p.name };
+    if (f.geometry.type === 'Point') addStructure({ centre: L.latLng(f.geometry.coordinates[1], f.geometry.coordinates[0]), radius: p.radius_m }, solid);
+    else polygonsOf(f.geometry).forEach((rings) => addStructure(rings, solid));
+  }
   if (m.home) setPose('home', L.latLng(m.home[1], m.home[0]), null);
   if (state.fields.getLayers().length) map.fitBounds(state.fields.getBounds(), { padding: [20, 20] });
 }

@@ -3,7 +3,7 @@
 // the visits per cell as a heat map.
 
 import { $, api, status } from './api.js';
-import { map, state } from './map.js';
+import { map, notForDrawing, state } from './map.js';
 import { saveMission } from './mission.js';
 import { droneColour } from './result.js';
 
@@ -48,7 +48,7 @@ function showPatrol(patrol, fc) {
     L.geoJSON(f, { style: { color: droneColour(f.properties.uav), weight: 1.5, opacity: 0.8 } })
       .bindTooltip(`UAV ${f.properties.uav + 1}: ${f.properties.turns} turns, ${(f.properties.length_m / 1000).toFixed(1)} km`).addTo(layer);
   }
-  state.patrol = { layer: layer.addTo(map), stats: patrol.stats };
+  state.patrol = { layer: notForDrawing(layer).addTo(map), stats: patrol.stats };
   const s = patrol.stats;
   const rows = [
     ['cells', `${s.free_cells} of ${s.cell_size_m.toFixed(1)} m`],

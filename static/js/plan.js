@@ -19,25 +19,49 @@ export async function fillForm() {
  * headland planner instead of a camera, a line spacing and drones. */
 const groundVehicle = () => $('vehicle').selectedOptions[0]?.dataset.kind === 'ground';
 
+/** Planner `inspection` flies to viewpoints around the mission's structures: no lines, no
+ * sweep direction, no fleet. */
+const inspecting = () => $('planner').value === 'inspection';
+
 function syncForm() {
   const ground = groundVehicle();
+  const inspection = !ground && inspecting();
   $('ground-box').hidden = !ground;
+  $('inspection-box').hidden = !inspection;
   for (const id of ['camera-box', 'layers-box']) $(id).hidden = ground;
-  $('drones').closest('.row').hidden = ground;
+  $('drones').closest('.row').hidden = ground || inspection;
+  for (const id of ['altitude-box', 'direction-box', 'overlap-box']) $(id).hidden = inspection;
   if (ground) $('planner').value = 'headland';
   else if ($('planner').value === 'headland') $('planner').value = 'boustrophedon';
   const camera = !ground && $('camera').value !== '';
-  $('spacing-box').hidden = camera || ground;
-  $('fixed-heading-box').hidden = $('direction').value !== 'fixed';
+  $('spacing-box').hidden = camera || ground || inspection;
+  $('fixed-heading-box').hidden = inspection || $('direction').value !== 'fixed';
   $('objective-box').hidden = $('planner').value !== 'auto';
-  $('layers-box').hidden = ground || !(num('drones') > 1);
+  $('layers-box').hidden = ground || inspection || !(num('drones') > 1);
 }
 ['camera', 'direction', 'planner', 'drones', 'vehicle'].forEach((id) => $(id).addEventListener('change', syncForm));
 
 const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
 
+/** An inspection's request: the budget, the faces, the camera's reach and the search. */
+function inspectionParams(p) {
+  p.budget = { [$('budget-kind').value]: num('budget') };
+  const faces = [['walls', 'target-walls'], ['roof', 'target-roof']].filter(([, id]) => $(id).checked).map(([face]) => face);
+  p.targets = faces.length === 2 ? [] : faces;
+  p.inspection = { range_m: [num('range-min'), num('range-max')], extension: $('extension').value, show_unseen: true };
+  p.seed = num('inspection-seed');
+  if ($('camera').value) p.camera = { preset: $('camera').value };
+  if (num('gsd') !== undefined) p.gsd_cm = num('gsd');
+  for (const kind of ['start', 'end']) {
+    const m = state.poses[kind];
+    if (m) p[kind] = { position: [m.getLatLng().lng, m.getLatLng().lat] };
+  }
+  return p;
+}
+
 export function planParams() {
   const p = { planner: $('planner').value, vehicle: { profile: $('vehicle').value } };
+  if (!groundVehicle() && inspecting()) return inspectionParams(p);
   if (groundVehicle()) {
     Object.assign(p.vehicle, { working_width_m: num('working-width'), turn_radius_m: num('turn-radius'), reverse_allowed: $('reverse-allowed').checked });
     p.headland_passes = num('headland-passes');
@@ -92,6 +116,21 @@ export function restoreParams(p) {
   set('objective', p.objective);
   $('drones').value = p.vehicles || 1;
   $('altitude-separation').value = p.altitude_separation_m ?? '';
+  if (p.budget) {
+    const [kind, value] = Object.entries(p.budget)[0];
+    set('budget-kind', kind);
+    set('budget', value);
+  }
+  if (p.targets) {
+    $('target-walls').checked = !p.targets.length || p.targets.includes('walls');
+    $('target-roof').checked = !p.targets.length || p.targets.includes('roof');
+  }
+  if (p.inspection) {
+    set('range-min', p.inspection.range_m && p.inspection.range_m[0]);
+    set('range-max', p.inspection.range_m && p.inspection.range_m[1]);
+    set('extension', p.inspection.extension);
+  }
+  set('inspection-seed', p.seed);
   for (const kind of ['start', 'end']) {
     const pose = p[kind];
     if (pose && pose.position) setPose(kind, L.latLng(pose.position[1], pose.position[0]), pose.heading_deg ?? null);

@@ -1,7 +1,8 @@
 // The result: the trajectory on the map, the figures table and the speed and energy chart.
 
 import { $, api, authorisedFetch, hasApiKey, status } from './api.js';
-import { map, state } from './map.js';
+import { map, notForDrawing, state } from './map.js';
+import { hide3d, show3d } from './view3d.js';
 
 // ---- the result ----
 const kindStyle = {
@@ -32,7 +33,8 @@ function drawTrajectory(fc, faded) {
     onEachFeature: (f, layer) => {
       const p = f.properties;
       const shape = p.turn_type ? ` (${p.turn_type === 'u' ? 'U' : p.turn_type})` : '';
-      layer.bindTooltip(`${drone(p)}${p.kind}${shape} ${p.length_m} m, ${p.speed_mps} m/s, sortie ${p.sortie}`);
+      const sortie = p.sortie === undefined ? '' : `, sortie ${p.sortie}`;
+      layer.bindTooltip(`${drone(p)}${p.kind}${shape} ${p.length_m} m, ${p.speed_mps} m/s${sortie}`);
     },
   }).addTo(group);
   if (!faded) {
@@ -64,11 +66,19 @@ function drawTrajectory(fc, faded) {
     L.circleMarker([lat, lng], { radius: 6, color: '#f9a825', fillOpacity: 1, className: 'battery-swap' })
       .bindTooltip(`battery ${f.properties.battery} runs out here: change it`).addTo(group);
   }
+  // an inspection's viewpoints, in flight order
+  for (const f of fc.features.filter((f) => f.properties.kind === 'viewpoint')) {
+    const [lng, lat, z] = f.geometry.coordinates;
+    const p = f.properties;
+    L.circleMarker([lat, lng], { radius: 4, color: '#ef6c00', fillOpacity: faded ? 0.3 : 0.9, className: 'viewpoint' })
+      .bindTooltip(`viewpoint ${p.order}: ${z} m up, facing ${Math.round(p.yaw_deg)}°, gimbal ${Math.round(p.gimbal_pitch_deg)}°, ${p.new_pois_seen} new points`)
+      .addTo(group);
+  }
   const photos = L.featureGroup();
   for (const f of fc.features.filter((f) => f.properties.kind === 'photos')) {
     f.geometry.coordinates.forEach((c) => L.circleMarker([c[1], c[0]], { radius: 2, color: '#37474f' }).addTo(photos));
   }
-  return { layer: group.addTo(map), photos };
+  return { layer: notForDrawing(group).addTo(map), photos: notForDrawing(photos) };
 }
 
 export function clearResult() {
@@ -77,6 +87,7 @@ export function clearResult() {
   }
   state.result = null;
   state.compared = null;
+  hide3d();
   $('download-box').hidden = true;
   renderFigures();
   drawChart();
@@ -100,6 +111,8 @@ export async function showPlan(plan) {
   togglePhotos();
   renderFigures();
   drawChart();
+  if (plan.stats.inspection) show3d(fc);
+  else hide3d();
 }
 
 function togglePhotos() {
@@ -114,8 +127,11 @@ const figureRows = [
   ['length', (s) => `${(s.length_m / 1000).toFixed(2)} km`],
   ['flight time', (s) => `${(s.duration_s / 60).toFixed(1)} min`],
   ['energy', (s) => `${s.energy_wh.toFixed(1)} Wh`],
-  ['coverage', (s) => `${(100 * s.coverage_ratio).toFixed(1)} %`],
-  ['efficiency', (s) => `${(100 * s.efficiency).toFixed(1)} %`],
+  ['coverage', (s) => (s.inspection ? '' : `${(100 * s.coverage_ratio).toFixed(1)} %`)],
+  ['efficiency', (s) => (s.inspection ? '' : `${(100 * s.efficiency).toFixed(1)} %`)],
+  ['points seen', (s) => (s.inspection ? `${(100 * s.inspection_coverage).toFixed(1)} % (${s.inspection.pois_seen} of ${s.inspection.pois})` : '')],
+  ['viewpoints', (s) => (s.inspection ? `${s.inspection.viewpoints} of ${s.inspection.viewpoints_sampled} sampled` : '')],
+  ['targets', (s) => (s.inspection ? s.inspection.targets.map((t) => `${t.name} ${t.face} ${(100 * t.coverage).toFixed(0)} %`).join(', ') : '')],
   ['turns', (s) => s.turns],
   ['sorties', (s) => s.sorties],
   ['last landing', (s) => (s.makespan_s == null ? '' : `${(s.makespan_s / 60).toFixed(1)} min`)],

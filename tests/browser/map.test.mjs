@@ -2,7 +2,7 @@
 // Chromium driven by playwright-core. Draws a field and a home point, plans it, compares two
 // planners, and reopens the mission from its link with every parameter. The server runs from
 // a folder of its own, serving the page built into the binary. Run by tests/run_all.sh after
-// the build.
+// the build. Draws a barn and inspects it, with its 3D view.
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync } from 'node:fs';
 import net from 'node:net';
@@ -175,6 +175,55 @@ try {
   const listed = await page.textContent('td[data-patrol=cells]');
   assert.equal(cellFills.length, Number(listed.split(' ')[0]), `a cell drawn per free cell (${listed})`);
   assert.ok(new Set(cellFills).size > 1, 'the heat map shades cells by their visits');
+
+  // a barn drawn with its height and name, inspected: the path and viewpoints on the map, the
+  // structure, the path and the points seen and not seen in the 3D view
+  await page.selectOption('#draw-kind', 'structure');
+  assert.ok(await page.isVisible('#height-box') && await page.isVisible('#structure-name-box'), 'a structure has a height and a name');
+  await page.fill('#obstacle-height', '10');
+  await page.fill('#structure-name', 'barn');
+  await page.click('#draw');
+  // wider than the snapping distance (20 px), or each click snaps to the first vertex
+  for (const [dx, dy] of [[0, 0], [40, 0], [40, 28], [0, 28], [0, 0]]) {
+    await page.mouse.click(...at(dx, dy));
+    await page.waitForTimeout(150);
+  }
+  assert.equal(await page.evaluate(() => window.coverplan.state.structures.getLayers().length), 1, 'one structure drawn');
+  await page.selectOption('#planner', 'inspection');
+  await page.dispatchEvent('#planner', 'change');
+  assert.ok(await page.isVisible('#inspection-box') && !(await page.isVisible('#spacing-box')), 'the inspection fields instead of the line spacing');
+  await page.selectOption('#vehicle', 'iris');
+  // the home is some 300 m from the barn: there and back, and around it
+  await page.fill('#budget', '1500');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.click('#plan');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the inspection', 90000);
+  assert.match(await page.textContent('td[data-figure="points seen"]'), /%/);
+  assert.match(await page.textContent('td[data-figure="targets"]'), /barn walls \d+ %/);
+  const view = await page.evaluate(() => window.coverplan.state.view3d);
+  assert.ok(view.drawn && view.structures === 1 && view.viewpoints > 0 && view.seen > 0, `3D view: ${JSON.stringify(view)}`);
+  assert.equal(await page.$$eval('path.viewpoint', (v) => v.length), view.viewpoints, 'each viewpoint on the map');
+  const saved3d = await (await fetch(`${base}/api/v1/missions/${missionId}`)).json();
+  assert.equal(saved3d.structures.features[0].properties.name, 'barn', 'the structure is saved with the mission');
+  // the 3D view draws seen points green and unseen ones red
+  const shades = await page.evaluate(() => {
+    const gl = document.querySelector('#view3d canvas');
+    const c = document.createElement('canvas');
+    c.width = gl.width;
+    c.height = gl.height;
+    const ctx = c.getContext('2d');
+    ctx.drawImage(gl, 0, 0);
+    const px = ctx.getImageData(0, 0, c.width, c.height).data;
+    let green = 0, red = 0;
+    for (let i = 0; i < px.length; i += 4) {
+      if (px[i + 1] > px[i] + 40 && px[i + 1] > px[i + 2] + 40) green += 1;
+      if (px[i] > px[i + 1] + 80 && px[i] > px[i + 2] + 80) red += 1;
+    }
+    return { green, red };
+  });
+  assert.ok(shades.green > 0, `seen points drawn: ${JSON.stringify(shades)}`);
+  assert.ok(view.unseen === 0 || shades.red > 0, `unseen points drawn: ${JSON.stringify(shades)}`);
+  await page.locator('#view3d').screenshot({ path: path.join(os.tmpdir(), 'coverplan-inspection-3d.png') });
 
   // a camera plan from a start pose with a heading, then the shared link restores all of it
   await page.selectOption('#planner', 'boustrophedon');

@@ -81,9 +81,9 @@ pub fn feature_collection(frame: &LocalFrame, flights: &[VehicleFlight<'_>], alt
 
 /// An inspection in flight order: each leg a LineString with heights (kind `transit`), each
 /// viewpoint a Point (kind `viewpoint`) with its camera's yaw (compass bearing) and gimbal
-/// pitch, what it newly sees, and the time and energy on arrival; with `show_unseen`, the
-/// points of interest no viewpoint sees as one MultiPoint (kind `unseen`).
-pub fn inspection_collection(frame: &LocalFrame, plan: &InspectionPlan, show_unseen: bool) -> FeatureCollection {
+/// pitch, what it newly sees, and the time and energy on arrival; with `show_points`, the
+/// points of interest seen and unseen as two MultiPoints (kinds `seen` and `unseen`).
+pub fn inspection_collection(frame: &LocalFrame, plan: &InspectionPlan, show_points: bool) -> FeatureCollection {
     let at = |p: [f64; 3]| position(frame, Coord { x: p[0], y: p[1] }, Some(p[2]));
     let mut features = Vec::new();
     for (i, leg) in plan.legs.iter().enumerate() {
@@ -91,6 +91,8 @@ pub fn inspection_collection(frame: &LocalFrame, plan: &InspectionPlan, show_uns
             "seq": features.len(),
             "kind": "transit",
             "length_m": round(leg.length_m, 2),
+            // the mean: a leg is flown from rest to rest
+            "speed_mps": round(if leg.time_s > 0.0 { leg.length_m / leg.time_s } else { 0.0 }, 2),
             "duration_s": round(leg.time_s, 2),
             "energy_j": round(leg.energy_j, 1),
         });
@@ -111,10 +113,12 @@ pub fn inspection_collection(frame: &LocalFrame, plan: &InspectionPlan, show_uns
             features.push(feature(GeometryValue::Point { coordinates: at(v.at) }, props));
         }
     }
-    if show_unseen {
-        let unseen: Vec<Position> = plan.pois.iter().zip(&plan.seen).filter(|(_, s)| !**s).map(|(p, _)| at(p.at)).collect();
-        let count = unseen.len();
-        features.push(feature(GeometryValue::MultiPoint { coordinates: unseen }, json!({"kind": "unseen", "count": count})));
+    if show_points {
+        for (kind, seen) in [("seen", true), ("unseen", false)] {
+            let points: Vec<Position> = plan.pois.iter().zip(&plan.seen).filter(|(_, s)| **s == seen).map(|(p, _)| at(p.at)).collect();
+            let count = points.len();
+            features.push(feature(GeometryValue::MultiPoint { coordinates: points }, json!({"kind": kind, "count": count})));
+        }
     }
     FeatureCollection { bbox: None, features, foreign_members: None }
 }

@@ -112,25 +112,10 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], settings: &Fli
             continue;
         }
         let acceptance = if w.on_arc { arc_radius } else { 0.0 };
-        let view = views.iter().find(|v| v.position == w.position);
-        let Some(view) = view else {
-            items.push(MissionItem::at(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w.position));
-            continue;
-        };
-        // PX4 turns to a waypoint's yaw; ArduCopter ignores it and is told with CONDITION_YAW
-        let yaw = match settings.firmware {
-            Firmware::Ardupilot => Some(0.0),
-            Firmware::Px4 => Some(view.yaw_deg),
-        };
-        items.push(MissionItem::at(NAV_WAYPOINT, [Some(settings.hold_s), Some(0.0), Some(0.0), yaw], w.position));
-        if settings.firmware == Firmware::Ardupilot {
-            // absolute bearing, default rate, the shorter way
-            items.push(MissionItem::command(CONDITION_YAW, [view.yaw_deg, 0.0, 0.0, 0.0]));
+        match views.iter().find(|v| v.position == w.position) {
+            Some(view) => items.extend(view_items(view, w.position, settings)),
+            None => items.push(MissionItem::at(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w.position)),
         }
-        // pitch, yaw relative to the vehicle (facing the viewpoint's bearing), rates unset
-        items.push(MissionItem { command: DO_GIMBAL_MANAGER_PITCHYAW, frame: FRAME_MISSION, params: [Some(view.gimbal_pitch_deg), Some(0.0), None, None], position: None });
-        // camera 0 (all), no interval, one image
-        items.push(MissionItem::command(IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 0.0]));
         if settings.trigger_distance_m.is_some() && sweep_end {
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
         }
@@ -142,6 +127,25 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], settings: &Fli
             items.push(MissionItem::at(NAV_LAND, [Some(0.0), Some(0.0), Some(0.0), keep_yaw], [last[0], last[1], 0.0]));
         }
     }
+    items
+}
+
+/// At an inspection's viewpoint: hold, face its yaw (PX4 reads the waypoint's yaw; ArduCopter
+/// ignores it and is told with `CONDITION_YAW`), point the gimbal, take one picture.
+fn view_items(view: &ViewAction, position: [f64; 3], settings: &FlightSettings) -> Vec<MissionItem> {
+    let yaw = match settings.firmware {
+        Firmware::Ardupilot => Some(0.0),
+        Firmware::Px4 => Some(view.yaw_deg),
+    };
+    let mut items = vec![MissionItem::at(NAV_WAYPOINT, [Some(settings.hold_s), Some(0.0), Some(0.0), yaw], position)];
+    if settings.firmware == Firmware::Ardupilot {
+        // absolute bearing, default rate, the shorter way
+        items.push(MissionItem::command(CONDITION_YAW, [view.yaw_deg, 0.0, 0.0, 0.0]));
+    }
+    // pitch, yaw relative to the vehicle (facing the viewpoint's bearing), rates unset
+    items.push(MissionItem { command: DO_GIMBAL_MANAGER_PITCHYAW, frame: FRAME_MISSION, params: [Some(view.gimbal_pitch_deg), Some(0.0), None, None], position: None });
+    // camera 0 (all), no interval, one image
+    items.push(MissionItem::command(IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 0.0]));
     items
 }
 

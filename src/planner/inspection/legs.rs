@@ -89,21 +89,22 @@ impl<'a> LegPlanner<'a> {
     }
 
     /// The cheapest free leg from `a` to `b` under `budget`'s measure, with its time and
-    /// energy, or `None` when none is found.
-    pub fn leg(&self, a: Point3, b: Point3, budget: BudgetLimit) -> Option<Leg> {
-        let leg = self.way(a, b, budget)?;
+    /// energy, or `None` when none is found; `fenced`: it stays in the geofence (legs between
+    /// viewpoints; the legs from the start and to the end may come from outside).
+    pub fn leg(&self, a: Point3, b: Point3, budget: BudgetLimit, fenced: bool) -> Option<Leg> {
+        let leg = self.way(a, b, budget, fenced)?;
         Some(if leg.time_s.is_nan() { price(leg.points, self.vehicle.energy_model().as_ref()) } else { leg })
     }
 
     /// As [`Self::leg`], but a leg chosen by its length is not priced in time and energy
     /// (they are NaN): the search under a length budget needs only lengths.
-    pub fn way(&self, a: Point3, b: Point3, budget: BudgetLimit) -> Option<Leg> {
+    pub fn way(&self, a: Point3, b: Point3, budget: BudgetLimit, fenced: bool) -> Option<Leg> {
         let model = self.vehicle.energy_model();
         let hi = a[2].max(b[2]);
         let (a_hi, b_hi) = ([a[0], a[1], hi], [b[0], b[1], hi]);
         let mut best: Option<Leg> = None;
         let mut consider = |points: Vec<Point3>| {
-            if points.windows(2).all(|w| self.scene.segment_free(w[0], w[1])) {
+            if points.windows(2).all(|w| self.scene.segment_free(w[0], w[1], fenced)) {
                 let leg = match budget {
                     BudgetLimit::LengthM(_) => Leg { length_m: length_3d(&points), points, time_s: f64::NAN, energy_j: f64::NAN },
                     _ => price(points, model.as_ref()),
@@ -211,14 +212,15 @@ fn price(points: Vec<Point3>, model: &dyn EnergyModel) -> Leg {
 }
 
 impl Scene {
-    /// True when the straight segment from `p` to `q` stays in the geofence, out of the no-fly
-    /// zones and out of every keep-out volume (touching its outline is allowed).
-    pub fn segment_free(&self, p: Point3, q: Point3) -> bool {
+    /// True when the straight segment from `p` to `q` stays out of the no-fly zones and out of
+    /// every keep-out volume (touching its outline is allowed), and, when `fenced`, in the
+    /// geofence.
+    pub fn segment_free(&self, p: Point3, q: Point3, fenced: bool) -> bool {
         let (a, b) = (Coord { x: p[0], y: p[1] }, Coord { x: q[0], y: q[1] });
         if p[2] < 0.0 || q[2] < 0.0 {
             return false;
         }
-        if !self.inside_fence(a, b) || self.no_fly.0.iter().any(|z| inside_intervals(z, a, b).next().is_some()) {
+        if (fenced && !self.inside_fence(a, b)) || self.no_fly.0.iter().any(|z| inside_intervals(z, a, b).next().is_some()) {
             return false;
         }
         self.keep_out_near(Rect::new(a, b)).all(|i| {
@@ -313,29 +315,30 @@ mod tests {
         let legs = LegPlanner::new(&s, &iris, 100.0);
         let budget = BudgetLimit::LengthM(1e9);
         // low across the building: around it (2 × hypot(5.3, 7.7) + 15.4 ≈ 34 m, less than climbing 9.5 m and back)
-        let low = legs.leg([-8.0, 5.0, 3.0], [18.0, 5.0, 3.0], budget).unwrap();
+        let low = legs.leg([-8.0, 5.0, 3.0], [18.0, 5.0, 3.0], budget, true).unwrap();
         assert!(low.points.iter().all(|p| (p[2] - 3.0).abs() < 1e-9) && low.length_m > 33.0 && low.length_m < 35.0, "{low:?}");
         // just under the keep-out's top: over it
-        let high = legs.leg([-8.0, 5.0, 12.0], [18.0, 5.0, 12.0], budget).unwrap();
+        let high = legs.leg([-8.0, 5.0, 12.0], [18.0, 5.0, 12.0], budget, true).unwrap();
         assert!((high.length_m - (26.0 + 2.0 * 0.5)).abs() < 1e-9, "{high:?}");
         for leg in [&low, &high] {
-            assert!(leg.points.windows(2).all(|w| s.segment_free(w[0], w[1])));
+            assert!(leg.points.windows(2).all(|w| s.segment_free(w[0], w[1], true)));
             assert!(leg.time_s > 0.0 && leg.energy_j > 0.0);
         }
         // a clear leg is straight
-        let clear = legs.leg([-8.0, -8.0, 3.0], [18.0, -8.0, 5.0], budget).unwrap();
+        let clear = legs.leg([-8.0, -8.0, 3.0], [18.0, -8.0, 5.0], budget, true).unwrap();
         assert_eq!(clear.points.len(), 2);
     }
 
     #[test]
     fn segments_through_the_volume_are_refused_and_along_its_outline_are_not() {
         let s = scene();
-        assert!(!s.segment_free([-5.0, 5.0, 5.0], [15.0, 5.0, 5.0]));
-        assert!(s.segment_free([-5.0, 5.0, 12.5], [15.0, 5.0, 12.5]));
+        assert!(!s.segment_free([-5.0, 5.0, 5.0], [15.0, 5.0, 5.0], true));
+        assert!(s.segment_free([-5.0, 5.0, 12.5], [15.0, 5.0, 12.5], true));
         // descending into the roof's clearance
-        assert!(!s.segment_free([5.0, 5.0, 20.0], [5.0, 5.0, 11.0]));
-        assert!(s.segment_free([5.0, 5.0, 20.0], [5.0, 5.0, 12.6]));
+        assert!(!s.segment_free([5.0, 5.0, 20.0], [5.0, 5.0, 11.0], true));
+        assert!(s.segment_free([5.0, 5.0, 20.0], [5.0, 5.0, 12.6], true));
         // outside the geofence
-        assert!(!s.segment_free([-40.0, 0.0, 5.0], [-70.0, 0.0, 5.0]));
+        assert!(!s.segment_free([-40.0, 0.0, 5.0], [-70.0, 0.0, 5.0], true));
+        assert!(s.segment_free([-40.0, 0.0, 5.0], [-70.0, 0.0, 5.0], false));
     }
 }

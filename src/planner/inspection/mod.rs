@@ -347,8 +347,8 @@ fn setup(input: &InspectionInput<'_>) -> Result<Setup, InputError> {
     let ceiling = altitudes[1].max(tallest + spec.safety_margin_m + spec.body_radius_m + 1.0);
     let ends = [([input.start.x, input.start.y, spec.start_altitude_m], "/start"), ([input.end.x, input.end.y, spec.end_altitude_m], "/end")];
     for (p, at) in ends {
-        if !scene.is_free(p) {
-            return Err(InputError::new("position_not_free", at, "this position lies outside the area, in a no-fly zone, or within the clearance of a structure or obstacle"));
+        if !scene.is_free(p, false) {
+            return Err(InputError::new("position_not_free", at, "this position lies in a no-fly zone or within the clearance of a structure or obstacle"));
         }
     }
     Ok(Setup { groups, scene, pois, optics, altitudes, ceiling, ends: [ends[0].0, ends[1].0] })
@@ -447,6 +447,14 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         }
     };
     let tour = search.best.tour.clone();
+    if tour.is_empty() {
+        let nearest = (0..inst.viewpoints()).map(|k| inst.edge(START, k + 2) + inst.node_cost[k] + inst.edge(k + 2, END)).fold(f64::INFINITY, f64::min);
+        warnings.push(format!(
+            "no viewpoint fits in the budget: the cheapest one costs {nearest:.1} {} from the start to the end; the budget is {}",
+            budget_unit(spec.budget),
+            spec.budget.value()
+        ));
+    }
     finish(FinishInput { inst: &inst, tour, views: &views, legs: &legs, ends: ends3, pois, groups, scene: &scene, still, spec, optics }, search, search_end, tries, warnings)
 }
 
@@ -467,7 +475,9 @@ impl Pricer for LegPricer<'_> {
             let nodes = self.nodes.read().expect("nodes");
             (nodes[u], nodes[v])
         };
-        let Some(there) = self.legs.way(a, b, self.budget) else { return (f64::INFINITY, f64::INFINITY) };
+        // the start and the end may lie outside the area; viewpoints never do
+        let fenced = u >= 2 && v >= 2;
+        let Some(there) = self.legs.way(a, b, self.budget, fenced) else { return (f64::INFINITY, f64::INFINITY) };
         let turn = match (yaw_a, yaw_b) {
             (Some(x), Some(y)) => {
                 let (t, e) = self.still.yaw(turn_deg(x, y));
@@ -515,7 +525,8 @@ fn finish(f: FinishInput<'_>, search: Search, search_end: SearchEnd, tries: usiz
         // that leg reversed
         let node = |n: &Option<usize>, i: usize| n.map_or(if i == 0 { START } else { END }, |k| k + 2);
         let (u, v) = (node(&w[0], i), node(&w[1], i + 1));
-        let leg = if u < v { f.legs.leg(a, b, f.spec.budget) } else { f.legs.leg(b, a, f.spec.budget).map(|l| legs::reversed(&l, f.legs.vehicle())) };
+        let fenced = u >= 2 && v >= 2;
+        let leg = if u < v { f.legs.leg(a, b, f.spec.budget, fenced) } else { f.legs.leg(b, a, f.spec.budget, fenced).map(|l| legs::reversed(&l, f.legs.vehicle())) };
         legs_flown.push(leg.ok_or_else(|| PlanError::Infeasible("a leg the search used has no free way".into()))?);
     }
     let mut seen = vec![false; f.pois.len()];

@@ -84,11 +84,11 @@ impl Scene {
         self.keep_out_index.locate_in_envelope_intersecting(&aabb).map(|g| g.data)
     }
 
-    /// True where the drone's centre may be: inside the geofence, outside every no-fly zone and
-    /// every keep-out volume.
-    pub fn is_free(&self, p: Point3) -> bool {
+    /// True where the drone's centre may be: outside every no-fly zone and every keep-out
+    /// volume, and, when `fenced`, inside the geofence.
+    pub fn is_free(&self, p: Point3, fenced: bool) -> bool {
         let c = Coord { x: p[0], y: p[1] };
-        if p[2] < 0.0 || !self.geofence.contains(&c) || self.no_fly.contains(&c) {
+        if p[2] < 0.0 || (fenced && !self.geofence.contains(&c)) || self.no_fly.contains(&c) {
             return false;
         }
         !self.keep_out_near(Rect::new(c, c)).any(|i| {
@@ -193,8 +193,8 @@ mod tests {
     #[test]
     fn keep_out_is_the_clearance_around_the_solid() {
         let s = cube();
-        assert!(!s.is_free([-2.0, 5.0, 5.0]) && s.is_free([-3.0, 5.0, 5.0]));
-        assert!(!s.is_free([5.0, 5.0, 12.0]) && s.is_free([5.0, 5.0, 12.6]));
-        assert!(!s.is_free([100.0, 5.0, 5.0]), "outside the geofence");
+        assert!(!s.is_free([-2.0, 5.0, 5.0], true) && s.is_free([-3.0, 5.0, 5.0], true));
+        assert!(!s.is_free([5.0, 5.0, 12.0], true) && s.is_free([5.0, 5.0, 12.6], true));
+        assert!(!s.is_free([100.0, 5.0, 5.0], true) && s.is_free([100.0, 5.0, 5.0], false), "outside the geofence");
     }
 }

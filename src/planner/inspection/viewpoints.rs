@@ -99,7 +99,7 @@ impl Sampler<'_> {
             while poses.len() < BATCH && tries < max_tries {
                 tries += 1;
                 let Some(at) = positions(self) else { break };
-                if !self.scene.is_free(at) {
+                if !self.scene.is_free(at, true) {
                     continue;
                 }
                 if let Some(pose) = self.aim(at) {

@@ -114,7 +114,7 @@ pub struct InspectionOptions {
     /// Hover at each viewpoint to take the picture, 0 to 60 s (default 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub capture_s: Option<f64>,
-    /// Add the points of interest no viewpoint sees to the trajectory (default false).
+    /// Add the points of interest to the trajectory, seen and unseen (default false).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub show_unseen: Option<bool>,
 }

@@ -70,3 +70,56 @@ fn scene_one_reaches_the_reference_shares() {
         assert!(st.inspection_coverage.unwrap() >= least, "extension {extension}: {:?} below {least}", st.inspection_coverage);
     }
 }
+
+#[test]
+fn the_share_seen_rises_with_the_budget() {
+    let shares: Vec<f64> = [50.0, 100.0, 200.0].iter().map(|&b| plan_scene_one(&scene_one_params(b, "none", 2)).stats.inspection_coverage.unwrap()).collect();
+    eprintln!("scene 1 without extension at 50, 100, 200 m: {shares:?}");
+    assert!(shares.windows(2).all(|w| w[1] > w[0]), "{shares:?}");
+}
+
+/// Spec §9: raising one target's weight must not lower its seen share. Two buildings 30 m
+/// apart, a budget that cannot see both whole.
+#[test]
+fn a_higher_priority_is_seen_at_least_as_much() {
+    let frame = LocalFrame::new(10.0, 52.0);
+    let at = |x: f64, y: f64| {
+        let [lon, lat] = frame.to_wgs84(Coord { x, y });
+        json!([lon, lat])
+    };
+    let square = |x0: f64| {
+        let mut r: Vec<Value> = [(x0, 0.0), (x0 + 8.0, 0.0), (x0 + 8.0, 8.0), (x0, 8.0)].iter().map(|&(x, y)| at(x, y)).collect();
+        r.push(r[0].clone());
+        json!([r])
+    };
+    let area = {
+        let mut r: Vec<Value> = [(-40.0, -30.0), (60.0, -30.0), (60.0, 40.0), (-40.0, 40.0)].iter().map(|&(x, y)| at(x, y)).collect();
+        r.push(r[0].clone());
+        json!({"type": "Polygon", "coordinates": [r]})
+    };
+    let structures = json!({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "west", "height_m": 8.0}, "geometry": {"type": "Polygon", "coordinates": square(-15.0)}},
+        {"type": "Feature", "properties": {"name": "east", "height_m": 8.0}, "geometry": {"type": "Polygon", "coordinates": square(15.0)}},
+    ]});
+    let home = frame.to_wgs84(Coord { x: 4.0, y: -20.0 });
+    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: Some(&structures), home: Some(home) };
+    let share_of_east = |priority: f64| {
+        let params: PlanParams = serde_json::from_value(json!({
+            "planner": "inspection",
+            "budget": {"max_length_m": 150},
+            "targets": [{"name": "west"}, {"name": "east", "priority": priority}],
+            "inspection": {"range_m": [0.5, 8], "extension": "none", "viewpoints": 200},
+            "seed": 4,
+        }))
+        .unwrap();
+        let out = plan(&mission, &params, &coverplan_planner::vehicle::builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned");
+        let targets = out.stats.inspection.unwrap().targets;
+        let seen: usize = targets.iter().filter(|t| t.name == "east").map(|t| t.seen).sum();
+        let total: usize = targets.iter().filter(|t| t.name == "east").map(|t| t.total).sum();
+        seen as f64 / total as f64
+    };
+    let (even, raised) = (share_of_east(1.0), share_of_east(5.0));
+    eprintln!("east seen at priority 1: {even:.3}, at 5: {raised:.3}");
+    assert!(raised >= even, "{raised} < {even}");
+    assert!(raised > 0.0);
+}

@@ -8,6 +8,7 @@ use serde_json::Value;
 
 use super::error::InputError;
 use super::frame::LocalFrame;
+use super::mesh::{MAX_TRIANGLES, MeshObject, Up, read_obj};
 
 /// Limits that protect the service from absurd or oversized missions.
 #[derive(Debug, Clone, Copy)]
@@ -60,6 +61,8 @@ pub struct Structure {
     pub height_m: f64,
     /// Its feature's JSON pointer in the mission.
     pub pointer: String,
+    /// A model's object: its triangles in the local frame (the footprint is their hull).
+    pub mesh: Option<Vec<[[f64; 3]; 3]>>,
 }
 
 /// Sides of the polygon that stands for a cylinder (a Point with `radius_m`).
@@ -108,23 +111,26 @@ impl Field {
         let area_polys = area.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
         let nfz_polys = nfz.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
         let obstacles = obstacles.iter().map(|(raw, h)| to_local(raw).map(|p| (p, *h))).collect::<Result<Vec<_>, _>>()?;
-        let structures = structures
-            .into_iter()
-            .map(|s| {
-                let footprint = match s.shape {
-                    RawShape::Polygon(raw) => to_local(&raw)?,
-                    RawShape::Circle { centre, radius_m } => {
-                        let c = frame.to_local(centre[0], centre[1]);
-                        let ring = (0..CYLINDER_SIDES).map(|k| {
-                            let a = std::f64::consts::TAU * k as f64 / CYLINDER_SIDES as f64;
-                            Coord { x: c.x + radius_m * a.cos(), y: c.y + radius_m * a.sin() }
-                        });
-                        Polygon::new(LineString::from_iter(ring), Vec::new())
-                    }
-                };
-                Ok(Structure { name: s.name, footprint, base_m: s.base_m, height_m: s.height_m, pointer: s.pointer })
-            })
-            .collect::<Result<Vec<_>, InputError>>()?;
+        let mut placed = Vec::new();
+        for s in structures {
+            let footprint = match s.shape {
+                RawShape::Polygon(raw) => to_local(&raw)?,
+                RawShape::Circle { centre, radius_m } => {
+                    let c = frame.to_local(centre[0], centre[1]);
+                    let ring = (0..CYLINDER_SIDES).map(|k| {
+                        let a = std::f64::consts::TAU * k as f64 / CYLINDER_SIDES as f64;
+                        Coord { x: c.x + radius_m * a.cos(), y: c.y + radius_m * a.sin() }
+                    });
+                    Polygon::new(LineString::from_iter(ring), Vec::new())
+                }
+                RawShape::Model { anchor, rotation_deg, objects } => {
+                    placed.extend(place_model(&frame, (anchor, rotation_deg, s.base_m), objects, (&s.name, &s.pointer))?);
+                    continue;
+                }
+            };
+            placed.push(Structure { name: s.name, footprint, base_m: s.base_m, height_m: s.height_m, pointer: s.pointer, mesh: None });
+        }
+        let structures = placed;
 
         let area_mp = MultiPolygon(area_polys);
         // boxes first: overlaying every pair of thousands of fields would take minutes
@@ -206,7 +212,51 @@ fn parse_obstacles(value: &Value, pointer: &str) -> Result<Vec<(RawPolygon, f64)
 
 enum RawShape {
     Polygon(RawPolygon),
-    Circle { centre: [f64; 2], radius_m: f64 },
+    Circle {
+        centre: [f64; 2],
+        radius_m: f64,
+    },
+    /// An OBJ model whose origin stands at `anchor`, turned clockwise by `rotation_deg`.
+    Model {
+        anchor: [f64; 2],
+        rotation_deg: f64,
+        objects: Vec<MeshObject>,
+    },
+}
+
+/// A model's objects in the local frame: each a structure (named `<name>/<object>` when the
+/// model has several) whose footprint is the hull of its vertices.
+/// `at`: the anchor, the clockwise turn and the height of the model's origin above the ground;
+/// `named`: the feature's name and pointer.
+fn place_model(frame: &LocalFrame, at: ([f64; 2], f64, f64), objects: Vec<MeshObject>, named: (&str, &str)) -> Result<Vec<Structure>, InputError> {
+    let (anchor, rotation_deg, base_m) = at;
+    let (feature, pointer) = named;
+    let origin = frame.to_local(anchor[0], anchor[1]);
+    // a compass turn is clockwise: the math angle is its negative
+    let (sin, cos) = (-rotation_deg.to_radians()).sin_cos();
+    let place = |p: [f64; 3]| [origin.x + cos * p[0] - sin * p[1], origin.y + sin * p[0] + cos * p[1], base_m + p[2]];
+    let several = objects.len() > 1;
+    objects
+        .into_iter()
+        .map(|o| {
+            let triangles: Vec<[[f64; 3]; 3]> = o.triangles.iter().map(|t| t.map(place)).collect();
+            let corners = || triangles.iter().flatten();
+            let (low, high) = corners().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p[2]), hi.max(p[2])));
+            if low < -0.01 {
+                return Err(InputError::new(
+                    "model_below_ground",
+                    format!("{pointer}/properties/base_m"),
+                    format!("object `{}` reaches {:.2} m below the ground: raise base_m", o.name, -low),
+                ));
+            }
+            let hull = geo::ConvexHull::convex_hull(&geo::MultiPoint::from(corners().map(|p| Coord { x: p[0], y: p[1] }).collect::<Vec<_>>()));
+            if geo::Area::unsigned_area(&hull) < 1e-6 {
+                return Err(InputError::new("invalid_model", format!("{pointer}/properties/obj"), format!("object `{}` has no extent seen from above", o.name)));
+            }
+            let name = if several { format!("{feature}/{}", o.name) } else { feature.to_owned() };
+            Ok(Structure { name, footprint: hull, base_m: low, height_m: (high - low).max(0.01), pointer: pointer.to_owned(), mesh: Some(triangles) })
+        })
+        .collect()
 }
 
 struct RawStructure {
@@ -219,13 +269,16 @@ struct RawStructure {
 
 /// A FeatureCollection of structures, each a Polygon (or a Point with `radius_m`, a cylinder
 /// such as a silo or a tree) with `height_m`, optional `base_m` (default 0) and a unique
-/// `name` (default `structure-<n>`, counted from 1).
+/// `name` (default `structure-<n>`, counted from 1); or a Point with `obj`, a Wavefront OBJ
+/// model whose origin stands there, `base_m` above the ground, turned by `rotation_deg`
+/// (clockwise), with `up` `z` (default) or `y`.
 fn parse_structures(value: &Value, pointer: &str) -> Result<Vec<RawStructure>, InputError> {
     let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
     let GeoJson::FeatureCollection(fc) = geojson else {
         return Err(InputError::new("structures_not_a_collection", pointer, "structures are a FeatureCollection of Polygon or Point features"));
     };
     let mut out: Vec<RawStructure> = Vec::new();
+    let mut triangles = 0;
     for (i, f) in fc.features.iter().enumerate() {
         let fp = format!("{pointer}/features/{i}");
         let number = |key: &str, required: bool, lo: f64, hi: f64| -> Result<Option<f64>, InputError> {
@@ -239,7 +292,13 @@ fn parse_structures(value: &Value, pointer: &str) -> Result<Vec<RawStructure>, I
                 None => Err(InputError::new("structure_height_missing", at, format!("each structure needs `{key}` in metres"))),
             }
         };
-        let height_m = number("height_m", true, 0.1, MAX_OBSTACLE_HEIGHT_M)?.expect("required");
+        let obj = match f.property("obj") {
+            None | Some(Value::Null) => None,
+            Some(Value::String(text)) => Some(text.as_str()),
+            Some(_) => return Err(InputError::new("invalid_model", format!("{fp}/properties/obj"), "`obj` is the text of a Wavefront OBJ file")),
+        };
+        // a model's height is its own
+        let height_m = if obj.is_some() { 0.0 } else { number("height_m", true, 0.1, MAX_OBSTACLE_HEIGHT_M)?.expect("required") };
         let base_m = number("base_m", false, 0.0, MAX_OBSTACLE_HEIGHT_M)?.unwrap_or(0.0);
         let name = match f.property("name") {
             None | Some(Value::Null) => format!("structure-{}", i + 1),
@@ -258,12 +317,30 @@ fn parse_structures(value: &Value, pointer: &str) -> Result<Vec<RawStructure>, I
                 }
                 let centre = [c[0], c[1]];
                 check_position(&centre, &at)?;
+                if let Some(text) = obj {
+                    let up = match f.property("up").and_then(Value::as_str) {
+                        None | Some("z") => Up::Z,
+                        Some("y") => Up::Y,
+                        Some(other) => return Err(InputError::new("invalid_model", format!("{fp}/properties/up"), format!("`{other}`: the model's up axis is z or y"))),
+                    };
+                    let rotation_deg = number("rotation_deg", false, -360.0, 360.0)?.unwrap_or(0.0);
+                    let objects = read_obj(text, up).map_err(|e| InputError::new("invalid_model", format!("{fp}/properties/obj"), e))?;
+                    triangles += objects.iter().map(|o| o.triangles.len()).sum::<usize>();
+                    if triangles > MAX_TRIANGLES {
+                        return Err(InputError::new("invalid_model", format!("{fp}/properties/obj"), format!("the mission's models have more than {MAX_TRIANGLES} triangles")));
+                    }
+                    out.push(RawStructure { name, shape: RawShape::Model { anchor: centre, rotation_deg, objects }, base_m, height_m, pointer: fp });
+                    continue;
+                }
                 let radius_m = number("radius_m", true, 0.1, 500.0)
                     .map_err(|e| {
                         if e.code == "structure_height_missing" { InputError::new("radius_missing", e.pointer, "a Point structure is a cylinder: give its `radius_m`") } else { e }
                     })?
                     .expect("required");
                 RawShape::Circle { centre, radius_m }
+            }
+            _ if obj.is_some() => {
+                return Err(InputError::new("model_needs_anchor", format!("{fp}/geometry"), "a model's feature is a Point: where the model's origin stands"));
             }
             _ => {
                 let mut polys = Vec::new();

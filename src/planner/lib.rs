@@ -7,6 +7,7 @@
 //! - [`error`], `archive` (zips and XML from outside, read with limits), [`geom`], [`frame`]
 //!   (WGS84 ⇄ local metres), [`path`] (the flight path), [`stop`] (cancellation and time
 //!   limits, asked by every long loop): the vocabulary every stage shares;
+//! - [`mesh`]: Wavefront OBJ models of structures, read with limits;
 //! - `field`: parse, validate and normalise the mission;
 //! - `sweep`: parallel sweep lines over an area, and the width of a shape across a direction;
 //! - `decompose`: cells, each swept by `sweep`'s lines in its own direction;
@@ -47,6 +48,7 @@ pub mod frame;
 pub mod geom;
 pub mod import;
 pub mod inspection;
+pub mod mesh;
 pub mod metrics;
 pub mod params;
 pub mod path;

@@ -125,6 +125,7 @@ function missionBody() {
     type: 'Feature', properties: { height_m: l.cpHeight }, geometry: { type: 'Polygon', coordinates: polygonOf(l) },
   }));
   const structures = state.structures.getLayers().map((l) => {
+    if (l.cpFeature) return l.cpFeature; // a model, kept as it came
     const properties = { name: l.cpName, height_m: l.cpHeight, base_m: l.cpBase };
     if (l instanceof L.Circle) {
       const c = l.getLatLng();
@@ -166,7 +167,14 @@ export function drawMission(m) {
   for (const f of (m.structures && m.structures.features) || []) {
     const p = f.properties || {};
     const solid = { height: p.height_m, base: p.base_m || 0, name: p.name };
-    if (f.geometry.type === 'Point') addStructure({ centre: L.latLng(f.geometry.coordinates[1], f.geometry.coordinates[0]), radius: p.radius_m }, solid);
+    if (p.obj) {
+      // a 3D model (Wavefront OBJ) anchored at its point: shown as a marker, saved unchanged
+      const [lng, lat] = f.geometry.coordinates;
+      const icon = L.divIcon({ className: 'pose', html: '<div title="model">▣</div>', iconSize: [18, 18] });
+      const marker = L.marker(L.latLng(lat, lng), { icon, title: p.name || 'model' }).bindTooltip(`${p.name || 'model'} (3D model)`);
+      marker.cpFeature = f;
+      state.structures.addLayer(marker);
+    } else if (f.geometry.type === 'Point') addStructure({ centre: L.latLng(f.geometry.coordinates[1], f.geometry.coordinates[0]), radius: p.radius_m }, solid);
     else polygonsOf(f.geometry).forEach((rings) => addStructure(rings, solid));
   }
   if (m.home) setPose('home', L.latLng(m.home[1], m.home[0]), null);

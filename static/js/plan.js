@@ -47,7 +47,9 @@ const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
 function inspectionParams(p) {
   p.budget = { [$('budget-kind').value]: num('budget') };
   const faces = [['walls', 'target-walls'], ['roof', 'target-roof']].filter(([, id]) => $(id).checked).map(([face]) => face);
-  p.targets = faces.length === 2 ? [] : faces;
+  const names = $('target-names').value.split(',').map((n) => n.trim()).filter(Boolean);
+  const both = faces.length === 2;
+  p.targets = names.length ? names.map((name) => (both ? name : { name, faces })) : both ? [] : faces;
   p.inspection = { range_m: [num('range-min'), num('range-max')], extension: $('extension').value, show_unseen: true };
   p.seed = num('inspection-seed');
   if ($('camera').value) p.camera = { preset: $('camera').value };
@@ -122,8 +124,10 @@ export function restoreParams(p) {
     set('budget', value);
   }
   if (p.targets) {
-    $('target-walls').checked = !p.targets.length || p.targets.includes('walls');
-    $('target-roof').checked = !p.targets.length || p.targets.includes('roof');
+    const faces = p.targets.flatMap((t) => (typeof t === 'string' ? (['walls', 'roof'].includes(t) ? [t] : ['walls', 'roof']) : t.faces || ['walls', 'roof']));
+    $('target-walls').checked = !p.targets.length || faces.includes('walls');
+    $('target-roof').checked = !p.targets.length || faces.includes('roof');
+    $('target-names').value = p.targets.map((t) => (typeof t === 'string' ? t : t.name)).filter((n) => !['walls', 'roof'].includes(n)).join(', ');
   }
   if (p.inspection) {
     set('range-min', p.inspection.range_m && p.inspection.range_m[0]);

@@ -62,7 +62,8 @@ export function show3d(fc) {
   const focus = new THREE.Box3();
   const watch = (object) => { focus.expandByObject(object); return object; };
 
-  for (const layer of structures) {
+  // models (their faces show through the points seen and not seen) are not extruded
+  for (const layer of structures.filter((l) => !l.cpFeature)) {
     const geometry = new THREE.ExtrudeGeometry(shapeOf(layer, xy), { depth: layer.cpHeight, bevelEnabled: false });
     const mesh = new THREE.Mesh(geometry, new THREE.MeshLambertMaterial({ color: colours.structure }));
     mesh.position.z = layer.cpBase || 0;

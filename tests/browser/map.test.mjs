@@ -195,6 +195,7 @@ try {
   await page.selectOption('#vehicle', 'iris');
   // the home is some 300 m from the barn: there and back, and around it
   await page.fill('#budget', '1500');
+  await page.fill('#target-names', 'barn');
   await page.evaluate(() => { document.getElementById('status').textContent = ''; });
   await page.click('#plan');
   await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the inspection', 90000);

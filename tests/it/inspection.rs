@@ -128,6 +128,13 @@ async fn inspection_requests_are_refused_with_their_place() {
     let (status, body) = app.post("/api/v1/missions", &bad).await;
     assert_eq!((status, body["code"].as_str()), (422, Some("radius_missing")), "{body}");
 
+    // a 3D model that does not read names its line
+    let mut bad = mission.clone();
+    bad["structures"]["features"][1]["properties"] = json!({"name": "silo", "obj": "v 0 0 0\nf 1 2 3\n"});
+    let (status, body) = app.post("/api/v1/missions", &bad).await;
+    assert_eq!((status, body["code"].as_str(), body["pointer"].as_str()), (422, Some("invalid_model"), Some("/structures/features/1/properties/obj")), "{body}");
+    assert!(body["detail"].as_str().unwrap().contains("line 2"), "{body}");
+
     let id = app.create_mission(&mission).await;
     let mut bare = mission.clone();
     bare.as_object_mut().unwrap().remove("structures");

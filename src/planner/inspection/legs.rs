@@ -36,11 +36,7 @@ pub struct Leg {
 impl Leg {
     /// The leg's price under the budget's measure.
     pub fn cost(&self, budget: BudgetLimit) -> f64 {
-        match budget {
-            BudgetLimit::LengthM(_) => self.length_m,
-            BudgetLimit::TimeS(_) => self.time_s,
-            BudgetLimit::EnergyJ(_) => self.energy_j,
-        }
+        budget.measure(self.length_m, self.time_s, self.energy_j)
     }
 }
 
@@ -297,20 +293,12 @@ fn on_outline(rings: &[&LineString], c: Coord) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::inspection::scene::Prism;
+    use crate::inspection::scene::tests::cube;
     use crate::vehicle::builtin_profiles;
-    use geo::polygon;
-
-    fn scene() -> Scene {
-        let footprint = polygon![(x: 0.0, y: 0.0), (x: 10.0, y: 0.0), (x: 10.0, y: 10.0), (x: 0.0, y: 10.0)];
-        let prism = Prism { name: "b".into(), footprint, base_m: 0.0, top_m: 10.0, is_structure: true };
-        let fence = MultiPolygon(vec![polygon![(x: -50.0, y: -50.0), (x: 60.0, y: -50.0), (x: 60.0, y: 60.0), (x: -50.0, y: 60.0)]]);
-        Scene::new(vec![prism], &MultiPolygon(Vec::new()), fence, 0.5, 2.0)
-    }
 
     #[test]
     fn a_leg_goes_around_low_and_over_when_that_is_shorter() {
-        let s = scene();
+        let s = cube();
         let iris = builtin_profiles().into_iter().find(|v| v.profile == "iris").unwrap();
         let legs = LegPlanner::new(&s, &iris, 100.0);
         let budget = BudgetLimit::LengthM(1e9);
@@ -331,7 +319,7 @@ mod tests {
 
     #[test]
     fn segments_through_the_volume_are_refused_and_along_its_outline_are_not() {
-        let s = scene();
+        let s = cube();
         assert!(!s.segment_free([-5.0, 5.0, 5.0], [15.0, 5.0, 5.0], true));
         assert!(s.segment_free([-5.0, 5.0, 12.5], [15.0, 5.0, 12.5], true));
         // descending into the roof's clearance

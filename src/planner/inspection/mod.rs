@@ -164,11 +164,7 @@ impl InspectionPlan {
         let length_m = self.length_m();
         let energy_j = self.energy_j();
         let seen: f64 = self.pois.iter().zip(&self.seen).filter(|(_, s)| **s).map(|(p, _)| p.weight).sum();
-        let (measure, limit) = match self.budget {
-            BudgetLimit::LengthM(v) => ("length_m", v),
-            BudgetLimit::TimeS(v) => ("time_s", v),
-            BudgetLimit::EnergyJ(v) => ("energy_j", v),
-        };
+        let (measure, limit) = (self.budget.measure_name().0, self.budget.value());
         Stats {
             length_m,
             transit_length_m: length_m,
@@ -306,7 +302,7 @@ fn setup(input: &InspectionInput<'_>) -> Result<Setup, InputError> {
     let mut prisms: Vec<Prism> = input
         .structures
         .iter()
-        .map(|s| Prism { name: s.name.clone(), footprint: s.footprint.clone(), base_m: s.base_m, top_m: s.base_m + s.height_m, is_structure: true })
+        .map(|s| Prism { name: s.name.clone(), footprint: s.footprint.clone(), base_m: s.base_m, top_m: s.base_m + s.height_m, is_structure: true, mesh: s.mesh.clone() })
         .collect();
     prisms.extend(input.obstacles.iter().enumerate().map(|(i, (p, h))| Prism {
         name: format!("obstacle-{}", i + 1),
@@ -314,6 +310,7 @@ fn setup(input: &InspectionInput<'_>) -> Result<Setup, InputError> {
         base_m: 0.0,
         top_m: *h,
         is_structure: false,
+        mesh: None,
     }));
     let scene = Scene::new(prisms, input.no_fly_zones, input.geofence.clone(), spec.body_radius_m, spec.safety_margin_m);
     let pois = poi::sample(&scene.prisms, &groups, spec.poi_spacing_m);
@@ -387,11 +384,7 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
     }
     let legs = LegPlanner::new(&scene, input.vehicle, ceiling);
     let still = Stationary::of(input.vehicle);
-    let capture = |_: &Viewpoint| match spec.budget {
-        BudgetLimit::LengthM(_) => 0.0,
-        BudgetLimit::TimeS(_) => spec.capture_s,
-        BudgetLimit::EnergyJ(_) => spec.capture_s * still.hover_w,
-    };
+    let capture = |_: &Viewpoint| spec.budget.measure(0.0, spec.capture_s, spec.capture_s * still.hover_w);
     let weights: Vec<f64> = pois.iter().map(|p| p.weight).collect();
     let pricer = LegPricer { legs: &legs, nodes: RwLock::new(vec![(ends3[START], None), (ends3[END], None)]), budget: spec.budget, still };
     let room = if spec.extension == Extension::None { views.len() } else { MAX_VIEWPOINTS };
@@ -403,7 +396,7 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         return Err(InputError::new(
             "budget_too_small",
             "/budget",
-            format!("the way from the start to the end alone costs {:.1} {}; the budget is {}", inst.edge(START, END), budget_unit(spec.budget), spec.budget.value()),
+            format!("the way from the start to the end alone costs {:.1} {}; the budget is {}", inst.edge(START, END), spec.budget.unit(), spec.budget.value()),
         )
         .into());
     }
@@ -451,7 +444,7 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         let nearest = (0..inst.viewpoints()).map(|k| inst.edge(START, k + 2) + inst.node_cost[k] + inst.edge(k + 2, END)).fold(f64::INFINITY, f64::min);
         warnings.push(format!(
             "no viewpoint fits in the budget: the cheapest one costs {nearest:.1} {} from the start to the end; the budget is {}",
-            budget_unit(spec.budget),
+            spec.budget.unit(),
             spec.budget.value()
         ));
     }
@@ -481,11 +474,7 @@ impl Pricer for LegPricer<'_> {
         let turn = match (yaw_a, yaw_b) {
             (Some(x), Some(y)) => {
                 let (t, e) = self.still.yaw(turn_deg(x, y));
-                match self.budget {
-                    BudgetLimit::LengthM(_) => 0.0,
-                    BudgetLimit::TimeS(_) => t,
-                    BudgetLimit::EnergyJ(_) => e,
-                }
+                self.budget.measure(0.0, t, e)
             }
             _ => 0.0,
         };
@@ -582,12 +571,7 @@ fn finish(f: FinishInput<'_>, search: Search, search_end: SearchEnd, tries: usiz
             c
         })
         .collect();
-    let budget_used = legs_flown.iter().map(|l| l.cost(f.spec.budget)).sum::<f64>()
-        + match f.spec.budget {
-            BudgetLimit::LengthM(_) => 0.0,
-            BudgetLimit::TimeS(_) => stationary_s,
-            BudgetLimit::EnergyJ(_) => stationary_j,
-        };
+    let budget_used = legs_flown.iter().map(|l| l.cost(f.spec.budget)).sum::<f64>() + f.spec.budget.measure(0.0, stationary_s, stationary_j);
     debug_assert!((budget_used - f.inst.tour_cost(&f.tour)).abs() <= 1e-6 * budget_used.max(1.0), "{budget_used} vs {}", f.inst.tour_cost(&f.tour));
     Ok(InspectionPlan {
         legs: legs_flown,
@@ -606,14 +590,6 @@ fn finish(f: FinishInput<'_>, search: Search, search_end: SearchEnd, tries: usiz
         warnings,
         optics: f.optics,
     })
-}
-
-fn budget_unit(b: BudgetLimit) -> &'static str {
-    match b {
-        BudgetLimit::LengthM(_) => "m",
-        BudgetLimit::TimeS(_) => "s",
-        BudgetLimit::EnergyJ(_) => "J",
-    }
 }
 
 /// The smaller turn from one yaw to another, degrees.

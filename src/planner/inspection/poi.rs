@@ -43,6 +43,12 @@ pub fn sample(prisms: &[Prism], groups: &[TargetGroup], spacing: f64) -> Vec<Poi
                 out.push(Poi { at, normal, group: g, weight: group.priority, area_m2 });
             }
         };
+        if let Some(mesh) = &p.mesh {
+            for t in mesh {
+                sample_triangle(t, spacing, group.face, &mut push);
+            }
+            continue;
+        }
         match group.face {
             Face::Walls => {
                 let height = p.top_m - p.base_m;
@@ -84,8 +90,49 @@ fn cells(len: f64, spacing: f64) -> usize {
     ((len / spacing) - 1e-6).ceil().max(1.0) as usize
 }
 
+/// A model's faces count as roof where they face up by more than 45°, else as walls.
+const ROOF_NORMAL_Z: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// The centres of a triangle cut into m² equal triangles (m the longest edge over the
+/// spacing), when the triangle is of `face`'s kind; its normal from its winding.
+fn sample_triangle(t: &[[f64; 3]; 3], spacing: f64, face: Face, push: &mut impl FnMut(Point3, Point3, f64)) {
+    let [a, b, c] = *t;
+    let (u, v) = (sub(b, a), sub(c, a));
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let twice_area = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if twice_area < 1e-12 {
+        return;
+    }
+    let normal = n.map(|x| x / twice_area);
+    if (normal[2] >= ROOF_NORMAL_Z) != (face == Face::Roof) {
+        return;
+    }
+    // a floor on the ground is never seen
+    if normal[2] <= -ROOF_NORMAL_Z && [a, b, c].iter().all(|p| p[2] <= 0.05) {
+        return;
+    }
+    let longest = [u, v, sub(c, b)].iter().map(|e| (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt()).fold(0.0, f64::max);
+    let m = cells(longest, spacing);
+    let area = twice_area / 2.0 / (m * m) as f64;
+    let at = |i: f64, j: f64| std::array::from_fn(|k| a[k] + u[k] * i / m as f64 + v[k] * j / m as f64);
+    for i in 0..m {
+        for j in 0..m - i {
+            // the upright small triangle's centre, and the inverted one beside it
+            push(at(i as f64 + 1.0 / 3.0, j as f64 + 1.0 / 3.0), normal, area);
+            if i + j + 1 < m {
+                push(at(i as f64 + 2.0 / 3.0, j as f64 + 2.0 / 3.0), normal, area);
+            }
+        }
+    }
+}
+
+fn sub(a: Point3, b: Point3) -> Point3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// Inside a prism's solid (a model's hull is not a solid: it is not asked).
 fn inside(q: &Prism, at: Point3) -> bool {
-    at[2] > q.base_m && at[2] < q.top_m && q.footprint.contains(&Coord { x: at[0], y: at[1] })
+    q.mesh.is_none() && at[2] > q.base_m && at[2] < q.top_m && q.footprint.contains(&Coord { x: at[0], y: at[1] })
 }
 
 /// The points in an R-tree by position, with their index.
@@ -101,7 +148,7 @@ mod tests {
     #[test]
     fn a_box_gives_a_point_per_patch_with_normals_pointing_out() {
         let footprint = polygon![(x: 0.0, y: 0.0), (x: 8.0, y: 0.0), (x: 8.0, y: 8.0), (x: 0.0, y: 8.0)];
-        let prisms = vec![Prism { name: "b".into(), footprint, base_m: 0.0, top_m: 12.0, is_structure: true }];
+        let prisms = vec![Prism { name: "b".into(), footprint, base_m: 0.0, top_m: 12.0, is_structure: true, mesh: None }];
         let groups = vec![TargetGroup { prism: 0, face: Face::Walls, priority: 1.0 }, TargetGroup { prism: 0, face: Face::Roof, priority: 2.0 }];
         let pois = sample(&prisms, &groups, 0.5);
         let walls = pois.iter().filter(|p| p.group == 0).count();
@@ -118,10 +165,26 @@ mod tests {
     }
 
     #[test]
+    fn a_model_is_sampled_on_its_faces_by_their_normals() {
+        // a 4 × 4 m square roof at 3 m and one wall, wound counter-clockwise seen from outside
+        let roof = [[[0.0, 0.0, 3.0], [4.0, 0.0, 3.0], [4.0, 4.0, 3.0]], [[0.0, 0.0, 3.0], [4.0, 4.0, 3.0], [0.0, 4.0, 3.0]]];
+        let wall = [[[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 0.0, 3.0]], [[0.0, 0.0, 0.0], [4.0, 0.0, 3.0], [0.0, 0.0, 3.0]]];
+        let footprint = polygon![(x: 0.0, y: 0.0), (x: 4.0, y: 0.0), (x: 4.0, y: 4.0), (x: 0.0, y: 4.0)];
+        let mesh: Vec<[[f64; 3]; 3]> = roof.into_iter().chain(wall).collect();
+        let prisms = vec![Prism { name: "m".into(), footprint, base_m: 0.0, top_m: 3.0, is_structure: true, mesh: Some(mesh) }];
+        let groups = [TargetGroup { prism: 0, face: Face::Walls, priority: 1.0 }, TargetGroup { prism: 0, face: Face::Roof, priority: 1.0 }];
+        let pois = sample(&prisms, &groups, 0.5);
+        let area = |g: usize| pois.iter().filter(|p| p.group == g).map(|p| p.area_m2).sum::<f64>();
+        assert!((area(0) - 12.0).abs() < 1e-9 && (area(1) - 16.0).abs() < 1e-9, "{} {}", area(0), area(1));
+        assert!(pois.iter().filter(|p| p.group == 0).all(|p| p.normal == [0.0, -1.0, 0.0] && p.at[1] < 0.0));
+        assert!(pois.iter().filter(|p| p.group == 1).all(|p| (0.0..4.0).contains(&p.at[0]) && (0.0..4.0).contains(&p.at[1])));
+    }
+
+    #[test]
     fn a_wall_shared_with_a_neighbour_has_no_points() {
         let a = polygon![(x: 0.0, y: 0.0), (x: 4.0, y: 0.0), (x: 4.0, y: 4.0), (x: 0.0, y: 4.0)];
         let b = polygon![(x: 4.0, y: 0.0), (x: 8.0, y: 0.0), (x: 8.0, y: 4.0), (x: 4.0, y: 4.0)];
-        let prism = |footprint| Prism { name: "x".into(), footprint, base_m: 0.0, top_m: 4.0, is_structure: true };
+        let prism = |footprint| Prism { name: "x".into(), footprint, base_m: 0.0, top_m: 4.0, is_structure: true, mesh: None };
         let pois = sample(&[prism(a), prism(b)], &[TargetGroup { prism: 0, face: Face::Walls, priority: 1.0 }], 1.0);
         assert_eq!(pois.len(), 3 * 4 * 4);
         assert!(pois.iter().all(|p| p.at[0] < 4.0));

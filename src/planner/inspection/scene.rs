@@ -25,6 +25,9 @@ pub struct Prism {
     pub top_m: f64,
     /// A structure that may be a target (obstacles only hide and block).
     pub is_structure: bool,
+    /// A model's triangles: its faces instead of the footprint's walls and roof (the footprint,
+    /// their hull, only bounds it).
+    pub mesh: Option<Vec<[[f64; 3]; 3]>>,
 }
 
 /// The space a drone's centre may not enter around a prism: its footprint grown by the body's
@@ -130,6 +133,13 @@ fn triangles(prisms: &[Prism], origin: Coord) -> Option<TriMesh> {
         at
     };
     for p in prisms {
+        if let Some(mesh) = &p.mesh {
+            for t in mesh {
+                let i = push(&t.map(|c| (Coord { x: c[0], y: c[1] }, c[2])), &mut vertices);
+                indices.push([i, i + 1, i + 2]);
+            }
+            continue;
+        }
         let rings = std::iter::once(p.footprint.exterior()).chain(p.footprint.interiors());
         for ring in rings {
             for w in ring.0.windows(2) {
@@ -169,13 +179,14 @@ pub fn ring_edges(p: &Polygon) -> impl Iterator<Item = (Coord, Coord)> + '_ {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use geo::polygon;
 
-    fn cube() -> Scene {
+    /// A 10 m cube at the origin in a 110 m square, a 0.5 m body with a 2 m margin.
+    pub fn cube() -> Scene {
         let footprint = polygon![(x: 0.0, y: 0.0), (x: 10.0, y: 0.0), (x: 10.0, y: 10.0), (x: 0.0, y: 10.0)];
-        let prism = Prism { name: "b".into(), footprint, base_m: 0.0, top_m: 10.0, is_structure: true };
+        let prism = Prism { name: "b".into(), footprint, base_m: 0.0, top_m: 10.0, is_structure: true, mesh: None };
         let fence = MultiPolygon(vec![polygon![(x: -50.0, y: -50.0), (x: 60.0, y: -50.0), (x: 60.0, y: 60.0), (x: -50.0, y: 60.0)]]);
         Scene::new(vec![prism], &MultiPolygon(Vec::new()), fence, 0.5, 2.0)
     }

@@ -93,6 +93,7 @@ proptest! {
             base_m: base,
             height_m: h,
             pointer: String::new(),
+            mesh: None,
         }).collect();
         let obstacles: Vec<(Polygon, f64)> = tree.map(|(x, y, r, h)| {
             let ring: Vec<Coord> = (0..16).map(|k| { let a = std::f64::consts::TAU * k as f64 / 16.0; Coord { x: x + r * a.cos(), y: y + r * a.sin() } }).collect();
@@ -152,8 +153,8 @@ proptest! {
             }
         }
         // the reward: the union of what the flown viewpoints see, recomputed
-        let prisms: Vec<Prism> = case.structures.iter().map(|s| Prism { name: s.name.clone(), footprint: s.footprint.clone(), base_m: s.base_m, top_m: s.base_m + s.height_m, is_structure: true })
-            .chain(case.obstacles.iter().map(|(p, h)| Prism { name: "o".into(), footprint: p.clone(), base_m: 0.0, top_m: *h, is_structure: false })).collect();
+        let prisms: Vec<Prism> = case.structures.iter().map(|s| Prism { name: s.name.clone(), footprint: s.footprint.clone(), base_m: s.base_m, top_m: s.base_m + s.height_m, is_structure: true, mesh: None })
+            .chain(case.obstacles.iter().map(|(p, h)| Prism { name: "o".into(), footprint: p.clone(), base_m: 0.0, top_m: *h, is_structure: false, mesh: None })).collect();
         let scene = Scene::new(prisms, &case.no_fly, case.fence.clone(), case.spec.body_radius_m, case.spec.safety_margin_m);
         let index = poi::index(&planned.pois);
         let mut seen = vec![false; planned.pois.len()];
@@ -171,11 +172,7 @@ proptest! {
         prop_assert_eq!(planned.viewpoints.iter().map(|v| v.new_pois).sum::<usize>(), ins.pois_seen);
         // the budget
         prop_assert!(planned.budget_used <= case.spec.budget.value() * (1.0 + 1e-9), "{} over {:?}", planned.budget_used, case.spec.budget);
-        let measured = match case.spec.budget {
-            BudgetLimit::LengthM(_) => stats.length_m,
-            BudgetLimit::TimeS(_) => stats.duration_s,
-            BudgetLimit::EnergyJ(_) => stats.energy_j,
-        };
+        let measured = case.spec.budget.measure(stats.length_m, stats.duration_s, stats.energy_j);
         prop_assert!((measured - planned.budget_used).abs() <= 1e-6 * measured.max(1.0), "{measured} vs {}", planned.budget_used);
         // the same seed, the same plan (when the search ended on its counts, not its clock)
         if planned.search_end != SearchEnd::TimeLimit {

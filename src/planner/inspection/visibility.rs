@@ -80,7 +80,7 @@ mod tests {
 
     fn setup() -> (Scene, Vec<Poi>) {
         let footprint = polygon![(x: 0.0, y: 0.0), (x: 8.0, y: 0.0), (x: 8.0, y: 8.0), (x: 0.0, y: 8.0)];
-        let prisms = vec![Prism { name: "b".into(), footprint, base_m: 0.0, top_m: 8.0, is_structure: true }];
+        let prisms = vec![Prism { name: "b".into(), footprint, base_m: 0.0, top_m: 8.0, is_structure: true, mesh: None }];
         let pois = poi::sample(&prisms, &[TargetGroup { prism: 0, face: Face::Walls, priority: 1.0 }, TargetGroup { prism: 0, face: Face::Roof, priority: 1.0 }], 0.5);
         let fence = MultiPolygon(vec![polygon![(x: -50.0, y: -50.0), (x: 60.0, y: -50.0), (x: 60.0, y: 60.0), (x: -50.0, y: 60.0)]]);
         (Scene::new(prisms, &MultiPolygon(Vec::new()), fence, 0.5, 2.0), pois)

@@ -133,6 +133,28 @@ impl BudgetLimit {
             BudgetLimit::LengthM(v) | BudgetLimit::TimeS(v) | BudgetLimit::EnergyJ(v) => v,
         }
     }
+
+    /// Of something's length, time and energy, the one this budget counts.
+    pub fn measure(self, length_m: f64, time_s: f64, energy_j: f64) -> f64 {
+        match self {
+            BudgetLimit::LengthM(_) => length_m,
+            BudgetLimit::TimeS(_) => time_s,
+            BudgetLimit::EnergyJ(_) => energy_j,
+        }
+    }
+
+    pub fn unit(self) -> &'static str {
+        self.measure_name().1
+    }
+
+    /// The measure's name in `stats.inspection.budget_measure`, and its unit.
+    pub fn measure_name(self) -> (&'static str, &'static str) {
+        match self {
+            BudgetLimit::LengthM(_) => ("length_m", "m"),
+            BudgetLimit::TimeS(_) => ("time_s", "s"),
+            BudgetLimit::EnergyJ(_) => ("energy_j", "J"),
+        }
+    }
 }
 
 /// The inspection's parameters, validated; geometry in metres and degrees.

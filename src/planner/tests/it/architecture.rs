@@ -15,6 +15,7 @@ const LAYERS: &[&str] = &[
     "frame",
     "path",
     "stop",
+    "mesh",
     "field",
     "sweep",
     "decompose",

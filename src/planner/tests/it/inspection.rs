@@ -123,3 +123,34 @@ fn a_higher_priority_is_seen_at_least_as_much() {
     assert!(raised >= even, "{raised} < {even}");
     assert!(raised > 0.0);
 }
+
+/// Scene 1's building as a Wavefront OBJ model (a box without a floor, faces wound outwards,
+/// y up as modelling tools write it) placed at the same corner: seen as well as the prism.
+#[test]
+fn a_model_is_inspected_like_its_prism() {
+    let obj = "o scene-1\nv 0 0 0\nv 8 0 0\nv 8 0 -8\nv 0 0 -8\nv 0 12 0\nv 8 12 0\nv 8 12 -8\nv 0 12 -8\n\
+               f 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\nf 5 6 7 8\n";
+    let (area, _, home) = scene_one();
+    let frame = LocalFrame::new(10.0, 52.0);
+    let corner = frame.to_wgs84(Coord { x: 0.0, y: 0.0 });
+    let structures = json!({"type": "FeatureCollection", "features": [{
+        "type": "Feature", "properties": {"name": "model", "obj": obj, "up": "y"}, "geometry": {"type": "Point", "coordinates": corner},
+    }]});
+    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: Some(&structures), home: Some(home) };
+    let out =
+        plan(&mission, &scene_one_params(200.0, "none", 1), &coverplan_planner::vehicle::builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned");
+    let ins = out.stats.inspection.unwrap();
+    let area_seen: Vec<(String, String, usize)> = ins.targets.iter().map(|t| (t.name.clone(), t.face.clone(), t.total)).collect();
+    eprintln!("scene 1 as a model: {:.4} seen, {area_seen:?}", out.stats.inspection_coverage.unwrap());
+    assert_eq!(ins.targets.len(), 2);
+    assert!(out.stats.inspection_coverage.unwrap() >= 0.84, "{:?}", out.stats.inspection_coverage);
+    assert!(out.stats.length_m <= 200.0 + 1e-6);
+    // a model reaching below the ground is refused with its place
+    let low = json!({"type": "FeatureCollection", "features": [{
+        "type": "Feature", "properties": {"obj": "v 0 0 -1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}, "geometry": {"type": "Point", "coordinates": corner},
+    }]});
+    let mission = MissionGeometry { structures: Some(&low), ..mission };
+    let refused =
+        plan(&mission, &scene_one_params(200.0, "none", 1), &coverplan_planner::vehicle::builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).unwrap_err();
+    assert!(refused.to_string().contains("below the ground"), "{refused}");
+}

@@ -270,9 +270,6 @@ const INSPECTION_CAMERA: &str = "dji_mavic3_enterprise";
 fn prepare_inspection(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<InspectionSetup, InputError> {
     let (vehicle, spec) = params.resolve_inspection(profiles)?;
     let field = Field::parse(mission, limits)?;
-    if field.structures.is_empty() {
-        return Err(InputError::new("no_structures", "/structures", "an inspection needs the mission's structures: polygons with height_m"));
-    }
     let camera = params.camera.clone().unwrap_or_else(|| camera::Camera { preset: Some(INSPECTION_CAMERA.into()), ..camera::Camera::default() });
     let (fov_deg, gsd_per_m) = camera.field_of_view()?;
     let gsd_range_m = match params.gsd_cm {

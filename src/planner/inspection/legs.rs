@@ -59,6 +59,11 @@ impl Stationary {
         }
     }
 
+    /// Time and energy of hovering for `seconds` (to take a picture).
+    pub fn hover(&self, seconds: f64) -> (f64, f64) {
+        (seconds, seconds * self.hover_w)
+    }
+
     /// Time and energy of turning on the spot by `degrees`.
     pub fn yaw(&self, degrees: f64) -> (f64, f64) {
         let t = degrees.abs() / self.yaw_rate_deg_s;
@@ -188,7 +193,7 @@ pub fn reversed(leg: &Leg, vehicle: &Vehicle) -> Leg {
 }
 
 /// Length, time and energy of a leg flown from rest to rest.
-fn length_3d(points: &[Point3]) -> f64 {
+pub fn length_3d(points: &[Point3]) -> f64 {
     points.windows(2).map(|w| ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2) + (w[1][2] - w[0][2]).powi(2)).sqrt()).sum()
 }
 

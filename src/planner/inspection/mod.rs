@@ -384,7 +384,8 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
     }
     let legs = LegPlanner::new(&scene, input.vehicle, ceiling);
     let still = Stationary::of(input.vehicle);
-    let capture = |_: &Viewpoint| spec.budget.measure(0.0, spec.capture_s, spec.capture_s * still.hover_w);
+    let (capture_s, capture_j) = still.hover(spec.capture_s);
+    let capture = spec.budget.measure(0.0, capture_s, capture_j);
     let weights: Vec<f64> = pois.iter().map(|p| p.weight).collect();
     let pricer = LegPricer { legs: &legs, nodes: RwLock::new(vec![(ends3[START], None), (ends3[END], None)]), budget: spec.budget, still };
     let room = if spec.extension == Extension::None { views.len() } else { MAX_VIEWPOINTS };
@@ -402,7 +403,7 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
     }
     let add_views = |inst: &mut Instance, added: &[Viewpoint]| {
         for view in added {
-            if inst.add_viewpoint(view.sees.clone(), capture(view)) {
+            if inst.add_viewpoint(view.sees.clone(), capture) {
                 pricer.nodes.write().expect("nodes").push((view.pose.at, Some(view.pose.yaw)));
             }
         }
@@ -426,7 +427,7 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         search.iterate(&inst);
         if spec.extension != Extension::None && views.len() < MAX_VIEWPOINTS && !search.best.tour.is_empty() {
             let path: Vec<Point3> = std::iter::once(ends3[START]).chain(search.best.tour.iter().map(|&k| views[k].pose.at)).chain([ends3[END]]).collect();
-            let mean_leg = path.windows(2).map(|w| dist3(w[0], w[1])).sum::<f64>() / (path.len() - 1) as f64;
+            let mean_leg = legs::length_3d(&path) / (path.len() - 1) as f64;
             let want = spec.extension_per_iteration.min(MAX_VIEWPOINTS - views.len());
             let (added, _) = sampler.collect(want, 50 * want, |s| {
                 let pick = 1 + (s.uniform_index(path.len() - 2));
@@ -468,9 +469,7 @@ impl Pricer for LegPricer<'_> {
             let nodes = self.nodes.read().expect("nodes");
             (nodes[u], nodes[v])
         };
-        // the start and the end may lie outside the area; viewpoints never do
-        let fenced = u >= 2 && v >= 2;
-        let Some(there) = self.legs.way(a, b, self.budget, fenced) else { return (f64::INFINITY, f64::INFINITY) };
+        let Some(there) = self.legs.way(a, b, self.budget, fenced(u, v)) else { return (f64::INFINITY, f64::INFINITY) };
         let turn = match (yaw_a, yaw_b) {
             (Some(x), Some(y)) => {
                 let (t, e) = self.still.yaw(turn_deg(x, y));
@@ -504,18 +503,15 @@ struct FinishInput<'a> {
 /// The flown path: its legs recomputed (the same ones the search priced), what each viewpoint
 /// adds, and the figures per target.
 fn finish(f: FinishInput<'_>, search: Search, search_end: SearchEnd, tries: usize, warnings: Vec<String>) -> Result<InspectionPlan, PlanError> {
-    let at = |k: usize| f.views[k].pose.at;
-    let nodes: Vec<Option<usize>> = std::iter::once(None).chain(f.tour.iter().map(|&k| Some(k))).chain([None]).collect();
-    let position = |i: usize, n: &Option<usize>| n.map_or(if i == 0 { f.ends[0] } else { f.ends[1] }, at);
+    let nodes: Vec<usize> = std::iter::once(START).chain(f.tour.iter().map(|&k| k + 2)).chain([END]).collect();
+    let position = |n: usize| if n < 2 { f.ends[n] } else { f.views[n - 2].pose.at };
     let mut legs_flown = Vec::new();
-    for (i, w) in nodes.windows(2).enumerate() {
-        let (a, b) = (position(i, &w[0]), position(i + 1, &w[1]));
+    for w in nodes.windows(2) {
+        let (u, v) = (w[0], w[1]);
+        let (a, b) = (position(u), position(v));
         // the table priced each pair from the lower node to the higher, and the other way as
         // that leg reversed
-        let node = |n: &Option<usize>, i: usize| n.map_or(if i == 0 { START } else { END }, |k| k + 2);
-        let (u, v) = (node(&w[0], i), node(&w[1], i + 1));
-        let fenced = u >= 2 && v >= 2;
-        let leg = if u < v { f.legs.leg(a, b, f.spec.budget, fenced) } else { f.legs.leg(b, a, f.spec.budget, fenced).map(|l| legs::reversed(&l, f.legs.vehicle())) };
+        let leg = if u < v { f.legs.leg(a, b, f.spec.budget, fenced(u, v)) } else { f.legs.leg(b, a, f.spec.budget, fenced(u, v)).map(|l| legs::reversed(&l, f.legs.vehicle())) };
         legs_flown.push(leg.ok_or_else(|| PlanError::Infeasible("a leg the search used has no free way".into()))?);
     }
     let mut seen = vec![false; f.pois.len()];
@@ -547,7 +543,7 @@ fn finish(f: FinishInput<'_>, search: Search, search_end: SearchEnd, tries: usiz
             eta_s: eta,
             energy_j: energy,
         });
-        let (t, e) = (f.spec.capture_s, f.spec.capture_s * f.still.hover_w);
+        let (t, e) = f.still.hover(f.spec.capture_s);
         stationary_s += t;
         stationary_j += e;
         eta += t;
@@ -598,6 +594,8 @@ fn turn_deg(a: f64, b: f64) -> f64 {
     d.min(std::f64::consts::TAU - d).to_degrees()
 }
 
-fn dist3(a: Point3, b: Point3) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+/// Whether the leg between nodes `u` and `v` must stay in the geofence: the start and the end
+/// may lie outside the area; viewpoints never do.
+fn fenced(u: usize, v: usize) -> bool {
+    u >= 2 && v >= 2
 }

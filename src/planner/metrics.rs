@@ -1,7 +1,6 @@
 //! Metrics stage: one measure of every plan, whichever planner made it (docs/methods.md, metrics §1–§4).
 
-use geo::algorithm::buffer::{BufferStyle, LineCap};
-use geo::{Area, BooleanOps, Buffer, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon, Simplify};
+use geo::{Area, BooleanOps, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon, Simplify};
 use serde::{Deserialize, Serialize};
 
 use super::camera::CameraPlan;
@@ -397,20 +396,48 @@ fn photo_strips(photos: &[Photo], across: f64, along: f64) -> Vec<Polygon> {
 /// How far a swath's centreline may be straightened before it is measured.
 const SWATH_TOLERANCE_M: f64 = 0.01;
 
-/// The swaths of `path`, one rectangle per straight stretch. Sweeps flown one after another
-/// (a spiral's rings) are taken as one centreline, straightened to within
-/// [`SWATH_TOLERANCE_M`]: offset curves come as thousands of sub-millimetre segments, and a
-/// fan of wide, needle-thin rectangles is both slow and, measured, able to stall the polygon
-/// union for minutes.
+/// The swath of a polyline flown without stopping to turn: a sensor or boom `half` to either
+/// side, across the direction of travel, turns with the vehicle at each bend, so its footprint
+/// is a rectangle per straight stretch and, at each bend, the fan the swath sweeps on the
+/// outside as the vehicle turns (seed 002's continuous footprint). (A buffer with round joins
+/// is the same ground, but `geo`'s leaves out the middle of a loop tighter than the swath.)
+fn footprint(line: &[Coord], half: f64) -> Vec<Polygon> {
+    let mut shapes: Vec<Polygon> = line.windows(2).filter_map(|w| swath(w, half)).collect();
+    let closed = line.len() > 3 && line.first() == line.last();
+    let bends = line.windows(3).map(|w| (w[0], w[1], w[2]));
+    let closing = closed.then(|| (line[line.len() - 2], line[0], line[1]));
+    for (a, v, b) in bends.chain(closing) {
+        let (d_in, d_out) = (v - a, b - v);
+        let turn = (d_in.x * d_out.y - d_in.y * d_out.x).atan2(d_in.x * d_out.x + d_in.y * d_out.y);
+        if turn.abs() < 1e-6 {
+            continue;
+        }
+        // the outside of a left turn is on the right: the fan starts across the way in, there
+        let start = d_in.y.atan2(d_in.x) - turn.signum() * std::f64::consts::FRAC_PI_2;
+        let steps = (turn.abs() / FAN_STEP_RAD).ceil() as usize;
+        let arc = (0..=steps).map(|k| {
+            let angle = start + turn * k as f64 / steps as f64;
+            v + Coord { x: half * angle.cos(), y: half * angle.sin() }
+        });
+        shapes.push(Polygon::new(LineString::from(std::iter::once(v).chain(arc).collect::<Vec<_>>()), vec![]));
+    }
+    shapes
+}
+
+/// The angle of one straight piece of a fan's arc (5°).
+const FAN_STEP_RAD: f64 = std::f64::consts::PI / 36.0;
+
+/// The swaths of `path`. Sweeps flown one after another (a spiral's rings, a grid path's runs)
+/// are one polyline, straightened to within [`SWATH_TOLERANCE_M`] (offset curves come as
+/// thousands of sub-millimetre segments, which are slow to buffer) and measured by
+/// [`footprint`], as are a ground vehicle's headland passes.
 fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
     let mut strips = Vec::new();
     let pieces = &path.pieces;
     let mut i = 0;
     while i < pieces.len() {
         if pieces[i].kind == PieceKind::Headland {
-            // a pass follows curves: its footprint is its buffer, joins rounded, ends cut square
-            let style = BufferStyle::new(pieces[i].half_swath_m).line_cap(LineCap::Butt);
-            strips.extend(LineString::from(pieces[i].points.clone()).buffer_with_style(style));
+            strips.extend(footprint(&pieces[i].points, pieces[i].half_swath_m));
             i += 1;
             continue;
         }
@@ -426,8 +453,11 @@ fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
             line.extend_from_slice(&next.points[1..]);
             i += 1;
         }
-        let line = LineString::from(line).simplify(SWATH_TOLERANCE_M);
-        strips.extend(line.0.windows(2).filter(|w| distance(w[0], w[1]) >= SWATH_TOLERANCE_M).filter_map(|w| swath(w, half)));
+        let mut line = LineString::from(line).simplify(SWATH_TOLERANCE_M);
+        line.0.dedup_by(|a, b| distance(*a, *b) < SWATH_TOLERANCE_M);
+        if half > 0.0 {
+            strips.extend(footprint(&line.0, half));
+        }
     }
     strips
 }
@@ -571,13 +601,11 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use geo::polygon;
+    use geo::{Contains, polygon};
 
     /// A ring flown as thousands of sub-millimetre sweeps under a swath wider than its radius
-    /// (what an inset of a spiral looks like) is measured on a few hundred rectangles, and
-    /// measured as before: a swath is a rectangle per straight stretch, so the outside of every
-    /// bend loses a wedge of ½·half²·angle, whatever the number of stretches; a whole ring turns
-    /// 2π, leaving the disc under the swath less π·half².
+    /// (what an inset of a spiral looks like) is measured on its straightened centreline, and as
+    /// flown: the swath turns with the vehicle, so the whole disc out to radius + half is swept.
     #[test]
     fn a_ring_of_tiny_sweeps_is_measured_on_its_straightened_centreline() {
         let (radius, half, steps) = (40.0, 58.0, 200_000);
@@ -589,11 +617,30 @@ mod tests {
         for k in 0..steps {
             path.push(PieceKind::Sweep, vec![at(k), at(k + 1)], half);
         }
-        let strips = sweep_strips(&path);
-        assert!(strips.len() < 1_000, "{} strips", strips.len());
-        let expected = std::f64::consts::PI * ((radius + half).powi(2) - half.powi(2));
+        let expected = std::f64::consts::PI * (radius + half).powi(2);
         let swept = swept(&path).unsigned_area();
         assert!((swept - expected).abs() < 0.005 * expected, "{swept} m² swept, {expected} m² expected");
+    }
+
+    /// Two sweeps joined at a right angle: two rectangles, less the square where they overlap
+    /// inside the bend, plus the quarter disc the swath sweeps outside it as the vehicle turns.
+    #[test]
+    fn a_bend_sweeps_a_fan_on_its_outside() {
+        let half = 10.0;
+        let mut path = FlightPath::default();
+        path.push(PieceKind::Sweep, vec![Coord { x: 0.0, y: 0.0 }, Coord { x: 100.0, y: 0.0 }], half);
+        path.push(PieceKind::Sweep, vec![Coord { x: 100.0, y: 0.0 }, Coord { x: 100.0, y: 100.0 }], half);
+        let expected = 2.0 * 100.0 * 2.0 * half - half * half + std::f64::consts::PI * half * half / 4.0;
+        let swept = swept(&path);
+        assert!((swept.unsigned_area() - expected).abs() < 0.5, "{} m² swept, {expected} m² expected", swept.unsigned_area());
+        // the fan lies outside the bend (below and right of the corner), not inside it
+        assert!(swept.contains(&Coord { x: 105.0, y: -5.0 }) && !swept.contains(&Coord { x: 109.0, y: -9.0 }));
+        // sweeps apart (a turn between them) are rectangles only
+        let mut apart = FlightPath::default();
+        apart.push(PieceKind::Sweep, vec![Coord { x: 0.0, y: 0.0 }, Coord { x: 100.0, y: 0.0 }], half);
+        apart.push(PieceKind::Turn, vec![Coord { x: 100.0, y: 0.0 }, Coord { x: 100.0, y: 0.5 }], 0.0);
+        apart.push(PieceKind::Sweep, vec![Coord { x: 100.0, y: 0.5 }, Coord { x: 100.0, y: 100.0 }], half);
+        assert!(!super::swept(&apart).contains(&Coord { x: 105.0, y: -5.0 }));
     }
 
     #[test]

@@ -39,10 +39,6 @@ fn planners() -> Vec<&'static str> {
 /// checked for them as for the rest.
 pub(crate) fn coverage_floor(planner: &str, with_zones: bool) -> f64 {
     match planner {
-        // not judged yet: its rings leave the field's corners unswept, badly so when the
-        // footprint is wide next to the field (a 180 m pentagon under a 126 m footprint: 0.38);
-        // issue 24 makes it cover corners. Its own test keeps 0.85 on camera-less polygons.
-        "e_spiral" => 0.0,
         // not judged: its runs join photo positions at cell centres, so by the swath metric each
         // run loses half a cell at both ends and a one-cell grid sweeps nothing (measured down
         // to 0.18 and 0); its other properties are checked like everyone's

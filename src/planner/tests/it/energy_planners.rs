@@ -4,6 +4,7 @@
 use coverplan_planner::metrics::OptimalityStatus;
 use coverplan_planner::vehicle::{Vehicle, builtin_profiles};
 use coverplan_planner::{FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop, plan};
+use geo::{Buffer, Contains, Coord, LineString, Polygon};
 use proptest::prelude::*;
 use serde_json::{Value, json};
 
@@ -55,9 +56,7 @@ fn the_spiral_saves_energy_on_regular_polygons_and_does_not_lose_on_rectangles()
             spiral.stats.coverage_ratio
         );
         assert!(saving > 0.0, "{n} vertices: the spiral costs more ({:.1} %)", 100.0 * saving);
-        // the swath metric counts each ring edge's rectangle: the mitre beyond each ring corner,
-        // h²·tan(φ/2) for a turn of φ, stays uncovered (measured 0.970 to 0.975 here)
-        assert!(spiral.stats.coverage_ratio >= 0.96, "{n}: coverage {}", spiral.stats.coverage_ratio);
+        assert!(spiral.stats.coverage_ratio >= 0.99, "{n}: coverage {}", spiral.stats.coverage_ratio);
     }
     let rectangle = [(0.0, 0.0), (300.0, 0.0), (300.0, 200.0), (0.0, 200.0)];
     let (spiral, bf) = (energy(&rectangle, "e_spiral"), energy(&rectangle, "e_bf"));
@@ -196,15 +195,42 @@ fn a_field_four_batteries_large_is_flown_in_sorties_within_budget() {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
-    /// Generated convex and concave fields (seed 002's sizes): the spiral covers them.
+    /// Generated convex and concave fields as seed 002 §5.1 draws them (6 to 10 vertices, angles
+    /// spread by an irregularity of 0 to 1, radii by a spikiness of 0 to 0.4, 200 to 600 m
+    /// across): the spiral plans every one, covers 99 %, and no leg leaves the field.
     #[test]
-    fn the_spiral_covers_generated_fields(n in 6usize..=10, diameter in 200.0f64..600.0, spikes in proptest::collection::vec(0.0f64..0.4, 10), turn in 0.0f64..std::f64::consts::TAU) {
-        let field: Vec<(f64, f64)> = regular(n, diameter, turn).into_iter().zip(&spikes).map(|((x, y), s)| (x * (1.0 - s), y * (1.0 - s))).collect();
+    fn the_spiral_covers_generated_fields(
+        n in 6usize..=10,
+        diameter in 200.0f64..600.0,
+        irregularity in 0.0f64..1.0,
+        draws in proptest::collection::vec((0.0f64..1.0, 0.0f64..0.4), 10),
+        turn in 0.0f64..std::f64::consts::TAU,
+    ) {
+        let steps: Vec<f64> = draws[..n].iter().map(|(u, _)| 1.0 + 0.95 * irregularity * (2.0 * u - 1.0)).collect();
+        let total: f64 = steps.iter().sum();
+        let mut angle = turn;
+        let field: Vec<(f64, f64)> = steps
+            .iter()
+            .zip(&draws)
+            .map(|(step, (_, spike))| {
+                angle += step / total * std::f64::consts::TAU;
+                let r = diameter / 2.0 * (1.0 - spike);
+                (r * angle.cos(), r * angle.sin())
+            })
+            .collect();
         let out = run(&field, None, None, json!({"planner": "e_spiral", "line_spacing_m": 20, "vehicle": {"profile": "iris"}}), &profiles(1e5)).unwrap();
-        // sharp corners of spiky fields leave larger mitres uncovered (see above)
-        prop_assert!(out.stats.coverage_ratio >= 0.85, "coverage {}", out.stats.coverage_ratio);
-        eprintln!("spiral over a {n}-gon {diameter:.0} m across: coverage {:.4}", out.stats.coverage_ratio);
+        prop_assert!(out.stats.coverage_ratio >= 0.99, "coverage {}", out.stats.coverage_ratio);
         prop_assert!(out.stats.energy_j > 0.0 && out.stats.sweep_lines > 0);
+        // every point of the path within a centimetre of the field
+        let inside = Polygon::new(LineString::from(field.iter().map(|&(x, y)| Coord { x, y }).collect::<Vec<_>>()), vec![]).buffer(0.01);
+        let to_local = |c: &[f64]| Coord { x: (c[0] - 10.0) * 111_320.0 * 45f64.to_radians().cos(), y: (c[1] - 45.0) * 110_574.0 };
+        for f in &out.trajectory.features {
+            if let Some(geojson::GeometryValue::LineString { coordinates }) = f.geometry.as_ref().map(|g| &g.value) {
+                for c in coordinates.iter().map(|c| c.as_slice()) {
+                    prop_assert!(inside.contains(&to_local(c)), "{:?} outside the field", to_local(c));
+                }
+            }
+        }
     }
 }
 

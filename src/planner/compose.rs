@@ -322,7 +322,11 @@ type Tried = (f64, f64, planners::PlannedPath);
 fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, progress: &dyn Progress) -> Result<planners::PlannedPath, PlanError> {
     use rayon::prelude::*;
     let area = problem.region.unsigned_area();
-    let run = |angle: f64| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true).map(|p| (angle, metrics::covered_area(&p.path, problem.region) / area, p));
+    let run = |angle: f64| {
+        planner
+            .plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true)
+            .map(|p| (angle, metrics::covered_area(&p.path, problem.region, problem.layout.footprint.is_some()) / area, p))
+    };
     let best = |tried: &[Tried]| metrics::best_covering(tried, |t| t.1, |t| t.2.path.length()).expect("at least one direction was tried");
     let grid: Vec<f64> = (0..(180.0 / DIRECTION_STEP_DEG) as usize).map(|k| (k as f64 * DIRECTION_STEP_DEG).to_radians()).collect();
     let mut tried: Vec<Tried> = Vec::with_capacity(grid.len() + 6);

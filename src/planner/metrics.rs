@@ -415,8 +415,10 @@ fn footprint(line: &[Coord], half: f64) -> Vec<Polygon> {
         // the outside of a left turn is on the right: the fan starts across the way in, there
         let start = d_in.y.atan2(d_in.x) - turn.signum() * std::f64::consts::FRAC_PI_2;
         let steps = (turn.abs() / FAN_STEP_RAD).ceil() as usize;
+        // counter-clockwise, as the union wants its shapes: a right turn's fan is drawn backwards
+        let (from, sweep) = if turn > 0.0 { (start, turn) } else { (start + turn, -turn) };
         let arc = (0..=steps).map(|k| {
-            let angle = start + turn * k as f64 / steps as f64;
+            let angle = from + sweep * k as f64 / steps as f64;
             v + Coord { x: half * angle.cos(), y: half * angle.sin() }
         });
         shapes.push(Polygon::new(LineString::from(std::iter::once(v).chain(arc).collect::<Vec<_>>()), vec![]));
@@ -480,9 +482,15 @@ fn covered_by(shapes: &[Polygon], region: &MultiPolygon) -> (f64, f64) {
     under(&union_of(shapes), region)
 }
 
-/// The area of `region` under the swaths of `path`, in m².
-pub fn covered_area(path: &FlightPath, region: &MultiPolygon) -> f64 {
-    covered_by(&sweep_strips(path), region).0
+/// The area of `region` under the swaths of `path`, in m²; with `photos` (a camera plan), under
+/// what its photos image at least (see [`photographed`]).
+pub fn covered_area(path: &FlightPath, region: &MultiPolygon, photos: bool) -> f64 {
+    under(&covered(path, photos), region).0
+}
+
+/// The ground `path` covers: its swaths, or with `photos` what its photos image at least.
+pub fn covered(path: &FlightPath, photos: bool) -> MultiPolygon {
+    if photos { photographed(path) } else { swept(path) }
 }
 
 /// Pieces of uncovered ground smaller than this are rounding between swaths, not gaps.
@@ -492,6 +500,13 @@ const UNCOVERED_SLIVER_M2: f64 = 1.0;
 /// strips is the costliest step of measuring it.
 pub fn swept(path: &FlightPath) -> MultiPolygon {
     union_of(&sweep_strips(path))
+}
+
+/// The ground photos on the sweeps of `path` image at least: each sweep's own rectangle, as
+/// photos fitted flush with a sweep's ends image it (camera §6), with nothing at the bends.
+pub fn photographed(path: &FlightPath) -> MultiPolygon {
+    let strips: Vec<Polygon> = path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).filter_map(|p| swath(&p.points, p.half_swath_m)).collect();
+    union_of(&strips)
 }
 
 /// The part of `target` outside `swept` (see [`swept`]): the clearance band around no-fly
@@ -635,6 +650,13 @@ mod tests {
         assert!((swept.unsigned_area() - expected).abs() < 0.5, "{} m² swept, {expected} m² expected", swept.unsigned_area());
         // the fan lies outside the bend (below and right of the corner), not inside it
         assert!(swept.contains(&Coord { x: 105.0, y: -5.0 }) && !swept.contains(&Coord { x: 109.0, y: -9.0 }));
+        // a right turn's fan too, on its own outside (above and right of the corner)
+        let mut right = FlightPath::default();
+        right.push(PieceKind::Sweep, vec![Coord { x: 0.0, y: 0.0 }, Coord { x: 100.0, y: 0.0 }], half);
+        right.push(PieceKind::Sweep, vec![Coord { x: 100.0, y: 0.0 }, Coord { x: 100.0, y: -100.0 }], half);
+        let right = super::swept(&right);
+        assert!((right.unsigned_area() - expected).abs() < 0.5, "{} m² swept after a right turn", right.unsigned_area());
+        assert!(right.contains(&Coord { x: 105.0, y: 5.0 }));
         // sweeps apart (a turn between them) are rectangles only
         let mut apart = FlightPath::default();
         apart.push(PieceKind::Sweep, vec![Coord { x: 0.0, y: 0.0 }, Coord { x: 100.0, y: 0.0 }], half);
@@ -649,10 +671,10 @@ mod tests {
         let region = MultiPolygon(vec![polygon![(x: 0., y: 0.), (x: 100., y: 0.), (x: 100., y: 20.), (x: 0., y: 20.)]]);
         let mut path = FlightPath::default();
         path.push(PieceKind::Sweep, vec![c(0.0, 5.0), c(100.0, 5.0)], 5.0);
-        assert!((covered_area(&path, &region) - 1000.0).abs() < 1e-6);
+        assert!((covered_area(&path, &region, false) - 1000.0).abs() < 1e-6);
         path.push(PieceKind::Turn, vec![c(100.0, 5.0), c(100.0, 15.0)], 0.0);
         path.push(PieceKind::Sweep, vec![c(100.0, 15.0), c(50.0, 15.0)], 5.0);
-        assert!((covered_area(&path, &region) - 1500.0).abs() < 1e-6);
+        assert!((covered_area(&path, &region, false) - 1500.0).abs() < 1e-6);
         let zone = MultiPolygon(vec![polygon![(x: 40., y: 0.), (x: 60., y: 0.), (x: 60., y: 10.), (x: 40., y: 10.)]]);
         assert!((length_inside(&path, &zone) - 20.0).abs() < 1e-9);
     }

@@ -46,7 +46,8 @@ impl Planner for Auto {
                         Objective::Time => time,
                         Objective::Length => length,
                     };
-                    let coverage = covered_area(&planned.path, problem.region) / problem.region.unsigned_area();
+                    // with a camera, what the photos image counts
+                    let coverage = covered_area(&planned.path, problem.region, problem.layout.footprint.is_some()) / problem.region.unsigned_area();
                     alternatives.push(Alternative {
                         planner: id.into(),
                         length_m: Some(length),

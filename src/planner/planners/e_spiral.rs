@@ -193,10 +193,12 @@ const SPUR_CLEARANCE_M: f64 = 0.05;
 /// area half²·cot(θ/2) at an interior angle θ; the middle may leave slivers beside its line.
 /// A spur from the pass vertex nearest to a piece out to the piece's far corner sweeps it (the
 /// kite lies within half a swath of the line from the ring's vertex to the field's corner).
-fn corner_spurs(passes: &[Pass], path: &FlightPath, region: &MultiPolygon) -> Vec<Spur> {
+/// With a camera, what the photos image counts: their footprints stop flush with each sweep's
+/// ends, so corners are measured without the turning swath.
+fn corner_spurs(passes: &[Pass], path: &FlightPath, region: &MultiPolygon, camera: bool) -> Vec<Spur> {
     let target = region.unsigned_area();
     // thin slivers between swaths that touch would join the corners into one piece: opened
-    let unswept = metrics::uncovered(&metrics::swept(path), region).buffer(-SLIVER_M);
+    let unswept = metrics::uncovered(&metrics::covered(path, camera), region).buffer(-SLIVER_M);
     let mut pieces: Vec<Polygon> = unswept.0.iter().flat_map(|p| p.buffer(SLIVER_M).0).filter(|p| p.unsigned_area() >= 1.0).collect();
     pieces.sort_by(|a, b| b.unsigned_area().total_cmp(&a.unsigned_area()));
     let mut left: f64 = pieces.iter().map(Area::unsigned_area).sum();
@@ -279,7 +281,7 @@ impl Planner for ESpiral {
         let mut path = fly(&layers.passes, &spurs, problem, half)?;
         // a spur may sweep less than the piece it aims at: measured again, up to a few rounds
         for round in 1..=SPUR_ROUNDS {
-            let more = corner_spurs(&layers.passes, &path, problem.region);
+            let more = corner_spurs(&layers.passes, &path, problem.region, problem.layout.footprint.is_some());
             if more.is_empty() {
                 break;
             }

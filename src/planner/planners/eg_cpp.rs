@@ -3,7 +3,7 @@
 //! the unvisited neighbours with the highest label, minimising an energy cost with branch
 //! and bound. Every valid cell is tried as the start, corner cells first, in batches searched
 //! in parallel that share the best tour found before them (the incumbent), so later starts
-//! prune on it from their first move.
+//! prune on it from their first move; the first incumbent is the grid's cheapest back-and-forth.
 //!
 //! The search cost is the additive one (docs/methods.md, energy §5): each straight run costs the
 //! rest-to-rest energy of its length (the measured OEM table of seed 002), each heading change
@@ -235,23 +235,69 @@ enum Halt {
     Stop,
 }
 
-impl Search<'_> {
-    /// The closing flight from the last cell straight back to the start.
-    fn close_cost(&self, last: usize, last_move: Option<usize>) -> f64 {
-        let (a, b) = (self.grid.centres[last], self.grid.centres[self.start]);
-        let d = distance(a, b);
-        if d == 0.0 {
-            return 0.0;
-        }
-        let turn = last_move.map_or(0.0, |m| {
-            let (dc, dr) = MOVES[m];
-            let (s, c) = ((b.y - a.y) / d, (b.x - a.x) / d);
-            let heading = (dr as f64).atan2(dc as f64);
-            (s.atan2(c) - heading).sin().atan2((s.atan2(c) - heading).cos()).abs().to_degrees() * TURN_J_PER_DEG
-        });
-        turn + run_energy(d)
+/// The closing flight from cell `last` (reached by `last_move`) straight back to `start`.
+fn close_cost(grid: &Grid, start: usize, last: usize, last_move: Option<usize>) -> f64 {
+    let (a, b) = (grid.centres[last], grid.centres[start]);
+    let d = distance(a, b);
+    if d == 0.0 {
+        return 0.0;
     }
+    let turn = last_move.map_or(0.0, |m| {
+        let (dc, dr) = MOVES[m];
+        let (s, c) = ((b.y - a.y) / d, (b.x - a.x) / d);
+        let heading = (dr as f64).atan2(dc as f64);
+        (s.atan2(c) - heading).sin().atan2((s.atan2(c) - heading).cos()).abs().to_degrees() * TURN_J_PER_DEG
+    });
+    turn + run_energy(d)
+}
 
+/// The cost of one more move `m` of `len` after `last_move`, with the run so far `run_m` long
+/// (seed 002 Eqs. 14–15: a straight continuation re-prices the whole run), and the run after it.
+fn move_cost(last_move: Option<usize>, run_m: f64, m: usize, len: f64) -> (f64, f64) {
+    match last_move {
+        Some(prev) if prev == m => (run_energy(run_m + len) - run_energy(run_m), run_m + len),
+        Some(prev) => (turn_energy(prev, m) + run_energy(len), len),
+        None => (run_energy(len), len),
+    }
+}
+
+/// The cost of the closed tour `order` by moves between neighbouring cells, as the search prices
+/// it; `None` when two cells in a row are not joined by a clear move.
+fn tour_cost(grid: &Grid, order: &[usize]) -> Option<f64> {
+    let (mut cost, mut run_m, mut last_move) = (0.0, 0.0, None);
+    for w in order.windows(2) {
+        let &(_, m, len) = grid.moves[w[0]].iter().find(|&&(j, _, _)| j == w[1])?;
+        let (delta, run) = move_cost(last_move, run_m, m, len);
+        (cost, run_m, last_move) = (cost + delta, run, Some(m));
+    }
+    Some(cost + close_cost(grid, order[0], *order.last()?, last_move))
+}
+
+/// Back-and-forth tours of the grid, along its rows and along its columns, each from either
+/// end: the first incumbent, so that the bound bites from the first start searched (the method's
+/// own tours, always on to the cells farthest from the start, cannot return to it cheaply on a
+/// long grid). Only those made of clear moves between neighbours.
+fn back_and_forth(grid: &Grid) -> Option<Tour> {
+    let mut tours = Vec::new();
+    for transpose in [false, true] {
+        let key = |k: usize| if transpose { (grid.rc[k].1, grid.rc[k].0) } else { grid.rc[k] };
+        let mut cells: Vec<usize> = (0..grid.rc.len()).collect();
+        cells.sort_by_key(|&k| key(k));
+        let mut order = Vec::with_capacity(cells.len());
+        for line in cells.chunk_by(|&a, &b| key(a).0 == key(b).0) {
+            if key(line[0]).0 % 2 == 0 {
+                order.extend(line);
+            } else {
+                order.extend(line.iter().rev());
+            }
+        }
+        let reversed: Vec<usize> = order.iter().rev().copied().collect();
+        tours.extend([order, reversed]);
+    }
+    tours.into_iter().filter_map(|t| Some((tour_cost(grid, &t)?, t))).min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+impl Search<'_> {
     /// Depth-first branch and bound.
     fn search(&mut self, visited: u128, cost: f64, run_m: f64, last_move: Option<usize>) -> Result<(), Halt> {
         self.expansions += 1;
@@ -269,7 +315,7 @@ impl Search<'_> {
         }
         let here = *self.path.last().expect("the path has its start");
         if self.path.len() == n {
-            let total = cost + self.close_cost(here, last_move);
+            let total = cost + close_cost(self.grid, self.start, here, last_move);
             if total < self.best {
                 self.best = total;
                 self.best_path = self.path.clone();
@@ -283,12 +329,7 @@ impl Search<'_> {
             .iter()
             .filter(|&&(j, _, _)| free(j) && self.label[j] == top)
             .map(|&(j, m, len)| {
-                // seed 002 Eqs. 14–15: a straight continuation re-prices the whole run
-                let (delta, run) = match last_move {
-                    Some(prev) if prev == m => (run_energy(run_m + len) - run_energy(run_m), run_m + len),
-                    Some(prev) => (turn_energy(prev, m) + run_energy(len), len),
-                    None => (run_energy(len), len),
-                };
+                let (delta, run) = move_cost(last_move, run_m, m, len);
                 (delta, run, j, m)
             })
             .collect();
@@ -383,7 +424,7 @@ impl Planner for EgCpp {
         starts.sort_by_key(|&i| (grid.moves[i].len(), i));
         let budget = SEARCH_EXPANSIONS / n as u64;
         let floors = Floors::new(&grid);
-        let mut best: Option<Tour> = None;
+        let mut best: Option<Tour> = back_and_forth(&grid).map(|(cost, order)| (cost + from_start(order[0]), order));
         // the cheapest any start cut off by its budget might still reach
         let mut floor = f64::INFINITY;
         // past three quarters of the time limit the search ends with what it has, leaving the
@@ -538,6 +579,32 @@ mod tests {
         let unsearched = cut.unsearched.expect("40 expansions do not finish a 16-cell grid");
         let found = cut.tour.map_or(f64::INFINITY, |t| t.0);
         assert!(unsearched.min(found) <= optimum + 1e-6 && unsearched > 0.0, "{unsearched} {found} {optimum}");
+    }
+
+    /// The back-and-forth incumbent visits every cell once by clear neighbour moves and is
+    /// priced as the search prices tours: on a long grid, where the method's own tours end far
+    /// from their start, it is the cheaper; a grid with a cell missing mid-row has none.
+    #[test]
+    fn a_long_grid_starts_from_a_back_and_forth_tour() {
+        let grid = rectangle(25, 4, 20.0);
+        let (cost, order) = back_and_forth(&grid).expect("a full rectangle has one");
+        let mut seen = order.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..100).collect::<Vec<_>>());
+        assert_eq!(tour_cost(&grid, &order), Some(cost));
+        // 4 runs of 24 moves, 3 steps between them with two 90° turns each, a 60 m flight home
+        let expected = 4.0 * run_energy(480.0) + 3.0 * run_energy(20.0) + 6.0 * 90.0 * TURN_J_PER_DEG + 90.0 * TURN_J_PER_DEG + run_energy(60.0);
+        assert!((cost - expected).abs() < 1e-6, "{cost} against {expected}");
+        let floors = Floors::new(&grid);
+        let first = tour_from(&grid, &floors, 0, f64::INFINITY, 100_000, &|| None).unwrap().tour.unwrap().0;
+        assert!(cost < first, "back and forth {cost:.0} J, the method's first tour from a corner {first:.0} J");
+        let mut holed = rectangle(5, 3, 20.0);
+        let middle = 7; // row 1, column 2
+        for m in &mut holed.moves {
+            m.retain(|&(j, _, _)| j != middle);
+        }
+        holed.moves[middle].clear();
+        assert!(back_and_forth(&holed).is_none());
     }
 
     #[test]

@@ -145,6 +145,11 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
         out.push_str("|------:|-------:|--------:|----------:|-------:|--------:|--------------:|----------:|----------------:|-------------:|\n");
         for r in rows.iter_mut().filter(|r| !r.times_ms.is_empty() || r.refused > 0) {
             let n = r.times_ms.len() / repeats;
+            if n == 0 {
+                // every field of the row refused: no figures to show
+                out.push_str(&format!("| {:>5} | {:>6} | {:>7} | - | - | - | - | - | - | - |\n", r.holes, 0, r.refused / repeats));
+                continue;
+            }
             let median = quantile(&mut r.times_ms, 0.5);
             let p95 = quantile(&mut r.times_ms, 0.95);
             out.push_str(&format!(

@@ -29,6 +29,8 @@ function syncForm() {
   $('ground-box').hidden = !ground;
   $('inspection-box').hidden = !inspection;
   for (const id of ['camera-box', 'layers-box']) $(id).hidden = ground;
+  // an inspection always has a camera: leaving it unset means the planner's default preset
+  $('camera').options[0].textContent = inspection ? 'default: DJI Mavic 3 Enterprise (wide)' : 'none: give the line spacing';
   $('drones').closest('.row').hidden = ground || inspection;
   for (const id of ['altitude-box', 'direction-box', 'overlap-box']) $(id).hidden = inspection;
   if (ground) $('planner').value = 'headland';

@@ -192,6 +192,7 @@ try {
   await page.selectOption('#planner', 'inspection');
   await page.dispatchEvent('#planner', 'change');
   assert.ok(await page.isVisible('#inspection-box') && !(await page.isVisible('#spacing-box')), 'the inspection fields instead of the line spacing');
+  assert.match(await page.textContent('#camera option[value=""]'), /default/, 'an inspection without a chosen camera takes the default preset');
   await page.selectOption('#vehicle', 'iris');
   // the home is some 300 m from the barn: there and back, and around it
   await page.fill('#budget', '1500');

@@ -188,9 +188,9 @@ const SLIVER_M: f64 = 0.05;
 /// How far short of a piece's far corner a spur stops, so that it stays inside the area.
 const SPUR_CLEARANCE_M: f64 = 0.05;
 
-/// Spurs into the ground `path` leaves unswept: a ring's swaths, one rectangle per straight
-/// stretch, leave a kite at each corner between the field's edges and the two swath ends, of
-/// area half²·cot(θ/2) at an interior angle θ; the middle may leave slivers beside its line.
+/// Spurs into the ground `path` leaves unswept: beyond each ring corner of interior angle θ,
+/// the kite between the field's edges and the two swath ends (half²·cot(θ/2)) less the fan the
+/// swath sweeps as the vehicle turns, large only at sharp corners; and the middle's ends.
 /// A spur from the pass vertex nearest to a piece out to the piece's far corner sweeps it (the
 /// kite lies within half a swath of the line from the ring's vertex to the field's corner).
 /// With a camera, what the photos image counts: their footprints stop flush with each sweep's

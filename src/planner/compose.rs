@@ -325,7 +325,7 @@ fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, 
     let run = |angle: f64| {
         planner
             .plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true)
-            .map(|p| (angle, metrics::covered_area(&p.path, problem.region, problem.layout.footprint.is_some()) / area, p))
+            .map(|p| (angle, metrics::covered_area(&p.path, problem.region, problem.layout.photographed()) / area, p))
     };
     let best = |tried: &[Tried]| metrics::best_covering(tried, |t| t.1, |t| t.2.path.length()).expect("at least one direction was tried");
     let grid: Vec<f64> = (0..(180.0 / DIRECTION_STEP_DEG) as usize).map(|k| (k as f64 * DIRECTION_STEP_DEG).to_radians()).collect();

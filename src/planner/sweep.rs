@@ -63,6 +63,12 @@ impl LineLayout {
             .collect()
     }
 
+    /// True for a camera plan (lines laid by a footprint): its coverage is what the photos image
+    /// ([`crate::metrics::covered`]), not the swath the vehicle sweeps.
+    pub fn photographed(&self) -> bool {
+        self.footprint.is_some()
+    }
+
     /// Half the width a sweep images, for the coverage measure.
     pub fn half_swath(&self) -> f64 {
         self.footprint.unwrap_or(self.spacing) / 2.0

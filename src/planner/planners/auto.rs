@@ -46,8 +46,7 @@ impl Planner for Auto {
                         Objective::Time => time,
                         Objective::Length => length,
                     };
-                    // with a camera, what the photos image counts
-                    let coverage = covered_area(&planned.path, problem.region, problem.layout.footprint.is_some()) / problem.region.unsigned_area();
+                    let coverage = covered_area(&planned.path, problem.region, problem.layout.photographed()) / problem.region.unsigned_area();
                     alternatives.push(Alternative {
                         planner: id.into(),
                         length_m: Some(length),

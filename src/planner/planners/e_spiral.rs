@@ -281,7 +281,7 @@ impl Planner for ESpiral {
         let mut path = fly(&layers.passes, &spurs, problem, half)?;
         // a spur may sweep less than the piece it aims at: measured again, up to a few rounds
         for round in 1..=SPUR_ROUNDS {
-            let more = corner_spurs(&layers.passes, &path, problem.region, problem.layout.footprint.is_some());
+            let more = corner_spurs(&layers.passes, &path, problem.region, problem.layout.photographed());
             if more.is_empty() {
                 break;
             }

@@ -37,13 +37,14 @@ pub struct Piece {
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum TurnShape {
-    /// Arcs joined by a straight (Dubins CSC): the swaths are at least a turning diameter apart,
+    /// Turns joined by a straight (CSC): the swaths are at least a turning diameter apart,
     /// or one end lies further out than the other.
     U,
-    /// Three arcs, the middle one bulging out (Dubins CCC): the swaths are closer than a
-    /// turning diameter and the vehicle cannot reverse.
+    /// Three turns, the middle one bulging out (CCC): the swaths are closer than a turning
+    /// diameter and the vehicle cannot reverse.
     Omega,
-    /// Forward arc, straight in reverse, forward arc: a three-point turn.
+    /// Any turn with a part driven in reverse: the three-point turn or a Reeds–Shepp word with
+    /// cusps.
     Fishtail,
 }
 

@@ -10,6 +10,7 @@ use super::energy::{EnergyModel, EnergyParams, Motion};
 use super::error::{InputError, check_range};
 use super::turn::TurnModel;
 use super::turn::continuous_curvature::cc_circle_radius;
+use super::turn::ground::Steering;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
@@ -29,8 +30,8 @@ pub struct GroundFigures {
     /// Width the implement works; the swath spacing is this less the plan's `overlap`.
     #[cfg_attr(feature = "schema", schema(minimum = 0.5, maximum = 100.0))]
     pub working_width_m: f64,
-    /// May reverse: three-point (fishtail) turns where they are shorter or fit where a forward
-    /// turn does not.
+    /// May reverse: Reeds–Shepp turns (with cusps) and three-point (fishtail) turns where they
+    /// are shorter or fit where a forward turn does not.
     #[serde(default)]
     pub reverse_allowed: bool,
     /// Steering limit for continuous-curvature turns, 1/m²: how fast the curvature may change
@@ -192,7 +193,7 @@ pub struct VehicleParams {
     /// Ground vehicle: width of the implement.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub working_width_m: Option<f64>,
-    /// Ground vehicle: may reverse (three-point turns).
+    /// Ground vehicle: may reverse (Reeds–Shepp turns with cusps, three-point turns).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reverse_allowed: Option<bool>,
     /// Ground vehicle: continuous-curvature turns with this steering limit, 1/m².
@@ -281,6 +282,12 @@ impl Vehicle {
             Some(rate) => cc_circle_radius(self.turn_radius_m, rate),
             None => self.turn_radius_m,
         }
+    }
+
+    /// How a ground vehicle steers (any other steers forward only, instantly).
+    pub fn steering(&self) -> Steering {
+        let g = self.ground;
+        Steering::new(self.turn_radius_m, g.is_some_and(|g| g.reverse_allowed), g.and_then(|g| g.max_curvature_rate))
     }
 
     /// The energy model of this vehicle: its profile's model, flown at its speed and turns

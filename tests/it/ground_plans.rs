@@ -132,7 +132,8 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
 
     /// Star-shaped fields of 2 to 30 ha with up to three square ponds, implements of 3 to 12
-    /// m, turning radii of 2 to 8 m, one to three passes, forward only or reversing.
+    /// m, turning radii of 2 to 8 m, one to three passes, forward only or reversing (Reeds–Shepp
+    /// words), steering instant or slow (continuous-curvature turns).
     #[test]
     fn generated_fields_are_worked_inside_the_field_and_around_the_ponds(
         lon in -179.0..179.0f64,
@@ -144,19 +145,24 @@ proptest! {
         turn_radius in 2.0..8.0f64,
         passes in 1u32..4,
         reverse in any::<bool>(),
+        clothoid in prop::option::of(1.0..6.0f64),
         heading in prop::option::of(0.0..180.0f64),
         first in any::<bool>(),
     ) {
         let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
         let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
-        let headland = (passes as f64 * width).max(turn_radius + 1.0);
+        // slow steering: the curvature reaches 1/r over `clothoid` metres, and turns need as
+        // much more room
+        let curvature_rate = clothoid.map(|l| 1.0 / (turn_radius * l));
+        let headland = (passes as f64 * width).max(turn_radius + 1.0 + clothoid.unwrap_or(0.0));
         let mut extra = json!({"headland_width_m": headland, "headland_order": if first { "first" } else { "last" }});
         if let Some(h) = heading {
             extra["heading_deg"] = json!(h);
         }
         let mut params = ground(width, turn_radius, extra);
         params.vehicle.reverse_allowed = Some(reverse);
-        let name = format!("star at {lon},{lat} r={radius}, {ponds} ponds, {width:.1} m wide, radius {turn_radius:.1}, headland {headland:.1}");
+        params.vehicle.max_curvature_rate = curvature_rate;
+        let name = format!("star at {lon},{lat} r={radius}, {ponds} ponds, {width:.1} m wide, radius {turn_radius:.1}, reverse {reverse}, σ {curvature_rate:?}, headland {headland:.1}");
         match run(&area, None, &params) {
             Ok(out) => {
                 let ponds = to_local_mp(&frame_of(&area), &nfz);

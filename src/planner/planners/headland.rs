@@ -46,12 +46,12 @@ impl Planner for HeadlandPlanner {
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
         let setup = problem.ground.ok_or_else(|| PlanError::Infeasible("planner headland plans ground vehicles: give vehicle kind ground".into()))?;
         let vehicle = problem.vehicle;
-        let reverse = vehicle.ground.is_some_and(|g| g.reverse_allowed);
-        let radius = vehicle.planning_radius_m();
+        let steering = vehicle.steering();
+        let radius = steering.bounding_radius();
         let headland = &setup.headland;
         let angle = problem.sweep_angle.unwrap_or_else(|| best_direction(&headland.mainland, problem.layout, radius));
         let roads: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
-        let routes = HeadlandRoutes::new(problem.region, &headland.mainland, roads, radius, reverse, setup.spec.width_m);
+        let routes = HeadlandRoutes::new(problem.region, &headland.mainland, roads, steering, setup.spec.width_m);
         // swaths run as far into the headland as their whole width needs (slanted ends), at most
         // its width, and are pulled back where no turn fits in the field (acute corners)
         let lines: Vec<Line> = swaths(&headland.mainland, problem.region, angle, problem.layout.spacing, setup.spec.width_m)

@@ -19,10 +19,9 @@ use super::line_tour::{Line, NO_WAY, entry, exit, line_instance, nearest_entries
 use crate::geom::{EdgeIndex, distance, polyline_length};
 use crate::path::TurnShape;
 use crate::stop::Stop;
-use crate::turn::dubins::{Pose, shortest};
-use crate::turn::fishtail::fishtail;
-use crate::turn::ground::manoeuvres;
-use crate::turn::{CHORD_TOLERANCE_M, TurnModel, half_circles, turnable_stretch};
+use crate::turn::dubins::Pose;
+use crate::turn::ground::{Manoeuvre, Steering};
+use crate::turn::{half_circles, turnable_stretch};
 
 /// A headland pass as a road: a closed ring with its arc lengths.
 pub struct Road {
@@ -107,8 +106,9 @@ pub struct HeadlandRoutes {
     roads: Vec<Road>,
     /// Each road's ramp stops: `(road, vertex, position)`.
     stops: Vec<(usize, usize, Coord)>,
+    steering: Steering,
+    /// The circle every turn keeps within.
     radius: f64,
-    reverse: bool,
     /// How far from a pose ramps onto a road are looked for.
     reach: f64,
 }
@@ -143,20 +143,18 @@ pub enum Bounds {
 
 impl HeadlandRoutes {
     /// `region`: the field less its holes and zones; `mainland`: where turns may not go;
-    /// `roads`: the headland passes' rings; `radius`: the planning turning radius.
-    pub fn new(region: &MultiPolygon, mainland: &MultiPolygon, roads: Vec<Vec<Coord>>, radius: f64, reverse: bool, headland_m: f64) -> Self {
+    /// `roads`: the headland passes' rings.
+    pub fn new(region: &MultiPolygon, mainland: &MultiPolygon, roads: Vec<Vec<Coord>>, steering: Steering, headland_m: f64) -> Self {
+        let radius = steering.bounding_radius();
         let spacing = (radius / 2.0).max(1.0);
         let roads: Vec<Road> = roads.into_iter().filter(|r| r.len() >= 4).map(|r| Road::new(r, spacing)).collect();
         let stops = roads.iter().enumerate().flat_map(|(k, road)| road.stops(spacing).into_iter().map(move |i| (k, i, road.points[i]))).collect();
-        HeadlandRoutes { field: EdgeIndex::new(region), mainland: EdgeIndex::new(mainland), roads, stops, radius, reverse, reach: 4.0 * radius + 2.0 * headland_m }
+        HeadlandRoutes { field: EdgeIndex::new(region), mainland: EdgeIndex::new(mainland), roads, stops, steering, radius, reach: 4.0 * radius + 2.0 * headland_m }
     }
 
-    /// The length in open ground: no way between the poses is shorter (a fishtail can be
-    /// shorter than every forward path).
+    /// Below the length in open ground: no way between the poses is shorter.
     pub fn floor(&self, from: Pose, to: Pose) -> f64 {
-        let forward = shortest(from, to, self.radius).length();
-        let back = if self.reverse { fishtail(from, to, self.radius, CHORD_TOLERANCE_M).map_or(f64::INFINITY, |f| f.1) } else { f64::INFINITY };
-        0.99 * forward.min(back)
+        0.99 * self.steering.floor(from, to)
     }
 
     fn clear(&self, points: &[Coord], bounds: Bounds) -> bool {
@@ -173,14 +171,14 @@ impl HeadlandRoutes {
 
     /// Between fields, on the road outside them.
     pub fn outside(&self, from: Pose, to: Pose) -> Way {
-        let points = TurnModel::Dubins(self.radius).points(from, to);
+        let points = self.steering.forward(from, to).points();
         Way { length: polyline_length(&points), points, shape: None }
     }
 
     /// Anywhere inside the field: the shortest manoeuvre that stays in it, or else along a
     /// headland pass.
     pub fn transit(&self, from: Pose, to: Pose) -> Option<Way> {
-        let direct = manoeuvres(from, to, self.radius, self.reverse).into_iter().find_map(|m| {
+        let direct = self.steering.manoeuvres(from, to).into_iter().find_map(|m| {
             let points = m.points();
             self.clear(&points, Bounds::Field).then_some(Way { points, length: m.length, shape: None })
         });
@@ -219,7 +217,7 @@ impl HeadlandRoutes {
         let mut out = Vec::new();
         for forward in [true, false] {
             let mut tried = vec![0; self.roads.len()];
-            let mut candidates: Vec<(f64, usize, usize, crate::turn::dubins::DubinsPath, Pose)> = Vec::new();
+            let mut candidates: Vec<(usize, usize, Manoeuvre)> = Vec::new();
             for &(_, k) in &near {
                 let (road, vertex, _) = self.stops[k];
                 if tried[road] == RAMP_STOPS {
@@ -228,20 +226,18 @@ impl HeadlandRoutes {
                 tried[road] += 1;
                 let at = ring_pose(&self.roads[road].points, vertex, forward);
                 let (a, b) = if on { (pose, at) } else { (at, pose) };
-                let word = shortest(a, b, self.radius);
-                candidates.push((word.length(), road, vertex, word, b));
+                candidates.push((road, vertex, self.steering.forward(a, b)));
             }
-            candidates.sort_by(|x, y| x.0.total_cmp(&y.0));
+            candidates.sort_by(|x, y| x.2.length.total_cmp(&y.2.length));
             let mut kept = vec![0; self.roads.len()];
-            for (length, road, vertex, word, end) in candidates {
+            for (road, vertex, ramp) in candidates {
                 if kept[road] == RAMPS_KEPT {
                     continue;
                 }
-                let mut points = word.sample(CHORD_TOLERANCE_M);
-                *points.last_mut().expect("points") = end.coord();
+                let points = ramp.points();
                 if self.clear(&points, bounds) {
                     kept[road] += 1;
-                    out.push(Ramp { road, vertex, forward, points, length });
+                    out.push(Ramp { road, vertex, forward, points, length: ramp.length });
                 }
             }
         }
@@ -281,7 +277,7 @@ impl<'a> SwathLinks<'a> {
         }
         // each manoeuvre drawn once: the first clear of the field's edges is the crossing's
         let mut across: Option<Way> = None;
-        for m in manoeuvres(from, to, self.routes.radius, self.routes.reverse) {
+        for m in self.routes.steering.manoeuvres(from, to) {
             let points = m.points();
             if self.routes.field.crossed(&points) {
                 continue;

@@ -202,8 +202,8 @@ pub fn to_point_lower_bound(q0: Pose, p: Coord, r: f64) -> f64 {
     best
 }
 
-/// The pose reached after `s` metres of `part`, from `from`.
-fn advance(from: Pose, part: Part, s: f64, r: f64) -> Pose {
+/// The pose reached after `s` metres of `part`, from `from` (backwards when `s` is negative).
+pub(crate) fn advance(from: Pose, part: Part, s: f64, r: f64) -> Pose {
     match part {
         Part::S => Pose { x: from.x + s * from.theta.cos(), y: from.y + s * from.theta.sin(), theta: from.theta },
         Part::L | Part::R => {

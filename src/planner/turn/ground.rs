@@ -1,12 +1,21 @@
 //! A ground vehicle's ways from the end of one swath to the start of another, shortest
-//! first: every Dubins word and, when it may reverse, the fishtail; each with its shape. The
-//! route stage keeps the first that stays where turns are allowed.
+//! first; the route stage keeps the first that stays where turns are allowed.
+//!
+//! | steering | forward only | may reverse |
+//! |---|---|---|
+//! | instant | the Dubins words | the Dubins and Reeds–Shepp words, the fishtail |
+//! | at most `σ` per metre | the CC-Dubins words | the CC-Dubins words, the fishtail of CC turns |
+//!
+//! A turn with a reversing part is a fishtail; one with a straight, or whose middle turn is
+//! slight, a U; the rest omegas.
 
 use geo::Coord;
 
 use super::CHORD_TOLERANCE_M;
-use super::dubins::{DubinsPath, Part, Pose, all_words};
-use super::fishtail::fishtail;
+use super::continuous_curvature::{CcPath, CcTurns};
+use super::dubins::{self, DubinsPath, Part, Pose, all_words};
+use super::fishtail::{QuarterTurn, fishtail};
+use super::reeds_shepp::{self, ReedsSheppPath};
 use crate::path::TurnShape;
 
 /// One way to turn, its points drawn only when asked for (most candidates are rejected or
@@ -14,44 +23,114 @@ use crate::path::TurnShape;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Manoeuvre {
     path: Path,
+    to: Coord,
     pub length: f64,
     pub shape: TurnShape,
 }
 
 #[derive(Debug, Clone, PartialEq)]
 enum Path {
-    Dubins(DubinsPath, Coord),
+    Dubins(DubinsPath),
+    ReedsShepp(ReedsSheppPath),
+    Clothoid(CcPath),
     Drawn(Vec<Coord>),
 }
 
 impl Manoeuvre {
     /// The points, first and last exactly the two poses.
     pub fn points(&self) -> Vec<Coord> {
-        match &self.path {
-            Path::Dubins(word, to) => {
-                let mut points = word.sample(CHORD_TOLERANCE_M);
-                *points.last_mut().expect("a sampled path has points") = *to;
-                points
-            }
+        let mut points = match &self.path {
+            Path::Dubins(word) => word.sample(CHORD_TOLERANCE_M),
+            Path::ReedsShepp(word) => word.sample(CHORD_TOLERANCE_M),
+            Path::Clothoid(word) => word.sample(CHORD_TOLERANCE_M),
             Path::Drawn(points) => points.clone(),
-        }
+        };
+        *points.last_mut().expect("a path has points") = self.to;
+        points
     }
 }
 
-/// Every turn from `from` to `to` on radius `r`, shortest first.
-pub fn manoeuvres(from: Pose, to: Pose, r: f64, reverse_allowed: bool) -> Vec<Manoeuvre> {
-    let mut out: Vec<Manoeuvre> = all_words(from, to, r)
-        .into_iter()
-        .map(|w| {
-            let shape = if w.word.parts()[1] == Part::S { TurnShape::U } else { TurnShape::Omega };
-            Manoeuvre { length: w.length(), shape, path: Path::Dubins(w, to.coord()) }
-        })
-        .collect();
-    if reverse_allowed && let Some((points, length, reverses)) = fishtail(from, to, r, CHORD_TOLERANCE_M) {
-        out.push(Manoeuvre { path: Path::Drawn(points), length, shape: if reverses { TurnShape::Fishtail } else { TurnShape::U } });
+/// How a ground vehicle steers: its tightest radius, whether it may reverse, and how fast its
+/// curvature may change (continuous-curvature turns) when that is limited.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Steering {
+    radius: f64,
+    reverse: bool,
+    cc: Option<CcTurns>,
+    quarter: QuarterTurn,
+}
+
+impl Steering {
+    pub fn new(radius: f64, reverse: bool, curvature_rate: Option<f64>) -> Self {
+        let cc = curvature_rate.map(|sigma| CcTurns::new(radius, sigma));
+        let quarter = match cc {
+            Some(cc) => {
+                let (points, length) = cc.quarter_turn(CHORD_TOLERANCE_M);
+                QuarterTurn { points, reach: cc.quarter_reach(), length }
+            }
+            None => QuarterTurn::circle(radius, CHORD_TOLERANCE_M),
+        };
+        Steering { radius, reverse, cc, quarter }
     }
-    out.sort_by(|a, b| a.length.total_cmp(&b.length));
-    out
+
+    /// The radius of the circle every turn keeps within: the turning radius, or with slow
+    /// steering the circle bounding continuous-curvature turns.
+    pub fn bounding_radius(&self) -> f64 {
+        self.cc.map_or(self.radius, |cc| cc.outer_radius())
+    }
+
+    /// Every turn from `from` to `to`, shortest first.
+    pub fn manoeuvres(&self, from: Pose, to: Pose) -> Vec<Manoeuvre> {
+        let mut out = self.forward_words(from, to);
+        if self.reverse {
+            if self.cc.is_none() {
+                out.extend(reeds_shepp::all_paths(from, to, self.radius).into_iter().map(|w| {
+                    let shape = if w.reverses() {
+                        TurnShape::Fishtail
+                    } else if w.has_straight() {
+                        TurnShape::U
+                    } else {
+                        TurnShape::Omega
+                    };
+                    Manoeuvre { length: w.length(), shape, path: Path::ReedsShepp(w), to: to.coord() }
+                }));
+            }
+            if let Some((points, length, reverses)) = fishtail(from, to, &self.quarter) {
+                out.push(Manoeuvre { path: Path::Drawn(points), to: to.coord(), length, shape: if reverses { TurnShape::Fishtail } else { TurnShape::U } });
+            }
+        }
+        out.sort_by(|a, b| a.length.total_cmp(&b.length));
+        out
+    }
+
+    fn forward_words(&self, from: Pose, to: Pose) -> Vec<Manoeuvre> {
+        let to_coord = to.coord();
+        match &self.cc {
+            None => all_words(from, to, self.radius)
+                .into_iter()
+                .map(|w| {
+                    let shape = if w.word.parts()[1] == Part::S { TurnShape::U } else { TurnShape::Omega };
+                    Manoeuvre { length: w.length(), shape, path: Path::Dubins(w), to: to_coord }
+                })
+                .collect(),
+            Some(cc) => cc
+                .words(from, to)
+                .into_iter()
+                .map(|w| Manoeuvre { length: w.length, shape: if w.is_omega() { TurnShape::Omega } else { TurnShape::U }, path: Path::Clothoid(w), to: to_coord })
+                .collect(),
+        }
+    }
+
+    /// The shortest forward way from `from` to `to` in open ground (ramps, transits).
+    pub fn forward(&self, from: Pose, to: Pose) -> Manoeuvre {
+        self.forward_words(from, to).into_iter().min_by(|a, b| a.length.total_cmp(&b.length)).expect("LSL or RSR is always drivable")
+    }
+
+    /// No way from `from` to `to` is shorter: the shortest path on the tightest radius,
+    /// reversing where allowed (continuous-curvature turns are never shorter).
+    pub fn floor(&self, from: Pose, to: Pose) -> f64 {
+        if self.reverse { reeds_shepp::shortest(from, to, self.radius).length() } else { dubins::shortest(from, to, self.radius).length() }
+    }
 }
 
 #[cfg(test)]
@@ -60,14 +139,37 @@ mod tests {
     use std::f64::consts::PI;
 
     #[test]
-    fn close_lines_take_an_omega_forward_and_a_fishtail_in_reverse() {
+    fn close_lines_take_an_omega_forward_and_a_reversing_turn_when_allowed() {
         let (from, to) = (Pose::new(0.0, 0.0, 0.0), Pose::new(0.0, 6.0, PI));
-        let forward = manoeuvres(from, to, 7.0, false);
+        let forward = Steering::new(7.0, false, None).manoeuvres(from, to);
         assert_eq!(forward[0].shape, TurnShape::Omega);
-        let reversing = manoeuvres(from, to, 7.0, true);
+        let reversing = Steering::new(7.0, true, None).manoeuvres(from, to);
         assert_eq!(reversing[0].shape, TurnShape::Fishtail);
         assert!(reversing[0].length < forward[0].length);
+        // the Reeds–Shepp words beat the three-point turn here
+        let three_point = reversing.iter().find(|m| matches!(m.path, Path::Drawn(_))).unwrap();
+        assert!(reversing[0].length < three_point.length - 1.0, "{} vs {}", reversing[0].length, three_point.length);
         // a turning diameter apart or more: a U
-        assert_eq!(manoeuvres(from, Pose::new(0.0, 20.0, PI), 7.0, false)[0].shape, TurnShape::U);
+        assert_eq!(Steering::new(7.0, false, None).manoeuvres(from, Pose::new(0.0, 20.0, PI))[0].shape, TurnShape::U);
+    }
+
+    #[test]
+    fn slow_steering_turns_are_longer_and_every_way_ends_on_the_pose() {
+        let (from, to) = (Pose::new(0.0, 0.0, 0.0), Pose::new(0.0, 20.0, PI));
+        for reverse in [false, true] {
+            let sharp = Steering::new(7.0, reverse, None);
+            let slow = Steering::new(7.0, reverse, Some(0.02));
+            assert!(slow.bounding_radius() > sharp.bounding_radius());
+            let (a, b) = (sharp.manoeuvres(from, to), slow.manoeuvres(from, to));
+            assert!(b[0].length > a[0].length);
+            assert!(slow.floor(from, to) <= b[0].length && sharp.floor(from, to) <= a[0].length + 1e-9);
+            for m in a.iter().chain(&b) {
+                let p = m.points();
+                assert_eq!((p[0], *p.last().unwrap()), (from.coord(), to.coord()));
+            }
+        }
+        // with reversing and slow steering the fishtail is made of continuous-curvature turns
+        let slow = Steering::new(7.0, true, Some(0.02)).manoeuvres(from, Pose::new(0.0, 6.0, PI));
+        assert!(slow.iter().any(|m| m.shape == TurnShape::Fishtail));
     }
 }

@@ -2,14 +2,15 @@
 //!
 //! A multirotor stops and flies straight ([`TurnModel::Straight`]); a fixed-wing aircraft
 //! flies the shortest [`dubins`] path for its turning radius; a ground vehicle chooses among
-//! [`ground`] manoeuvres (Dubins words, the [`fishtail`] when it may reverse), planned on the
-//! [`continuous_curvature`] radius when its steering is slow.
+//! [`ground`] manoeuvres: Dubins words, with reversing the [`reeds_shepp`] words and the
+//! [`fishtail`], and with slow steering [`continuous_curvature`] turns in place of arcs.
 
 pub mod climb;
 pub mod continuous_curvature;
 pub mod dubins;
 pub mod fishtail;
 pub mod ground;
+pub mod reeds_shepp;
 
 use geo::Coord;
 

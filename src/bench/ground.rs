@@ -1,7 +1,8 @@
 //! `coverplan bench --ground`: planner `headland` on the real fields at the configuration of
 //! the Fields2Cover 2.1 figures measured on this machine (5 m wide, turning radius 3 m,
 //! headland 10 m, its route planner with Dubins turns), and with a 6 m sprayer turning on 7 m
-//! with two headland passes on the real and the generated fields: path length (and without
+//! with two headland passes on the real and the generated fields, and on the real fields
+//! with 3 passes forward, reversing, with slow steering and both: path length (and without
 //! the headland passes, which Fields2Cover's route does not drive), turns and their shapes,
 //! turns leaving the field or crossing a hole, mainland and headland coverage, planning time
 //! (median of the runs) and peak memory.
@@ -105,6 +106,26 @@ pub fn run(random_dir: &Path, repeats: usize) -> anyhow::Result<String> {
         let name = format!("h{holes:02}_00");
         let mission = read(&random_dir.join(format!("{name}.json")))?;
         row(&mut out, &name, plan(&mission, &sprayer, repeats), None);
+    }
+    let _ = writeln!(
+        out,
+        "\nThe same sprayer by steering, 3 headland passes (18 m: a continuous-curvature turn reaches 10.6 m past the swath's end): forward, reversing (Reeds–Shepp words, fishtails), slow steering (curvature rate 0.02 /m²: clothoids of 7.1 m), both\n"
+    );
+    out.push_str(HEADER);
+    let steerings = [
+        ("forward", json!({})),
+        ("reversing", json!({"reverse_allowed": true})),
+        ("slow steering", json!({"max_curvature_rate": 0.02})),
+        ("both", json!({"reverse_allowed": true, "max_curvature_rate": 0.02})),
+    ];
+    for (label, steering) in steerings {
+        let mut vehicle = json!({"kind": "ground", "working_width_m": 6.0, "turn_radius_m": 7.0});
+        vehicle.as_object_mut().context("object")?.extend(steering.as_object().context("object")?.clone());
+        let params: PlanParams = serde_json::from_value(json!({"vehicle": vehicle, "headland_passes": 3}))?;
+        for (name, ..) in F2C {
+            let mission = read(&real_dir.join(format!("{name}.json")))?;
+            row(&mut out, &format!("{name}, {label}"), plan(&mission, &params, repeats), None);
+        }
     }
     Ok(out)
 }

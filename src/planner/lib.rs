@@ -192,11 +192,12 @@ fn ground_setup(spec: params::HeadlandSpec, vehicle: &vehicle::Vehicle, field: &
         return Err(InputError::new("obstacles", "/obstacles", "a ground vehicle cannot climb over obstacles: give them as holes of the field or as no-fly zones"));
     }
     let radius = vehicle.planning_radius_m();
-    if radius > spec.width_m {
+    let reach = vehicle.steering().reach_ahead();
+    if reach > spec.width_m {
         return Err(InputError::new(
             "headland_too_narrow",
             "/headland_passes",
-            format!("turning at a swath's end takes {radius:.1} m beyond it; the headland is {:.1} m wide: add passes or give headland_width_m", spec.width_m),
+            format!("turning at a swath's end takes {reach:.1} m beyond it; the headland is {:.1} m wide: add passes or give headland_width_m", spec.width_m),
         ));
     }
     let headland = decompose::headland::headland(region, spec.width_m, spec.passes, radius);

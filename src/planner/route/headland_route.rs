@@ -21,7 +21,7 @@ use crate::path::TurnShape;
 use crate::stop::Stop;
 use crate::turn::dubins::Pose;
 use crate::turn::ground::{Manoeuvre, Steering};
-use crate::turn::{half_circles, turnable_stretch};
+use crate::turn::turnable_stretch;
 
 /// A headland pass as a road: a closed ring with its arc lengths.
 pub struct Road {
@@ -162,11 +162,11 @@ impl HeadlandRoutes {
     }
 
     /// The stretch of the swath `a → b` whose ends the vehicle can turn at: each end pulled
-    /// back (in steps of an eighth of the radius) until a half circle to the left or the
-    /// right from it stays in the field; `None` when nothing is left (a swath in an acute
-    /// corner, where no turn fits).
+    /// back (in steps of an eighth of the radius) until a half turn to the left or the right
+    /// from it stays in the field; `None` when nothing is left (a swath in an acute corner,
+    /// where no turn fits).
     pub fn turnable(&self, a: Coord, b: Coord) -> Option<(Coord, Coord)> {
-        turnable_stretch(a, b, self.radius, 0.05, |at, out| half_circles(at, out, self.radius).iter().any(|arc| !self.field.crossed(arc)))
+        turnable_stretch(a, b, self.radius, 0.05, |at, out| self.steering.half_turns(at, out).iter().any(|turn| !self.field.crossed(turn)))
     }
 
     /// Between fields, on the road outside them.

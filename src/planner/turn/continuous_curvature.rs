@@ -28,32 +28,54 @@ const STEP_RAD: f64 = 0.005;
 
 /// Follows `pieces` from `from`, handing `emit` a point whenever the heading has turned by
 /// `emit_step` since the last one and at the end of every piece; returns the pose reached.
+/// Circles and straights are exact in steps of `emit_step`; clothoids are integrated in small
+/// steps, each the chord of the circle that turns the step's exact heading change. The heading
+/// is carried as a unit vector turned by small-angle series (sines and cosines cost the most).
 fn follow(from: Pose, pieces: &[Piece], emit_step: f64, mut emit: impl FnMut(Coord)) -> Pose {
-    let mut q = from;
+    let (mut x, mut y, mut theta) = (from.x, from.y, from.theta);
+    let (mut sin, mut cos) = theta.sin_cos();
     let mut turned = 0.0;
     for p in pieces.iter().filter(|p| p.length > 0.0) {
-        let turned_by = (p.k0 + p.k1).abs() * p.length / 2.0;
-        let n = (p.length / STEP_M).max(turned_by / STEP_RAD).ceil().max(1.0) as usize;
+        let n = if p.k0 == p.k1 {
+            (p.k0.abs() * p.length / emit_step).ceil().max(1.0)
+        } else {
+            let turned_by = (p.k0 + p.k1).abs() * p.length / 2.0;
+            (p.length / STEP_M).max(turned_by / STEP_RAD).ceil().max(1.0)
+        } as usize;
         let h = p.length / n as f64;
         let rate = (p.k1 - p.k0) / p.length;
         for i in 0..n {
-            // the heading turned over this step, exactly; the chord of a circle through it
             let s = i as f64 * h;
             let dtheta = p.k0 * h + rate * (2.0 * s * h + h * h) / 2.0;
             let half = dtheta / 2.0;
-            let chord = if half.abs() < 1e-9 { h } else { h * half.sin() / half };
-            let dir = q.theta + half;
-            q = Pose::new(q.x + chord * dir.cos(), q.y + chord * dir.sin(), q.theta + dtheta);
+            let (sh, ch) = small_sin_cos(half);
+            let chord = if half.abs() < 1e-12 { h } else { h * sh / half };
+            // the chord leaves half-way round; the heading turns the other half after it
+            let (dx, dy) = (cos * ch - sin * sh, sin * ch + cos * sh);
+            x += chord * dx;
+            y += chord * dy;
+            (cos, sin) = (dx * ch - dy * sh, dy * ch + dx * sh);
+            theta += dtheta;
             turned += dtheta.abs();
             if turned >= emit_step && i + 1 < n {
-                emit(q.coord());
+                emit(Coord { x, y });
                 turned = 0.0;
             }
         }
-        emit(q.coord());
+        emit(Coord { x, y });
         turned = 0.0;
     }
-    q
+    Pose::new(x, y, theta)
+}
+
+/// `(sin a, cos a)`, by series for the small angles of integration steps.
+fn small_sin_cos(a: f64) -> (f64, f64) {
+    if a.abs() < 0.01 {
+        let a2 = a * a;
+        (a * (1.0 - a2 / 6.0 * (1.0 - a2 / 20.0)), 1.0 - a2 / 2.0 * (1.0 - a2 / 12.0))
+    } else {
+        a.sin_cos()
+    }
 }
 
 /// The continuous-curvature turns of one vehicle: its radius, sharpness and their circles.
@@ -243,6 +265,22 @@ impl CcTurns {
         let reach = self.quarter_reach();
         *points.last_mut().expect("a turn has points") = Coord { x: reach, y: reach };
         (points, pieces.iter().map(|p| p.length).sum())
+    }
+}
+
+impl CcTurns {
+    /// A half turn to `side` from the origin facing +x, as points from the origin on: the room
+    /// a turn at a swath's end needs.
+    pub fn half_turn(&self, side: f64, chord_tolerance_m: f64) -> Vec<Coord> {
+        let pieces = self.turn(side, std::f64::consts::PI).expect("a half turn always ends on the circle");
+        let mut points = vec![Coord { x: 0.0, y: 0.0 }];
+        follow(Pose::new(0.0, 0.0, 0.0), &pieces, arc_step(self.r, chord_tolerance_m), |p| points.push(p));
+        points
+    }
+
+    /// How far ahead of its start a half turn reaches: to the arc's centre, then a radius on.
+    pub fn reach_ahead(&self) -> f64 {
+        if self.delta_min < std::f64::consts::PI { self.xc + self.r } else { self.half_turn(1.0, 0.01).iter().map(|p| p.x).fold(0.0, f64::max) }
     }
 }
 

@@ -11,11 +11,11 @@
 
 use geo::Coord;
 
-use super::CHORD_TOLERANCE_M;
 use super::continuous_curvature::{CcPath, CcTurns};
 use super::dubins::{self, DubinsPath, Part, Pose, all_words};
 use super::fishtail::{QuarterTurn, fishtail};
 use super::reeds_shepp::{self, ReedsSheppPath};
+use super::{CHORD_TOLERANCE_M, half_circles};
 use crate::path::TurnShape;
 
 /// One way to turn, its points drawn only when asked for (most candidates are rejected or
@@ -58,6 +58,8 @@ pub struct Steering {
     reverse: bool,
     cc: Option<CcTurns>,
     quarter: QuarterTurn,
+    /// Half turns left and right from the origin facing +x.
+    half_turns: [Vec<Coord>; 2],
 }
 
 impl Steering {
@@ -70,7 +72,23 @@ impl Steering {
             }
             None => QuarterTurn::circle(radius, CHORD_TOLERANCE_M),
         };
-        Steering { radius, reverse, cc, quarter }
+        let half_turns = match cc {
+            Some(cc) => [1.0, -1.0].map(|side| cc.half_turn(side, CHORD_TOLERANCE_M)),
+            None => half_circles(Coord { x: 0.0, y: 0.0 }, Coord { x: 1.0, y: 0.0 }, radius),
+        };
+        Steering { radius, reverse, cc, quarter, half_turns }
+    }
+
+    /// How far beyond a swath's end a turn reaches: the radius, or the continuous-curvature
+    /// half turn's reach.
+    pub fn reach_ahead(&self) -> f64 {
+        self.cc.map_or(self.radius, |cc| cc.reach_ahead())
+    }
+
+    /// The half turns to the left and to the right from `at`, leaving in the unit direction
+    /// `out`: the room a turn there needs.
+    pub fn half_turns(&self, at: Coord, out: Coord) -> [Vec<Coord>; 2] {
+        self.half_turns.clone().map(|turn| turn.into_iter().map(|p| Coord { x: at.x + p.x * out.x - p.y * out.y, y: at.y + p.x * out.y + p.y * out.x }).collect())
     }
 
     /// The radius of the circle every turn keeps within: the turning radius, or with slow

@@ -221,7 +221,7 @@ fn main() -> ExitCode {
             print!("{}", coverplan::bench::inspection::run(repeats));
             Ok(())
         }
-        Command::Bench { ground: true, data, repeats, .. } => coverplan::bench::ground::run(&data, repeats).map(|table| print!("{table}")),
+        Command::Bench { ground: true, data, repeats, fields, .. } => coverplan::bench::ground::run(&data, repeats, &fields).map(|table| print!("{table}")),
         Command::Bench { fleet: true, data, fields, .. } => coverplan::bench::fleet::run(&data, &fields).map(|table| print!("{table}")),
         Command::Bench { routing: true, .. } => {
             print!("{}", coverplan::bench::routing());

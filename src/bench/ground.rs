@@ -82,7 +82,9 @@ fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), Stri
 
 const HEADER: &str = "| field | length m | without headland passes m | F2C m | ratio | swath to swath: turns, drives along a pass, mainland crossings | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
-pub fn run(random_dir: &Path, repeats: usize) -> anyhow::Result<String> {
+/// `only`: the fields (real or generated) to plan, all when empty.
+pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result<String> {
+    let wanted = |name: &str| only.is_empty() || only.iter().any(|f| f == name);
     let real_dir = random_dir.parent().context("the fields' folder")?.join("real-fields");
     let read = |path: &Path| -> anyhow::Result<Value> { Ok(serde_json::from_str(&std::fs::read_to_string(path).with_context(|| path.display().to_string())?)?) };
     let repeats = repeats.max(1);
@@ -91,19 +93,18 @@ pub fn run(random_dir: &Path, repeats: usize) -> anyhow::Result<String> {
     let _ = writeln!(out, "Fields2Cover's configuration: 5 m wide, turning radius 3 m, headland 10 m (2 passes), forward only\n");
     out.push_str(HEADER);
     let f2c = params(5.0, 3.0, json!({"headland_width_m": 10}))?;
-    for (name, length, turns, secs) in F2C {
+    for (name, length, turns, secs) in F2C.into_iter().filter(|f| wanted(f.0)) {
         let mission = read(&real_dir.join(format!("{name}.json")))?;
         row(&mut out, name, plan(&mission, &f2c, repeats), Some((length, turns, secs)));
     }
     let _ = writeln!(out, "\nA 6 m sprayer turning on 7 m, 2 headland passes (12 m), forward only; generated fields: the `_00` of each hole count\n");
     out.push_str(HEADER);
     let sprayer = params(6.0, 7.0, json!({"headland_passes": 2}))?;
-    for (name, ..) in F2C {
+    for (name, ..) in F2C.into_iter().filter(|f| wanted(f.0)) {
         let mission = read(&real_dir.join(format!("{name}.json")))?;
         row(&mut out, name, plan(&mission, &sprayer, repeats), None);
     }
-    for holes in 0..16 {
-        let name = format!("h{holes:02}_00");
+    for name in (0..16).map(|holes| format!("h{holes:02}_00")).filter(|n| wanted(n)) {
         let mission = read(&random_dir.join(format!("{name}.json")))?;
         row(&mut out, &name, plan(&mission, &sprayer, repeats), None);
     }
@@ -122,7 +123,7 @@ pub fn run(random_dir: &Path, repeats: usize) -> anyhow::Result<String> {
         let mut vehicle = json!({"kind": "ground", "working_width_m": 6.0, "turn_radius_m": 7.0});
         vehicle.as_object_mut().context("object")?.extend(steering.as_object().context("object")?.clone());
         let params: PlanParams = serde_json::from_value(json!({"vehicle": vehicle, "headland_passes": 3}))?;
-        for (name, ..) in F2C {
+        for (name, ..) in F2C.into_iter().filter(|f| wanted(f.0)) {
             let mission = read(&real_dir.join(format!("{name}.json")))?;
             row(&mut out, &format!("{name}, {label}"), plan(&mission, &params, repeats), None);
         }

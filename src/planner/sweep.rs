@@ -213,7 +213,7 @@ fn gap_fills(rotated: &MultiPolygon, keep_out: &MultiPolygon, lines: &[Vec<Sweep
     out
 }
 
-fn merge_overlapping(sorted: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+pub fn merge_overlapping(sorted: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64)> = Vec::new();
     for (a, b) in sorted {
         match out.last_mut() {
@@ -240,6 +240,35 @@ pub fn scanline_intervals(mp: &MultiPolygon, y: f64) -> Vec<(f64, f64)> {
     }
     xs.sort_by(f64::total_cmp);
     xs.chunks_exact(2).map(|c| (c[0], c[1])).collect()
+}
+
+/// [`scanline_intervals`] at each of `ys`, sweeping the edges once from the lowest line up:
+/// each line meets only the edges active at its height.
+pub fn scanlines_intervals(mp: &MultiPolygon, ys: &[f64]) -> Vec<Vec<(f64, f64)>> {
+    let mut edges: Vec<(Coord, Coord)> = mp
+        .iter()
+        .flat_map(|poly| std::iter::once(poly.exterior()).chain(poly.interiors()))
+        .flat_map(|ring| ring.lines().map(|l| if l.start.y <= l.end.y { (l.start, l.end) } else { (l.end, l.start) }))
+        .filter(|(p, q)| p.y < q.y)
+        .collect();
+    edges.sort_by(|a, b| a.0.y.total_cmp(&b.0.y));
+    let mut order: Vec<usize> = (0..ys.len()).collect();
+    order.sort_by(|&i, &j| ys[i].total_cmp(&ys[j]));
+    let mut out = vec![Vec::new(); ys.len()];
+    let mut next = 0;
+    let mut active: Vec<(Coord, Coord)> = Vec::new();
+    for i in order {
+        let y = ys[i];
+        while next < edges.len() && edges[next].0.y <= y {
+            active.push(edges[next]);
+            next += 1;
+        }
+        active.retain(|(_, q)| q.y > y);
+        let mut xs: Vec<f64> = active.iter().map(|(p, q)| p.x + (y - p.y) * (q.x - p.x) / (q.y - p.y)).collect();
+        xs.sort_by(f64::total_cmp);
+        out[i] = xs.chunks_exact(2).map(|c| (c[0], c[1])).collect();
+    }
+    out
 }
 
 /// `[a, b]` minus the sorted, disjoint `blocked` intervals.
@@ -271,6 +300,22 @@ mod tests {
             exterior: [(x: 0., y: 0.), (x: 100., y: 0.), (x: 100., y: 100.), (x: 0., y: 100.)],
             interiors: [[(x: 30., y: 30.), (x: 30., y: 70.), (x: 70., y: 70.), (x: 70., y: 30.)]],
         )])
+    }
+
+    #[test]
+    fn scanlines_at_once_match_one_at_a_time() {
+        let field = MultiPolygon(vec![geo::Polygon::new(
+            geo::LineString::from(vec![(0.0, 0.0), (100.0, 0.0), (100.0, 60.0), (50.0, 20.0), (0.0, 60.0), (0.0, 0.0)]),
+            vec![geo::LineString::from(vec![(20.0, 5.0), (30.0, 5.0), (30.0, 15.0), (20.0, 15.0), (20.0, 5.0)])],
+        )]);
+        let ys: Vec<f64> = (0..=62).rev().map(|k| k as f64 - 0.5).collect();
+        let together = scanlines_intervals(&field, &ys);
+        for (y, got) in ys.iter().zip(&together) {
+            let one = scanline_intervals(&field, *y);
+            assert_eq!(got.len(), one.len(), "at {y}");
+            assert!(got.iter().zip(&one).all(|(a, b)| (a.0 - b.0).abs() < 1e-9 && (a.1 - b.1).abs() < 1e-9), "at {y}");
+        }
+        assert_eq!(together[52].len(), 2);
     }
 
     #[test]

@@ -151,28 +151,37 @@ fn word_params(word: Word, n: &Normalised) -> Option<[f64; 3]> {
     }
 }
 
-/// Every feasible word from `q0` to `q1` with radius `r > 0`, in the order of [`Word::ALL`].
-pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
+fn normalise(q0: Pose, q1: Pose, r: f64) -> Normalised {
     debug_assert!(r > 0.0);
     let (dx, dy) = (q1.x - q0.x, q1.y - q0.y);
     let dist = dx.hypot(dy);
     let phi = if dist > 0.0 { dy.atan2(dx) } else { 0.0 };
     let (alpha, beta) = (mod2pi(q0.theta - phi), mod2pi(q1.theta - phi));
     let ((sa, ca), (sb, cb)) = (alpha.sin_cos(), beta.sin_cos());
-    let n = Normalised { alpha, beta, d: dist / r, sa, ca, sb, cb, cab: ca * cb + sa * sb };
+    Normalised { alpha, beta, d: dist / r, sa, ca, sb, cb, cab: ca * cb + sa * sb }
+}
+
+/// Every feasible word from `q0` to `q1` with radius `r > 0`, in the order of [`Word::ALL`].
+pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
+    let n = normalise(q0, q1, r);
     Word::ALL.iter().filter_map(|&word| word_params(word, &n).map(|params| DubinsPath { start: q0, radius: r, word, params })).collect()
 }
 
 /// The shortest path from `q0` to `q1` with radius `r > 0`; ties go to the first word of
-/// [`Word::ALL`].
+/// [`Word::ALL`]. The words are priced in place, without a list (it is called millions of
+/// times by the route search).
 pub fn shortest(q0: Pose, q1: Pose, r: f64) -> DubinsPath {
-    all_words(q0, q1, r)
-        .into_iter()
-        .fold(None, |best: Option<DubinsPath>, p| match best {
-            Some(b) if b.length() <= p.length() => Some(b),
-            _ => Some(p),
-        })
-        .expect("LSL or RSR is always feasible")
+    let n = normalise(q0, q1, r);
+    let mut best: Option<DubinsPath> = None;
+    for word in Word::ALL {
+        if let Some(params) = word_params(word, &n) {
+            let path = DubinsPath { start: q0, radius: r, word, params };
+            if best.is_none_or(|b| path.length() < b.length()) {
+                best = Some(path);
+            }
+        }
+    }
+    best.expect("LSL or RSR is always feasible")
 }
 
 /// A lower bound of the shortest path from `q0` to the point `p` arriving in any heading

@@ -288,4 +288,3 @@ async fn a_sprayer_plan_with_a_pond_goes_to_the_tractor_terminal() {
     assert_eq!(xml.matches(r#"<LSG A="2""#).count(), 1, "the pond");
     app.stop().await;
 }
-

@@ -113,16 +113,12 @@ pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result
         "\nThe same sprayer by steering, 3 headland passes (18 m: a continuous-curvature turn reaches 10.6 m past the swath's end): forward, reversing (Reeds–Shepp words, fishtails), slow steering (curvature rate 0.02 /m²: clothoids of 7.1 m), both\n"
     );
     out.push_str(HEADER);
-    let steerings = [
-        ("forward", json!({})),
-        ("reversing", json!({"reverse_allowed": true})),
-        ("slow steering", json!({"max_curvature_rate": 0.02})),
-        ("both", json!({"reverse_allowed": true, "max_curvature_rate": 0.02})),
-    ];
-    for (label, steering) in steerings {
-        let mut vehicle = json!({"kind": "ground", "working_width_m": 6.0, "turn_radius_m": 7.0});
-        vehicle.as_object_mut().context("object")?.extend(steering.as_object().context("object")?.clone());
-        let params: PlanParams = serde_json::from_value(json!({"vehicle": vehicle, "headland_passes": 3}))?;
+    // (label, may reverse, curvature rate)
+    let steerings = [("forward", false, None), ("reversing", true, None), ("slow steering", false, Some(0.02)), ("both", true, Some(0.02))];
+    for (label, reverse, rate) in steerings {
+        let mut params = params(6.0, 7.0, json!({"headland_passes": 3}))?;
+        params.vehicle.reverse_allowed = Some(reverse);
+        params.vehicle.max_curvature_rate = rate;
         for (name, ..) in F2C.into_iter().filter(|f| wanted(f.0)) {
             let mission = read(&real_dir.join(format!("{name}.json")))?;
             row(&mut out, &format!("{name}, {label}"), plan(&mission, &params, repeats), None);

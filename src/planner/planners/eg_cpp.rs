@@ -245,8 +245,8 @@ fn close_cost(grid: &Grid, start: usize, last: usize, last_move: Option<usize>) 
     let turn = last_move.map_or(0.0, |m| {
         let (dc, dr) = MOVES[m];
         let (s, c) = ((b.y - a.y) / d, (b.x - a.x) / d);
-        let heading = (dr as f64).atan2(dc as f64);
-        (s.atan2(c) - heading).sin().atan2((s.atan2(c) - heading).cos()).abs().to_degrees() * TURN_J_PER_DEG
+        let change = s.atan2(c) - (dr as f64).atan2(dc as f64);
+        change.sin().atan2(change.cos()).abs().to_degrees() * TURN_J_PER_DEG
     });
     turn + run_energy(d)
 }

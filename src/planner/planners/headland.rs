@@ -100,8 +100,8 @@ const DIRECTIONS_MEASURED: usize = 8;
 
 /// The direction whose swaths and turns are shortest, each turn counted as a U turn's length:
 /// every candidate direction (the hull's edges, every degree) is estimated on the swaths'
-/// centre lines (their intervals across the mainland), and the real swaths of the best few
-/// decide. Ranking by the hull's width instead missed the best direction of fields with two
+/// bands (the mainland's intervals along each band's edges and centre line, merged), and the
+/// real swaths of the best few decide. Ranking by the hull's width instead missed the best direction of fields with two
 /// cells (81 turns where 72 do).
 fn best_direction(mainland: &MultiPolygon, layout: crate::sweep::LineLayout, radius: f64) -> f64 {
     use geo::{BoundingRect, ConvexHull};

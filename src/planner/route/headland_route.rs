@@ -107,8 +107,6 @@ pub struct HeadlandRoutes {
     /// Each road's ramp stops: `(road, vertex, position)`.
     stops: Vec<(usize, usize, Coord)>,
     steering: Steering,
-    /// The circle every turn keeps within.
-    radius: f64,
     /// How far from a pose ramps onto a road are looked for.
     reach: f64,
 }
@@ -149,7 +147,7 @@ impl HeadlandRoutes {
         let spacing = (radius / 2.0).max(1.0);
         let roads: Vec<Road> = roads.into_iter().filter(|r| r.len() >= 4).map(|r| Road::new(r, spacing)).collect();
         let stops = roads.iter().enumerate().flat_map(|(k, road)| road.stops(spacing).into_iter().map(move |i| (k, i, road.points[i]))).collect();
-        HeadlandRoutes { field: EdgeIndex::new(region), mainland: EdgeIndex::new(mainland), roads, stops, steering, radius, reach: 4.0 * radius + 2.0 * headland_m }
+        HeadlandRoutes { field: EdgeIndex::new(region), mainland: EdgeIndex::new(mainland), roads, stops, steering, reach: 4.0 * radius + 2.0 * headland_m }
     }
 
     /// Below the length in open ground: no way between the poses is shorter.
@@ -166,7 +164,7 @@ impl HeadlandRoutes {
     /// from it stays in the field; `None` when nothing is left (a swath in an acute corner,
     /// where no turn fits).
     pub fn turnable(&self, a: Coord, b: Coord) -> Option<(Coord, Coord)> {
-        turnable_stretch(a, b, self.radius, 0.05, |at, out| self.steering.half_turns(at, out).iter().any(|turn| !self.field.crossed(turn)))
+        turnable_stretch(a, b, self.steering.bounding_radius(), 0.05, |at, out| self.steering.half_turns(at, out).iter().any(|turn| !self.field.crossed(turn)))
     }
 
     /// Between fields, on the road outside them.

@@ -88,7 +88,7 @@ impl Steering {
     /// The half turns to the left and to the right from `at`, leaving in the unit direction
     /// `out`: the room a turn there needs.
     pub fn half_turns(&self, at: Coord, out: Coord) -> [Vec<Coord>; 2] {
-        self.half_turns.clone().map(|turn| turn.into_iter().map(|p| Coord { x: at.x + p.x * out.x - p.y * out.y, y: at.y + p.x * out.y + p.y * out.x }).collect())
+        self.half_turns.each_ref().map(|turn| turn.iter().map(|p| Coord { x: at.x + p.x * out.x - p.y * out.y, y: at.y + p.x * out.y + p.y * out.x }).collect())
     }
 
     /// The radius of the circle every turn keeps within: the turning radius, or with slow

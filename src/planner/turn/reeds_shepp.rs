@@ -35,20 +35,23 @@ fn polar(x: f64, y: f64) -> (f64, f64) {
     (x.hypot(y), y.atan2(x))
 }
 
-/// One family's closed form in its base orientation: the parts and their signed lengths.
-type Family = fn(f64, f64, f64) -> Option<(&'static [Part], [f64; MAX_PARTS])>;
+/// A closed form's word in its base orientation, when it exists: the parts and their signed
+/// lengths.
+type Found = Option<(&'static [Part], [f64; MAX_PARTS])>;
+/// One family's closed form, of the goal `(x, y, φ)` in radii.
+type Family = fn(f64, f64, f64) -> Found;
 
 use Part::{L, R, S};
 
 /// L+ S+ L+ (formula 8.1).
-fn lsl(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> {
+fn lsl(x: f64, y: f64, phi: f64) -> Found {
     let (u, t) = polar(x - phi.sin(), y - 1.0 + phi.cos());
     let v = wrap(phi - t);
     (t >= -EPS && v >= -EPS).then_some((&[L, S, L], [t, u, v, 0.0, 0.0]))
 }
 
 /// L+ S+ R+ (8.2).
-fn lsr(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> {
+fn lsr(x: f64, y: f64, phi: f64) -> Found {
     let (u1, t1) = polar(x + phi.sin(), y - 1.0 - phi.cos());
     let u1 = u1 * u1;
     if u1 < 4.0 {
@@ -61,7 +64,7 @@ fn lsr(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> 
 }
 
 /// L+ R- L (8.3, 8.4).
-fn lrl(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> {
+fn lrl(x: f64, y: f64, phi: f64) -> Found {
     let (u1, theta) = polar(x - phi.sin(), y - 1.0 + phi.cos());
     if u1 > 4.0 {
         return None;
@@ -84,7 +87,7 @@ fn tau_omega(u: f64, v: f64, xi: f64, eta: f64, phi: f64) -> (f64, f64) {
 }
 
 /// L+ R+ L- R- (8.7).
-fn lrlr_in(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> {
+fn lrlr_in(x: f64, y: f64, phi: f64) -> Found {
     let (xi, eta) = (x + phi.sin(), y - 1.0 - phi.cos());
     let rho = 0.25 * (2.0 + xi.hypot(eta));
     if rho > 1.0 {
@@ -96,7 +99,7 @@ fn lrlr_in(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS
 }
 
 /// L+ R- L- R+ (8.8).
-fn lrlr_out(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> {
+fn lrlr_out(x: f64, y: f64, phi: f64) -> Found {
     let (xi, eta) = (x + phi.sin(), y - 1.0 - phi.cos());
     let rho = (20.0 - xi * xi - eta * eta) / 16.0;
     if !(0.0..=1.0).contains(&rho) {
@@ -111,7 +114,7 @@ fn lrlr_out(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PART
 }
 
 /// L+ R-π/2 S- L- (8.9).
-fn lrsl(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> {
+fn lrsl(x: f64, y: f64, phi: f64) -> Found {
     let (rho, theta) = polar(x - phi.sin(), y - 1.0 + phi.cos());
     if rho < 2.0 {
         return None;
@@ -124,7 +127,7 @@ fn lrsl(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])>
 }
 
 /// L+ R-π/2 S- R- (8.10).
-fn lrsr(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> {
+fn lrsr(x: f64, y: f64, phi: f64) -> Found {
     let (xi, eta) = (x + phi.sin(), y - 1.0 - phi.cos());
     let (rho, theta) = polar(-eta, xi);
     if rho < 2.0 {
@@ -137,7 +140,7 @@ fn lrsr(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])>
 }
 
 /// L+ R-π/2 S- L-π/2 R+ (8.11).
-fn lrslr(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])> {
+fn lrslr(x: f64, y: f64, phi: f64) -> Found {
     let (xi, eta) = (x + phi.sin(), y - 1.0 - phi.cos());
     let (rho, _) = polar(xi, eta);
     if rho < 2.0 {
@@ -152,8 +155,8 @@ fn lrslr(x: f64, y: f64, phi: f64) -> Option<(&'static [Part], [f64; MAX_PARTS])
     (t >= -EPS && v >= -EPS).then_some((&[L, R, S, L, R], [t, -FRAC_PI_2, u, -FRAC_PI_2, v]))
 }
 
-/// The families, each with whether its reversal is another word (it is not for the
-/// palindromic C|C|C... forms, whose reversal is the family itself, except C|CC read back).
+/// The families, each with whether it is also read from the end: the forms with a cusp on one
+/// side only (C|CC gives CC|C, C|C_{π/2}SC gives CSC_{π/2}|C).
 const FAMILIES: [(Family, bool); 8] = [(lsl, false), (lsr, false), (lrl, true), (lrlr_in, false), (lrlr_out, false), (lrsl, true), (lrsr, true), (lrslr, false)];
 
 impl ReedsSheppPath {

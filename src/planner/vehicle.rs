@@ -333,6 +333,20 @@ impl Vehicle {
                 if self.turn_radius_m < 0.5 {
                     return Err(InputError::new("turn_radius_too_small", format!("{at}/turn_radius_m"), "a ground vehicle needs a turning radius of at least 0.5 m"));
                 }
+                // continuous-curvature turns are built for steering that reaches full lock within
+                // a quarter turn (docs/methods.md, ground §3)
+                let least = 2.0 / (std::f64::consts::PI * self.turn_radius_m * self.turn_radius_m);
+                if g.max_curvature_rate.is_some_and(|k| k < least) {
+                    return Err(InputError::new(
+                        "curvature_rate_too_low",
+                        format!("{at}/ground/max_curvature_rate"),
+                        format!(
+                            "steering this slow does not reach the {:.1} m turning radius within a quarter turn: give at least {least:.4} 1/m² (full lock within {:.1} m of travel)",
+                            self.turn_radius_m,
+                            std::f64::consts::FRAC_PI_2 * self.turn_radius_m
+                        ),
+                    ));
+                }
             }
             (_, Some(_)) => return Err(InputError::new("not_a_ground_vehicle", format!("{at}/ground"), "only a ground vehicle has ground figures")),
             _ => {}

@@ -147,14 +147,15 @@ proptest! {
         turn_radius in 2.0..8.0f64,
         passes in 1u32..4,
         reverse in any::<bool>(),
-        clothoid in prop::option::of(1.0..6.0f64),
+        lock in prop::option::of(0.1..1.0f64),
         heading in prop::option::of(0.0..180.0f64),
         first in any::<bool>(),
     ) {
         let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
         let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
-        // slow steering: the curvature reaches 1/r over `clothoid` metres, and turns need as
-        // much more room
+        // slow steering: the curvature reaches 1/r over `clothoid` metres (at most a quarter
+        // turn's π r / 2, the slowest steering accepted), and turns need as much more room
+        let clothoid = lock.map(|f| f * std::f64::consts::FRAC_PI_2 * turn_radius);
         let curvature_rate = clothoid.map(|l| 1.0 / (turn_radius * l));
         let headland = (passes as f64 * width).max(turn_radius + 1.0 + clothoid.unwrap_or(0.0));
         let mut extra = json!({"headland_width_m": headland, "headland_order": if first { "first" } else { "last" }});
@@ -210,6 +211,11 @@ fn requests_that_cannot_be_worked_are_refused_with_the_reason() {
     assert_eq!((code.as_str(), pointer.as_str()), ("headland_too_narrow", "/headland_passes"));
     let (code, pointer, _) = refused(ground(6.0, 3.0, json!({"headland_passes": 1, "headland_width_m": 10})));
     assert_eq!((code.as_str(), pointer.as_str()), ("headland_not_covered", "/headland_passes"));
+    let mut slow = ground(6.0, 7.0, json!({"headland_passes": 3}));
+    slow.vehicle.max_curvature_rate = Some(0.01);
+    let (code, pointer, detail) = refused(slow);
+    assert_eq!((code.as_str(), pointer.as_str()), ("curvature_rate_too_low", "/vehicle/ground/max_curvature_rate"));
+    assert!(detail.contains("0.0130"), "{detail}");
     let (code, pointer, _) = refused(ground(6.0, 3.0, json!({"line_spacing_m": 5})));
     assert_eq!((code.as_str(), pointer.as_str()), ("not_for_ground_vehicles", "/line_spacing_m"));
     let (code, pointer, _) = refused(ground(6.0, 3.0, json!({"planner": "boustrophedon"})));

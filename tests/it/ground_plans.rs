@@ -117,14 +117,13 @@ fn check(area: &Value, holes: &MultiPolygon, out: &PlanOutput, radius: f64, name
     }
     let g = out.stats.ground.as_ref().expect("ground figures");
     prop_assert_eq!((g.turns_leaving_field, g.turns_crossing_holes), (0, 0), "{}", name);
-    // a wide implement on a small field leaves the most at slanted ends and around ponds
-    // (0.966 seen with 11.4 m on a 2 ha field with two ponds; 0.956 with 8.4 m and three
-    // ponds on 2.7 ha, whose mainland is 0.37 ha: 161 m² unworked though no swath is dropped
-    // or shortened, kept as a regression case; the real fields keep 0.985)
-    prop_assert!(g.mainland_coverage >= 0.95, "{name}: mainland coverage {}", g.mainland_coverage);
+    // a swath runs on into the headland while a quarter of its band still holds mainland (at
+    // 0.95 before: a 3 m strip beside an edge almost parallel to the swaths was left)
+    prop_assert!(g.mainland_coverage >= 0.99, "{name}: mainland coverage {}", g.mainland_coverage);
     // passes are rounded to the turning radius and merge between close ponds: a wide implement
     // with a wide radius on a small field works the least of its band (0.83 seen: 11.7 m,
-    // radius 6.3 m, two ponds on 2 ha)
+    // radius 6.3 m, two ponds on 2 ha; 0.76 where a 31 m headland left strips between the
+    // edge's and the ponds' passes too narrow to round, now driven as they are: 0.94)
     prop_assert!(g.headland_coverage >= 0.8, "{name}: headland coverage {}", g.headland_coverage);
     prop_assert_eq!(g.u_turns + g.omega_turns + g.fishtail_turns, out.stats.turns);
     Ok(())
@@ -190,7 +189,7 @@ fn real_fields_are_worked_without_a_turn_outside_the_headland() {
         let holes = MultiPolygon(field.iter().flat_map(|p| p.interiors().iter().map(|r| Polygon::new(r.clone(), vec![]))).collect());
         check(&m["area"], &holes, &out, 3.0, name).unwrap_or_else(|e| panic!("{e}"));
         let g = out.stats.ground.as_ref().unwrap();
-        assert!(g.mainland_coverage >= 0.985 && g.headland_coverage >= 0.95, "{name}: {g:?}");
+        assert!(g.mainland_coverage >= 0.99 && g.headland_coverage >= 0.95, "{name}: {g:?}");
     }
 }
 

@@ -37,7 +37,7 @@ pub fn headland(region: &MultiPolygon, width_m: f64, passes: usize, turn_radius_
             let at_offset = without_slivers(inset(region, offset));
             let edges = at_offset.iter().map(|p| (p.exterior(), false));
             let holes = at_offset.iter().flat_map(|p| p.interiors().iter().map(|ring| (ring, true)));
-            edges.chain(holes).filter_map(|(ring, around_hole)| drivable(ring, around_hole, region, &index, turn_radius_m, offset)).flatten().collect()
+            edges.chain(holes).flat_map(|(ring, around_hole)| drivable(ring, around_hole, region, &index, turn_radius_m, offset)).collect()
         })
         .collect();
     Headland { mainland, passes, band }
@@ -47,20 +47,20 @@ pub fn headland(region: &MultiPolygon, width_m: f64, passes: usize, turn_radius_
 /// inset by `offset`): the ring's shape opened and closed by `r` (convex corners rounded
 /// inwards, concave ones outwards), each ring on its own so that a narrow neck between a hole
 /// and the edge does not merge their passes. A hole too small to round is driven round at `r`
-/// from it; a rounded ring that would leave `region` is driven as it is, corners and all.
-fn drivable(ring: &LineString, around_hole: bool, region: &MultiPolygon, edges: &EdgeIndex, r: f64, offset: f64) -> Option<Vec<Vec<Coord>>> {
+/// from it; a strip too narrow to round, or a rounded ring that would leave `region`, is driven
+/// as it is, corners and all.
+fn drivable(ring: &LineString, around_hole: bool, region: &MultiPolygon, edges: &EdgeIndex, r: f64, offset: f64) -> Vec<Vec<Coord>> {
     let shape = MultiPolygon(vec![Polygon::new(ring.clone(), vec![])]);
     let mut rounded = without_slivers(inset(&inset(&shape, r).buffer(2.0 * r), r));
     if rounded.0.is_empty() {
-        if !around_hole {
-            return None;
-        }
-        rounded = shape.buffer((r - offset).max(0.0));
+        // a strip narrower than the turning circle (between the edge and a pond's passes) is
+        // driven round as it is: it is left unworked otherwise
+        rounded = if around_hole { shape.buffer((r - offset).max(0.0)) } else { shape };
     }
     let rings: Vec<Vec<Coord>> = rounded.iter().map(|p| p.exterior().0.clone()).filter(|ring| ring.len() >= 4).collect();
     // inside the area: its first point is, and it crosses none of the area's edges
     let inside = rings.iter().all(|ring| !edges.crossed(ring) && region.contains(&ring[0]));
-    Some(if inside { rings } else { vec![ring.0.clone()] })
+    if inside { rings } else { vec![ring.0.clone()] }
 }
 
 /// The area shrunk by `d` (empty when nothing is left).

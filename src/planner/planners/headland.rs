@@ -143,30 +143,48 @@ fn best_direction(mainland: &MultiPolygon, layout: crate::sweep::LineLayout, rad
     picked.into_par_iter().map(|a| (cost(a), a)).min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1))).map_or_else(|| fewest_lines_direction(mainland, layout), |(_, a)| a)
 }
 
+/// Lines across a swath's band that measure how much of its width the mainland fills.
+const BAND_SAMPLES: usize = 8;
+/// Past the centre line's end and `slack`, a swath runs on while the mainland still fills this
+/// many of its [`BAND_SAMPLES`] (a quarter of its width): a strip beside an edge almost
+/// parallel to the swaths is worked, a slanted end's thin tip is not.
+const SAMPLES_WORTH_WORKING: usize = 2;
+
 /// The swaths over `mainland`: lines `spacing` apart at `angle`. The sweep prolongs each line
 /// so that its whole width reaches the mainland's edge; here the prolongation stops `slack`
-/// past the edge, leaving room in the headland to turn. Each is tagged with the field of
-/// `region` it lies in.
+/// past the centre line's end, leaving room in the headland to turn, unless a quarter of the
+/// band still holds mainland further on. Each is tagged with the field of `region` it lies in.
 fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f64, slack: f64) -> Vec<Line> {
     use geo::Contains;
     let pattern = sweep(mainland, &MultiPolygon(vec![]), angle, crate::sweep::LineLayout::centered(spacing));
     let rotated = crate::sweep::rotate(mainland, angle);
-    pattern
-        .lines
+    let segments: Vec<_> = pattern.lines.iter().flatten().collect();
+    // per segment: its centre line, then the samples across its band
+    let ys: Vec<f64> =
+        segments.iter().flat_map(|s| std::iter::once(s.offset).chain((0..BAND_SAMPLES).map(|j| s.lo + (s.hi - s.lo) * (j as f64 + 0.5) / BAND_SAMPLES as f64))).collect();
+    let at = crate::sweep::scanlines_intervals(&rotated, &ys);
+    segments
         .iter()
-        .flatten()
-        .filter_map(|s| {
+        .zip(at.chunks(BAND_SAMPLES + 1))
+        .filter_map(|(s, at)| {
             let mid = (s.a + s.b) / 2.0;
-            let centreline = crate::sweep::scanline_intervals(&rotated, s.offset);
+            let within = |line: &Vec<(f64, f64)>| -> Option<(f64, f64)> {
+                line.iter()
+                    .copied()
+                    .filter(|&(lo, hi)| lo <= s.b && hi >= s.a)
+                    .fold(None, |acc: Option<(f64, f64)>, (lo, hi)| Some(acc.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi)))))
+            };
             // where the centre line misses the mainland (a band grazing a tip or a pond's
             // headland) the swath still works the band's part of it, end to end
-            let (lo, hi) = centreline
-                .iter()
-                .copied()
-                .filter(|&(lo, hi)| lo <= s.b && hi >= s.a)
-                .fold(None, |acc: Option<(f64, f64)>, (lo, hi)| Some(acc.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi)))))
-                .unwrap_or((s.a, s.b));
-            let (a, b) = (s.a.max(lo - slack), s.b.min(hi + slack));
+            let (lo, hi) = within(&at[0]).unwrap_or((s.a, s.b));
+            let samples: Vec<(f64, f64)> = at[1..].iter().filter_map(within).collect();
+            let mut starts: Vec<f64> = samples.iter().map(|p| p.0).collect();
+            let mut ends: Vec<f64> = samples.iter().map(|p| p.1).collect();
+            starts.sort_by(f64::total_cmp);
+            ends.sort_by(|x, y| y.total_cmp(x));
+            let worth = |sorted: &[f64], cap: f64| sorted.get(SAMPLES_WORTH_WORKING - 1).copied().unwrap_or(cap);
+            let a = s.a.max((lo - slack).min(worth(&starts, lo - slack)));
+            let b = s.b.min((hi + slack).max(worth(&ends, hi + slack)));
             (b - a > 0.05).then(|| {
                 let (a, b) = (from_sweep_frame(angle, a, s.offset), from_sweep_frame(angle, b, s.offset));
                 let centre = from_sweep_frame(angle, mid, s.offset);
@@ -245,9 +263,11 @@ impl Drive<'_> {
         if outwards {
             order.reverse();
         }
+        // the ring just driven, also of the pass before: the way onto the next pass may start
+        // further along it (from a corner no ramp inside the field may reach the next pass)
+        let mut lap: Option<Vec<Coord>> = None;
         for rings in order {
             let mut left: Vec<&Vec<Coord>> = rings.iter().collect();
-            let mut lap: Option<Vec<Coord>> = None;
             while !left.is_empty() {
                 // the ring nearest the vehicle next
                 let here = self.at.map(|p| p.coord());

@@ -2,7 +2,7 @@
 //! edge and every hole, straight swaths over the mainland inside them, every turn between
 //! swaths in the headland, the swaths' order a generalised TSP over the real turns.
 
-use geo::{Coord, MultiPolygon};
+use geo::{Coord, LineString, MultiPolygon};
 
 use super::{PlannedPath, Planner, Problem, Progress};
 use crate::decompose::headland::Headland;
@@ -62,9 +62,10 @@ impl Planner for HeadlandPlanner {
             return Err(PlanError::Cancelled);
         }
         let half = setup.spec.working_width_m / 2.0;
+        let spacing = setup.spec.width_m / headland.passes.len().max(1) as f64;
         let mut drive = Drive { path: FlightPath::default(), at: problem.start.map(|p| Pose::at(p, problem.start_heading.unwrap_or(angle))), routes: &routes, frame: &setup.frame };
         if setup.spec.order == HeadlandOrder::First {
-            drive.passes(headland, false, half);
+            drive.passes(headland, false, half, spacing);
         }
         let links = SwathLinks::new(&lines, &routes);
         let seq = order(&links, drive.at, problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle))), &problem.connector.stop());
@@ -86,7 +87,7 @@ impl Planner for HeadlandPlanner {
             previous = Some(v);
         }
         if setup.spec.order == HeadlandOrder::Last {
-            drive.passes(headland, true, half);
+            drive.passes(headland, true, half, spacing);
         }
         if let Some(end) = problem.end {
             drive.go_to(Pose::at(end, problem.end_heading.unwrap_or_else(|| drive.at.map_or(angle, |p| p.theta))));
@@ -256,37 +257,59 @@ impl Drive<'_> {
         (nearest(here.coord())[0].1, true, 0)
     }
 
-    /// Every headland pass, each ring once round: innermost first when `outwards`, else
-    /// outermost first; within a pass, the nearest ring next.
-    fn passes(&mut self, headland: &Headland, outwards: bool, half: f64) {
-        let mut order: Vec<&Vec<Vec<Coord>>> = headland.passes.iter().collect();
-        if outwards {
-            order.reverse();
-        }
-        // the ring just driven, also of the pass before: the way onto the next pass may start
+    /// Every headland pass, innermost first when `outwards`, else outermost first, in the
+    /// shorter of two orders: pass by pass, or each ring as soon as the rings of the passes
+    /// before it that lie near it are driven (one pond's passes in order, without going round
+    /// every other pond's first). `spacing`: the distance between passes.
+    fn passes(&mut self, headland: &Headland, outwards: bool, half: f64, spacing: f64) {
+        let start = self.path.length();
+        let drives = [false, true].map(|local| {
+            let mut drive = Drive { path: self.path.clone(), ..*self };
+            drive.rings(headland, outwards, half, spacing, local);
+            drive
+        });
+        let [by_pass, local] = drives;
+        *self = if local.path.length() - start < by_pass.path.length() - start { local } else { by_pass };
+    }
+
+    /// The rings of every pass in the order [`Drive::passes`] describes (`local`: as soon as
+    /// the near ones before are driven), the nearest ready ring next.
+    fn rings(&mut self, headland: &Headland, outwards: bool, half: f64, spacing: f64, local: bool) {
+        use geo::{Distance, Euclidean};
+        let rings: Vec<(usize, &Vec<Coord>)> = headland.passes.iter().enumerate().flat_map(|(k, rings)| rings.iter().map(move |r| (k, r))).collect();
+        let lines: Vec<LineString> = rings.iter().map(|(_, r)| LineString::from(r.to_vec())).collect();
+        let first = |a: usize, b: usize| if outwards { a > b } else { a < b };
+        let waits_for: Vec<Vec<usize>> = (0..rings.len())
+            .map(|j| {
+                (0..rings.len())
+                    .filter(|&i| first(rings[i].0, rings[j].0))
+                    .filter(|&i| !local || Euclidean.distance(&lines[i], &lines[j]) <= 1.5 * spacing * rings[i].0.abs_diff(rings[j].0) as f64)
+                    .collect()
+            })
+            .collect();
+        let mut driven = vec![false; rings.len()];
+        // the ring just driven, also of the pass before: the way onto the next ring may start
         // further along it (from a corner no ramp inside the field may reach the next pass)
         let mut lap: Option<Vec<Coord>> = None;
-        for rings in order {
-            let mut left: Vec<&Vec<Coord>> = rings.iter().collect();
-            while !left.is_empty() {
-                // the ring nearest the vehicle next
-                let here = self.at.map(|p| p.coord());
-                let gap = |ring: &Vec<Coord>| here.map_or(0.0, |h| ring.iter().map(|&p| distance(h, p)).fold(f64::INFINITY, f64::min));
-                let k = (0..left.len()).min_by(|&a, &b| gap(left[a]).total_cmp(&gap(left[b]))).expect("rings left");
-                let ring = left.swap_remove(k);
-                let (i, forward, drive_on) = self.ring_entry(ring, lap.as_deref());
-                if let Some(lap) = lap.as_ref().filter(|_| drive_on > 0) {
-                    self.path.push(PieceKind::Transit, lap[..=drive_on].to_vec(), 0.0);
-                    self.at = Some(ring_pose(lap, drive_on, true));
-                }
-                let n = ring.len() - 1;
-                let points: Vec<Coord> = (0..=n).map(|j| if forward { ring[(i + j) % n] } else { ring[(i + n - j) % n] }).collect();
-                self.go_to(ring_pose(ring, i, forward));
-                let last = points[n - 1];
-                self.path.push(PieceKind::Headland, points.clone(), half);
-                self.at = Some(Pose::at(ring[i], (ring[i].y - last.y).atan2(ring[i].x - last.x)));
-                lap = Some(points);
+        loop {
+            let here = self.at.map(|p| p.coord());
+            let gap = |ring: &Vec<Coord>| here.map_or(0.0, |h| ring.iter().map(|&p| distance(h, p)).fold(f64::INFINITY, f64::min));
+            let ready = (0..rings.len()).filter(|&j| !driven[j] && waits_for[j].iter().all(|&i| driven[i]));
+            let Some(k) = ready.min_by(|&a, &b| gap(rings[a].1).total_cmp(&gap(rings[b].1)).then(a.cmp(&b))) else { break };
+            driven[k] = true;
+            let ring = rings[k].1;
+            let (i, forward, drive_on) = self.ring_entry(ring, lap.as_deref());
+            if let Some(lap) = lap.as_ref().filter(|_| drive_on > 0) {
+                self.path.push(PieceKind::Transit, lap[..=drive_on].to_vec(), 0.0);
+                self.at = Some(ring_pose(lap, drive_on, true));
             }
+            let n = ring.len() - 1;
+            let points: Vec<Coord> = (0..=n).map(|j| if forward { ring[(i + j) % n] } else { ring[(i + n - j) % n] }).collect();
+            self.go_to(ring_pose(ring, i, forward));
+            let last = points[n - 1];
+            self.path.push(PieceKind::Headland, points.clone(), half);
+            self.at = Some(Pose::at(ring[i], (ring[i].y - last.y).atan2(ring[i].x - last.x)));
+            lap = Some(points);
         }
     }
 

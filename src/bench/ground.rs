@@ -2,8 +2,8 @@
 //! the Fields2Cover 2.1 figures measured on this machine (5 m wide, turning radius 3 m,
 //! headland 10 m, its route planner with Dubins turns), and with a 6 m sprayer turning on 7 m
 //! with two headland passes on the real and the generated fields, and on the real fields
-//! with 3 passes forward, reversing, with slow steering and both: path length (and without
-//! the headland passes, which Fields2Cover's route does not drive), turns and their shapes,
+//! with 3 passes forward, reversing, with slow steering and both: path length (and from the
+//! first swath to the last: Fields2Cover's route drives no headland passes), turns and their shapes,
 //! turns leaving the field or crossing a hole, mainland and headland coverage, planning time
 //! (median of the runs) and peak memory.
 
@@ -49,6 +49,26 @@ fn plan(mission: &Value, params: &PlanParams, repeats: usize) -> Result<(PlanOut
     Ok((last.expect("one run"), quantile(&mut times, 0.5), peak_mb().unwrap_or(f64::NAN)))
 }
 
+/// The length from the first swath's start to the last swath's end: the swaths, the turns
+/// and transits between them, not the headland passes nor the ways to and between them.
+fn swath_to_swath_m(o: &PlanOutput) -> f64 {
+    let pieces: Vec<(&str, f64)> = o
+        .trajectory
+        .features
+        .iter()
+        .filter_map(|f| {
+            let p = f.properties.as_ref()?;
+            Some((p.get("kind")?.as_str()?, p.get("length_m")?.as_f64()?))
+        })
+        .collect();
+    let first = pieces.iter().position(|p| p.0 == "sweep");
+    let last = pieces.iter().rposition(|p| p.0 == "sweep");
+    match (first, last) {
+        (Some(a), Some(b)) => pieces[a..=b].iter().map(|p| p.1).sum(),
+        _ => 0.0,
+    }
+}
+
 fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), String>, f2c: Option<(f64, usize, f64)>) {
     let (o, ms, mb) = match result {
         Ok(r) => r,
@@ -58,7 +78,7 @@ fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), Stri
         }
     };
     let (s, g) = (&o.stats, o.stats.ground.clone().unwrap_or_default());
-    let without = s.length_m - g.headland_length_m;
+    let without = swath_to_swath_m(&o);
     let (theirs, ratio, their_turns, speedup) = match f2c {
         Some((len, turns, secs)) => (format!("{len:.0}"), format!("{:.3}", without / len), turns.to_string(), format!("{:.0}×", secs * 1000.0 / ms)),
         None => ("".into(), "".into(), "".into(), "".into()),
@@ -80,7 +100,7 @@ fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), Stri
     );
 }
 
-const HEADER: &str = "| field | length m | without headland passes m | F2C m | ratio | swath to swath: turns, drives along a pass, mainland crossings | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+const HEADER: &str = "| field | length m | first to last swath m | F2C m | ratio | swath to swath: turns, drives along a pass, mainland crossings | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
 /// `only`: the fields (real or generated) to plan, all when empty.
 pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result<String> {
@@ -90,12 +110,18 @@ pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result
     let repeats = repeats.max(1);
     let mut out = String::new();
     let _ = writeln!(out, "release build, median of {repeats} runs, process start not included (Fields2Cover's times include it)\n");
-    let _ = writeln!(out, "Fields2Cover's configuration: 5 m wide, turning radius 3 m, headland 10 m (2 passes), forward only\n");
+    let _ = writeln!(
+        out,
+        "Fields2Cover's configuration: 5 m wide, turning radius 3 m, headland 10 m (2 passes), forward only; our swaths with full-width ends (the default), then ending with their centre line as Fields2Cover's do\n"
+    );
     out.push_str(HEADER);
-    let f2c = params(5.0, 3.0, json!({"headland_width_m": 10}))?;
-    for (name, length, turns, secs) in F2C.into_iter().filter(|f| wanted(f.0)) {
-        let mission = read(&real_dir.join(format!("{name}.json")))?;
-        row(&mut out, name, plan(&mission, &f2c, repeats), Some((length, turns, secs)));
+    // our default swath ends, then Fields2Cover's rule (centre-line ends)
+    for (ends, label) in [("full_width", ""), ("centre_line", ", centre-line ends")] {
+        let f2c = params(5.0, 3.0, json!({"headland_width_m": 10, "swath_ends": ends}))?;
+        for (name, length, turns, secs) in F2C.into_iter().filter(|f| wanted(f.0)) {
+            let mission = read(&real_dir.join(format!("{name}.json")))?;
+            row(&mut out, &format!("{name}{label}"), plan(&mission, &f2c, repeats), Some((length, turns, secs)));
+        }
     }
     let _ = writeln!(out, "\nA 6 m sprayer turning on 7 m, 2 headland passes (12 m), forward only; generated fields: the `_00` of each hole count\n");
     out.push_str(HEADER);

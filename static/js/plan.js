@@ -70,6 +70,7 @@ export function planParams() {
     Object.assign(p.vehicle, { working_width_m: num('working-width'), turn_radius_m: num('turn-radius'), reverse_allowed: $('reverse-allowed').checked });
     p.headland_passes = num('headland-passes');
     p.headland_order = $('headland-order').value;
+    p.swath_ends = $('swath-ends').value;
   } else if ($('camera').value) {
     p.camera = { preset: $('camera').value };
     p.side_overlap = num('side-overlap');
@@ -109,6 +110,7 @@ export function restoreParams(p) {
   $('reverse-allowed').checked = Boolean(p.vehicle && p.vehicle.reverse_allowed);
   set('headland-passes', p.headland_passes);
   set('headland-order', p.headland_order);
+  set('swath-ends', p.swath_ends);
   $('camera').value = (p.camera && p.camera.preset) || '';
   set('spacing', p.line_spacing_m);
   set('altitude', p.altitude_m);

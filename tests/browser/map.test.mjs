@@ -153,6 +153,7 @@ try {
   assert.ok(!(await page.isVisible('#camera-box')) && !(await page.isVisible('#spacing-box')), 'no camera or spacing for a tractor');
   assert.equal(await page.inputValue('#planner'), 'headland');
   await page.fill('#working-width', '12');
+  await page.selectOption('#swath-ends', 'centre_line');
   await page.evaluate(() => { document.getElementById('status').textContent = ''; });
   await page.click('#plan');
   await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the tractor plan', 60000);

@@ -120,6 +120,12 @@ pub struct PlanParams {
     /// Ground vehicle: work the headland passes after the swaths (`last`, default) or before.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headland_order: Option<HeadlandOrder>,
+    /// Ground vehicle: where swaths end at a slanted headland edge: `full_width` (default) runs
+    /// each on until its whole width has worked the mainland; `centre_line` stops it where its
+    /// centre line meets the headland, shorter but leaving a small triangle beside each end
+    /// (the rule of Fields2Cover's swath generator).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub swath_ends: Option<SwathEnds>,
     /// Ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5
     /// (default 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -151,12 +157,23 @@ pub enum HeadlandOrder {
     Last,
 }
 
+/// Where a ground vehicle's swaths end at a slanted headland edge.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum SwathEnds {
+    #[default]
+    FullWidth,
+    CentreLine,
+}
+
 /// A ground vehicle's headland, validated.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HeadlandSpec {
     pub width_m: f64,
     pub passes: usize,
     pub order: HeadlandOrder,
+    pub swath_ends: SwathEnds,
     /// The implement's width: what each swath and pass works.
     pub working_width_m: f64,
 }
@@ -444,6 +461,7 @@ impl PlanParams {
                 ("/headland_passes", self.headland_passes.is_some()),
                 ("/headland_width_m", self.headland_width_m.is_some()),
                 ("/headland_order", self.headland_order.is_some()),
+                ("/swath_ends", self.swath_ends.is_some()),
                 ("/overlap", self.overlap.is_some()),
             ];
             return match given.iter().find(|(_, set)| *set) {
@@ -473,7 +491,13 @@ impl PlanParams {
                 (p as f64 * step, p)
             }
         };
-        Ok(Some(HeadlandSpec { width_m, passes, order: self.headland_order.unwrap_or_default(), working_width_m: ground.working_width_m }))
+        Ok(Some(HeadlandSpec {
+            width_m,
+            passes,
+            order: self.headland_order.unwrap_or_default(),
+            swath_ends: self.swath_ends.unwrap_or_default(),
+            working_width_m: ground.working_width_m,
+        }))
     }
 
     /// The fleet asked for by `fleet` or `vehicles`; empty for one vehicle.

@@ -9,7 +9,7 @@ use crate::decompose::headland::Headland;
 use crate::error::PlanError;
 use crate::frame::LocalFrame;
 use crate::geom::distance;
-use crate::params::{HeadlandOrder, HeadlandSpec};
+use crate::params::{HeadlandOrder, HeadlandSpec, SwathEnds};
 use crate::path::{FlightPath, PieceKind};
 use crate::route::headland_route::{HeadlandRoutes, SwathLinks, Way, connect_anywhere, order, ring_pose};
 use crate::route::line_tour::{Line, entry, exit};
@@ -53,8 +53,13 @@ impl Planner for HeadlandPlanner {
         let roads: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
         let routes = HeadlandRoutes::new(problem.region, &headland.mainland, roads, steering, setup.spec.width_m);
         // swaths run as far into the headland as their whole width needs (slanted ends), at most
-        // its width, and are pulled back where no turn fits in the field (acute corners)
-        let lines: Vec<Line> = swaths(&headland.mainland, problem.region, angle, problem.layout.spacing, setup.spec.width_m)
+        // its width, or end with their centre line; pulled back where no turn fits in the field
+        // (acute corners)
+        let slack = match setup.spec.swath_ends {
+            SwathEnds::FullWidth => Some(setup.spec.width_m),
+            SwathEnds::CentreLine => None,
+        };
+        let lines: Vec<Line> = swaths(&headland.mainland, problem.region, angle, problem.layout.spacing, slack)
             .into_iter()
             .filter_map(|l| routes.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l }))
             .collect();
@@ -151,11 +156,15 @@ const BAND_SAMPLES: usize = 8;
 /// parallel to the swaths is worked, a slanted end's thin tip is not.
 const SAMPLES_WORTH_WORKING: usize = 2;
 
+/// How far a centre-line swath end runs past the mainland's edge.
+const CENTRE_LINE_PAST_M: f64 = 0.01;
+
 /// The swaths over `mainland`: lines `spacing` apart at `angle`. The sweep prolongs each line
 /// so that its whole width reaches the mainland's edge; here the prolongation stops `slack`
 /// past the centre line's end, leaving room in the headland to turn, unless a quarter of the
-/// band still holds mainland further on. Each is tagged with the field of `region` it lies in.
-fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f64, slack: f64) -> Vec<Line> {
+/// band still holds mainland further on. Without `slack`, each ends with its centre line.
+/// Each is tagged with the field of `region` it lies in.
+fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f64, slack: Option<f64>) -> Vec<Line> {
     use geo::Contains;
     let pattern = sweep(mainland, &MultiPolygon(vec![]), angle, crate::sweep::LineLayout::centered(spacing));
     let rotated = crate::sweep::rotate(mainland, angle);
@@ -184,8 +193,11 @@ fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f
             starts.sort_by(f64::total_cmp);
             ends.sort_by(|x, y| y.total_cmp(x));
             let worth = |sorted: &[f64], cap: f64| sorted.get(SAMPLES_WORTH_WORKING - 1).copied().unwrap_or(cap);
-            let a = s.a.max((lo - slack).min(worth(&starts, lo - slack)));
-            let b = s.b.min((hi + slack).max(worth(&ends, hi + slack)));
+            let (a, b) = match slack {
+                Some(slack) => (s.a.max((lo - slack).min(worth(&starts, lo - slack))), s.b.min((hi + slack).max(worth(&ends, hi + slack)))),
+                // a centimetre on, so that a turn does not start on the mainland's edge
+                None => (s.a.max(lo - CENTRE_LINE_PAST_M), s.b.min(hi + CENTRE_LINE_PAST_M)),
+            };
             (b - a > 0.05).then(|| {
                 let (a, b) = (from_sweep_frame(angle, a, s.offset), from_sweep_frame(angle, b, s.offset));
                 let centre = from_sweep_frame(angle, mid, s.offset);
@@ -332,8 +344,25 @@ mod tests {
     fn swaths_fill_the_mainland_and_are_tagged_with_their_field() {
         let field = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 100.0, y: 60.0), (x: 0.0, y: 60.0)]]);
         let mainland = MultiPolygon(vec![polygon![(x: 12.0, y: 12.0), (x: 88.0, y: 12.0), (x: 88.0, y: 48.0), (x: 12.0, y: 48.0)]]);
-        let lines = swaths(&mainland, &field, 0.0, 6.0, 5.0);
+        let lines = swaths(&mainland, &field, 0.0, 6.0, Some(5.0));
         assert_eq!(lines.len(), 6);
         assert!(lines.iter().all(|l| l.region == 0 && (l.length() - 76.0).abs() < 0.1));
+    }
+
+    #[test]
+    fn at_a_slanted_edge_full_width_swaths_run_on_and_centre_line_ones_stop() {
+        // the right edge runs from (100, 0) to (80, 60): x = 100 − y / 3
+        let field = MultiPolygon(vec![polygon![(x: -20.0, y: -20.0), (x: 120.0, y: -20.0), (x: 120.0, y: 80.0), (x: -20.0, y: 80.0)]]);
+        let mainland = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 80.0, y: 60.0), (x: 0.0, y: 60.0)]]);
+        let full = swaths(&mainland, &field, 0.0, 6.0, Some(10.0));
+        let centre = swaths(&mainland, &field, 0.0, 6.0, None);
+        assert_eq!((full.len(), centre.len()), (10, 10));
+        for (f, c) in full.iter().zip(&centre) {
+            let right = |l: &Line| l.a.x.max(l.b.x);
+            let y = c.a.y;
+            // the centre line meets the edge at 100 − y / 3; the band's lower edge, 3 m below, 1 m further on
+            assert!((right(c) - (100.0 - y / 3.0)).abs() < 1e-6, "{c:?}");
+            assert!((right(f) - right(c) - 1.0).abs() < 1e-6, "{f:?} {c:?}");
+        }
     }
 }

@@ -180,6 +180,11 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
         p("headland_passes", "integer", "ground vehicle: working passes round the field's edge and every hole, 1 to 20 (default 2)"),
         p("headland_width_m", "number", "ground vehicle: headland width, 1 to 500 m (default: passes × working width)"),
         p("headland_order", "string", "ground vehicle: first or last (default): when the headland passes are worked"),
+        p(
+            "swath_ends",
+            "string",
+            "ground vehicle: full_width (default: each swath runs on until its whole width has worked the mainland) or centre_line (stops where its centre line meets the headland: shorter, leaves a triangle at slanted ends)",
+        ),
         p("overlap", "number", "ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5 (default 0)"),
     ]
 }

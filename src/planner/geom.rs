@@ -91,31 +91,49 @@ impl EdgeIndex {
 
     /// True when some leg of `points` crosses an edge properly (touching one does not count:
     /// a ground vehicle's swaths end on the mainland's edge). The edges near the whole
-    /// polyline are looked up once.
+    /// polyline are looked up once, then sifted per run of [`LEGS_PER_SIFT`] legs: a turn's box
+    /// holds many edges that no one of its arcs comes near.
     pub fn crossed(&self, points: &[Coord]) -> bool {
-        let Some(first) = points.first() else { return false };
-        let (lo, hi) = points.iter().fold((*first, *first), |(lo, hi), p| (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) }));
+        let Some((lo, hi)) = bounds(points) else { return false };
         let near: Vec<&Edge> = self.0.locate_in_envelope_intersecting(&AABB::from_corners([lo.x, lo.y], [hi.x, hi.y])).collect();
         if near.is_empty() {
             return false;
         }
         let size = |a: Coord, b: Coord| (b.x - a.x).abs() + (b.y - a.y).abs();
-        points.windows(2).any(|w| {
-            let (a, b) = (w[0], w[1]);
-            let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
-            near.iter().any(|e| {
-                let (p, q) = (e.0, e.1);
-                if p.x.max(q.x) < seg_lo.x || p.x.min(q.x) > seg_hi.x || p.y.max(q.y) < seg_lo.y || p.y.min(q.y) > seg_hi.y {
-                    return false;
-                }
-                // orientations are products of two lengths: the tolerance scales with both
-                let eps = 1e-9 * size(a, b) * size(p, q);
-                let (d1, d2) = (cross(a, b, p), cross(a, b, q));
-                let (d3, d4) = (cross(p, q, a), cross(p, q, b));
-                ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
+        let apart = |e: &Edge, lo: Coord, hi: Coord| e.0.x.max(e.1.x) < lo.x || e.0.x.min(e.1.x) > hi.x || e.0.y.max(e.1.y) < lo.y || e.0.y.min(e.1.y) > hi.y;
+        let mut sifted: Vec<&Edge> = Vec::new();
+        let legs = points.len() - 1;
+        (0..legs).step_by(LEGS_PER_SIFT).any(|start| {
+            let run = &points[start..=(start + LEGS_PER_SIFT).min(legs)];
+            let (lo, hi) = bounds(run).expect("a run has points");
+            sifted.clear();
+            sifted.extend(near.iter().filter(|e| !apart(e, lo, hi)));
+            run.windows(2).any(|w| {
+                let (a, b) = (w[0], w[1]);
+                let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
+                sifted.iter().any(|e| {
+                    if apart(e, seg_lo, seg_hi) {
+                        return false;
+                    }
+                    let (p, q) = (e.0, e.1);
+                    // orientations are products of two lengths: the tolerance scales with both
+                    let eps = 1e-9 * size(a, b) * size(p, q);
+                    let (d1, d2) = (cross(a, b, p), cross(a, b, q));
+                    let (d3, d4) = (cross(p, q, a), cross(p, q, b));
+                    ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
+                })
             })
         })
     }
+}
+
+/// Legs of a polyline checked against the edges sifted for their run's bounding box.
+const LEGS_PER_SIFT: usize = 8;
+
+/// The lowest and highest corner of the box around `points`.
+fn bounds(points: &[Coord]) -> Option<(Coord, Coord)> {
+    let first = *points.first()?;
+    Some(points.iter().fold((first, first), |(lo, hi), p| (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) })))
 }
 
 #[cfg(test)]
@@ -143,5 +161,30 @@ mod tests {
         let bb = bounding(&ring).expect("points");
         assert_eq!((bb.min(), bb.max()), (c(0.0, 0.0), c(4.0, 4.0)));
         assert!(bounding(&[]).is_none());
+    }
+
+    proptest::proptest! {
+        /// Sifting the edges per run of legs finds every proper crossing a check of each leg
+        /// against each edge finds, wherever along the polyline it lies.
+        #[test]
+        fn crossed_finds_what_every_leg_against_every_edge_finds(
+            radii in proptest::collection::vec(20.0..60.0f64, 12..40),
+            path in proptest::collection::vec((-80.0..80.0f64, -80.0..80.0f64), 2..40),
+        ) {
+            use geo::line_intersection::{LineIntersection, line_intersection};
+            // a star-shaped ring round the origin
+            let k = radii.len();
+            let mut ring: Vec<Coord> = radii.iter().enumerate().map(|(i, r)| {
+                let a = std::f64::consts::TAU * i as f64 / k as f64;
+                c(r * a.cos(), r * a.sin())
+            }).collect();
+            ring.push(ring[0]);
+            let area = MultiPolygon(vec![geo::Polygon::new(geo::LineString::from(ring.clone()), vec![])]);
+            let points: Vec<Coord> = path.iter().map(|&(x, y)| c(x, y)).collect();
+            let expected = points.windows(2).any(|leg| ring.windows(2).any(|edge| {
+                matches!(line_intersection(geo::Line::new(leg[0], leg[1]), geo::Line::new(edge[0], edge[1])), Some(LineIntersection::SinglePoint { is_proper: true, .. }))
+            }));
+            proptest::prop_assert_eq!(EdgeIndex::new(&area).crossed(&points), expected);
+        }
     }
 }

@@ -376,7 +376,7 @@ fn plan_until(
     let photos = resolved.camera.map(|c| flown.iter().flat_map(|f| f.sorties.iter().flat_map(move |s| photo_positions(s, &c, f.planned.sweep_angle))).collect::<Vec<_>>());
     let swept = metrics::swept(&path);
     let main = flown.first().ok_or_else(|| PlanError::Infeasible("no drone of the fleet has a part to fly".into()))?;
-    let mut stats = metrics::measure(&metrics::MeasureInput {
+    let input = metrics::MeasureInput {
         path: &path,
         swept: &swept,
         sorties: &sorties,
@@ -389,9 +389,18 @@ fn plan_until(
         sweep_heading_deg: params::math_to_bearing(main.planned.sweep_angle) % 180.0,
         cells: flown.iter().map(|f| f.planned.cells).sum(),
         photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
-    });
+    };
+    // three measures of the same swept ground, each a few set operations: side by side
+    let ground_stats = || {
+        prepared.ground.as_ref().map(|ground| {
+            let h = &ground.headland;
+            metrics::ground_stats(&path, &swept, &ground.spec, (&h.mainland, &h.band), &field.area, keep_out)
+        })
+    };
+    let ((mut stats, uncovered), ground_stats) =
+        rayon::join(|| rayon::join(|| metrics::measure(&input), || metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones))), ground_stats);
+    stats.ground = ground_stats;
     let photo_points = photos.as_deref().map(metrics::photo_points);
-    let uncovered = metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones));
     let vehicle_flights: Vec<export::geojson::VehicleFlight<'_>> = flights
         .iter()
         .enumerate()
@@ -422,10 +431,6 @@ fn plan_until(
     }
     if let Some(fleet) = fleet {
         fleet.report(&flights, &field.frame, &mut stats);
-    }
-    if let Some(ground) = &prepared.ground {
-        let h = &ground.headland;
-        stats.ground = Some(metrics::ground_stats(&path, &swept, &ground.spec, (&h.mainland, &h.band), &field.area, keep_out));
     }
     stats.lost_coverage_m = flown.iter().map(|f| f.lost_coverage_m).sum();
     stats.planner = main.planned.planner.unwrap_or(prepared.planner.id()).to_string();

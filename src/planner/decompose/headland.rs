@@ -8,6 +8,7 @@
 //! closed by the radius, three buffers.
 
 use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Polygon};
+use rayon::prelude::*;
 
 use crate::geom::EdgeIndex;
 
@@ -28,18 +29,27 @@ pub struct Headland {
 /// The headland of `region` (the field less its holes and zones): `passes` passes spread over
 /// `width_m`, rings rounded to `turn_radius_m`.
 pub fn headland(region: &MultiPolygon, width_m: f64, passes: usize, turn_radius_m: f64) -> Headland {
-    let mainland = without_slivers(inset(region, width_m));
-    let band = if mainland.0.is_empty() { region.clone() } else { region.difference(&mainland) };
     let index = EdgeIndex::new(region);
-    let passes = (0..passes)
-        .map(|k| {
-            let offset = width_m * (k as f64 + 0.5) / passes as f64;
-            let at_offset = without_slivers(inset(region, offset));
-            let edges = at_offset.iter().map(|p| (p.exterior(), false));
-            let holes = at_offset.iter().flat_map(|p| p.interiors().iter().map(|ring| (ring, true)));
-            edges.chain(holes).flat_map(|(ring, around_hole)| drivable(ring, around_hole, region, &index, turn_radius_m, offset)).collect()
-        })
-        .collect();
+    let mainland_and_band = || {
+        let mainland = without_slivers(inset(region, width_m));
+        let band = if mainland.0.is_empty() { region.clone() } else { region.difference(&mainland) };
+        (mainland, band)
+    };
+    // each pass and each of its rings on its own: the buffers are most of a plan's set-up
+    let rings_of_passes = || {
+        (0..passes)
+            .into_par_iter()
+            .map(|k| {
+                let offset = width_m * (k as f64 + 0.5) / passes as f64;
+                let at_offset = without_slivers(inset(region, offset));
+                let edges = at_offset.iter().map(|p| (p.exterior(), false));
+                let holes = at_offset.iter().flat_map(|p| p.interiors().iter().map(|ring| (ring, true)));
+                let rings: Vec<(&LineString, bool)> = edges.chain(holes).collect();
+                rings.into_par_iter().flat_map_iter(|(ring, around_hole)| drivable(ring, around_hole, region, &index, turn_radius_m, offset)).collect()
+            })
+            .collect()
+    };
+    let ((mainland, band), passes) = rayon::join(mainland_and_band, rings_of_passes);
     Headland { mainland, passes, band }
 }
 

@@ -273,18 +273,15 @@ impl<'a> SwathLinks<'a> {
         if self.lines[u / 2].region != self.lines[v / 2].region {
             return Some((self.routes.outside(from, to), false));
         }
-        // each manoeuvre drawn once: the first clear of the field's edges is the crossing's
-        let mut across: Option<Way> = None;
+        // each manoeuvre drawn once and tried on the mainland first: between far swath ends
+        // most cross it, found at their first stretch, and only the crossing needs the edges
+        let mut over_mainland: Vec<(Vec<Coord>, f64)> = Vec::new();
         for m in self.routes.steering.manoeuvres(from, to) {
             let points = m.points();
-            if self.routes.field.crossed(&points) {
-                continue;
-            }
-            if !self.routes.mainland.crossed(&points) {
+            if self.routes.mainland.crossed(&points) {
+                over_mainland.push((points, m.length));
+            } else if !self.routes.field.crossed(&points) {
                 return Some((Way { points, length: m.length, shape: Some(m.shape) }, false));
-            }
-            if across.is_none() {
-                across = Some(Way { points, length: m.length, shape: None });
             }
         }
         let road = self.routes.by_road(&self.from_exit[u], &self.to_entry[v]).or_else(|| {
@@ -296,6 +293,8 @@ impl<'a> SwathLinks<'a> {
         if let Some(w) = road {
             return Some((w, false));
         }
+        // the first clear of the field's edges
+        let across = over_mainland.into_iter().find(|(points, _)| !self.routes.field.crossed(points)).map(|(points, length)| Way { points, length, shape: None });
         let across = across.or_else(|| {
             let on = self.across_from_exit[u].get_or_init(|| self.routes.ramps(from, true, Bounds::Field));
             let off = self.across_to_entry[v].get_or_init(|| self.routes.ramps(to, false, Bounds::Field));

@@ -264,9 +264,15 @@ impl Tour<'_, '_> {
                     if inst.link_floor(u, Some(f)) + inst.link_floor(Some(l), w) - split + added_inner_floor - removed_at_most >= -EPS {
                         continue;
                     }
-                    let removed = *removed.get_or_insert_with(|| kept - inst.link(p, q));
+                    // the new links exactly before the one that closes the gap: p → q often
+                    // spans the field (a turn's other end), costly to price and seldom worth it
                     let added_inner = *added_inner.get_or_insert_with(|| inner(moved));
-                    let delta = inst.link(u, Some(f)) + inst.link(Some(l), w) - split + added_inner - removed;
+                    let added = inst.link(u, Some(f)) + inst.link(Some(l), w) - split + added_inner;
+                    if added - removed_at_most >= -EPS {
+                        continue;
+                    }
+                    let removed = *removed.get_or_insert_with(|| kept - inst.link(p, q));
+                    let delta = added - removed;
                     if delta < -EPS {
                         let rest = (0..rest_len).map(|x| rest_at(x as isize).expect("in range"));
                         let cand: Vec<usize> = rest.clone().take(k).chain(moved.iter().copied()).chain(rest.skip(k)).collect();

@@ -130,7 +130,8 @@ pub fn kicks(m: usize) -> usize {
     (20_000 / m.max(1)).clamp(30, 300)
 }
 /// Random restarts on instances of at most this many clusters, when the first search ends
-/// further than [`RESTART_GAP`] above the lower bound.
+/// further than [`RESTART_GAP`] above the lower bound: up to [`RESTARTS`], until one finds
+/// nothing better.
 const RESTART_UP_TO: usize = 40;
 const RESTARTS: usize = 3;
 const RESTART_GAP: f64 = 0.005;
@@ -359,9 +360,11 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
                 order.swap(i, rng.below(i + 1));
             }
             let found = iterated_local_search(inst, &nb, &of, optimise_clusters(inst, &order), &mut rng);
-            if inst.total(&found) < inst.total(&best) {
-                best = found;
+            // a restart that finds nothing better says the first search was near the best
+            if inst.total(&found) >= inst.total(&best) - EPS {
+                break;
             }
+            best = found;
         }
     }
     best

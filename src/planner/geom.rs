@@ -94,8 +94,8 @@ impl EdgeIndex {
     /// polyline are looked up once, then sifted per run of [`LEGS_PER_SIFT`] legs: a turn's box
     /// holds many edges that no one of its arcs comes near.
     pub fn crossed(&self, points: &[Coord]) -> bool {
-        let Some((lo, hi)) = bounds(points) else { return false };
-        let near: Vec<&Edge> = self.0.locate_in_envelope_intersecting(&AABB::from_corners([lo.x, lo.y], [hi.x, hi.y])).collect();
+        let Some(bb) = bounding(points) else { return false };
+        let near: Vec<&Edge> = self.0.locate_in_envelope_intersecting(&AABB::from_corners([bb.min().x, bb.min().y], [bb.max().x, bb.max().y])).collect();
         if near.is_empty() {
             return false;
         }
@@ -105,9 +105,9 @@ impl EdgeIndex {
         let legs = points.len() - 1;
         (0..legs).step_by(LEGS_PER_SIFT).any(|start| {
             let run = &points[start..=(start + LEGS_PER_SIFT).min(legs)];
-            let (lo, hi) = bounds(run).expect("a run has points");
+            let bb = bounding(run).expect("a run has points");
             sifted.clear();
-            sifted.extend(near.iter().filter(|e| !apart(e, lo, hi)));
+            sifted.extend(near.iter().filter(|e| !apart(e, bb.min(), bb.max())));
             run.windows(2).any(|w| {
                 let (a, b) = (w[0], w[1]);
                 let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
@@ -129,12 +129,6 @@ impl EdgeIndex {
 
 /// Legs of a polyline checked against the edges sifted for their run's bounding box.
 const LEGS_PER_SIFT: usize = 8;
-
-/// The lowest and highest corner of the box around `points`.
-fn bounds(points: &[Coord]) -> Option<(Coord, Coord)> {
-    let first = *points.first()?;
-    Some(points.iter().fold((first, first), |(lo, hi), p| (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) })))
-}
 
 #[cfg(test)]
 mod tests {

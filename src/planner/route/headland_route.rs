@@ -293,9 +293,9 @@ impl<'a> SwathLinks<'a> {
         if let Some(w) = road {
             return Some((w, false));
         }
-        // the first clear of the field's edges
-        let across = over_mainland.into_iter().find(|(points, _)| !self.routes.field.crossed(points)).map(|(points, length)| Way { points, length, shape: None });
-        let across = across.or_else(|| {
+        // the first clear of the field's edges, else by the roads across the mainland
+        let first_clear = over_mainland.into_iter().find(|(points, _)| !self.routes.field.crossed(points));
+        let across = first_clear.map(|(points, length)| Way { points, length, shape: None }).or_else(|| {
             let on = self.across_from_exit[u].get_or_init(|| self.routes.ramps(from, true, Bounds::Field));
             let off = self.across_to_entry[v].get_or_init(|| self.routes.ramps(to, false, Bounds::Field));
             self.routes.by_road(on, off)

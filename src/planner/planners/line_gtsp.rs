@@ -319,6 +319,14 @@ impl Search<'_> {
         self.problem.line_problem(lines, self.problem.allow_reentry)
     }
 
+    /// `f` of the route of `lines` on the real connections, with caches of their own: one
+    /// heading's poses are no other's, and caches kept from heading to heading grew to
+    /// hundreds of MB around many zones.
+    fn on_real_connections<T>(&self, lines: &[Line], f: impl FnOnce(&LineProblem) -> T) -> T {
+        let connector = self.problem.connector.fresh();
+        f(&LineProblem { connector: &connector, ..self.route(lines) })
+    }
+
     /// The route of `lines` on the connections combinations are ranked on.
     fn ranking_route<'l>(&'l self, lines: &'l [Line]) -> LineProblem<'l> {
         LineProblem { connector: self.ranking_connector, ..self.route(lines) }
@@ -336,7 +344,7 @@ impl Search<'_> {
             return self.instance(tables, combo).map(|(_, inst)| solved(inst));
         }
         let lines = self.lines(combo);
-        (!lines.is_empty()).then(|| solved(self.route(&lines).instance()))
+        (!lines.is_empty()).then(|| self.on_real_connections(&lines, |route| solved(route.instance())))
     }
 
     fn ranks_on_real_connections(&self) -> bool {

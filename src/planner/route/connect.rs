@@ -62,6 +62,19 @@ impl<'a> Connector<'a> {
         Connector { turn, transit, detour, via, legs_out: Legs::default(), legs_in: Legs::default(), stop: None }
     }
 
+    /// The same connections, with empty caches.
+    pub fn fresh(&self) -> Self {
+        Connector {
+            turn: self.turn,
+            transit: self.transit,
+            detour: self.detour,
+            via: self.via.clone(),
+            legs_out: Legs::default(),
+            legs_in: Legs::default(),
+            stop: self.stop.clone(),
+        }
+    }
+
     /// Finds no more connections once `stop` is raised, so that every search built on
     /// connections winds down within moments.
     pub fn stopping_on(mut self, stop: &Stop) -> Self {
@@ -103,7 +116,12 @@ impl Connector<'_> {
         }
         match self.turn {
             TurnModel::Straight => self.transit.path(from.coord(), to.coord()),
-            TurnModel::Dubins(r) => self.clear_dubins(from, to, r).or_else(|| self.via_corner(from, to, r)).or_else(|| self.dubins_detour(from, to, r)),
+            TurnModel::Dubins(r) => self.clear_dubins(from, to, r).or_else(|| {
+                // hops along the detour bound what a way through one corner may cost
+                let hops = self.dubins_detour(from, to, r);
+                let limit = hops.as_deref().map_or(f64::INFINITY, crate::geom::polyline_length);
+                self.via_corner(from, to, r, limit).or(hops)
+            }),
         }
     }
 
@@ -184,7 +202,7 @@ impl Connector<'_> {
     /// still win get their Dubins legs computed (every leg of every corner for every pose was
     /// most of the planning time around many zones); each leg's clearance is found out once
     /// per pose and via pose.
-    fn via_corner(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+    fn via_corner(&self, from: Pose, to: Pose, r: f64, limit: f64) -> Option<Vec<Coord>> {
         if self.via.is_empty() {
             return None;
         }
@@ -197,7 +215,10 @@ impl Connector<'_> {
         let open = |row: &LegRow, k: usize| row.clear[k].load(Ordering::Relaxed) != BLOCKED;
         let corners = self.via.len() / VIA_HEADINGS;
         let mut shortest_first: BinaryHeap<Reverse<(u64, u8, usize)>> = (0..corners).map(|i| Reverse(((out.bound[i] + into.bound[i]).to_bits(), 1, i))).collect();
-        while let Some(Reverse((_, corner, at))) = shortest_first.pop() {
+        while let Some(Reverse((bits, corner, at))) = shortest_first.pop() {
+            if f64::from_bits(bits) >= limit {
+                return None;
+            }
             if corner == 1 {
                 let poses = at * VIA_HEADINGS..(at + 1) * VIA_HEADINGS;
                 let legs_out = out.length[at].get_or_init(|| Box::new(std::array::from_fn(|k| shortest(from, self.via[poses.start + k], r).length())));

@@ -179,25 +179,49 @@ impl LineProblem<'_> {
     }
 
     /// The GTSP instance: clusters of two directed nodes, node costs, connection costs, and
-    /// each exit's [`CANDIDATES`] nearest entries, where the local search looks for moves.
-    /// Up to [`gtsp::ALL_NEIGHBOURS_UP_TO`] lines every connection is computed in advance, in
-    /// parallel (the search would ask for most of them, one at a time); on more, those to
-    /// the candidates are, and the rest when the search first needs them.
+    /// for each exit the entries where the local search looks for moves. Up to
+    /// [`gtsp::ALL_NEIGHBOURS_UP_TO`] lines every connection is computed in advance, in
+    /// parallel (the search would ask for most of them, one at a time), and every entry is a
+    /// candidate. On more, each exit's [`gtsp::NEIGHBOURS`] cheapest connections to its
+    /// [`CANDIDATES`] nearest entries are (see [`Self::cheapest`]), those priced on the way
+    /// are its candidates, and the rest are priced when the search first needs them.
     pub fn instance(&self) -> Instance<'_> {
-        let candidates = nearest_entries(self.lines);
         let n = 2 * self.lines.len();
-        let mut inst = if self.lines.len() <= gtsp::ALL_NEIGHBOURS_UP_TO {
+        if self.lines.len() <= gtsp::ALL_NEIGHBOURS_UP_TO {
             let raw: Vec<f64> = (0..n * n).into_par_iter().map(|i| self.connection(i / n, i % n)).collect();
-            self.assemble(raw, self.start_costs(), self.end_costs())
-        } else {
-            let pairs: Vec<(usize, usize)> = candidates.iter().enumerate().flat_map(|(u, c)| c.iter().map(move |&v| (u, v))).collect();
-            let price = |u: usize, v: usize| self.priced(u, v, self.connection(u, v));
-            let known: KnownCosts = pairs.into_par_iter().map(|(u, v)| ((u, v), price(u, v))).collect();
-            let floor = |u: usize, v: usize| self.priced(u, v, self.connection_floor(u, v));
-            self.instance_with(Costs::lazy(n, known, price, floor), self.start_costs(), self.end_costs())
-        };
+            let mut inst = self.assemble(raw, self.start_costs(), self.end_costs());
+            inst.candidates = Some(nearest_entries(self.lines));
+            return inst;
+        }
+        let priced: Vec<Vec<(usize, f64)>> = nearest_entries(self.lines).par_iter().enumerate().map(|(u, near)| self.cheapest(u, near, gtsp::NEIGHBOURS)).collect();
+        let candidates = priced.iter().map(|row| row.iter().map(|&(v, _)| v).collect()).collect();
+        let known: KnownCosts = priced.into_iter().enumerate().flat_map(|(u, row)| row.into_iter().map(move |(v, c)| ((u, v), c))).collect();
+        let price = |u: usize, v: usize| self.priced(u, v, self.connection(u, v));
+        let floor = |u: usize, v: usize| self.priced(u, v, self.connection_floor(u, v));
+        let mut inst = self.instance_with(Costs::lazy(n, known, price, floor), self.start_costs(), self.end_costs());
         inst.candidates = Some(candidates);
         inst
+    }
+
+    /// The `k` cheapest connections from the exit of `u` to the entries of `near`, without
+    /// pricing them all: in the order of their floors, until the next floor is above the
+    /// `k`-th cheapest cost found. Around no-fly zones most of a plan's time is pricing
+    /// connections, and the far candidates rarely make the cut. Returns every connection
+    /// priced, with its cost.
+    fn cheapest(&self, u: usize, near: &[usize], k: usize) -> Vec<(usize, f64)> {
+        let mut by_floor: Vec<(f64, usize)> = near.iter().map(|&v| (self.priced(u, v, self.connection_floor(u, v)), v)).collect();
+        by_floor.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut priced: Vec<(usize, f64)> = Vec::with_capacity(near.len());
+        let mut costs: Vec<f64> = Vec::with_capacity(near.len());
+        for (floor, v) in by_floor {
+            if costs.len() >= k && costs[k - 1] < floor {
+                break;
+            }
+            let c = self.priced(u, v, self.connection(u, v));
+            costs.insert(costs.partition_point(|&x| x <= c), c);
+            priced.push((v, c));
+        }
+        priced
     }
 
     /// The cost the solver sees: impossible connections get [`NO_WAY`], changes of region the

@@ -335,6 +335,36 @@ mod tests {
         assert!((problem.cost_of(&inst, &bous) - 3000.0 - 2637.6).abs() < 0.1);
     }
 
+    /// Pricing candidates in the order of their floors finds the neighbours pricing them all
+    /// finds, around a zone that blocks many of the connections.
+    #[test]
+    fn the_cheapest_connections_are_found_without_pricing_every_candidate() {
+        use geo::polygon;
+        // 30 lines 20 m apart, cut by a zone in the middle
+        let lines: Vec<Line> = (0..30)
+            .flat_map(|i| {
+                let y = 20.0 * i as f64;
+                [Line { a: Coord { x: 0.0, y }, b: Coord { x: 250.0, y }, region: 0 }, Line { a: Coord { x: 350.0, y }, b: Coord { x: 600.0, y }, region: 0 }]
+            })
+            .collect();
+        let zone = MultiPolygon(vec![polygon![(x: 270., y: -50.), (x: 330., y: -50.), (x: 330., y: 650.), (x: 270., y: 650.)]]);
+        let grown = MultiPolygon(vec![polygon![(x: 255., y: -65.), (x: 345., y: -65.), (x: 345., y: 665.), (x: 255., y: 665.)]]);
+        let (transit, detour) = (TransitPlanner::new(&zone, &zone), TransitPlanner::new(&grown, &zone));
+        let connector = Connector::new(TurnModel::Dubins(10.0), &transit, Some(&detour));
+        let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
+        let mut priced_fewer = false;
+        for (u, near) in nearest_entries(&lines).iter().enumerate() {
+            let mut all: Vec<(f64, usize)> = near.iter().map(|&v| (problem.priced(u, v, problem.connection(u, v)), v)).collect();
+            all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let found = problem.cheapest(u, near, gtsp::NEIGHBOURS);
+            let mut best: Vec<(f64, usize)> = found.iter().map(|&(v, c)| (c, v)).collect();
+            best.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            assert_eq!(best[..gtsp::NEIGHBOURS], all[..gtsp::NEIGHBOURS], "exit {u}");
+            priced_fewer |= found.len() < near.len();
+        }
+        assert!(priced_fewer, "every candidate was priced");
+    }
+
     #[test]
     fn the_bound_counts_the_region_changes_a_tour_without_reentries_makes() {
         // three lines in each of two fields side by side, flown without re-entries

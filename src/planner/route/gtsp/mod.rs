@@ -37,9 +37,15 @@ pub enum Costs<'a> {
 /// computed; 8 n² bytes, 72 MB at most), larger ones in a hash map.
 const LAZY_TABLE_UP_TO: usize = 3000;
 
+/// Instances up to this many nodes keep the floors they computed (NaN: not yet; 8 n² bytes,
+/// 8 MB at most): the local search asks for the same floors again and again, and a Dubins
+/// floor is six words with their arc tangents.
+const FLOOR_TABLE_UP_TO: usize = 1000;
+
 pub struct LazyCosts<'a> {
     n: usize,
     table: Vec<Cell<f64>>,
+    floors: Vec<Cell<f64>>,
     map: RefCell<HashMap<(usize, usize), f64, foldhash::fast::FixedState>>,
     compute: Box<dyn Fn(usize, usize) -> f64 + 'a>,
     floor: Box<dyn Fn(usize, usize) -> f64 + 'a>,
@@ -52,6 +58,7 @@ impl<'a> Costs<'a> {
         let lazy = LazyCosts {
             n,
             table: if n <= LAZY_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() },
+            floors: if n <= FLOOR_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() },
             map: RefCell::default(),
             compute: Box::new(compute),
             floor: Box::new(floor),
@@ -84,6 +91,15 @@ impl LazyCosts<'_> {
     /// flown backwards, of the same length) is known.
     fn known_either_way(&self, u: usize, v: usize, reverse: &[usize]) -> Option<f64> {
         self.known(u, v).or_else(|| self.known(reverse[v], reverse[u]))
+    }
+
+    /// The floor from `u` to `v`, computed unless kept.
+    fn floor(&self, u: usize, v: usize) -> f64 {
+        let Some(cell) = self.floors.get(u * self.n + v) else { return (self.floor)(u, v) };
+        if cell.get().is_nan() {
+            cell.set((self.floor)(u, v));
+        }
+        cell.get()
     }
 
     /// The cost from `u` to `v`, computed unless known either way.
@@ -158,7 +174,7 @@ impl Instance<'_> {
     pub fn floor(&self, u: usize, v: usize) -> f64 {
         match &self.cost {
             Costs::Dense(cost) => cost[u * self.n() + v],
-            Costs::Lazy(lazy) => lazy.known_either_way(u, v, &self.reverse).unwrap_or_else(|| (lazy.floor)(u, v)),
+            Costs::Lazy(lazy) => lazy.known_either_way(u, v, &self.reverse).unwrap_or_else(|| lazy.floor(u, v)),
         }
     }
 

@@ -81,6 +81,17 @@ struct Layers {
 }
 
 impl Layers {
+    /// True for a sliver of an inset: less than a hundredth of a swath's square, nothing a
+    /// ring or a line of its own should fly round.
+    fn negligible(&self, part: &Polygon) -> bool {
+        part.unsigned_area() <= 0.01 * self.step * self.step
+    }
+
+    /// The parts of `area` inset by `d` that are more than slivers.
+    fn inset(&self, area: &Polygon, d: f64) -> Vec<Polygon> {
+        inset(area, d).0.into_iter().filter(|p| !self.negligible(p)).collect()
+    }
+
     /// The rings inside `flown` (a ring just flown) and their own inner rings, depth first.
     fn inside(&mut self, flown: &Polygon) {
         if self.passes.len() >= MAX_PASSES {
@@ -90,7 +101,7 @@ impl Layers {
         if next.0.is_empty() {
             // the middle no ring reaches: one line along it
             for rest in inset(flown, self.half).0 {
-                if rest.unsigned_area() > 0.01 * self.step * self.step
+                if !self.negligible(&rest)
                     && let Some((a, b)) = longest_axis(&rest, flown)
                 {
                     self.passes.push(Pass::Line(a, b));
@@ -258,14 +269,24 @@ impl Planner for ESpiral {
         let half = problem.layout.half_swath();
         let mut layers = Layers { step: problem.layout.spacing, half, passes: Vec::new() };
         for field in &problem.region.0 {
-            let first = inset(field, half);
-            if first.0.is_empty()
+            let first = layers.inset(field, half);
+            if !first.is_empty() {
+                first.into_iter().for_each(|part| layers.ring(part));
+                continue;
+            }
+            // a field about a swath wide (a fleet's strip, say) is flown round a quarter swath
+            // in, which follows its bends; one straight line along it left the sides of a bent
+            // strip unswept (20 % of one), and the slivers an inset leaves are no ring to fly
+            let thin = layers.inset(field, half / 2.0);
+            if thin.is_empty()
                 && let Some((a, b)) = longest_axis(field, field)
             {
                 layers.passes.push(Pass::Line(a, b));
             }
-            for part in first.0 {
-                layers.ring(part);
+            for part in thin {
+                let mut pts = part.exterior().simplify(RING_TOLERANCE_M).0;
+                pts.pop();
+                layers.passes.push(Pass::Ring(pts));
             }
         }
         if layers.passes.is_empty() {

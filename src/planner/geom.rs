@@ -24,6 +24,12 @@ pub fn polyline_length(points: &[Coord]) -> f64 {
     points.windows(2).map(|w| distance(w[0], w[1])).sum()
 }
 
+/// How far apart two axes are (radians, directions taken modulo π): at most π/2.
+pub fn axial_difference(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(std::f64::consts::PI);
+    d.min(std::f64::consts::PI - d)
+}
+
 /// Cross product of `a − o` and `b − o`: positive when `o → a → b` turns counter-clockwise.
 pub fn cross(o: Coord, a: Coord, b: Coord) -> f64 {
     (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)

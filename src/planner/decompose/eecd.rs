@@ -55,11 +55,6 @@ fn min_width_sum_cut(ring: &[Coord], i: usize, min_area: f64) -> Option<Cut> {
     best.map(|(_, c)| c).or_else(|| naive_cut(ring, i))
 }
 
-fn axial_difference(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(std::f64::consts::PI);
-    d.min(std::f64::consts::PI - d)
-}
-
 /// Merges neighbouring pieces with the same width direction while their union is one
 /// polygon, monotone along that direction.
 fn merge_monotone(mut pieces: Vec<Polygon>) -> Vec<Polygon> {
@@ -78,7 +73,7 @@ fn merge_monotone(mut pieces: Vec<Polygon>) -> Vec<Polygon> {
                     continue;
                 }
                 let (di, dj) = (direction(&pieces[i]), direction(&pieces[j]));
-                if axial_difference(di, dj) >= MERGE_TOLERANCE {
+                if crate::geom::axial_difference(di, dj) >= MERGE_TOLERANCE {
                     continue;
                 }
                 let union = MultiPolygon(vec![pieces[i].clone()]).union(&MultiPolygon(vec![pieces[j].clone()]));

@@ -115,11 +115,16 @@ impl Layers {
     }
 
     fn ring(&mut self, ring: Polygon) {
+        self.push_ring(&ring);
+        self.inside(&ring);
+    }
+
+    /// One pass round `ring`, without the rings inside it.
+    fn push_ring(&mut self, ring: &Polygon) {
         // insets come with arcs of sub-millimetre segments: waypoints a flight file should not carry
         let mut pts = ring.exterior().simplify(RING_TOLERANCE_M).0;
         pts.pop(); // the closing point
         self.passes.push(Pass::Ring(pts));
-        self.inside(&ring);
     }
 }
 
@@ -283,11 +288,7 @@ impl Planner for ESpiral {
             {
                 layers.passes.push(Pass::Line(a, b));
             }
-            for part in thin {
-                let mut pts = part.exterior().simplify(RING_TOLERANCE_M).0;
-                pts.pop();
-                layers.passes.push(Pass::Ring(pts));
-            }
+            thin.iter().for_each(|part| layers.push_ring(part));
         }
         if layers.passes.is_empty() {
             return Err(no_sweep_lines());

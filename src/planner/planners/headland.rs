@@ -134,7 +134,7 @@ fn best_direction(mainland: &MultiPolygon, layout: crate::sweep::LineLayout, rad
     let mut picked: Vec<f64> = Vec::new();
     for (_, a) in ranked {
         // directions within a degree of one already picked give the same swaths
-        if picked.iter().all(|&p| ((a - p).rem_euclid(std::f64::consts::PI)).min((p - a).rem_euclid(std::f64::consts::PI)) > 1f64.to_radians()) {
+        if picked.iter().all(|&p| crate::geom::axial_difference(a, p) > 1f64.to_radians()) {
             picked.push(a);
         }
         if picked.len() == DIRECTIONS_MEASURED {

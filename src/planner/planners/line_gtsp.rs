@@ -169,7 +169,7 @@ impl Ranking {
     /// of a plan's time.
     fn expect_as_neighbours(&mut self) {
         let settled: Vec<(Vec<f64>, f64)> = self.ranked.iter().filter(|r| r.seq.is_some() && r.cost.is_finite()).map(|r| (r.choice.clone(), (r.cost / r.quick).max(1.0))).collect();
-        let apart = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| angle_apart(*x, *y)).fold(0.0, f64::max);
+        let apart = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| crate::geom::axial_difference(*x, *y)).fold(0.0, f64::max);
         for r in self.ranked.iter_mut().filter(|r| r.seq.is_none()) {
             let least = settled.iter().filter(|(choice, _)| apart(choice, &r.choice) <= NEAR_DEG.to_radians() + 1e-9).map(|(_, raise)| *raise).reduce(f64::min);
             r.cost = r.quick * least.unwrap_or(1.0);
@@ -188,12 +188,6 @@ impl Ranking {
             })
             .collect()
     }
-}
-
-/// Two headings apart (radians, headings in [0, π)).
-fn angle_apart(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(std::f64::consts::PI);
-    d.min(std::f64::consts::PI - d)
 }
 
 /// Lines of one field at one heading.

@@ -197,11 +197,11 @@ impl Connector<'_> {
 
     /// Two clear Dubins paths through one corner of the detour graph, passed in one of
     /// [`VIA_HEADINGS`] headings: the shortest such pair (the first of equals in corner
-    /// order), `None` when none is shorter than `limit`. Best first from a heap: the shortest ways to a corner and on from it, in any
-    /// heading ([`to_point_lower_bound`]), bound its legs from below, so only corners that can
-    /// still win get their Dubins legs computed (every leg of every corner for every pose was
-    /// most of the planning time around many zones); each leg's clearance is found out once
-    /// per pose and via pose.
+    /// order), `None` when none is shorter than `limit`. Best first from a heap: the shortest
+    /// ways to a corner and on from it, in any heading ([`to_point_lower_bound`]), bound its
+    /// legs from below, so only corners that can still win get their Dubins legs computed
+    /// (every leg of every corner for every pose was most of the planning time around many
+    /// zones); each leg's clearance is found out once per pose and via pose.
     fn via_corner(&self, from: Pose, to: Pose, r: f64, limit: f64) -> Option<Vec<Coord>> {
         if self.via.is_empty() {
             return None;

@@ -112,11 +112,11 @@ pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result
     let _ = writeln!(out, "release build, median of {repeats} runs, process start not included (Fields2Cover's times include it)\n");
     let _ = writeln!(
         out,
-        "Fields2Cover's configuration: 5 m wide, turning radius 3 m, headland 10 m (2 passes), forward only; our swaths with full-width ends (the default), then ending with their centre line as Fields2Cover's do\n"
+        "Fields2Cover's configuration: 5 m wide, turning radius 3 m, headland 10 m (2 passes), forward only; our swaths with balanced ends (the default), with full-width ends, then ending with their centre line as Fields2Cover's do\n"
     );
     out.push_str(HEADER);
-    // our default swath ends, then Fields2Cover's rule (centre-line ends)
-    for (ends, label) in [("full_width", ""), ("centre_line", ", centre-line ends")] {
+    // our default swath ends, the longest, then Fields2Cover's rule (centre-line ends)
+    for (ends, label) in [("balanced", ""), ("full_width", ", full-width ends"), ("centre_line", ", centre-line ends")] {
         let f2c = params(5.0, 3.0, json!({"headland_width_m": 10, "swath_ends": ends}))?;
         for (name, length, turns, secs) in F2C.into_iter().filter(|f| wanted(f.0)) {
             let mission = read(&real_dir.join(format!("{name}.json")))?;

@@ -196,13 +196,18 @@ fn real_fields_are_worked_without_a_turn_outside_the_headland() {
 }
 
 /// Swaths that end with their centre line (Fields2Cover's rule) make a shorter path that
-/// leaves the slanted ends' triangles; full-width ends (the default) work them.
+/// leaves the slanted ends' triangles; full-width ends work them; balanced ends (the default)
+/// lie between, working the mainland to 99 % or more.
 #[test]
-fn centre_line_swath_ends_are_shorter_and_full_width_ones_work_more() {
+fn centre_line_swath_ends_are_shorter_full_width_ones_work_more_and_balanced_ones_lie_between() {
     for name in ["nl-parcel-b", "ee-field-3-holes"] {
         let m = common::fixture(&format!("real-fields/{name}.json"));
-        let plan = |ends: &str| {
-            let out = run(&m["area"], None, &ground(5.0, 3.0, json!({"headland_width_m": 10, "swath_ends": ends}))).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let plan = |ends: Option<&str>| {
+            let mut extra = json!({"headland_width_m": 10});
+            if let Some(ends) = ends {
+                extra["swath_ends"] = json!(ends);
+            }
+            let out = run(&m["area"], None, &ground(5.0, 3.0, extra)).unwrap_or_else(|e| panic!("{name}: {e}"));
             let field = to_local_mp(&frame_of(&m["area"]), &m["area"]);
             let holes = MultiPolygon(field.iter().flat_map(|p| p.interiors().iter().map(|r| Polygon::new(r.clone(), vec![]))).collect());
             // centre-line ends leave the slanted ends' triangles: 0.984 on ee-field-3-holes
@@ -210,9 +215,12 @@ fn centre_line_swath_ends_are_shorter_and_full_width_ones_work_more() {
             let g = out.stats.ground.unwrap();
             (out.stats.length_m, g.mainland_coverage)
         };
-        let (full, centre) = (plan("full_width"), plan("centre_line"));
-        assert!(centre.0 < full.0, "{name}: centre-line ends {centre:?}, full width {full:?}");
-        assert!(full.1 > centre.1 && full.1 >= 0.99, "{name}: centre-line ends {centre:?}, full width {full:?}");
+        let (full, centre, balanced) = (plan(Some("full_width")), plan(Some("centre_line")), plan(Some("balanced")));
+        let all = format!("{name}: centre-line ends {centre:?}, balanced {balanced:?}, full width {full:?}");
+        assert!(centre.0 < balanced.0 && balanced.0 < full.0, "{all}");
+        assert!(full.1 > centre.1 && full.1 >= 0.99, "{all}");
+        assert!(balanced.1 > centre.1 && balanced.1 >= 0.99, "{all}");
+        assert_eq!(balanced, plan(None), "{name}: balanced is the default");
     }
 }
 

@@ -120,10 +120,13 @@ pub struct PlanParams {
     /// Ground vehicle: work the headland passes after the swaths (`last`, default) or before.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headland_order: Option<HeadlandOrder>,
-    /// Ground vehicle: where swaths end at a slanted headland edge: `full_width` (default) runs
-    /// each on until its whole width has worked the mainland; `centre_line` stops it where its
-    /// centre line meets the headland, shorter but leaving a small triangle beside each end
-    /// (the rule of Fields2Cover's swath generator).
+    /// Ground vehicle: where swaths end at a slanted headland edge: `balanced` (default) runs
+    /// each on while a quarter of its width still has mainland to work; `full_width` until its
+    /// whole width has worked the mainland; `centre_line` stops it where its centre line meets
+    /// the headland, shortest but leaving a triangle beside each end (the rule of Fields2Cover's
+    /// swath generator). At a straight slanted edge `balanced` leaves a quarter of the triangle
+    /// `centre_line` leaves, for half the length `full_width` adds; it runs further where that
+    /// would leave more than 0.5 % of the mainland.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub swath_ends: Option<SwathEnds>,
     /// Ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5
@@ -163,6 +166,7 @@ pub enum HeadlandOrder {
 #[serde(rename_all = "snake_case")]
 pub enum SwathEnds {
     #[default]
+    Balanced,
     FullWidth,
     CentreLine,
 }

@@ -183,7 +183,7 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
         p(
             "swath_ends",
             "string",
-            "ground vehicle: full_width (default: each swath runs on until its whole width has worked the mainland) or centre_line (stops where its centre line meets the headland: shorter, leaves a triangle at slanted ends)",
+            "ground vehicle: balanced (default: each swath runs on while a quarter of its width still has mainland to work), full_width (until its whole width has worked the mainland) or centre_line (stops where its centre line meets the headland: shortest, leaves a triangle at slanted ends)",
         ),
         p("overlap", "number", "ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5 (default 0)"),
     ]

@@ -96,44 +96,40 @@ impl EdgeIndex {
     }
 
     /// True when some leg of `points` crosses an edge properly (touching one does not count:
-    /// a ground vehicle's swaths end on the mainland's edge). The edges near the whole
-    /// polyline are looked up once, then sifted per run of [`LEGS_PER_SIFT`] legs: a turn's box
-    /// holds many edges that no one of its arcs comes near.
+    /// a ground vehicle's swaths end on the mainland's edge). The edges are looked up per run
+    /// of [`LEGS_PER_SIFT`] legs, in order: a long manoeuvre over an area usually crosses its
+    /// edge in its first runs, and one look-up for its whole box would gather most edges.
     pub fn crossed(&self, points: &[Coord]) -> bool {
-        let Some(bb) = bounding(points) else { return false };
-        let near: Vec<&Edge> = self.0.locate_in_envelope_intersecting(&AABB::from_corners([bb.min().x, bb.min().y], [bb.max().x, bb.max().y])).collect();
-        if near.is_empty() {
-            return false;
-        }
         let size = |a: Coord, b: Coord| (b.x - a.x).abs() + (b.y - a.y).abs();
         let apart = |e: &Edge, lo: Coord, hi: Coord| e.0.x.max(e.1.x) < lo.x || e.0.x.min(e.1.x) > hi.x || e.0.y.max(e.1.y) < lo.y || e.0.y.min(e.1.y) > hi.y;
-        let mut sifted: Vec<&Edge> = Vec::new();
-        let legs = points.len() - 1;
+        let mut near: Vec<&Edge> = Vec::new();
+        let legs = points.len().saturating_sub(1);
         (0..legs).step_by(LEGS_PER_SIFT).any(|start| {
             let run = &points[start..=(start + LEGS_PER_SIFT).min(legs)];
             let bb = bounding(run).expect("a run has points");
-            sifted.clear();
-            sifted.extend(near.iter().filter(|e| !apart(e, bb.min(), bb.max())));
-            run.windows(2).any(|w| {
-                let (a, b) = (w[0], w[1]);
-                let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
-                sifted.iter().any(|e| {
-                    if apart(e, seg_lo, seg_hi) {
-                        return false;
-                    }
-                    let (p, q) = (e.0, e.1);
-                    // orientations are products of two lengths: the tolerance scales with both
-                    let eps = 1e-9 * size(a, b) * size(p, q);
-                    let (d1, d2) = (cross(a, b, p), cross(a, b, q));
-                    let (d3, d4) = (cross(p, q, a), cross(p, q, b));
-                    ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
+            near.clear();
+            near.extend(self.0.locate_in_envelope_intersecting(&AABB::from_corners([bb.min().x, bb.min().y], [bb.max().x, bb.max().y])));
+            !near.is_empty()
+                && run.windows(2).any(|w| {
+                    let (a, b) = (w[0], w[1]);
+                    let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
+                    near.iter().any(|e| {
+                        if apart(e, seg_lo, seg_hi) {
+                            return false;
+                        }
+                        let (p, q) = (e.0, e.1);
+                        // orientations are products of two lengths: the tolerance scales with both
+                        let eps = 1e-9 * size(a, b) * size(p, q);
+                        let (d1, d2) = (cross(a, b, p), cross(a, b, q));
+                        let (d3, d4) = (cross(p, q, a), cross(p, q, b));
+                        ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
+                    })
                 })
-            })
         })
     }
 }
 
-/// Legs of a polyline checked against the edges sifted for their run's bounding box.
+/// Legs of a polyline checked against the edges found in their run's bounding box.
 const LEGS_PER_SIFT: usize = 8;
 
 #[cfg(test)]

@@ -145,9 +145,9 @@ pub const ALL_NEIGHBOURS_UP_TO: usize = 16;
 pub fn kicks(m: usize) -> usize {
     (20_000 / m.max(1)).clamp(30, 300)
 }
-/// Random restarts on instances of at most this many clusters, when the first search ends
-/// further than [`RESTART_GAP`] above the lower bound: up to [`RESTARTS`], until one finds
-/// nothing better.
+/// On instances of at most this many clusters the lower bound is computed: kicks go on only
+/// while the best is further than [`RESTART_GAP`] above it, and so do random restarts (up to
+/// [`RESTARTS`], until one finds nothing better).
 const RESTART_UP_TO: usize = 40;
 const RESTARTS: usize = 3;
 const RESTART_GAP: f64 = 0.005;
@@ -364,9 +364,11 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
     let m = inst.clusters.len();
     let (of, nb) = neighbours(inst);
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
-    let mut best = iterated_local_search(inst, &nb, &of, greedy_with(inst, &nb, &of), &mut rng);
-    // restarts only while a better order can still exist by more than the gap
-    if m <= RESTART_UP_TO && inst.total(&best) > lower_bound(inst) * (1.0 + RESTART_GAP) {
+    // on instances small enough for restarts, kicks and restarts go on only while a better
+    // order can still exist by more than the gap
+    let good_enough = (m <= RESTART_UP_TO).then(|| lower_bound(inst) * (1.0 + RESTART_GAP));
+    let mut best = iterated_local_search(inst, &nb, &of, greedy_with(inst, &nb, &of), good_enough, &mut rng);
+    if let Some(good_enough) = good_enough.filter(|&g| inst.total(&best) > g) {
         for _ in 0..RESTARTS {
             if inst.stop.requested() {
                 break;
@@ -375,7 +377,7 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
             for i in (1..m).rev() {
                 order.swap(i, rng.below(i + 1));
             }
-            let found = iterated_local_search(inst, &nb, &of, optimise_clusters(inst, &order), &mut rng);
+            let found = iterated_local_search(inst, &nb, &of, optimise_clusters(inst, &order), Some(good_enough), &mut rng);
             // a restart that finds nothing better says the first search was near the best
             if inst.total(&found) >= inst.total(&best) - EPS {
                 break;
@@ -386,7 +388,9 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
     best
 }
 
-fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: Vec<usize>, rng: &mut Rng) -> Vec<usize> {
+/// Kicks until [`STALL_KICKS`] in a row find nothing better, or the best costs no more than
+/// `good_enough`.
+fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: Vec<usize>, good_enough: Option<f64>, rng: &mut Rng) -> Vec<usize> {
     let m = start.len();
     let total = inst.total(&start);
     let (mut best, mut best_cost) = local_search(inst, nb, of, (start, total), 0..m, true);
@@ -396,7 +400,7 @@ fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: 
     let stall = STALL_KICKS.max(m);
     let mut since_better = 0;
     for _ in 0..kicks(m) {
-        if since_better == stall || inst.stop.requested() {
+        if since_better == stall || good_enough.is_some_and(|g| best_cost <= g) || inst.stop.requested() {
             break;
         }
         since_better += 1;

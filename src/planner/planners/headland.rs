@@ -173,9 +173,11 @@ enum Cut {
     Slack(f64),
 }
 
-/// How far a swath's band reaches into the mainland, in the sweep frame: its centre line's
-/// interval and its samples' starts and ends, furthest first.
+/// How far a swath's band reaches into the mainland, in the sweep frame: its own extent, its
+/// centre line's interval and its samples' starts and ends, furthest first.
 struct Band {
+    a: f64,
+    b: f64,
     lo: f64,
     hi: f64,
     starts: Vec<f64>,
@@ -184,8 +186,9 @@ struct Band {
 }
 
 impl Band {
-    /// The swath's ends (sweep frame) by `cut`, within the band's own extent `[a, b]`.
-    fn cut(&self, cut: Cut, a: f64, b: f64) -> (f64, f64) {
+    /// The swath's ends (sweep frame) by `cut`, within the band's own extent.
+    fn cut(&self, cut: Cut) -> (f64, f64) {
+        let (a, b) = (self.a, self.b);
         // at least a centimetre on, so that a turn does not start on the mainland's edge
         let (lo, hi) = (self.lo - CENTRE_LINE_PAST_M, self.hi + CENTRE_LINE_PAST_M);
         match cut {
@@ -252,7 +255,7 @@ fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f
             let mut ends: Vec<f64> = samples.iter().map(|p| p.1).collect();
             starts.sort_by(f64::total_cmp);
             ends.sort_by(|x, y| y.total_cmp(x));
-            Band { lo, hi, starts, ends, width: s.hi - s.lo }
+            Band { a: s.a, b: s.b, lo, hi, starts, ends, width: s.hi - s.lo }
         })
         .collect();
     let cut = match rule {
@@ -263,9 +266,8 @@ fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f
             let left = |share: f64| -> f64 {
                 bands
                     .iter()
-                    .zip(&segments)
-                    .map(|(band, s)| {
-                        let (a, b) = band.cut(Cut::Share(share), s.a, s.b);
+                    .map(|band| {
+                        let (a, b) = band.cut(Cut::Share(share));
                         band.left_unworked(a, b)
                     })
                     .sum()
@@ -277,7 +279,7 @@ fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f
         .iter()
         .zip(&segments)
         .filter_map(|(band, s)| {
-            let (a, b) = band.cut(cut, s.a, s.b);
+            let (a, b) = band.cut(cut);
             (b - a > 0.05).then(|| {
                 let (a, b) = (from_sweep_frame(angle, a, s.offset), from_sweep_frame(angle, b, s.offset));
                 let centre = from_sweep_frame(angle, (s.a + s.b) / 2.0, s.offset);

@@ -10,7 +10,7 @@ use std::sync::{Arc, OnceLock, RwLock};
 
 use geo::{Coord, Rect};
 
-use super::visibility::TransitPlanner;
+use super::visibility::{TransitPlanner, Tree};
 use crate::stop::Stop;
 use crate::turn::dubins::{DubinsPath, Pose, all_words, shortest, to_point_lower_bound};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel, half_circles, turnable_stretch};
@@ -28,11 +28,16 @@ pub struct Connector<'a> {
     /// row serves all its connections.
     legs_out: Legs,
     legs_in: Legs,
+    /// Fixed wing around zones: per place, the detour graph's shortest ways from it, and its
+    /// corners in sight from it; a line end serves many connections.
+    trees: Places<Tree>,
+    sights: Places<Vec<(usize, f64)>>,
     /// Once raised, connections cost nothing to find: none is found.
     stop: Option<Stop>,
 }
 
 type Legs = RwLock<HashMap<[u64; 3], Arc<LegRow>>>;
+type Places<T> = RwLock<HashMap<[u64; 2], Arc<T>>>;
 
 /// The legs between one pose and every via pose: their Dubins lengths, computed per corner
 /// the first time a connection looks at the corner, and whether each leg stays clear of the
@@ -59,7 +64,7 @@ impl<'a> Connector<'a> {
             }
             _ => Vec::new(),
         };
-        Connector { turn, transit, detour, via, legs_out: Legs::default(), legs_in: Legs::default(), stop: None }
+        Connector { turn, transit, detour, via, legs_out: Legs::default(), legs_in: Legs::default(), trees: Places::default(), sights: Places::default(), stop: None }
     }
 
     /// The same connections, with empty caches.
@@ -71,6 +76,8 @@ impl<'a> Connector<'a> {
             via: self.via.clone(),
             legs_out: Legs::default(),
             legs_in: Legs::default(),
+            trees: Places::default(),
+            sights: Places::default(),
             stop: self.stop.clone(),
         }
     }
@@ -268,7 +275,14 @@ impl Connector<'_> {
     /// Dubins hops through the corners of a detour, each corner passed heading from the
     /// previous corner towards the next.
     fn dubins_detour(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
-        let corners = self.detour?.path(from.coord(), to.coord())?;
+        let detour = self.detour?;
+        let (a, b) = (from.coord(), to.coord());
+        let corners = if detour.is_clear(a, b) {
+            vec![a, b]
+        } else {
+            let tree = place(&self.trees, a, || detour.tree_from(a));
+            detour.path_between(&tree, b, &place(&self.sights, b, || detour.seen_from(b)))?
+        };
         let k = corners.len();
         let mut poses = vec![from];
         for i in 1..k - 1 {
@@ -283,6 +297,16 @@ impl Connector<'_> {
         }
         Some(out)
     }
+}
+
+/// What `places` holds for `at`, made by `make` on first use.
+fn place<T>(places: &Places<T>, at: Coord, make: impl FnOnce() -> T) -> Arc<T> {
+    let key = [at.x.to_bits(), at.y.to_bits()];
+    if let Some(found) = places.read().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return found.clone();
+    }
+    let made = Arc::new(make());
+    places.write().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(made).clone()
 }
 
 /// A box that holds every Dubins word between the two poses: each part stays within 4r of

@@ -11,6 +11,14 @@ use geo::{BoundingRect, Coord, Intersects, LineString, MultiPolygon, Polygon, Re
 
 use crate::geom::{bounding, cross, distance, point_in_ring, signed_area};
 
+/// The shortest ways from a place to every node of a [`TransitPlanner`].
+pub struct Tree {
+    from: Coord,
+    dist: Vec<f64>,
+    /// Each node's predecessor (`usize::MAX`: reached straight from `from`).
+    prev: Vec<usize>,
+}
+
 pub struct TransitPlanner {
     /// Rings a leg may not enter, with their bounding boxes.
     walls: Vec<(Rect, Vec<Coord>)>,
@@ -57,25 +65,36 @@ impl TransitPlanner {
         if self.is_clear(a, b) {
             return Some(vec![a, b]);
         }
-        let from_a = self.seen_from(a);
-        let (dist, prev) = self.dijkstra(&from_a);
+        self.path_between(&self.tree_from(a), b, &self.seen_from(b))
+    }
+
+    /// The shortest ways from `a` to every node, for [`Self::path_between`]: a place that many
+    /// paths start from computes it once.
+    pub fn tree_from(&self, a: Coord) -> Tree {
+        let (dist, prev) = self.dijkstra(&self.seen_from(a));
+        Tree { from: a, dist, prev }
+    }
+
+    /// Shortest polyline from the tree's place to `b`, whose nodes in sight are `seen` (from
+    /// [`Self::seen_from`]), through at least one node; `None` when there is none.
+    pub fn path_between(&self, tree: &Tree, b: Coord, seen: &[(usize, f64)]) -> Option<Vec<Coord>> {
         // the last corner: the one seen from `b` that ends the shortest way (first minimum)
-        let (mut cur, total) = self.seen_from(b).into_iter().map(|(w, d)| (w, dist[w] + d)).fold((usize::MAX, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc });
+        let (mut cur, total) = seen.iter().map(|&(w, d)| (w, tree.dist[w] + d)).fold((usize::MAX, f64::INFINITY), |acc, x| if x.1 < acc.1 { x } else { acc });
         if !total.is_finite() {
             return None;
         }
         let mut out = vec![b];
         while cur != usize::MAX {
             out.push(self.nodes[cur]);
-            cur = prev[cur];
+            cur = tree.prev[cur];
         }
-        out.push(a);
+        out.push(tree.from);
         out.reverse();
         Some(out)
     }
 
     /// The nodes seen from `p`, with their distance.
-    fn seen_from(&self, p: Coord) -> Vec<(usize, f64)> {
+    pub fn seen_from(&self, p: Coord) -> Vec<(usize, f64)> {
         (0..self.nodes.len()).filter(|&i| self.is_clear(p, self.nodes[i])).map(|i| (i, distance(p, self.nodes[i]))).collect()
     }
 
@@ -273,6 +292,55 @@ mod tests {
         let expected = 2.0 * (38.0f64.hypot(12.0)) + 24.0;
         assert!((len - expected).abs() < 1e-9, "{len} vs {expected}");
         assert!(p.windows(2).all(|w| tp.is_clear(w[0], w[1])));
+    }
+
+    #[test]
+    fn one_tree_from_a_place_gives_its_shortest_paths_to_many_places() {
+        let walls = MultiPolygon(vec![square(40.0, 20.0, 20.0), square(40.0, 60.0, 20.0), square(80.0, 35.0, 10.0)]);
+        let corners = MultiPolygon(walls.iter().map(|p| square(p.exterior().0[0].x - 2.0, p.exterior().0[0].y - 2.0, p.exterior().0[2].x - p.exterior().0[0].x + 4.0)).collect());
+        let tp = TransitPlanner::new(&corners, &walls);
+        let a = Coord { x: 0.0, y: 50.0 };
+        let tree = tp.tree_from(a);
+        let mut blocked = 0;
+        for k in 0..40 {
+            let b = Coord { x: 70.0 + (k % 8) as f64 * 8.0, y: 5.0 + (k / 8) as f64 * 20.0 };
+            if tp.inside_wall(b) || tp.is_clear(a, b) {
+                continue;
+            }
+            blocked += 1;
+            // the shortest way by Floyd–Warshall over the corners, `a` and `b`
+            let mut places = tp.corners().to_vec();
+            places.extend([a, b]);
+            let n = places.len();
+            let mut d: Vec<Vec<f64>> = (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| {
+                            if i == j {
+                                0.0
+                            } else if tp.is_clear(places[i], places[j]) {
+                                distance(places[i], places[j])
+                            } else {
+                                f64::INFINITY
+                            }
+                        })
+                        .collect()
+                })
+                .collect();
+            for m in 0..n {
+                for i in 0..n {
+                    for j in 0..n {
+                        d[i][j] = d[i][j].min(d[i][m] + d[m][j]);
+                    }
+                }
+            }
+            let path = tp.path_between(&tree, b, &tp.seen_from(b)).expect("a way round");
+            assert_eq!((path[0], *path.last().unwrap()), (a, b));
+            assert!(path.windows(2).all(|w| tp.is_clear(w[0], w[1])), "to {b:?}");
+            let length: f64 = path.windows(2).map(|w| distance(w[0], w[1])).sum();
+            assert!((length - d[n - 2][n - 1]).abs() < 1e-9, "to {b:?}: {length} vs {}", d[n - 2][n - 1]);
+        }
+        assert!(blocked >= 10, "{blocked} blocked places");
     }
 
     #[test]

@@ -100,10 +100,8 @@ impl Layers {
         let next = inset(flown, self.step);
         if next.0.is_empty() {
             // the middle no ring reaches: one line along it
-            for rest in inset(flown, self.half).0 {
-                if !self.negligible(&rest)
-                    && let Some((a, b)) = longest_axis(&rest, flown)
-                {
+            for rest in self.inset(flown, self.half) {
+                if let Some((a, b)) = longest_axis(&rest, flown) {
                     self.passes.push(Pass::Line(a, b));
                 }
             }

@@ -247,16 +247,11 @@ impl Connector<'_> {
 
     /// The row of `pose` in `legs`, made on first use.
     fn legs(&self, legs: &Legs, pose: Pose, r: f64) -> Arc<LegRow> {
-        let key = [pose.x.to_bits(), pose.y.to_bits(), pose.theta.to_bits()];
-        if let Some(row) = legs.read().unwrap_or_else(|e| e.into_inner()).get(&key) {
-            return row.clone();
-        }
-        let row = Arc::new(LegRow {
+        cached(legs, [pose.x.to_bits(), pose.y.to_bits(), pose.theta.to_bits()], || LegRow {
             bound: self.via.iter().step_by(VIA_HEADINGS).map(|c| to_point_lower_bound(pose, c.coord(), r)).collect(),
             length: (0..self.via.len() / VIA_HEADINGS).map(|_| OnceLock::new()).collect(),
             clear: self.via.iter().map(|_| AtomicU8::new(UNKNOWN)).collect(),
-        });
-        legs.write().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(row).clone()
+        })
     }
 
     /// Whether leg `k` of `row` is clear, as `check` tells the first time.
@@ -299,14 +294,18 @@ impl Connector<'_> {
     }
 }
 
-/// What `places` holds for `at`, made by `make` on first use.
-fn place<T>(places: &Places<T>, at: Coord, make: impl FnOnce() -> T) -> Arc<T> {
-    let key = [at.x.to_bits(), at.y.to_bits()];
-    if let Some(found) = places.read().unwrap_or_else(|e| e.into_inner()).get(&key) {
+/// What `cache` holds for `key`, made by `make` on first use.
+fn cached<K: std::hash::Hash + Eq, T>(cache: &RwLock<HashMap<K, Arc<T>>>, key: K, make: impl FnOnce() -> T) -> Arc<T> {
+    if let Some(found) = cache.read().unwrap_or_else(|e| e.into_inner()).get(&key) {
         return found.clone();
     }
     let made = Arc::new(make());
-    places.write().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(made).clone()
+    cache.write().unwrap_or_else(|e| e.into_inner()).entry(key).or_insert(made).clone()
+}
+
+/// What `places` holds for the place `at`, made by `make` on first use.
+fn place<T>(places: &Places<T>, at: Coord, make: impl FnOnce() -> T) -> Arc<T> {
+    cached(places, [at.x.to_bits(), at.y.to_bits()], make)
 }
 
 /// A box that holds every Dubins word between the two poses: each part stays within 4r of

@@ -11,7 +11,7 @@
 
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
 use geo::orient::{Direction, Orient};
-use geo::{Area, Buffer, Contains, Coord, Distance, Euclidean, Line, MultiPolygon, Point, Polygon, Simplify};
+use geo::{Area, BooleanOps, Buffer, Contains, Coord, Distance, Euclidean, Line, LineString, MinimumRotatedRect, MultiLineString, MultiPolygon, Point, Polygon, Simplify};
 
 use super::{PlannedPath, Planner, Problem, Progress, connect, no_sweep_lines};
 use crate::error::{InputError, PlanError};
@@ -53,26 +53,22 @@ fn inset(area: &Polygon, d: f64) -> MultiPolygon {
     MultiPolygon(shrunk.0.into_iter().filter(|p| p.unsigned_area() > 1e-6).collect()).orient(Direction::Default)
 }
 
-/// The two vertices of `area` farthest apart whose line stays inside `within`, if any: the
-/// middle of a concave field may bend, and its line must not cut across what it bends round.
-fn longest_axis(area: &Polygon, within: &Polygon) -> Option<(Coord, Coord)> {
-    let simple = area.simplify(AXIS_TOLERANCE_M);
-    let pts = &simple.exterior().0;
-    let mut best = None;
-    let mut longest = 0.0;
-    for (i, &a) in pts.iter().enumerate() {
-        for &b in &pts[i + 1..] {
-            let d = distance(a, b);
-            if d > longest && within.contains(&Line::new(a, b)) {
-                (best, longest) = (Some((a, b)), d);
-            }
-        }
-    }
-    best
+/// The longest piece inside `part` of its centre line: the long middle line of the smallest
+/// rectangle round it, which sweeps all of a straight part narrower than a swath.
+fn centre_line(part: &Polygon) -> Option<(Coord, Coord)> {
+    let rect = part.minimum_rotated_rect()?;
+    let c = &rect.exterior().0;
+    let mid = |i: usize, j: usize| (c[i] + c[j]) / 2.0;
+    let (from, to) = if distance(c[0], c[1]) >= distance(c[1], c[2]) { (mid(0, 3), mid(1, 2)) } else { (mid(0, 1), mid(2, 3)) };
+    // a hair beyond the rectangle, so that the clipped line reaches the part's boundary
+    let (from, to) = (from + (from - to) * 1e-6, to + (to - from) * 1e-6);
+    let inside = part.clip(&MultiLineString::new(vec![LineString::new(vec![from, to])]), false);
+    inside.0.iter().filter_map(|l| Some((*l.0.first()?, *l.0.last()?))).max_by(|a, b| distance(a.0, a.1).total_cmp(&distance(b.0, b.1)))
 }
 
-/// How far a middle is straightened before its axis is sought (its vertices are tried in pairs).
-const AXIS_TOLERANCE_M: f64 = 0.5;
+/// What a thin part's centre line may leave to the spurs, in swath squares (a corner's kite is
+/// up to a fifth of one at 60°); a part that bends leaves more and is flown round.
+const SPURS_SWEEP: f64 = 0.125;
 
 struct Layers {
     step: f64,
@@ -89,38 +85,64 @@ impl Layers {
 
     /// The parts of `area` inset by `d` that are more than slivers.
     fn inset(&self, area: &Polygon, d: f64) -> Vec<Polygon> {
-        inset(area, d).0.into_iter().filter(|p| !self.negligible(p)).collect()
+        // insets bring vertices a hair apart (arcs of sub-millimetre segments, doubled mitred
+        // corners): waypoints a flight file should not carry, and doubled again by every inset
+        // inside (17 insets of a 10-gon grew it to 1 063 vertices and took a second)
+        inset(area, d).0.into_iter().map(|p| p.simplify(RING_TOLERANCE_M)).filter(|p| !self.negligible(p)).collect()
     }
 
-    /// The rings inside `flown` (a ring just flown) and their own inner rings, depth first.
-    fn inside(&mut self, flown: &Polygon) {
+    /// The passes over `space`, ground no pass so far sweeps (at first a whole field), depth
+    /// first: a ring round its inset by half a swath, then the ground inside that ring; or,
+    /// where `space` is too thin for a ring (its middle), the pass of [`Layers::thin`].
+    fn cover(&mut self, space: &Polygon) {
         if self.passes.len() >= MAX_PASSES {
             return;
         }
-        let next = inset(flown, self.step);
-        if next.0.is_empty() {
-            // the middle no ring reaches: one line along it
-            for rest in self.inset(flown, self.half) {
-                if let Some((a, b)) = longest_axis(&rest, flown) {
-                    self.passes.push(Pass::Line(a, b));
-                }
-            }
-            return;
+        let rings = self.inset(space, self.half);
+        if rings.is_empty() {
+            self.thin(space);
         }
-        for part in next.0 {
-            self.ring(part);
+        for ring in rings {
+            self.push_ring(&ring);
+            for inside in self.inset(&ring, self.half) {
+                self.cover(&inside);
+            }
         }
     }
 
-    fn ring(&mut self, ring: Polygon) {
-        self.push_ring(&ring);
-        self.inside(&ring);
+    /// True for unswept ground left to the spurs, no more than a swath's square: a corner's
+    /// kite. Larger pieces are strips no ring reaches (where a fleet's band is cut past a zone
+    /// it notches), too long for a spur.
+    fn spur_sized(&self, piece: &Polygon) -> bool {
+        piece.unsigned_area() <= self.step * self.step
+    }
+
+    /// A pass over `part`, narrower than a swath: its centre line where that leaves no more
+    /// than spurs sweep; else a ring round it a quarter swath in, which follows its bends and
+    /// sweeps all of it (a bent middle, a fleet's band about a swath wide); else the line.
+    fn thin(&mut self, part: &Polygon) {
+        let line = centre_line(part);
+        if let Some((a, b)) = line
+            && part.unsigned_area() - part.intersection(&self.swath(a, b)).unsigned_area() <= SPURS_SWEEP * self.step * self.step
+        {
+            self.passes.push(Pass::Line(a, b));
+            return;
+        }
+        let rings = self.inset(part, self.half / 2.0);
+        if rings.is_empty() {
+            self.passes.extend(line.map(|(a, b)| Pass::Line(a, b)));
+        }
+        rings.iter().for_each(|ring| self.push_ring(ring));
+    }
+
+    /// The ground a swath along the line from `a` to `b` sweeps.
+    fn swath(&self, a: Coord, b: Coord) -> MultiPolygon {
+        LineString::new(vec![a, b]).buffer(self.half)
     }
 
     /// One pass round `ring`, without the rings inside it.
     fn push_ring(&mut self, ring: &Polygon) {
-        // insets come with arcs of sub-millimetre segments: waypoints a flight file should not carry
-        let mut pts = ring.exterior().simplify(RING_TOLERANCE_M).0;
+        let mut pts = ring.exterior().0.clone();
         pts.pop(); // the closing point
         self.passes.push(Pass::Ring(pts));
     }
@@ -161,6 +183,8 @@ fn fly(passes: &[Pass], spurs: &[Spur], problem: &Problem<'_>, half: f64) -> Res
     for (k, pass) in passes.iter().enumerate() {
         // the entry point on a ring's edge (where it is also left), and the vertices in order
         let (entry_point, order): (Option<Coord>, Vec<usize>) = match pass {
+            // a line from its end nearer to where the last pass ended
+            Pass::Line(a, b) if here.is_some_and(|h| distance(h, *b) < distance(h, *a)) => (None, vec![1, 0]),
             Pass::Line(..) => (None, vec![0, 1]),
             Pass::Ring(ring) => {
                 let (edge, at) = entry(ring, here, half);
@@ -199,25 +223,34 @@ const SPUR_ROUNDS: usize = 3;
 /// Unswept ground thinner than twice this is rounding between swaths that touch.
 const SLIVER_M: f64 = 0.05;
 
+/// The pieces of `unswept` without the slivers between swaths that touch (rounding, which
+/// would join separate pieces into one).
+fn opened(unswept: &MultiPolygon) -> impl Iterator<Item = Polygon> {
+    unswept.buffer(-SLIVER_M).0.into_iter().flat_map(|p| p.buffer(SLIVER_M).0)
+}
+
+/// The ground `path` leaves unswept, in pieces of a square metre or more, largest first.
+/// With a camera, what the photos image counts: their footprints stop flush with each sweep's
+/// ends, so corners are measured without the turning swath.
+fn unswept(path: &FlightPath, region: &MultiPolygon, camera: bool) -> Vec<Polygon> {
+    let mut pieces: Vec<Polygon> = opened(&metrics::uncovered(&metrics::covered(path, camera), region)).filter(|p| p.unsigned_area() >= 1.0).collect();
+    pieces.sort_by(|a, b| b.unsigned_area().total_cmp(&a.unsigned_area()));
+    pieces
+}
+
 /// How far short of a piece's far corner a spur stops, so that it stays inside the area.
 const SPUR_CLEARANCE_M: f64 = 0.05;
 
-/// Spurs into the ground `path` leaves unswept: beyond each ring corner of interior angle θ,
+/// Spurs into `pieces`, the ground the passes leave unswept (largest first): beyond each ring corner of interior angle θ,
 /// the kite between the field's edges and the two swath ends (half²·cot(θ/2)) less the fan the
 /// swath sweeps as the vehicle turns, large only at sharp corners; and the middle's ends.
 /// A spur from the pass vertex nearest to a piece out to the piece's far corner sweeps it (the
 /// kite lies within half a swath of the line from the ring's vertex to the field's corner).
-/// With a camera, what the photos image counts: their footprints stop flush with each sweep's
-/// ends, so corners are measured without the turning swath.
-fn corner_spurs(passes: &[Pass], path: &FlightPath, region: &MultiPolygon, camera: bool) -> Vec<Spur> {
+fn corner_spurs(passes: &[Pass], pieces: &[Polygon], region: &MultiPolygon) -> Vec<Spur> {
     let target = region.unsigned_area();
-    // thin slivers between swaths that touch would join the corners into one piece: opened
-    let unswept = metrics::uncovered(&metrics::covered(path, camera), region).buffer(-SLIVER_M);
-    let mut pieces: Vec<Polygon> = unswept.0.iter().flat_map(|p| p.buffer(SLIVER_M).0).filter(|p| p.unsigned_area() >= 1.0).collect();
-    pieces.sort_by(|a, b| b.unsigned_area().total_cmp(&a.unsigned_area()));
     let mut left: f64 = pieces.iter().map(Area::unsigned_area).sum();
     let mut spurs = Vec::new();
-    for piece in &pieces {
+    for piece in pieces {
         if left <= (1.0 - COVERAGE_GOAL) * target {
             break;
         }
@@ -272,21 +305,7 @@ impl Planner for ESpiral {
         let half = problem.layout.half_swath();
         let mut layers = Layers { step: problem.layout.spacing, half, passes: Vec::new() };
         for field in &problem.region.0 {
-            let first = layers.inset(field, half);
-            if !first.is_empty() {
-                first.into_iter().for_each(|part| layers.ring(part));
-                continue;
-            }
-            // a field about a swath wide (a fleet's strip, say) is flown round a quarter swath
-            // in, which follows its bends; one straight line along it left the sides of a bent
-            // strip unswept (20 % of one), and the slivers an inset leaves are no ring to fly
-            let thin = layers.inset(field, half / 2.0);
-            if thin.is_empty()
-                && let Some((a, b)) = longest_axis(field, field)
-            {
-                layers.passes.push(Pass::Line(a, b));
-            }
-            thin.iter().for_each(|part| layers.push_ring(part));
+            layers.cover(field);
         }
         if layers.passes.is_empty() {
             return Err(no_sweep_lines());
@@ -297,11 +316,18 @@ impl Planner for ESpiral {
         if !progress.report(0.4) {
             return Err(PlanError::Cancelled);
         }
+        let camera = problem.layout.photographed();
         let mut spurs = Vec::new();
         let mut path = fly(&layers.passes, &spurs, problem, half)?;
+        let (strips, mut pieces): (Vec<Polygon>, Vec<Polygon>) = unswept(&path, problem.region, camera).into_iter().partition(|p| !layers.spur_sized(p));
+        if !strips.is_empty() {
+            strips.iter().for_each(|strip| layers.thin(strip));
+            path = fly(&layers.passes, &spurs, problem, half)?;
+            pieces = unswept(&path, problem.region, camera);
+        }
         // a spur may sweep less than the piece it aims at: measured again, up to a few rounds
         for round in 1..=SPUR_ROUNDS {
-            let more = corner_spurs(&layers.passes, &path, problem.region, problem.layout.photographed());
+            let more = corner_spurs(&layers.passes, &pieces, problem.region);
             if more.is_empty() {
                 break;
             }
@@ -309,6 +335,9 @@ impl Planner for ESpiral {
             path = fly(&layers.passes, &spurs, problem, half)?;
             if !progress.report(0.4 + 0.5 * round as f64 / SPUR_ROUNDS as f64) {
                 return Err(PlanError::Cancelled);
+            }
+            if round < SPUR_ROUNDS {
+                pieces = unswept(&path, problem.region, camera);
             }
         }
         if let (Some(h), Some(end)) = (path.end().or(problem.start), problem.end) {
@@ -327,14 +356,42 @@ mod tests {
     fn rings_are_one_spacing_apart_and_end_in_a_middle_line() {
         let square = polygon![(x: 0., y: 0.), (x: 100., y: 0.), (x: 100., y: 100.), (x: 0., y: 100.)];
         let mut layers = Layers { step: 20.0, half: 10.0, passes: Vec::new() };
-        for part in inset(&square, 10.0).0 {
-            layers.ring(part);
-        }
+        layers.cover(&square);
         let rings: Vec<&Vec<Coord>> = layers.passes.iter().filter_map(|p| if let Pass::Ring(r) = p { Some(r) } else { None }).collect();
         // insets 10, 30 and 50 − ε: rings of side 80, 40 and none (the centre is a point)
         assert_eq!(rings.len(), 2);
         let side = |r: &Vec<Coord>| distance(r[0], r[1]);
         assert!((side(rings[0]) - 80.0).abs() < 1e-6 && (side(rings[1]) - 40.0).abs() < 1e-6);
         assert!(layers.passes.iter().filter(|p| matches!(p, Pass::Line(..))).count() <= 1);
+    }
+
+    /// The ground the passes' swaths sweep, spurs aside.
+    fn swept(layers: &Layers) -> MultiPolygon {
+        let lines = layers.passes.iter().map(|p| match p {
+            Pass::Ring(r) => LineString::new(r.iter().chain(r.first()).copied().collect()),
+            Pass::Line(a, b) => LineString::new(vec![*a, *b]),
+        });
+        geo::MultiLineString::new(lines.collect()).buffer(layers.half)
+    }
+
+    fn unswept(area: &Polygon, layers: &Layers) -> f64 {
+        area.difference(&swept(layers)).unsigned_area()
+    }
+
+    #[test]
+    fn a_thin_part_is_flown_along_its_centre_or_round_where_it_bends() {
+        // a straight strip 15 m wide, swath 20 m: one line down its middle sweeps it
+        let strip = polygon![(x: 0., y: 0.), (x: 200., y: 0.), (x: 200., y: 15.), (x: 0., y: 15.)];
+        let mut layers = Layers { step: 20.0, half: 10.0, passes: Vec::new() };
+        layers.cover(&strip);
+        assert!(matches!(layers.passes[..], [Pass::Line(a, b)] if (a.y - 7.5).abs() < 1e-6 && (b.y - 7.5).abs() < 1e-6));
+        assert!(unswept(&strip, &layers) < 1e-3);
+        // a quarter of a ring 15 m wide: no straight line sweeps it, one pass round it does
+        let arc = |r: f64| (0..=32).map(move |k| (k as f64 / 32.0 * std::f64::consts::FRAC_PI_2).sin_cos()).map(move |(s, c)| Coord { x: r * c, y: r * s });
+        let bend = Polygon::new(LineString::new(arc(100.0).chain(arc(115.0).collect::<Vec<_>>().into_iter().rev()).collect()), vec![]);
+        let mut layers = Layers { step: 20.0, half: 10.0, passes: Vec::new() };
+        layers.cover(&bend);
+        assert!(matches!(layers.passes[..], [Pass::Ring(_)]));
+        assert!(unswept(&bend, &layers) < 1e-3 * bend.unsigned_area(), "{} m² unswept", unswept(&bend, &layers));
     }
 }

@@ -75,6 +75,29 @@ fn the_spiral_refuses_holes_and_fixed_wing() {
     assert!(matches!(&err, PlanError::Input(e) if e.pointer == "/vehicle/kind"), "{err}");
 }
 
+/// A field notched from above down to 12 m off its lower edge, which bends into a V there (a
+/// fleet's band cut past a zone): the rings go round the two sides, and the bent strip under
+/// the notch is narrower than a swath, too long and bent for a spur; it gets a pass of its own.
+#[test]
+fn the_spiral_sweeps_a_bent_strip_no_ring_reaches() {
+    let field = [
+        (0.0, 0.0),
+        (50.0, 0.0),
+        (100.0, -30.0),
+        (150.0, 0.0),
+        (200.0, 0.0),
+        (200.0, 100.0),
+        (150.0, 100.0),
+        (150.0, 12.0),
+        (100.0, -18.0),
+        (50.0, 12.0),
+        (50.0, 100.0),
+        (0.0, 100.0),
+    ];
+    let out = energy(&field, "e_spiral");
+    assert!(out.stats.coverage_ratio >= 0.99, "coverage {}", out.stats.coverage_ratio);
+}
+
 #[test]
 fn eg_cpp_covers_a_grid_around_a_no_fly_zone_and_refuses_what_it_cannot_search() {
     // an L-shaped field of 16 cells of 20 m, a zone over one of them

@@ -1,10 +1,11 @@
 //! E-Spiral (seed 002 §4.1, docs/methods.md, multirotor planners §1): rings that follow the field's
 //! boundary inwards, one swath apart, so that corners are wide and a multirotor keeps much of
 //! its speed through them. Each ring is the field inset by mitred offsets (the "inner
-//! side-lines" of the thesis); a ring that splits becomes one spiral per part; what the last
-//! ring leaves in the middle is covered by its longest line that stays inside. Rings are entered
-//! on an edge, so that every corner is a bend the swath turns through; spurs then fly into the
-//! largest pieces still unswept (sharp corners, the middle's ends) until 99.2 % is swept.
+//! side-lines" of the thesis); a ring that splits becomes one spiral per part; what no ring
+//! reaches because it is narrower than a swath (the middle, a strip) is flown along its centre
+//! line, or round it where it bends. Rings are entered on an edge, so that every corner is a bend
+//! the swath turns through; spurs then fly into the largest pieces still unswept (sharp corners,
+//! the middle's ends) until 99.2 % is swept.
 //!
 //! Seed 002 states the method for areas without holes or inner no-fly zones; this planner
 //! refuses those instead of flying into them.
@@ -66,8 +67,8 @@ fn centre_line(part: &Polygon) -> Option<(Coord, Coord)> {
     inside.0.iter().filter_map(|l| Some((*l.0.first()?, *l.0.last()?))).max_by(|a, b| distance(a.0, a.1).total_cmp(&distance(b.0, b.1)))
 }
 
-/// What a thin part's centre line may leave to the spurs, in swath squares (a corner's kite is
-/// up to a fifth of one at 60°); a part that bends leaves more and is flown round.
+/// What a thin part's centre line may leave to the spurs, in swath squares (a ring corner's
+/// kite at 60° is a sixth of one); a part that bends leaves more and is flown round.
 const SPURS_SWEEP: f64 = 0.125;
 
 struct Layers {
@@ -241,9 +242,10 @@ fn unswept(path: &FlightPath, region: &MultiPolygon, camera: bool) -> Vec<Polygo
 /// How far short of a piece's far corner a spur stops, so that it stays inside the area.
 const SPUR_CLEARANCE_M: f64 = 0.05;
 
-/// Spurs into `pieces`, the ground the passes leave unswept (largest first): beyond each ring corner of interior angle θ,
-/// the kite between the field's edges and the two swath ends (half²·cot(θ/2)) less the fan the
-/// swath sweeps as the vehicle turns, large only at sharp corners; and the middle's ends.
+/// Spurs into `pieces`, the ground the passes leave unswept (largest first): beyond each ring
+/// corner of interior angle θ, the kite between the field's edges and the two swath ends
+/// (half²·cot(θ/2)) less the fan the swath sweeps as the vehicle turns, large only at sharp
+/// corners; and the middle's ends.
 /// A spur from the pass vertex nearest to a piece out to the piece's far corner sweeps it (the
 /// kite lies within half a swath of the line from the ring's vertex to the field's corner).
 fn corner_spurs(passes: &[Pass], pieces: &[Polygon], region: &MultiPolygon) -> Vec<Spur> {

@@ -124,7 +124,7 @@ impl Layers {
     fn thin(&mut self, part: &Polygon) {
         let line = centre_line(part);
         if let Some((a, b)) = line
-            && part.unsigned_area() - part.intersection(&self.swath(a, b)).unsigned_area() <= SPURS_SWEEP * self.step * self.step
+            && part.difference(&LineString::new(vec![a, b]).buffer(self.half)).unsigned_area() <= SPURS_SWEEP * self.step * self.step
         {
             self.passes.push(Pass::Line(a, b));
             return;
@@ -134,11 +134,6 @@ impl Layers {
             self.passes.extend(line.map(|(a, b)| Pass::Line(a, b)));
         }
         rings.iter().for_each(|ring| self.push_ring(ring));
-    }
-
-    /// The ground a swath along the line from `a` to `b` sweeps.
-    fn swath(&self, a: Coord, b: Coord) -> MultiPolygon {
-        LineString::new(vec![a, b]).buffer(self.half)
     }
 
     /// One pass round `ring`, without the rings inside it.

@@ -102,29 +102,25 @@ impl EdgeIndex {
     pub fn crossed(&self, points: &[Coord]) -> bool {
         let size = |a: Coord, b: Coord| (b.x - a.x).abs() + (b.y - a.y).abs();
         let apart = |e: &Edge, lo: Coord, hi: Coord| e.0.x.max(e.1.x) < lo.x || e.0.x.min(e.1.x) > hi.x || e.0.y.max(e.1.y) < lo.y || e.0.y.min(e.1.y) > hi.y;
-        let mut near: Vec<&Edge> = Vec::new();
         let legs = points.len().saturating_sub(1);
         (0..legs).step_by(LEGS_PER_SIFT).any(|start| {
             let run = &points[start..=(start + LEGS_PER_SIFT).min(legs)];
             let bb = bounding(run).expect("a run has points");
-            near.clear();
-            near.extend(self.0.locate_in_envelope_intersecting(&AABB::from_corners([bb.min().x, bb.min().y], [bb.max().x, bb.max().y])));
-            !near.is_empty()
-                && run.windows(2).any(|w| {
+            // each edge near the run against the run's legs, as the tree yields it
+            self.0.locate_in_envelope_intersecting(&AABB::from_corners([bb.min().x, bb.min().y], [bb.max().x, bb.max().y])).any(|e| {
+                run.windows(2).any(|w| {
                     let (a, b) = (w[0], w[1]);
-                    let (seg_lo, seg_hi) = (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) });
-                    near.iter().any(|e| {
-                        if apart(e, seg_lo, seg_hi) {
-                            return false;
-                        }
-                        let (p, q) = (e.0, e.1);
-                        // orientations are products of two lengths: the tolerance scales with both
-                        let eps = 1e-9 * size(a, b) * size(p, q);
-                        let (d1, d2) = (cross(a, b, p), cross(a, b, q));
-                        let (d3, d4) = (cross(p, q, a), cross(p, q, b));
-                        ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
-                    })
+                    if apart(e, Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) }) {
+                        return false;
+                    }
+                    let (p, q) = (e.0, e.1);
+                    // orientations are products of two lengths: the tolerance scales with both
+                    let eps = 1e-9 * size(a, b) * size(p, q);
+                    let (d1, d2) = (cross(a, b, p), cross(a, b, q));
+                    let (d3, d4) = (cross(p, q, a), cross(p, q, b));
+                    ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
                 })
+            })
         })
     }
 }

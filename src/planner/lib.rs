@@ -65,6 +65,7 @@ pub mod vehicle;
 use std::time::Instant;
 
 use geo::{Area, BooleanOps, Contains, Coord};
+use rayon::prelude::*;
 
 pub use error::{InputError, PlanError};
 pub use field::{FieldLimits, MissionGeometry};
@@ -152,9 +153,13 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
         return Err(InputError::new("nothing_to_cover", "/no_fly_zones", "the no-fly zones and their margin cover the whole field"));
     }
     let routes_lines = matches!(planner.id(), "line_gtsp" | "auto") || matches!(resolved.vehicle.turn_model(), TurnModel::Dubins(_));
-    if routes_lines {
+    // the line count and a ground vehicle's headland (most of the set-up) side by side
+    let too_many_lines = || -> Result<(), InputError> {
+        if !routes_lines {
+            return Ok(());
+        }
         // the fewest of four headings: the planners search headings with near the fewest lines
-        let lines = [0.0, 45.0, 90.0, 135.0].map(|deg: f64| sweep::sweep(&region, &keep_out, deg.to_radians(), resolved.layout).segment_count()).into_iter().min().unwrap_or(0);
+        let lines = [0.0, 45.0, 90.0, 135.0].into_par_iter().map(|deg: f64| sweep::sweep(&region, &keep_out, deg.to_radians(), resolved.layout).segment_count()).min().unwrap_or(0);
         if lines > MAX_ROUTED_LINES {
             return Err(InputError::new(
                 "too_many_lines",
@@ -162,7 +167,11 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
                 format!("this plan orders about {lines} sweep lines one by one; the limit is {MAX_ROUTED_LINES}: widen the spacing, or use boustrophedon with a multirotor"),
             ));
         }
-    }
+        Ok(())
+    };
+    let headland = || resolved.headland.map(|spec| ground_setup(spec, &resolved.vehicle, &field, &region)).transpose();
+    let (lines_checked, ground) = rayon::join(too_many_lines, headland);
+    lines_checked?;
     let local = |p: [f64; 2], pointer: &str| -> Result<Coord, InputError> {
         let c = field.frame.to_local(p[0], p[1]);
         if walls.contains(&c) {
@@ -177,7 +186,7 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
             "the mission has obstacles: give the flight altitude (altitude_m, or a camera with gsd_cm) so that the plan can climb over them",
         ));
     }
-    let ground = resolved.headland.map(|spec| ground_setup(spec, &resolved.vehicle, &field, &region)).transpose()?;
+    let ground = ground?;
     let start = resolved.start.map(|p| local(p, "/start/position")).transpose()?.or(field.home);
     let end = resolved.end.map(|p| local(p, "/end/position")).transpose()?.or(field.home);
     let fleet_homes =
@@ -374,11 +383,12 @@ fn plan_until(
     let usable_j: Vec<f64> = flown.iter().flat_map(|f| std::iter::repeat_n(f.vehicle.battery.usable_j(), f.sorties.len())).collect();
     let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
     let photos = resolved.camera.map(|c| flown.iter().flat_map(|f| f.sorties.iter().flat_map(move |s| photo_positions(s, &c, f.planned.sweep_angle))).collect::<Vec<_>>());
-    let swept = metrics::swept(&path);
+    let (swept, strip_area_m2) = metrics::swept_and_strip_area(&path);
     let main = flown.first().ok_or_else(|| PlanError::Infeasible("no drone of the fleet has a part to fly".into()))?;
     let input = metrics::MeasureInput {
         path: &path,
         swept: &swept,
+        strip_area_m2,
         sorties: &sorties,
         estimates: &estimates,
         usable_j: &usable_j,

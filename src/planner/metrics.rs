@@ -506,6 +506,13 @@ pub fn swept(path: &FlightPath) -> MultiPolygon {
     union_of(&sweep_strips(path))
 }
 
+/// [`swept`], and the swaths' areas summed (ground swept twice counted twice), for
+/// [`Stats::overlap_ratio`]: both from the same strips.
+pub fn swept_and_strip_area(path: &FlightPath) -> (MultiPolygon, f64) {
+    let strips = sweep_strips(path);
+    (union_of(&strips), strips.iter().map(|s| s.unsigned_area()).sum())
+}
+
 /// The ground photos on the sweeps of `path` image at least: each sweep's own rectangle, as
 /// photos fitted flush with a sweep's ends image it (camera §6), with nothing at the bends.
 pub fn photographed(path: &FlightPath) -> MultiPolygon {
@@ -543,6 +550,8 @@ pub struct MeasureInput<'a> {
     pub region: &'a MultiPolygon,
     /// [`swept`] of `path`.
     pub swept: &'a MultiPolygon,
+    /// The swaths' areas summed ([`swept_and_strip_area`]).
+    pub strip_area_m2: f64,
     pub no_fly_zones: &'a MultiPolygon,
     pub spacing: f64,
     pub sweep_heading_deg: f64,
@@ -556,7 +565,6 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
     let energy_j: f64 = m.estimates.iter().map(PathEstimate::energy_j).sum();
     let area = m.region.unsigned_area();
     let lower_bound_m = area / m.spacing;
-    let strip_sum: f64 = sweep_strips(m.path).iter().map(|s| s.unsigned_area()).sum();
     let (covered, swept) = under(m.swept, m.region);
     let photo_coverage_ratio = m.photos.map(|(photos, cam)| {
         let imaged = photo_strips(photos, cam.footprint_across_m, cam.footprint_along_m);
@@ -594,7 +602,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         alternatives: Vec::new(),
         coverage_ratio: if area > 0.0 { (covered / area).min(1.0) } else { 0.0 },
         photo_coverage_ratio,
-        overlap_ratio: if swept > 0.0 { (strip_sum / swept - 1.0).max(0.0) } else { 0.0 },
+        overlap_ratio: if swept > 0.0 { (m.strip_area_m2 / swept - 1.0).max(0.0) } else { 0.0 },
         area_to_cover_m2: area,
         turns: m.path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).count(),
         nfz_intrusion_m: length_inside(m.path, m.no_fly_zones),

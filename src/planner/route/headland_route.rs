@@ -9,7 +9,7 @@
 //! The order of the swaths is a generalised TSP over their two directions
 //! ([`super::gtsp`]), priced lazily: a connection's floor is its length in open ground.
 
-use std::sync::OnceLock;
+use std::cell::OnceCell;
 
 use geo::{Coord, MultiPolygon};
 use rayon::prelude::*;
@@ -159,6 +159,16 @@ impl HeadlandRoutes {
         !self.field.crossed(points) && (bounds == Bounds::Field || !self.mainland.crossed(points))
     }
 
+    /// The points of `m` when it stays within `bounds`; its straight leg is tried first, before
+    /// any arc is drawn.
+    fn cleared(&self, m: &Manoeuvre, bounds: Bounds) -> Option<Vec<Coord>> {
+        if m.straight().is_some_and(|leg| !self.clear(&leg, bounds)) {
+            return None;
+        }
+        let points = m.points();
+        self.clear(&points, bounds).then_some(points)
+    }
+
     /// The stretch of the swath `a → b` whose ends the vehicle can turn at: each end pulled
     /// back (in steps of an eighth of the radius) until a half turn to the left or the right
     /// from it stays in the field; `None` when nothing is left (a swath in an acute corner,
@@ -176,10 +186,7 @@ impl HeadlandRoutes {
     /// Anywhere inside the field: the shortest manoeuvre that stays in it, or else along a
     /// headland pass.
     pub fn transit(&self, from: Pose, to: Pose) -> Option<Way> {
-        let direct = self.steering.manoeuvres(from, to).into_iter().find_map(|m| {
-            let points = m.points();
-            self.clear(&points, Bounds::Field).then_some(Way { points, length: m.length, shape: None })
-        });
+        let direct = self.steering.manoeuvres(from, to).into_iter().find_map(|m| self.cleared(&m, Bounds::Field).map(|points| Way { points, length: m.length, shape: None }));
         direct.or_else(|| {
             let (on, off) = (self.ramps(from, true, Bounds::Field), self.ramps(to, false, Bounds::Field));
             self.by_road(&on, &off)
@@ -188,31 +195,45 @@ impl HeadlandRoutes {
 
     /// The shortest way onto a road by one of `on`, along it, and off by one of `off`.
     pub fn by_road(&self, on: &[Ramp], off: &[Ramp]) -> Option<Way> {
-        let mut best: Option<(f64, &Ramp, &Ramp)> = None;
+        self.best_road(on, off).map(|r| self.draw(&r))
+    }
+
+    /// [`Self::by_road`]'s choice, not yet drawn.
+    fn best_road<'r>(&self, on: &'r [Ramp], off: &'r [Ramp]) -> Option<RoadWay<'r>> {
+        let mut best: Option<RoadWay<'r>> = None;
         for a in on {
             for b in off.iter().filter(|b| b.road == a.road && b.forward == a.forward) {
-                let total = a.length + self.roads[a.road].along(a.vertex, b.vertex, a.forward) + b.length;
-                if best.is_none_or(|x| total < x.0) {
-                    best = Some((total, a, b));
+                let length = a.length + self.roads[a.road].along(a.vertex, b.vertex, a.forward) + b.length;
+                if best.as_ref().is_none_or(|x| length < x.length) {
+                    best = Some(RoadWay { length, on: a, off: b });
                 }
             }
         }
-        let (length, a, b) = best?;
+        best
+    }
+
+    fn draw(&self, r: &RoadWay<'_>) -> Way {
+        let (a, b) = (r.on, r.off);
         let mut points = a.points.clone();
         if a.vertex != b.vertex {
             points.extend(self.roads[a.road].stretch(a.vertex, b.vertex, a.forward).into_iter().skip(1));
         }
         points.extend(b.points.iter().skip(1));
-        Some(Way { points, length, shape: None })
+        Way { points, length: r.length, shape: None }
     }
 
     /// Ramps within `bounds` between `pose` and the roads nearby, both directions of travel:
     /// onto a road (`on`) or off it. Per road and direction, the shortest clear ones of the
     /// nearest stops.
     pub fn ramps(&self, pose: Pose, on: bool, bounds: Bounds) -> Vec<Ramp> {
+        self.ramps_within(pose, on, &[bounds]).pop().expect("one list per bounds")
+    }
+
+    /// [`Self::ramps`] for each of `bounds` at once: the candidates are priced and drawn once.
+    fn ramps_within(&self, pose: Pose, on: bool, bounds: &[Bounds]) -> Vec<Vec<Ramp>> {
         let mut near: Vec<(f64, usize)> = self.stops.iter().enumerate().map(|(k, s)| (distance(s.2, pose.coord()), k)).filter(|(d, _)| *d <= self.reach).collect();
         near.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut out = Vec::new();
+        let mut out = vec![Vec::new(); bounds.len()];
         for forward in [true, false] {
             let mut tried = vec![0; self.roads.len()];
             let mut candidates: Vec<(usize, usize, Manoeuvre)> = Vec::new();
@@ -227,15 +248,31 @@ impl HeadlandRoutes {
                 candidates.push((road, vertex, self.steering.forward(a, b)));
             }
             candidates.sort_by(|x, y| x.2.length.total_cmp(&y.2.length));
-            let mut kept = vec![0; self.roads.len()];
+            // per bounds and road, the ramps kept so far
+            let mut kept = vec![vec![0; self.roads.len()]; bounds.len()];
             for (road, vertex, ramp) in candidates {
-                if kept[road] == RAMPS_KEPT {
+                let wanted: Vec<usize> = (0..bounds.len()).filter(|&b| kept[b][road] < RAMPS_KEPT).collect();
+                if wanted.is_empty() {
                     continue;
                 }
-                let points = ramp.points();
-                if self.clear(&points, bounds) {
-                    kept[road] += 1;
-                    out.push(Ramp { road, vertex, forward, points, length: ramp.length });
+                // each test made once, whichever bounds ask for it first
+                let leg = ramp.straight();
+                let points = OnceCell::new();
+                let draw = || points.get_or_init(|| ramp.points());
+                let leaves_field = OnceCell::new();
+                let over_mainland = OnceCell::new();
+                for b in wanted {
+                    let clear = match leg {
+                        Some(leg) if !self.clear(&leg, bounds[b]) => false,
+                        _ => {
+                            !*leaves_field.get_or_init(|| self.field.crossed(draw()))
+                                && (bounds[b] == Bounds::Field || !*over_mainland.get_or_init(|| self.mainland.crossed(draw())))
+                        }
+                    };
+                    if clear {
+                        kept[b][road] += 1;
+                        out[b].push(Ramp { road, vertex, forward, points: draw().clone(), length: ramp.length });
+                    }
                 }
             }
         }
@@ -243,25 +280,60 @@ impl HeadlandRoutes {
     }
 }
 
-/// The connections between swaths: each swath end's ramps onto the roads, found once.
+/// A way along a road chosen by [`HeadlandRoutes::best_road`]: its points are drawn only for
+/// the connections driven, the search needs its length only.
+struct RoadWay<'r> {
+    length: f64,
+    on: &'r Ramp,
+    off: &'r Ramp,
+}
+
+/// A connection between two swaths as found: a turn already drawn (its points were needed to
+/// clear it), or a way along a road still to draw (`true`: for the twin nodes, to reverse).
+enum Link<'r> {
+    Drawn(Way),
+    Road(RoadWay<'r>, bool),
+}
+
+impl Link<'_> {
+    fn length(&self) -> f64 {
+        match self {
+            Link::Drawn(w) => w.length,
+            Link::Road(r, _) => r.length,
+        }
+    }
+}
+
+/// The connections between swaths, with each swath end's ramps onto the roads, found once.
 pub struct SwathLinks<'a> {
     lines: &'a [Line],
     routes: &'a HeadlandRoutes,
     /// Per node: ramps from its exit, and into its entry, inside the headland.
     from_exit: Vec<Vec<Ramp>>,
     to_entry: Vec<Vec<Ramp>>,
-    /// The same inside the field, for crossings of the mainland: found when first needed.
-    across_from_exit: Vec<OnceLock<Vec<Ramp>>>,
-    across_to_entry: Vec<OnceLock<Vec<Ramp>>>,
+    /// The same inside the field, for crossings of the mainland.
+    across_from_exit: Vec<Vec<Ramp>>,
+    across_to_entry: Vec<Vec<Ramp>>,
 }
 
 impl<'a> SwathLinks<'a> {
+    /// Every swath end's ramps, computed side by side: the search needs almost all of them
+    /// (a few joins of swath ends that no turn fits bring in most ends).
     pub fn new(lines: &'a [Line], routes: &'a HeadlandRoutes) -> Self {
         let n = 2 * lines.len();
-        let from_exit = (0..n).into_par_iter().map(|v| routes.ramps(exit(lines, v), true, Bounds::Headland)).collect();
-        let to_entry = (0..n).into_par_iter().map(|v| routes.ramps(entry(lines, v), false, Bounds::Headland)).collect();
-        let unknown = || (0..n).map(|_| OnceLock::new()).collect();
-        SwathLinks { lines, routes, from_exit, to_entry, across_from_exit: unknown(), across_to_entry: unknown() }
+        let both = [Bounds::Headland, Bounds::Field];
+        let ramps = |on: bool| -> (Vec<Vec<Ramp>>, Vec<Vec<Ramp>>) {
+            (0..n)
+                .into_par_iter()
+                .map(|v| {
+                    let pose = if on { exit(lines, v) } else { entry(lines, v) };
+                    let [headland, field] = <[Vec<Ramp>; 2]>::try_from(routes.ramps_within(pose, on, &both)).expect("one list per bounds");
+                    (headland, field)
+                })
+                .unzip()
+        };
+        let ((from_exit, across_from_exit), (to_entry, across_to_entry)) = rayon::join(|| ramps(true), || ramps(false));
+        SwathLinks { lines, routes, from_exit, to_entry, across_from_exit, across_to_entry }
     }
 
     /// From the exit of node `u` to the entry of node `v`: a turn in the headland; else along
@@ -269,38 +341,52 @@ impl<'a> SwathLinks<'a> {
     /// within a field, a transit across the mainland (`crossing` true); between fields, the
     /// road outside.
     pub fn link(&self, u: usize, v: usize) -> Option<(Way, bool)> {
+        self.find(u, v).map(|(link, crossing)| {
+            let way = match link {
+                Link::Drawn(w) => w,
+                Link::Road(r, twin) => {
+                    let mut w = self.routes.draw(&r);
+                    if twin {
+                        w.points.reverse();
+                    }
+                    w
+                }
+            };
+            (way, crossing)
+        })
+    }
+
+    fn find(&self, u: usize, v: usize) -> Option<(Link<'_>, bool)> {
         let (from, to) = (exit(self.lines, u), entry(self.lines, v));
         if self.lines[u / 2].region != self.lines[v / 2].region {
-            return Some((self.routes.outside(from, to), false));
+            return Some((Link::Drawn(self.routes.outside(from, to)), false));
         }
-        // each manoeuvre drawn once and tried on the mainland first: between far swath ends
-        // most cross it, found at their first stretch, and only the crossing needs the edges
-        let mut over_mainland: Vec<(Vec<Coord>, f64)> = Vec::new();
-        for m in self.routes.steering.manoeuvres(from, to) {
+        // each manoeuvre tried on the mainland first: between far swath ends most cross it,
+        // many by their straight leg alone (found before their arcs are drawn), and only the
+        // crossing needs the field's edges
+        let routes = self.routes;
+        let mut over_mainland: Vec<Manoeuvre> = Vec::new();
+        for m in routes.steering.manoeuvres(from, to) {
+            if m.straight().is_some_and(|leg| routes.mainland.crossed(&leg)) {
+                over_mainland.push(m);
+                continue;
+            }
             let points = m.points();
-            if self.routes.mainland.crossed(&points) {
-                over_mainland.push((points, m.length));
-            } else if !self.routes.field.crossed(&points) {
-                return Some((Way { points, length: m.length, shape: Some(m.shape) }, false));
+            if routes.mainland.crossed(&points) {
+                over_mainland.push(m);
+            } else if !routes.field.crossed(&points) {
+                return Some((Link::Drawn(Way { points, length: m.length, shape: Some(m.shape) }), false));
             }
         }
-        let road = self.routes.by_road(&self.from_exit[u], &self.to_entry[v]).or_else(|| {
-            self.routes.by_road(&self.from_exit[v ^ 1], &self.to_entry[u ^ 1]).map(|mut w| {
-                w.points.reverse();
-                w
-            })
-        });
-        if let Some(w) = road {
-            return Some((w, false));
+        let (on, off) = (&self.from_exit, &self.to_entry);
+        let road = routes.best_road(&on[u], &off[v]).map(|r| Link::Road(r, false)).or_else(|| routes.best_road(&on[v ^ 1], &off[u ^ 1]).map(|r| Link::Road(r, true)));
+        if let Some(link) = road {
+            return Some((link, false));
         }
         // the first clear of the field's edges, else by the roads across the mainland
-        let first_clear = over_mainland.into_iter().find(|(points, _)| !self.routes.field.crossed(points));
-        let across = first_clear.map(|(points, length)| Way { points, length, shape: None }).or_else(|| {
-            let on = self.across_from_exit[u].get_or_init(|| self.routes.ramps(from, true, Bounds::Field));
-            let off = self.across_to_entry[v].get_or_init(|| self.routes.ramps(to, false, Bounds::Field));
-            self.routes.by_road(on, off)
-        });
-        across.map(|w| (w, true))
+        let first_clear = over_mainland.into_iter().find_map(|m| routes.cleared(&m, Bounds::Field).map(|points| Way { points, length: m.length, shape: None }));
+        let across = first_clear.map(Link::Drawn).or_else(|| routes.best_road(&self.across_from_exit[u], &self.across_to_entry[v]).map(|r| Link::Road(r, false)));
+        across.map(|link| (link, true))
     }
 
     /// The cost the route search sees: the length, plus [`MAINLAND_CROSSING_M`] for a crossing.
@@ -308,7 +394,7 @@ impl<'a> SwathLinks<'a> {
         if u / 2 == v / 2 {
             return NO_WAY;
         }
-        self.link(u, v).map_or(NO_WAY, |(w, crossing)| w.length + if crossing { MAINLAND_CROSSING_M } else { 0.0 })
+        self.find(u, v).map_or(NO_WAY, |(link, crossing)| link.length() + if crossing { MAINLAND_CROSSING_M } else { 0.0 })
     }
 }
 

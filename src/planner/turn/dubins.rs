@@ -276,6 +276,16 @@ impl DubinsPath {
         geo::Rect::new(lo, hi)
     }
 
+    /// The straight part's two ends, as [`Self::sample`] puts them, when there is one: a far
+    /// turn over an area is found crossing its edge here, before any arc is drawn.
+    pub fn straight(&self) -> Option<[Coord; 2]> {
+        let [(p0, s0), (p1, s1), _] = self.segments();
+        (p1 == Part::S && s1 > 0.0).then(|| {
+            let q = if s0 > 0.0 { advance(self.start, p0, s0, self.radius) } else { self.start };
+            [q.coord(), advance(q, p1, s1, self.radius).coord()]
+        })
+    }
+
     /// Points along the path: arcs with a chord error of at most `chord_tolerance_m` (and at
     /// most 10° per step), straights by their ends. Starts at the start position; the last
     /// point is the end position.

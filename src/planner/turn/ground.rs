@@ -48,6 +48,15 @@ impl Manoeuvre {
         *points.last_mut().expect("a path has points") = self.to;
         points
     }
+
+    /// The straight leg of a Dubins word, one leg of [`Self::points`].
+    pub fn straight(&self) -> Option<[Coord; 2]> {
+        match &self.path {
+            // a straight that ends the word ends on the exact pose, as the points do
+            Path::Dubins(word) => word.straight().map(|[a, b]| [a, if word.params[2] > 0.0 { b } else { self.to }]),
+            _ => None,
+        }
+    }
 }
 
 /// How a ground vehicle steers: its tightest radius, whether it may reverse, and how fast its

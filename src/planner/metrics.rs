@@ -503,7 +503,7 @@ const UNCOVERED_SLIVER_M2: f64 = 1.0;
 /// The ground under the swaths of `path`: computed once per plan, since the union of many
 /// strips is the costliest step of measuring it.
 pub fn swept(path: &FlightPath) -> MultiPolygon {
-    union_of(&sweep_strips(path))
+    swept_and_strip_area(path).0
 }
 
 /// [`swept`], and the swaths' areas summed (ground swept twice counted twice), for

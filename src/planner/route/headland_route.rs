@@ -454,3 +454,39 @@ pub fn connect_anywhere(routes: &HeadlandRoutes, from: Pose, to: Pose) -> (Way, 
 
 /// What leaving the field costs on top of a transit's length: every way inside is preferred.
 pub const LEAVING_FIELD_M: f64 = 10_000.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::decompose::headland::headland;
+    use geo::{LineString, Polygon};
+
+    /// The ramps found for the headland and for crossings in one pass are those found for each
+    /// on its own: the same stops, directions and lengths, in the same order.
+    #[test]
+    fn ramps_found_together_are_those_found_one_by_one() {
+        let square = |x0: f64, y0: f64, side: f64| LineString::from(vec![(x0, y0), (x0 + side, y0), (x0 + side, y0 + side), (x0, y0 + side), (x0, y0)]);
+        let region = MultiPolygon(vec![Polygon::new(square(0.0, 0.0, 120.0), vec![square(50.0, 50.0, 20.0)])]);
+        let h = headland(&region, 10.0, 2, 3.0);
+        let routes = HeadlandRoutes::new(&region, &h.mainland, h.passes.concat(), Steering::new(3.0, false, None), 10.0);
+        let key = |ramps: &[Ramp]| ramps.iter().map(|r| (r.road, r.vertex, r.forward, r.length)).collect::<Vec<_>>();
+        let (mut found, mut differ) = (0, false);
+        // swath ends on the mainland's edges (outer and round the pond)
+        for (x, y, theta) in [(40.0, 10.0, -1.5), (40.0, 110.0, 1.6), (10.0, 60.0, 3.1), (55.0, 40.0, 1.57), (65.0, 80.0, -1.57), (110.0, 30.0, 0.2)] {
+            // facing out of the mainland or into it (a ramp from there must cross it)
+            for (on, heading) in [(true, theta), (false, theta + std::f64::consts::PI), (true, theta + std::f64::consts::PI), (false, theta)] {
+                let pose = Pose::new(x, y, heading);
+                let together = routes.ramps_within(pose, on, &[Bounds::Headland, Bounds::Field]);
+                let (headland_only, field_only) = (routes.ramps(pose, on, Bounds::Headland), routes.ramps(pose, on, Bounds::Field));
+                assert_eq!(key(&together[0]), key(&headland_only));
+                assert_eq!(key(&together[1]), key(&field_only));
+                assert!(together[0].iter().all(|r| !routes.field.crossed(&r.points) && !routes.mainland.crossed(&r.points)));
+                assert!(together[1].iter().all(|r| !routes.field.crossed(&r.points)));
+                found += headland_only.len();
+                differ |= key(&together[0]) != key(&together[1]);
+            }
+        }
+        assert!(found > 0, "no ramps at all: the test poses are off the headland");
+        assert!(differ, "crossing ramps never differ from headland ones: the two bounds are not exercised");
+    }
+}

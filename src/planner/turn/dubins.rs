@@ -455,6 +455,24 @@ mod tests {
                 prop_assert!((p.x - e.x).hypot(p.y - e.y) < 1e-9, "{:?} instead of {:?}", p, e);
             }
         }
+
+        /// The straight leg is one leg of the samples, and there is one exactly when the
+        /// middle part is a straight of some length.
+        #[test]
+        fn the_straight_leg_is_a_leg_of_the_samples(q0 in pose(), q1 in pose(), r in prop::sample::select(vec![1.0, 10.0, 85.0])) {
+            for path in all_words(q0, q1, r) {
+                let pts = path.sample(0.2);
+                let has_straight = path.word.parts()[1] == Part::S && path.params[1] > 0.0;
+                match path.straight() {
+                    Some([a, b]) => {
+                        let close = |p: Coord, q: Coord| (p.x - q.x).hypot(p.y - q.y) < 1e-9;
+                        prop_assert!(has_straight);
+                        prop_assert!(pts.windows(2).any(|w| close(w[0], a) && close(w[1], b)), "{:?} is not a leg of {:?}", [a, b], pts);
+                    }
+                    None => prop_assert!(!has_straight),
+                }
+            }
+        }
     }
 
     fn pose() -> impl Strategy<Value = Pose> {

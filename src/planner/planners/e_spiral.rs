@@ -371,7 +371,7 @@ mod tests {
         geo::MultiLineString::new(lines.collect()).buffer(layers.half)
     }
 
-    fn unswept(area: &Polygon, layers: &Layers) -> f64 {
+    fn unswept_m2(area: &Polygon, layers: &Layers) -> f64 {
         area.difference(&swept(layers)).unsigned_area()
     }
 
@@ -382,13 +382,13 @@ mod tests {
         let mut layers = Layers { step: 20.0, half: 10.0, passes: Vec::new() };
         layers.cover(&strip);
         assert!(matches!(layers.passes[..], [Pass::Line(a, b)] if (a.y - 7.5).abs() < 1e-6 && (b.y - 7.5).abs() < 1e-6));
-        assert!(unswept(&strip, &layers) < 1e-3);
+        assert!(unswept_m2(&strip, &layers) < 1e-3);
         // a quarter of a ring 15 m wide: no straight line sweeps it, one pass round it does
         let arc = |r: f64| (0..=32).map(move |k| (k as f64 / 32.0 * std::f64::consts::FRAC_PI_2).sin_cos()).map(move |(s, c)| Coord { x: r * c, y: r * s });
         let bend = Polygon::new(LineString::new(arc(100.0).chain(arc(115.0).collect::<Vec<_>>().into_iter().rev()).collect()), vec![]);
         let mut layers = Layers { step: 20.0, half: 10.0, passes: Vec::new() };
         layers.cover(&bend);
         assert!(matches!(layers.passes[..], [Pass::Ring(_)]));
-        assert!(unswept(&bend, &layers) < 1e-3 * bend.unsigned_area(), "{} m² unswept", unswept(&bend, &layers));
+        assert!(unswept_m2(&bend, &layers) < 1e-3 * bend.unsigned_area(), "{} m² unswept", unswept_m2(&bend, &layers));
     }
 }

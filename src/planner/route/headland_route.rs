@@ -255,20 +255,15 @@ impl HeadlandRoutes {
                 if wanted.is_empty() {
                     continue;
                 }
-                // each test made once, whichever bounds ask for it first
+                // each set of edges tested once, whichever bounds ask first, and on the straight
+                // leg (one leg of the points) before any arc is drawn
                 let leg = ramp.straight();
                 let points = OnceCell::new();
                 let draw = || points.get_or_init(|| ramp.points());
-                let leaves_field = OnceCell::new();
-                let over_mainland = OnceCell::new();
+                let crosses = |edges: &EdgeIndex| leg.is_some_and(|leg| edges.crossed(&leg)) || edges.crossed(draw());
+                let (leaves_field, over_mainland) = (OnceCell::new(), OnceCell::new());
                 for b in wanted {
-                    let clear = match leg {
-                        Some(leg) if !self.clear(&leg, bounds[b]) => false,
-                        _ => {
-                            !*leaves_field.get_or_init(|| self.field.crossed(draw()))
-                                && (bounds[b] == Bounds::Field || !*over_mainland.get_or_init(|| self.mainland.crossed(draw())))
-                        }
-                    };
+                    let clear = !*leaves_field.get_or_init(|| crosses(&self.field)) && (bounds[b] == Bounds::Field || !*over_mainland.get_or_init(|| crosses(&self.mainland)));
                     if clear {
                         kept[b][road] += 1;
                         out[b].push(Ramp { road, vertex, forward, points: draw().clone(), length: ramp.length });

@@ -7,13 +7,17 @@
 //! radius (so that the vehicle can follow it): each boundary of the inset area opened and
 //! closed by the radius, three buffers.
 
-use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Polygon};
+use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Polygon, SimplifyVwPreserve};
 use rayon::prelude::*;
 
 use crate::geom::EdgeIndex;
 
 /// Parts of inset areas smaller than this are slivers, not room to work.
 const SLIVER_M2: f64 = 1.0;
+/// Vertices that bend a boundary by less than this (the triangle with their neighbours) are
+/// dropped before a ring is grown back: centimetres that no vehicle follows, which made `geo`'s
+/// buffer ten times slower on some rings (10 ms against 0.6 ms for a 229-point ring).
+const DETAIL_M2: f64 = 0.025;
 
 #[derive(Debug, Clone)]
 pub struct Headland {
@@ -61,7 +65,8 @@ pub fn headland(region: &MultiPolygon, width_m: f64, passes: usize, turn_radius_
 /// as it is, corners and all.
 fn drivable(ring: &LineString, around_hole: bool, region: &MultiPolygon, edges: &EdgeIndex, r: f64, offset: f64) -> Vec<Vec<Coord>> {
     let shape = MultiPolygon(vec![Polygon::new(ring.clone(), vec![])]);
-    let mut rounded = without_slivers(inset(&inset(&shape, r).buffer(2.0 * r), r));
+    let opened_core = inset(&shape, r).simplify_vw_preserve(DETAIL_M2);
+    let mut rounded = without_slivers(inset(&opened_core.buffer(2.0 * r), r));
     if rounded.0.is_empty() {
         // a strip narrower than the turning circle (between the edge and a pond's passes) is
         // driven round as it is: it is left unworked otherwise

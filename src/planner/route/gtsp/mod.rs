@@ -147,13 +147,13 @@ pub fn kicks(m: usize) -> usize {
 }
 /// On instances of at most this many clusters the lower bound is computed: kicks go on only
 /// while the best is further than [`RESTART_GAP`] above it, and so do random restarts (up to
-/// [`RESTARTS`], until one finds nothing better).
+/// [`RESTARTS`], until one gains no more than that gap).
 const RESTART_UP_TO: usize = 40;
 const RESTARTS: usize = 3;
 const RESTART_GAP: f64 = 0.005;
 /// Kicks in a row that find nothing better end a search: at least this many, and at least one
 /// per two clusters (the effort follows what is still being gained).
-const STALL_KICKS: usize = 100;
+const STALL_KICKS: usize = 50;
 /// Longest segment a double-bridge kick moves.
 const KICK_SEGMENT: usize = 50;
 
@@ -378,11 +378,15 @@ pub fn heuristic(inst: &Instance) -> Vec<usize> {
                 order.swap(i, rng.below(i + 1));
             }
             let found = iterated_local_search(inst, &nb, &of, optimise_clusters(inst, &order), Some(good_enough), &mut rng);
-            // a restart that finds nothing better says the first search was near the best
-            if inst.total(&found) >= inst.total(&best) - EPS {
+            let (before, after) = (inst.total(&best), inst.total(&found));
+            if after < before - EPS {
+                best = found;
+            }
+            // a restart that gains less than the gap says the searches are near the best: the
+            // next would cost as much for less
+            if before - after <= RESTART_GAP * before {
                 break;
             }
-            best = found;
         }
     }
     best

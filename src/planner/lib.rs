@@ -383,7 +383,12 @@ fn plan_until(
     let usable_j: Vec<f64> = flown.iter().flat_map(|f| std::iter::repeat_n(f.vehicle.battery.usable_j(), f.sorties.len())).collect();
     let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
     let photos = resolved.camera.map(|c| flown.iter().flat_map(|f| f.sorties.iter().flat_map(move |s| photo_positions(s, &c, f.planned.sweep_angle))).collect::<Vec<_>>());
-    let (swept, strip_area_m2) = metrics::swept_and_strip_area(&path);
+    // measured by the planner when its one sortie is its path as planned
+    let measured = match flown.as_slice() {
+        [f] if f.sorties.len() == 1 && f.sorties[0] == f.planned.path => f.planned.swept.clone(),
+        _ => None,
+    };
+    let (swept, strip_area_m2) = measured.unwrap_or_else(|| metrics::swept_and_strip_area(&path));
     let main = flown.first().ok_or_else(|| PlanError::Infeasible("no drone of the fleet has a part to fly".into()))?;
     let input = metrics::MeasureInput {
         path: &path,
@@ -475,4 +480,51 @@ fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan, still_heading
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    /// The ground a ground plan covers, measured by the planner beside its search, is the
+    /// ground its path covers: whatever the order of the swaths, the pass each ring is entered
+    /// at and the way round it is driven (a field with two ponds, headland passes first and
+    /// last, starting from each corner).
+    #[test]
+    fn a_ground_plans_swept_ground_measured_beside_the_search_is_its_paths() {
+        // 300 m × 200 m at 45° N, ponds given in metres from the south-west corner
+        let (lon0, lat0) = (10.0, 45.0);
+        let at = |x: f64, y: f64| [lon0 + x / (111_320.0 * 45f64.to_radians().cos()), lat0 + y / 110_574.0];
+        let ring = |pts: &[(f64, f64)]| pts.iter().chain(&pts[..1]).map(|&(x, y)| at(x, y)).collect::<Vec<_>>();
+        let outer = ring(&[(0.0, 0.0), (300.0, 0.0), (280.0, 200.0), (0.0, 170.0)]);
+        let ponds = [ring(&[(60.0, 60.0), (100.0, 55.0), (95.0, 100.0)]), ring(&[(180.0, 90.0), (220.0, 90.0), (220.0, 130.0), (180.0, 130.0)])];
+        let area = json!({"type": "Polygon", "coordinates": [outer, ponds[0], ponds[1]]});
+        let profiles = vehicle::builtin_profiles();
+        let mut checked = 0;
+        for order in ["first", "last"] {
+            for corner in [(1.0, 1.0), (299.0, 1.0), (279.0, 199.0), (1.0, 169.0)] {
+                let params: PlanParams = serde_json::from_value(json!({
+                    "vehicle": {"kind": "ground", "working_width_m": 6, "turn_radius_m": 7},
+                    "headland_order": order,
+                    "start": {"position": at(corner.0, corner.1)},
+                }))
+                .unwrap();
+                let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None };
+                let prepared = prepare(&mission, &params, &profiles, &FieldLimits::default()).unwrap();
+                let transit = TransitPlanner::new(&prepared.keep_out, &prepared.walls);
+                let stop = Stop::never();
+                let stages = Stages { prepared: &prepared, transit: &transit, obstacles: None, stop: &stop };
+                let ends = Ends { start: prepared.start, end: prepared.end, home: None };
+                let flight = stages.fly(&prepared.resolved.vehicle, ends, &prepared.region, None, &|_| true).unwrap();
+                let planned = &flight.planned;
+                let measured = planned.swept.as_ref().expect("the headland planner measures its swept ground");
+                let (swept, strip_area) = metrics::swept_and_strip_area(&planned.path);
+                assert!(measured.0 == swept && measured.1 == strip_area, "order {order}, start {corner:?}: {} m² against {} m²", measured.0.unsigned_area(), swept.unsigned_area());
+                assert!(planned.path.pieces.iter().filter(|p| p.kind == path::PieceKind::Headland).count() >= 6, "two passes round the edge and each pond");
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 8);
+    }
 }

@@ -430,20 +430,85 @@ fn footprint(line: &[Coord], half: f64) -> Vec<Polygon> {
 /// The angle of one straight piece of a fan's arc (5°).
 const FAN_STEP_RAD: f64 = std::f64::consts::PI / 36.0;
 
+/// What one strip of swept ground is drawn from.
+enum Strip {
+    /// A ground vehicle's headland pass: a closed ring.
+    Pass(Vec<Coord>, f64),
+    /// Sweeps flown one after another.
+    Line(Vec<Coord>, f64),
+}
+
+impl Strip {
+    /// A pass, a closed ring from its first point in canonical form: the same ring driven from
+    /// anywhere, either way round, gives the same strip.
+    fn pass(ring: &[Coord], half: f64) -> Strip {
+        if ring.len() < 4 || ring.first() != ring.last() {
+            return Strip::Pass(ring.to_vec(), half);
+        }
+        let n = ring.len() - 1;
+        let forward: Vec<Coord> = ring[..n].to_vec();
+        let backward: Vec<Coord> = forward.iter().rev().copied().collect();
+        let lowest = forward.iter().copied().min_by(|a, b| compare_points(&[*a], &[*b])).unwrap_or_default();
+        // every rotation that starts at the lowest point, either way round: the least
+        let starts = |seq: &[Coord]| (0..n).filter(|&i| seq[i] == lowest).map(|i| seq[i..].iter().chain(&seq[..=i]).copied().collect::<Vec<Coord>>()).collect::<Vec<_>>();
+        let first = starts(&forward).into_iter().chain(starts(&backward)).min_by(|a, b| compare_points(a, b)).unwrap_or_else(|| ring.to_vec());
+        Strip::Pass(first, half)
+    }
+
+    /// A single straight sweep from its lower end: flown either way, the same strip.
+    fn line(mut points: Vec<Coord>, half: f64) -> Strip {
+        if points.len() == 2 && compare_points(&points[1..], &points[..1]).is_lt() {
+            points.reverse();
+        }
+        Strip::Line(points, half)
+    }
+
+    fn points(&self) -> &[Coord] {
+        match self {
+            Strip::Pass(p, _) | Strip::Line(p, _) => p,
+        }
+    }
+
+    fn half(&self) -> f64 {
+        match self {
+            Strip::Pass(_, h) | Strip::Line(_, h) => *h,
+        }
+    }
+
+    fn draw(&self) -> Vec<Polygon> {
+        match self {
+            Strip::Pass(ring, half) => {
+                // the same ground as [`footprint`], faster on passes of thousands of short
+                // segments (and the passes turn no tighter than the swath is wide, where `geo`'s
+                // buffer errs)
+                let style = BufferStyle::new(*half).line_cap(LineCap::Butt);
+                LineString::from(ring.clone()).buffer_with_style(style).0
+            }
+            Strip::Line(line, half) => {
+                let mut line = LineString::from(line.clone()).simplify(SWATH_TOLERANCE_M);
+                line.0.dedup_by(|a, b| distance(*a, *b) < SWATH_TOLERANCE_M);
+                if *half > 0.0 { footprint(&line.0, *half) } else { Vec::new() }
+            }
+        }
+    }
+}
+
+/// Point sequences in lexicographic order of their coordinates.
+fn compare_points(a: &[Coord], b: &[Coord]) -> std::cmp::Ordering {
+    a.iter().zip(b).map(|(p, q)| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y))).find(|o| o.is_ne()).unwrap_or(a.len().cmp(&b.len()))
+}
+
 /// The swaths of `path`. Sweeps flown one after another (a spiral's rings, a grid path's runs)
 /// are one polyline, straightened to within [`SWATH_TOLERANCE_M`] (offset curves come as
 /// thousands of sub-millimetre segments) and measured by [`footprint`]; a ground vehicle's
 /// headland passes cover the same ground, measured by their buffer.
-fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
+fn sweep_strips(path: &FlightPath) -> Vec<Strip> {
     let mut strips = Vec::new();
     let pieces = &path.pieces;
     let mut i = 0;
     while i < pieces.len() {
         if pieces[i].kind == PieceKind::Headland {
-            // the same ground as [`footprint`], faster on passes of thousands of short segments
-            // (and the passes turn no tighter than the swath is wide, where `geo`'s buffer errs)
-            let style = BufferStyle::new(pieces[i].half_swath_m).line_cap(LineCap::Butt);
-            strips.extend(LineString::from(pieces[i].points.clone()).buffer_with_style(style));
+            strips.push(Strip::pass(&pieces[i].points, pieces[i].half_swath_m));
             i += 1;
             continue;
         }
@@ -459,13 +524,27 @@ fn sweep_strips(path: &FlightPath) -> Vec<Polygon> {
             line.extend_from_slice(&next.points[1..]);
             i += 1;
         }
-        let mut line = LineString::from(line).simplify(SWATH_TOLERANCE_M);
-        line.0.dedup_by(|a, b| distance(*a, *b) < SWATH_TOLERANCE_M);
-        if half > 0.0 {
-            strips.extend(footprint(&line.0, half));
-        }
+        strips.push(Strip::line(line, half));
     }
     strips
+}
+
+/// The union of the strips and their areas summed, whatever order they come in: drawn side
+/// by side (a headland pass's buffer takes a millisecond) and joined in a canonical order, so
+/// that the same strips always give the same polygons.
+fn cover(mut strips: Vec<Strip>) -> (MultiPolygon, f64) {
+    use rayon::prelude::*;
+    strips.sort_by(|a, b| compare_points(a.points(), b.points()).then(a.half().total_cmp(&b.half())));
+    let shapes: Vec<Polygon> = strips.par_iter().flat_map_iter(Strip::draw).collect();
+    (union_of(&shapes), shapes.iter().map(|s| s.unsigned_area()).sum())
+}
+
+/// What [`swept_and_strip_area`] gives for a ground vehicle's path whose sweeps are `swaths`
+/// and whose headland passes are `passes` (rings), in any order, direction and first point: for a
+/// planner to measure beside its search for the order.
+pub fn ground_swept(swaths: &[(Coord, Coord)], passes: &[Vec<Coord>], half: f64) -> (MultiPolygon, f64) {
+    let lines = swaths.iter().map(|&(a, b)| Strip::line(vec![a, b], half));
+    cover(passes.iter().map(|ring| Strip::pass(ring, half)).chain(lines).collect())
 }
 
 /// The union of `shapes` (empty without shapes).
@@ -509,8 +588,7 @@ pub fn swept(path: &FlightPath) -> MultiPolygon {
 /// [`swept`], and the swaths' areas summed (ground swept twice counted twice), for
 /// [`Stats::overlap_ratio`]: both from the same strips.
 pub fn swept_and_strip_area(path: &FlightPath) -> (MultiPolygon, f64) {
-    let strips = sweep_strips(path);
-    (union_of(&strips), strips.iter().map(|s| s.unsigned_area()).sum())
+    cover(sweep_strips(path))
 }
 
 /// The ground photos on the sweeps of `path` image at least: each sweep's own rectangle, as
@@ -629,6 +707,62 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
 mod tests {
     use super::*;
     use geo::{Contains, polygon};
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+        /// A ground path's swept ground is the same whatever the order of its swaths and passes,
+        /// the way each is driven and where each ring is entered: the ground that
+        /// [`ground_swept`] measures without the order.
+        #[test]
+        fn ground_swept_ground_does_not_depend_on_order_direction_or_entry(
+            swaths in prop::collection::vec((0.0..200.0f64, 0.0..200.0f64, 5.0..80.0f64), 1..12),
+            rings in prop::collection::vec((20.0..180.0f64, 20.0..180.0f64, 5.0..30.0f64, 3usize..9), 1..4),
+            entries in prop::collection::vec((any::<bool>(), 0usize..100), 4),
+            reversed in prop::collection::vec(any::<bool>(), 12),
+            shuffle in any::<u64>(),
+        ) {
+            let half = 3.0;
+            let lines: Vec<(Coord, Coord)> = swaths.iter().map(|&(x, y, l)| (Coord { x, y }, Coord { x: x + l, y: y + 0.3 * l })).collect();
+            let polygons: Vec<Vec<Coord>> = rings
+                .iter()
+                .map(|&(cx, cy, r, n)| {
+                    let mut ring: Vec<Coord> = (0..n).map(|k| k as f64 * std::f64::consts::TAU / n as f64).map(|a| Coord { x: cx + r * a.cos(), y: cy + r * a.sin() }).collect();
+                    ring.push(ring[0]);
+                    ring
+                })
+                .collect();
+            // the path: rings entered anywhere, either way round; swaths either way; all shuffled
+            let mut pieces: Vec<(PieceKind, Vec<Coord>)> = Vec::new();
+            for (k, ring) in polygons.iter().enumerate() {
+                let (forward, at) = entries[k % entries.len()];
+                let n = ring.len() - 1;
+                let start = at % n;
+                let points: Vec<Coord> = (0..=n).map(|j| if forward { ring[(start + j) % n] } else { ring[(start + n - j % n) % n] }).collect();
+                pieces.push((PieceKind::Headland, points));
+            }
+            for (k, &(a, b)) in lines.iter().enumerate() {
+                pieces.push((PieceKind::Sweep, if reversed[k] { vec![b, a] } else { vec![a, b] }));
+            }
+            let mut rng = crate::route::gtsp::Rng(shuffle | 1);
+            for i in (1..pieces.len()).rev() {
+                pieces.swap(i, rng.below(i + 1));
+            }
+            let mut path = FlightPath::default();
+            let mut last: Option<Coord> = None;
+            for (kind, points) in pieces {
+                // a turn between pieces, as a plan has: sweeps are never joined
+                if let Some(from) = last {
+                    path.push(PieceKind::Turn, vec![from, Coord { x: from.x + 1.0, y: from.y - 1.0 }, points[0]], 0.0);
+                }
+                last = points.last().copied();
+                path.push(kind, points, half);
+            }
+            let (swept, strips) = swept_and_strip_area(&path);
+            let (measured, measured_strips) = ground_swept(&lines, &polygons, half);
+            prop_assert!(swept == measured && strips == measured_strips, "{} m² against {} m²", swept.unsigned_area(), measured.unsigned_area());
+        }
+    }
 
     /// A ring flown as thousands of sub-millimetre sweeps under a swath wider than its radius
     /// (what an inset of a spiral looks like) is measured on its straightened centreline, and as
@@ -690,8 +824,6 @@ mod tests {
         let zone = MultiPolygon(vec![polygon![(x: 40., y: 0.), (x: 60., y: 0.), (x: 60., y: 10.), (x: 40., y: 10.)]]);
         assert!((length_inside(&path, &zone) - 20.0).abs() < 1e-9);
     }
-
-    use proptest::prelude::*;
 
     proptest! {
         /// Runs of photos along lines image the same ground as their footprints one by one.

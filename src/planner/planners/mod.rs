@@ -71,11 +71,14 @@ pub struct PlannedPath {
     pub alternatives: Vec<Alternative>,
     /// From a search that can prove its result: whether it did.
     pub optimality: Option<Optimality>,
+    /// [`crate::metrics::swept_and_strip_area`] of `path`, when the planner measured it beside
+    /// its search.
+    pub swept: Option<(MultiPolygon, f64)>,
 }
 
 impl PlannedPath {
     pub fn new(path: FlightPath, sweep_angle: f64, cells: usize) -> Self {
-        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new(), optimality: None }
+        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new(), optimality: None, swept: None }
     }
 }
 

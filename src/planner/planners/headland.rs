@@ -67,14 +67,12 @@ impl Planner for HeadlandPlanner {
             drive.passes(headland, false, half, spacing);
         }
         let links = SwathLinks::new(&lines, &routes);
-        // the ground the swaths and passes cover does not depend on their order: measured on
-        // the side while the order is searched (one core is free then)
+        // the ground the swaths and passes cover does not depend on their order: measured
+        // while the order is searched
         let swaths: Vec<(Coord, Coord)> = lines.iter().map(|l| (l.a, l.b)).collect();
         let rings: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
-        let (seq, swept) = rayon::join(
-            || order(&links, drive.at, problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle))), &problem.connector.stop()),
-            || metrics::ground_swept(&swaths, &rings, half),
-        );
+        let end = problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle)));
+        let (seq, swept) = order(&links, drive.at, end, &problem.connector.stop(), || metrics::ground_swept(&swaths, &rings, half));
         if !progress.report(0.8) {
             return Err(PlanError::Cancelled);
         }

@@ -397,12 +397,13 @@ impl<'a> SwathLinks<'a> {
 const FLOORS_KEPT_UP_TO: usize = 2000;
 
 /// The swaths' order as a node sequence of [`super::line_tour`], from `start` to `end` (each
-/// optional, a pose).
-pub fn order(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<Pose>, stop: &Stop) -> Vec<usize> {
+/// optional, a pose), and what `beside` gives: it runs while the order is searched, on the core
+/// the search leaves free.
+pub fn order<R: Send>(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<Pose>, stop: &Stop, beside: impl FnOnce() -> R + Send) -> (Vec<usize>, R) {
     let (lines, routes) = (links.lines, links.routes);
     let n = 2 * lines.len();
     if n == 0 {
-        return Vec::new();
+        return (Vec::new(), beside());
     }
     // the search asks for the same floors many times: each is kept once computed (NaN: not yet)
     let memo: Vec<std::cell::Cell<f64>> = if n <= FLOORS_KEPT_UP_TO { vec![std::cell::Cell::new(f64::NAN); n * n] } else { Vec::new() };
@@ -435,7 +436,12 @@ pub fn order(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<Pose>, sto
     };
     let mut inst = line_instance(lines, Costs::lazy(n, known, |u, v| links.cost(u, v), floor), terminal(start, true), terminal(end, false), stop.clone());
     inst.candidates = Some(candidates);
-    super::gtsp::solve(&inst)
+    let mut aside = None;
+    let seq = rayon::in_place_scope(|s| {
+        s.spawn(|_| aside = Some(beside()));
+        super::gtsp::solve(&inst)
+    });
+    (seq, aside.expect("the scope waits for its job"))
 }
 
 /// A transit inside the field when one is found (`true`), else by the road outside (a start or

@@ -51,8 +51,9 @@ impl Planner for HeadlandPlanner {
         let radius = steering.bounding_radius();
         let headland = &setup.headland;
         let angle = problem.sweep_angle.unwrap_or_else(|| best_direction(&headland.mainland, problem.layout, radius));
-        let roads: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
-        let routes = HeadlandRoutes::new(problem.region, &headland.mainland, roads, steering, setup.spec.width_m);
+        // the passes' rings: roads for the turns, and ground the passes cover
+        let rings: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
+        let routes = HeadlandRoutes::new(problem.region, &headland.mainland, &rings, steering, setup.spec.width_m);
         let lines: Vec<Line> = swaths(&headland.mainland, problem.region, angle, problem.layout.spacing, setup.spec.swath_ends, setup.spec.width_m)
             .into_iter()
             .filter_map(|l| routes.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l }))
@@ -70,7 +71,6 @@ impl Planner for HeadlandPlanner {
         // the ground the swaths and passes cover does not depend on their order: measured
         // while the order is searched
         let swaths: Vec<(Coord, Coord)> = lines.iter().map(|l| (l.a, l.b)).collect();
-        let rings: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
         let end = problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle)));
         let (seq, swept) = order(&links, drive.at, end, &problem.connector.stop(), || metrics::ground_swept(&swaths, &rings, half));
         if !progress.report(0.8) {

@@ -31,7 +31,7 @@ pub struct Road {
 
 impl Road {
     /// The ring with a vertex at least every `step` metres, where ramps may join it.
-    fn new(ring: Vec<Coord>, step: f64) -> Self {
+    fn new(ring: &[Coord], step: f64) -> Self {
         let mut points = vec![ring[0]];
         for w in ring.windows(2) {
             let k = (distance(w[0], w[1]) / step).ceil().max(1.0) as usize;
@@ -142,10 +142,10 @@ pub enum Bounds {
 impl HeadlandRoutes {
     /// `region`: the field less its holes and zones; `mainland`: where turns may not go;
     /// `roads`: the headland passes' rings.
-    pub fn new(region: &MultiPolygon, mainland: &MultiPolygon, roads: Vec<Vec<Coord>>, steering: Steering, headland_m: f64) -> Self {
+    pub fn new(region: &MultiPolygon, mainland: &MultiPolygon, roads: &[Vec<Coord>], steering: Steering, headland_m: f64) -> Self {
         let radius = steering.bounding_radius();
         let spacing = (radius / 2.0).max(1.0);
-        let roads: Vec<Road> = roads.into_iter().filter(|r| r.len() >= 4).map(|r| Road::new(r, spacing)).collect();
+        let roads: Vec<Road> = roads.iter().filter(|r| r.len() >= 4).map(|r| Road::new(r, spacing)).collect();
         let stops = roads.iter().enumerate().flat_map(|(k, road)| road.stops(spacing).into_iter().map(move |i| (k, i, road.points[i]))).collect();
         HeadlandRoutes { field: EdgeIndex::new(region), mainland: EdgeIndex::new(mainland), roads, stops, steering, reach: 4.0 * radius + 2.0 * headland_m }
     }
@@ -469,7 +469,7 @@ mod tests {
         let square = |x0: f64, y0: f64, side: f64| LineString::from(vec![(x0, y0), (x0 + side, y0), (x0 + side, y0 + side), (x0, y0 + side), (x0, y0)]);
         let region = MultiPolygon(vec![Polygon::new(square(0.0, 0.0, 120.0), vec![square(50.0, 50.0, 20.0)])]);
         let h = headland(&region, 10.0, 2, 3.0);
-        let routes = HeadlandRoutes::new(&region, &h.mainland, h.passes.concat(), Steering::new(3.0, false, None), 10.0);
+        let routes = HeadlandRoutes::new(&region, &h.mainland, &h.passes.concat(), Steering::new(3.0, false, None), 10.0);
         let key = |ramps: &[Ramp]| ramps.iter().map(|r| (r.road, r.vertex, r.forward, r.length)).collect::<Vec<_>>();
         let (mut found, mut differ) = (0, false);
         // swath ends on the mainland's edges (outer and round the pond)

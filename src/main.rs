@@ -67,6 +67,12 @@ enum Command {
         /// Only these fields (file names without .json), comma-separated.
         #[arg(long, value_delimiter = ',')]
         fields: Vec<String>,
+        /// Where lines end at slanted edges: full_width, balanced or centre_line (default: the planners' own).
+        #[arg(long, value_parser = ["full_width", "balanced", "centre_line"])]
+        ends: Option<String>,
+        /// Fields2Cover's fixed-wing configuration (width max(8, √area/25), radius half of it, zones 1 m off) on the fields h*_00, beside its figures.
+        #[arg(long)]
+        fields2cover: bool,
         /// Instead: route 100, 300 and 600 parallel lines with Dubins turns.
         #[arg(long)]
         routing: bool,
@@ -227,8 +233,16 @@ fn main() -> ExitCode {
             print!("{}", coverplan::bench::routing());
             Ok(())
         }
-        Command::Bench { data, planner, repeats, vehicle, spacing, fields, .. } => {
-            let options = coverplan::bench::Options { planner: planner.as_deref(), repeats, vehicle: vehicle.as_deref(), spacing_m: spacing, fields: &fields };
+        Command::Bench { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, .. } => {
+            let options = coverplan::bench::Options {
+                planner: planner.as_deref(),
+                repeats,
+                vehicle: vehicle.as_deref(),
+                spacing_m: spacing,
+                fields: &fields,
+                ends: ends.as_deref(),
+                fields2cover,
+            };
             coverplan::bench::run(&data, &options).map(|table| print!("{table}"))
         }
         Command::Keys { action, database_url: url } => tokio::runtime::Runtime::new().map_err(Into::into).and_then(|rt| rt.block_on(keys(action, &database_url(&url)))),

@@ -17,6 +17,7 @@ use std::time::Instant;
 use anyhow::Context;
 use serde_json::Value;
 
+use crate::planner::params::SwathEnds;
 use crate::planner::planners::registry;
 use crate::planner::vehicle::{VehicleKind, VehicleParams};
 use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams, Stop};
@@ -33,6 +34,10 @@ struct Row {
     coverage: Vec<f64>,
     /// Length over the boustrophedon planner's on the same field.
     vs_reference: Vec<f64>,
+    /// Where the length goes: sweep over the lower bound (area / spacing), turns, transits.
+    sweep_over_bound: Vec<f64>,
+    turns_m: Vec<f64>,
+    transits_m: Vec<f64>,
 }
 
 fn quantile(v: &mut [f64], q: f64) -> f64 {
@@ -45,7 +50,8 @@ fn quantile(v: &mut [f64], q: f64) -> f64 {
 }
 
 fn mean(v: &[f64]) -> f64 {
-    v.iter().sum::<f64>() / v.len().max(1) as f64
+    // from +0: a sum of -0.0 (no transit) would print as "-0"
+    v.iter().fold(0.0, |s, x| s + x) / v.len().max(1) as f64
 }
 
 /// Line spacing for a field: a twentieth of the square root of its area, 5 to 60 m (about 20
@@ -53,6 +59,16 @@ fn mean(v: &[f64]) -> f64 {
 pub fn bench_spacing(area_m2: f64) -> f64 {
     (area_m2.sqrt() / 20.0).clamp(5.0, 60.0)
 }
+
+/// Fields2Cover's configuration for fixed wings (issue 19): width max(8, √area / 25), turning
+/// radius half of it, zones kept 1 m off, on the fields `h*_00`.
+pub fn fields2cover_spacing(area_m2: f64) -> f64 {
+    (area_m2.sqrt() / 25.0).max(8.0)
+}
+
+/// Fields2Cover 2.1's figures in that configuration (its route planner, Dubins turns, no
+/// headland), measured on this machine when issue 19 was filed.
+const FIELDS2COVER_FIXED_WING: &str = "Fields2Cover 2.1 (route planner, Dubins r = w/2, no headland, centre-line swath ends), measured here: median efficiency 0.840 over the 16 fields, 0.884 on h00_00 (no holes); its turns cross holes 149 times";
 
 /// What to benchmark.
 pub struct Options<'a> {
@@ -64,6 +80,10 @@ pub struct Options<'a> {
     pub spacing_m: Option<f64>,
     /// Only these field files (without `.json`).
     pub fields: &'a [String],
+    /// Where lines end at slanted edges (`swath_ends`); `None`: the planners' default.
+    pub ends: Option<&'a str>,
+    /// Fields2Cover's fixed-wing configuration ([`fields2cover_spacing`]) on the fields `h*_00`.
+    pub fields2cover: bool,
 }
 
 /// Resets the process's peak resident memory (Linux: `/proc/self/clear_refs`), so that the next
@@ -86,19 +106,37 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
         .as_array()
         .context("index.json is a list")?
         .iter()
-        .filter(|e| options.fields.is_empty() || options.fields.iter().any(|f| e["file"].as_str() == Some(&format!("{f}.json"))))
+        .filter(|e| match (options.fields.is_empty(), e["file"].as_str()) {
+            (true, Some(file)) => !options.fields2cover || file.ends_with("_00.json"),
+            (_, file) => options.fields.iter().any(|f| file == Some(&format!("{f}.json"))),
+        })
         .collect();
     anyhow::ensure!(!entries.is_empty(), "no field of {} matches {:?}", dir.display(), options.fields);
-    let fixed_wing = match options.vehicle.unwrap_or("multirotor") {
+    let fixed_wing = match options.vehicle.unwrap_or(if options.fields2cover { "fixed_wing" } else { "multirotor" }) {
         "multirotor" => false,
         "fixed_wing" => true,
         other => anyhow::bail!("--vehicle is multirotor or fixed_wing, not {other}"),
     };
+    let ends: Option<SwathEnds> = options.ends.map(|e| serde_json::from_value(Value::from(e))).transpose().context("--ends is full_width, balanced or centre_line")?;
     let repeats = options.repeats.max(1);
-    let spacing_rule = options.spacing_m.map_or("sqrt(area)/20 within 5..60 m".to_owned(), |s| format!("{s} m"));
+    let spacing_rule = match (options.spacing_m, options.fields2cover) {
+        (Some(s), _) => format!("{s} m"),
+        (None, true) => "max(8, sqrt(area)/25) m".to_owned(),
+        (None, false) => "sqrt(area)/20 within 5..60 m".to_owned(),
+    };
     let vehicle = if fixed_wing { "fixed wing turning at half the spacing" } else { "multirotor" };
+    let margin = if options.fields2cover { "kept 1 m off" } else { "kept 10 m off" };
+    let ends_rule = options.ends.unwrap_or("the planners' default");
     let mut out = String::new();
-    out.push_str(&format!("fields: {} from {}; {repeats} runs each; spacing {spacing_rule}; {vehicle}; holes as no-fly zones\n\n", entries.len(), dir.display()));
+    out.push_str(&format!(
+        "fields: {} from {}; {repeats} runs each; spacing {spacing_rule}; {vehicle}; holes as no-fly zones {margin}; line ends {ends_rule}\n",
+        entries.len(),
+        dir.display()
+    ));
+    if options.fields2cover {
+        out.push_str(&format!("beside: {FIELDS2COVER_FIXED_WING}\n"));
+    }
+    out.push('\n');
     // lengths of the reference planner (the first one, `boustrophedon`) per field
     let mut reference: std::collections::HashMap<String, f64> = std::collections::HashMap::new();
     // a battery large enough that no plan is split into sorties
@@ -106,15 +144,33 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
     for p in registry().iter().filter(|p| !p.for_ground_vehicles() && options.planner.is_none_or(|f| f == p.id())) {
         let mut rows: Vec<Row> = (0..=15)
-            .map(|holes| Row { holes, refused: 0, times_ms: vec![], peak_mb: vec![], lengths_m: vec![], efficiency: vec![], coverage: vec![], vs_reference: vec![] })
+            .map(|holes| Row {
+                holes,
+                refused: 0,
+                times_ms: vec![],
+                peak_mb: vec![],
+                lengths_m: vec![],
+                efficiency: vec![],
+                coverage: vec![],
+                vs_reference: vec![],
+                sweep_over_bound: vec![],
+                turns_m: vec![],
+                transits_m: vec![],
+            })
             .collect();
         for &e in &entries {
             let file = e["file"].as_str().context("file")?;
             let holes = e["holes"].as_u64().context("holes")? as usize;
             let m: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(file))?)?;
             let area_m2 = e["area_m2"].as_f64().context("area_m2")?;
-            let spacing = options.spacing_m.unwrap_or_else(|| bench_spacing(area_m2));
-            let mut params = PlanParams { planner: Some(p.id().into()), line_spacing_m: Some(spacing), ..PlanParams::default() };
+            let spacing = options.spacing_m.unwrap_or_else(|| if options.fields2cover { fields2cover_spacing(area_m2) } else { bench_spacing(area_m2) });
+            let mut params = PlanParams {
+                planner: Some(p.id().into()),
+                line_spacing_m: Some(spacing),
+                swath_ends: ends.filter(|_| p.lays_parallel_lines()),
+                nfz_margin_m: options.fields2cover.then_some(1.0),
+                ..PlanParams::default()
+            };
             if fixed_wing {
                 params.vehicle = VehicleParams { kind: Some(VehicleKind::FixedWing), turn_radius_m: Some(spacing / 2.0), ..VehicleParams::default() };
             }
@@ -138,22 +194,30 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
                 }
                 row.efficiency.push(plan.stats.efficiency);
                 row.coverage.push(plan.stats.coverage_ratio);
+                row.sweep_over_bound.push(plan.stats.sweep_length_m / plan.stats.lower_bound_m);
+                row.turns_m.push(plan.stats.turn_length_m);
+                row.transits_m.push(plan.stats.transit_length_m);
             }
         }
         out.push_str(&format!("planner {}\n", p.id()));
-        out.push_str(&format!("| holes | fields | refused | median ms | p95 ms | peak MB | mean length m | length / {} | mean efficiency | min coverage |\n", registry()[0].id()));
-        out.push_str("|------:|-------:|--------:|----------:|-------:|--------:|--------------:|----------:|----------------:|-------------:|\n");
+        out.push_str(&format!(
+            "| holes | fields | refused | median ms | p95 ms | peak MB | mean length m | length / {} | mean efficiency | min coverage | sweep / bound | turns m | transits m |\n",
+            registry()[0].id()
+        ));
+        out.push_str(
+            "|------:|-------:|--------:|----------:|-------:|--------:|--------------:|----------:|----------------:|-------------:|--------------:|--------:|-----------:|\n",
+        );
         for r in rows.iter_mut().filter(|r| !r.times_ms.is_empty() || r.refused > 0) {
             let n = r.times_ms.len() / repeats;
             if n == 0 {
                 // every field of the row refused: no figures to show
-                out.push_str(&format!("| {:>5} | {:>6} | {:>7} | - | - | - | - | - | - | - |\n", r.holes, 0, r.refused / repeats));
+                out.push_str(&format!("| {:>5} | {:>6} | {:>7} | - | - | - | - | - | - | - | - | - | - |\n", r.holes, 0, r.refused / repeats));
                 continue;
             }
             let median = quantile(&mut r.times_ms, 0.5);
             let p95 = quantile(&mut r.times_ms, 0.95);
             out.push_str(&format!(
-                "| {:>5} | {:>6} | {:>7} | {:>9.2} | {:>6.2} | {:>7.0} | {:>13.0} | {:>9} | {:>15.3} | {:>12.4} |\n",
+                "| {:>5} | {:>6} | {:>7} | {:>9.2} | {:>6.2} | {:>7.0} | {:>13.0} | {:>9} | {:>15.3} | {:>12.4} | {:>13.3} | {:>7.0} | {:>10.0} |\n",
                 r.holes,
                 n,
                 r.refused / repeats,
@@ -163,7 +227,10 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
                 mean(&r.lengths_m),
                 if r.vs_reference.is_empty() { "-".to_string() } else { format!("{:.3}", mean(&r.vs_reference)) },
                 mean(&r.efficiency),
-                r.coverage.iter().copied().fold(f64::INFINITY, f64::min)
+                r.coverage.iter().copied().fold(f64::INFINITY, f64::min),
+                mean(&r.sweep_over_bound),
+                mean(&r.turns_m),
+                mean(&r.transits_m)
             ));
         }
         out.push('\n');

@@ -131,6 +131,9 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
             format!("a fleet's parts are planned with {}: their lines follow the bands the field is cut into", FLEET_PLANNERS.join(", ")),
         ));
     }
+    if params.swath_ends.is_some() && !planner.lays_parallel_lines() {
+        return Err(InputError::new("not_for_planner", "/swath_ends", format!("planner {} flies no parallel lines, so has no line ends to place", planner.id())));
+    }
     let field = Field::parse(mission, limits)?;
     let sweep_km = field.area.unsigned_area() / resolved.line_spacing_m / 1000.0;
     if sweep_km > MAX_SWEEP_KM {

@@ -1,5 +1,8 @@
 //! Sweep stage: parallel lines across a region, clipped to it and prolonged so that each
-//! line's whole swath reaches the boundary (docs/methods.md, decomposition §10.1, docs/methods.md, camera §5).
+//! line's whole swath reaches the boundary (docs/methods.md, decomposition §10.1, docs/methods.md, camera §5);
+//! [`ends`] ends them sooner at slanted edges when asked.
+
+pub mod ends;
 
 use geo::{BooleanOps, BoundingRect, ConvexHull, Coord, MultiPolygon, Rect};
 
@@ -26,11 +29,14 @@ pub struct LineLayout {
     /// footprints flush with its edges, spacing re-fitted (layout `footprint`). `None`: lines
     /// `spacing` apart, centred on the width (layout `centered`).
     pub footprint: Option<f64>,
+    /// Where lines end at a slanted edge of the area ([`ends::end_lines`]; the sweep itself
+    /// always runs them full width).
+    pub ends: ends::SwathEnds,
 }
 
 impl LineLayout {
     pub fn centered(spacing: f64) -> Self {
-        Self { spacing, footprint: None }
+        Self { spacing, footprint: None, ends: ends::SwathEnds::FullWidth }
     }
 
     /// Number of lines across width `d`.
@@ -330,7 +336,7 @@ mod tests {
             let square = |(cx, cy, h): (f64, f64, f64)| LineString::from(vec![(cx - h, cy - h), (cx + h, cy - h), (cx + h, cy + h), (cx - h, cy + h), (cx - h, cy - h)]);
             let region = MultiPolygon(vec![Polygon::new(LineString::from(outer), vec![square(hole)])]);
             let keep_out = MultiPolygon(vec![Polygon::new(square(zone), vec![])]);
-            let layout = if footprint { LineLayout { spacing, footprint: Some(spacing * 1.4) } } else { LineLayout::centered(spacing) };
+            let layout = if footprint { LineLayout { footprint: Some(spacing * 1.4), ..LineLayout::centered(spacing) } } else { LineLayout::centered(spacing) };
             let pattern = sweep(&region, &keep_out, angle, layout);
             // one intersection per band, as lines were found before
             let rotated = rotate(&region, angle);
@@ -403,13 +409,13 @@ mod tests {
     #[test]
     fn footprint_layout_refits_the_lines() {
         // docs/methods.md, camera §7 E2 and E3: line counts and re-fitted spacing across a cell
-        let e2 = LineLayout { spacing: 109.44 * 0.3, footprint: Some(109.44) };
+        let e2 = LineLayout { footprint: Some(109.44), ..LineLayout::centered(109.44 * 0.3) };
         assert_eq!(e2.count(500.0), 13);
         let l = e2.lines(0.0, 500.0);
         assert!((l[1].0 - l[0].0 - 32.5467).abs() < 1e-4);
         assert!((l[0].0 - 109.44 / 2.0).abs() < 1e-9 && (l[12].0 - (500.0 - 109.44 / 2.0)).abs() < 1e-9);
         assert_eq!((l[0].1, l[12].2), (0.0, 500.0));
-        let e3 = LineLayout { spacing: 107.99 * 0.8, footprint: Some(107.99) };
+        let e3 = LineLayout { footprint: Some(107.99), ..LineLayout::centered(107.99 * 0.8) };
         assert_eq!((e3.count(500.0), e3.count(450.0), e3.count(100.0)), (6, 5, 1));
         let l = e3.lines(0.0, 500.0);
         assert!((l[1].0 - l[0].0 - 78.402).abs() < 1e-3);

@@ -255,8 +255,8 @@ fn requests_that_cannot_be_worked_are_refused_with_the_reason() {
     assert_eq!((code.as_str(), pointer.as_str()), ("planner_vehicle_mismatch", "/planner"));
     let (code, pointer, _) = refused(drone(json!({"line_spacing_m": 20, "headland_passes": 2})));
     assert_eq!((code.as_str(), pointer.as_str()), ("not_a_ground_vehicle", "/headland_passes"));
-    let (code, pointer, _) = refused(drone(json!({"line_spacing_m": 20, "swath_ends": "centre_line"})));
-    assert_eq!((code.as_str(), pointer.as_str()), ("not_a_ground_vehicle", "/swath_ends"));
+    let (code, pointer, _) = refused(drone(json!({"line_spacing_m": 20, "swath_ends": "centre_line", "planner": "e_spiral"})));
+    assert_eq!((code.as_str(), pointer.as_str()), ("not_for_planner", "/swath_ends"));
     let (code, pointer, _) = refused(drone(json!({"line_spacing_m": 20, "vehicle": {"working_width_m": 6}})));
     assert_eq!((code.as_str(), pointer.as_str()), ("not_a_ground_vehicle", "/vehicle/working_width_m"));
 }

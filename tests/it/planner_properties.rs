@@ -281,6 +281,44 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Line ends at slanted edges (`swath_ends`): centre-line ends fly the least sweep and cover
+    /// the least, full-width ends the most, balanced ones lie between and cover within 1 % of
+    /// full width; each plan keeps every property `check_covering` asks.
+    #[test]
+    fn aircraft_line_ends_trade_sweep_for_coverage_in_order(
+        lon in -179.0..179.0f64,
+        lat in -70.0..70.0f64,
+        radius in 150.0..1500.0f64,
+        shape in prop::collection::vec((0.6..1.0f64, -1.0..1.0f64), 5..14),
+        holes in 0usize..4,
+        lines in 5.0..30.0f64,
+        heading in 0.0..180.0f64,
+        planner in prop::sample::select(vec!["boustrophedon", "line_gtsp", "eecd"]),
+    ) {
+        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
+        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, holes);
+        let nfz = (holes > 0).then_some(&nfz);
+        let name = format!("star at {lon},{lat} r={radius} by {planner}");
+        let floor = coverage_floor(planner, nfz.is_some());
+        let plan = |ends: &str, min_coverage: f64| {
+            let mut p = params(planner, radius * 2.0 / lines, Some(heading));
+            p.swath_ends = Some(serde_json::from_value(json!(ends)).unwrap());
+            let out = check_covering(&area, nfz, &p, &format!("{name}, {ends} ends"), min_coverage).unwrap_or_else(|| panic!("{name}: refused"));
+            (out.stats.sweep_length_m, out.stats.coverage_ratio)
+        };
+        let full = plan("full_width", floor);
+        let balanced = plan("balanced", floor - 0.01);
+        let centre = plan("centre_line", 0.0);
+        let all = format!("{name}: (sweep m, coverage) centre line {centre:?}, balanced {balanced:?}, full width {full:?}");
+        prop_assert!(centre.0 <= balanced.0 + 1e-6 && balanced.0 <= full.0 + 1e-6, "{}", all);
+        prop_assert!(centre.1 <= balanced.1 + 1e-4 && balanced.1 <= full.1 + 1e-4, "{}", all);
+        prop_assert!(balanced.1 >= full.1 - 0.01, "{}", all);
+    }
+}
+
 /// Smallest radius of the circle through three points (infinite when they are collinear).
 fn circumradius(a: Coord, b: Coord, c: Coord) -> f64 {
     let (ab, bc, ca) = ((b - a).x.hypot((b - a).y), (c - b).x.hypot((c - b).y), (a - c).x.hypot((a - c).y));

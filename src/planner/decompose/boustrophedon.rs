@@ -14,7 +14,7 @@
 use geo::{BooleanOps, MultiPolygon};
 
 use super::{Cell, CoverageArea, Decomposition, legs_length, sort_cells, swept_cells};
-use crate::sweep::{SweepPattern, SweepSegment, fewest_lines_direction, sweep};
+use crate::sweep::{SweepPattern, SweepSegment, fewest_lines_direction};
 
 pub struct Boustrophedon;
 
@@ -22,7 +22,7 @@ impl Decomposition for Boustrophedon {
     fn cells(&self, area: &CoverageArea<'_>) -> Vec<Cell> {
         use rayon::prelude::*;
         let angle = area.angle.unwrap_or_else(|| fewest_lines_direction(area.region, area.layout));
-        let cells = cells_of(&sweep(area.region, area.keep_out, angle, area.layout));
+        let cells = cells_of(&area.sweep(area.region, angle));
         if area.angle.is_some() {
             return cells;
         }
@@ -101,7 +101,7 @@ pub fn cells_of(pattern: &SweepPattern) -> Vec<Cell> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sweep::LineLayout;
+    use crate::sweep::{LineLayout, sweep};
     use geo::polygon;
 
     #[test]

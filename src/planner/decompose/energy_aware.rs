@@ -7,7 +7,7 @@ use geo::{Area, BooleanOps, Coord, MultiPolygon, Polygon};
 
 use super::polygon::{min_width, open_ring};
 use super::{Cell, CoverageArea, Decomposition, sort_cells, swept_cells};
-use crate::sweep::{SweepSegment, fewest_lines_direction, sweep, to_sweep_frame};
+use crate::sweep::{SweepSegment, fewest_lines_direction, to_sweep_frame};
 
 pub struct EnergyAware;
 
@@ -54,7 +54,7 @@ fn pocket_cells(poly: &Polygon, area: &CoverageArea<'_>, depth: usize, out: &mut
     }
     let (e0, e1) = longest_edge(poly);
     let angle = area.angle.unwrap_or_else(|| (e1.y - e0.y).atan2(e1.x - e0.x).rem_euclid(std::f64::consts::PI));
-    let pattern = sweep(&piece, area.keep_out, angle, area.layout);
+    let pattern = area.sweep(&piece, angle);
     // start from the line nearest the longest edge
     let edge_v = to_sweep_frame(angle, e0).y;
     let mut lines: Vec<&Vec<SweepSegment>> = pattern.lines.iter().filter(|l| !l.is_empty()).collect();

@@ -12,7 +12,8 @@ pub mod polygon;
 use geo::{BooleanOps, Coord, LineString, MultiPolygon, Polygon};
 
 use super::geom::distance;
-use super::sweep::{LineLayout, SweepSegment, from_sweep_frame, sweep};
+use super::sweep::ends::end_lines;
+use super::sweep::{LineLayout, SweepPattern, SweepSegment, from_sweep_frame, sweep};
 
 /// A cell: one segment on each of a run of consecutive lines of direction `angle`.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,6 +73,16 @@ pub struct CoverageArea<'a> {
     pub angle: Option<f64>,
 }
 
+impl CoverageArea<'_> {
+    /// Lines at `angle` across `piece` (the region or a part of it), ended by the layout's rule
+    /// where the region itself ends.
+    pub fn sweep(&self, piece: &MultiPolygon, angle: f64) -> SweepPattern {
+        let mut pattern = sweep(piece, self.keep_out, angle, self.layout);
+        end_lines(&mut pattern, self.region, self.layout.ends);
+        pattern
+    }
+}
+
 /// A decomposition method: the area in, swept cells out. Together the cells' footprints
 /// cover the area.
 pub trait Decomposition: Sync {
@@ -81,7 +92,7 @@ pub trait Decomposition: Sync {
 /// The cells of lines at `angle` across `piece`: one per run of lines that overlap one to
 /// one (see [`boustrophedon::cells_of`]), plus the gap fills beside no-fly zones.
 pub fn swept_cells(piece: &MultiPolygon, area: &CoverageArea<'_>, angle: f64) -> Vec<Cell> {
-    boustrophedon::cells_of(&sweep(piece, area.keep_out, angle, area.layout))
+    boustrophedon::cells_of(&area.sweep(piece, angle))
 }
 
 /// Sweeps each convex piece in its own direction (the user's, or its narrowest), keeping

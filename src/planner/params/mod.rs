@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use super::camera::{Camera, CameraPlan};
 use super::error::{InputError, check_range};
 use super::sweep::LineLayout;
+pub use super::sweep::ends::SwathEnds;
 use super::vehicle::{Vehicle, VehicleKind, VehicleParams};
 use inspection::{Budget, InspectionOptions, InspectionRequest, InspectionSpec, Target};
 
@@ -120,13 +121,15 @@ pub struct PlanParams {
     /// Ground vehicle: work the headland passes after the swaths (`last`, default) or before.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headland_order: Option<HeadlandOrder>,
-    /// Ground vehicle: where swaths end at a slanted headland edge: `balanced` (default) runs
-    /// each on while a quarter of its width still has mainland to work; `full_width` until its
-    /// whole width has worked the mainland; `centre_line` stops it where its centre line meets
-    /// the headland, shortest but leaving a triangle beside each end (the rule of Fields2Cover's
-    /// swath generator). At a straight slanted edge `balanced` leaves a quarter of the triangle
+    /// Where swaths (or sweep lines) end at a slanted edge of the area they work: `balanced`
+    /// runs each on while a quarter of its width still has area to work; `full_width` until its
+    /// whole width has worked the area; `centre_line` stops it where its centre line meets the
+    /// edge, shortest but leaving a triangle beside each end (the rule of Fields2Cover's swath
+    /// generator). At a straight slanted edge `balanced` leaves a quarter of the triangle
     /// `centre_line` leaves, for half the length `full_width` adds; it runs further where that
-    /// would leave more than 0.5 % of the mainland.
+    /// would leave more than 0.5 % of the area. Default: `balanced` for a ground vehicle (at its
+    /// headland), `full_width` for an aircraft (at the field's edge and its holes; not for
+    /// `e_spiral` and `eg_cpp`, which fly no parallel lines).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub swath_ends: Option<SwathEnds>,
     /// Ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5
@@ -158,17 +161,6 @@ pub enum HeadlandOrder {
     First,
     #[default]
     Last,
-}
-
-/// Where a ground vehicle's swaths end at a slanted headland edge.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
-#[serde(rename_all = "snake_case")]
-pub enum SwathEnds {
-    #[default]
-    Balanced,
-    FullWidth,
-    CentreLine,
 }
 
 /// A ground vehicle's headland, validated.
@@ -341,6 +333,9 @@ impl PlanParams {
                 return refuse("/fleet", "fleets are of drones");
             }
         }
+        // a ground vehicle's swaths are ended by its headland spec; an aircraft's lines run
+        // full width unless asked
+        let aircraft_ends = if headland.is_some() { SwathEnds::FullWidth } else { self.swath_ends.unwrap_or(SwathEnds::FullWidth) };
         let line_spacing_m = match (headland, self.line_spacing_m, &camera) {
             (Some(h), _, _) => h.working_width_m * (1.0 - self.overlap.unwrap_or(0.0)),
             (None, Some(s), _) => s,
@@ -389,7 +384,7 @@ impl PlanParams {
         Ok(Resolved {
             line_spacing_m,
             camera,
-            layout: LineLayout { spacing: line_spacing_m, footprint: camera.map(|c| c.footprint_across_m) },
+            layout: LineLayout { spacing: line_spacing_m, footprint: camera.map(|c| c.footprint_across_m), ends: aircraft_ends },
             optimal_direction,
             altitude_m,
             sweep_angle: self.heading_deg.map(bearing_to_math),
@@ -465,7 +460,6 @@ impl PlanParams {
                 ("/headland_passes", self.headland_passes.is_some()),
                 ("/headland_width_m", self.headland_width_m.is_some()),
                 ("/headland_order", self.headland_order.is_some()),
-                ("/swath_ends", self.swath_ends.is_some()),
                 ("/overlap", self.overlap.is_some()),
             ];
             return match given.iter().find(|(_, set)| *set) {

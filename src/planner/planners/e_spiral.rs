@@ -273,6 +273,9 @@ fn corner_spurs(passes: &[Pass], pieces: &[Polygon], region: &MultiPolygon) -> V
 }
 
 impl Planner for ESpiral {
+    fn lays_parallel_lines(&self) -> bool {
+        false
+    }
     fn id(&self) -> &'static str {
         "e_spiral"
     }

@@ -388,6 +388,9 @@ fn tour_from(grid: &Grid, floors: &Floors, start: usize, incumbent: f64, budget:
 }
 
 impl Planner for EgCpp {
+    fn lays_parallel_lines(&self) -> bool {
+        false
+    }
     fn id(&self) -> &'static str {
         "eg_cpp"
     }

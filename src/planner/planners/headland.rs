@@ -10,10 +10,11 @@ use crate::error::PlanError;
 use crate::frame::LocalFrame;
 use crate::geom::distance;
 use crate::metrics;
-use crate::params::{HeadlandOrder, HeadlandSpec, SwathEnds};
+use crate::params::{HeadlandOrder, HeadlandSpec};
 use crate::path::{FlightPath, PieceKind};
 use crate::route::headland_route::{HeadlandRoutes, SwathLinks, Way, connect_anywhere, order, ring_pose};
 use crate::route::line_tour::{Line, entry, exit};
+use crate::sweep::ends::SwathEnds;
 use crate::sweep::{fewest_lines_direction, from_sweep_frame, sweep};
 use crate::turn::dubins::Pose;
 
@@ -148,150 +149,22 @@ fn best_direction(mainland: &MultiPolygon, layout: crate::sweep::LineLayout, rad
     picked.into_par_iter().map(|a| (cost(a), a)).min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1))).map_or_else(|| fewest_lines_direction(mainland, layout), |(_, a)| a)
 }
 
-/// Lines across a swath's band that measure how much of its width the mainland fills.
-const BAND_SAMPLES: usize = 8;
-/// Past the centre line's end and `slack`, a swath runs on while the mainland still fills this
-/// many of its [`BAND_SAMPLES`] (a quarter of its width): a strip beside an edge almost
-/// parallel to the swaths is worked, a slanted end's thin tip is not.
-const SAMPLES_WORTH_WORKING: usize = 2;
-
-/// How far a centre-line swath end runs past the mainland's edge.
-const CENTRE_LINE_PAST_M: f64 = 0.01;
-
-/// Shares of its width a balanced swath end may leave to work beyond it, tried largest first:
-/// the first whose unworked ends stay under [`BALANCED_LEFT`] of the mainland is kept, else
-/// full-width ends. The samples measure what an end leaves exactly at a straight edge, but
-/// see nothing beyond the outermost one: no share below an eighth is trusted.
-const BALANCED_SHARES: [f64; 3] = [0.25, 0.1875, 0.125];
-/// The share of the mainland balanced swath ends may leave unworked, all ends together: at a
-/// quarter of the width that is 0.1–0.4 % on the real fields, more on a small field worked by a
-/// wide implement (1.45 % on 1.6 ha with 10 m).
-const BALANCED_LEFT: f64 = 0.005;
-
-/// Where a swath ends at the headland.
-#[derive(Debug, Clone, Copy)]
-enum Cut {
-    /// Its centre line's end.
-    Centre,
-    /// Where this share of its width still has mainland to work.
-    Share(f64),
-    /// Its whole width, at most this far past its centre line's end.
-    Slack(f64),
-}
-
-/// How far a swath's band reaches into the mainland, in the sweep frame: its own extent, its
-/// centre line's interval and its samples' starts and ends, furthest first.
-struct Band {
-    a: f64,
-    b: f64,
-    lo: f64,
-    hi: f64,
-    starts: Vec<f64>,
-    ends: Vec<f64>,
-    width: f64,
-}
-
-impl Band {
-    /// The swath's ends (sweep frame) by `cut`, within the band's own extent.
-    fn cut(&self, cut: Cut) -> (f64, f64) {
-        let (a, b) = (self.a, self.b);
-        // at least a centimetre on, so that a turn does not start on the mainland's edge
-        let (lo, hi) = (self.lo - CENTRE_LINE_PAST_M, self.hi + CENTRE_LINE_PAST_M);
-        match cut {
-            Cut::Centre => (a.max(lo), b.min(hi)),
-            Cut::Share(share) => (a.max(lo.min(at_share(&self.starts, share).unwrap_or(lo))), b.min(hi.max(at_share(&self.ends, share).unwrap_or(hi)))),
-            Cut::Slack(slack) => {
-                let worth = |sorted: &[f64], cap: f64| sorted.get(SAMPLES_WORTH_WORKING - 1).copied().unwrap_or(cap);
-                let (lo, hi) = (self.lo - slack, self.hi + slack);
-                (a.max(lo.min(worth(&self.starts, lo))), b.min(hi.max(worth(&self.ends, hi))))
-            }
-        }
-    }
-
-    /// The mainland the samples find beyond a swath from `a` to `b` (m²).
-    fn left_unworked(&self, a: f64, b: f64) -> f64 {
-        let beyond: f64 = self.starts.iter().map(|s| (a - s).max(0.0)).chain(self.ends.iter().map(|e| (e - b).max(0.0))).sum();
-        beyond * self.width / BAND_SAMPLES as f64
-    }
-}
-
-/// Where `share` of a band's width is still in the mainland, from its samples' reaches sorted
-/// furthest first: sample i lies (i + ½) / [`BAND_SAMPLES`] of the width in from the outer edge.
-fn at_share(sorted: &[f64], share: f64) -> Option<f64> {
-    let p = share * BAND_SAMPLES as f64 - 0.5;
-    let (i, f) = (p.floor() as usize, p.fract());
-    let x = *sorted.get(i)?;
-    match sorted.get(i + 1) {
-        Some(y) => Some(x + (y - x) * f),
-        None => (f == 0.0).then_some(x),
-    }
-}
-
-/// The swaths over `mainland`: lines `spacing` apart at `angle`, ended by `rule`. The sweep
-/// prolongs each line so that its whole width reaches the mainland's edge. `full_width` stops
-/// the prolongation `slack` past the centre line's end, leaving room in the headland to turn,
-/// unless a quarter of the band still holds mainland further on; `balanced` stops where a
-/// quarter of the band still holds mainland, or less when that leaves more than
-/// [`BALANCED_LEFT`] of the mainland unworked; `centre_line` ends with the centre line. Each
-/// is tagged with the field of `region` it lies in.
+/// The swaths over `mainland`: lines `spacing` apart at `angle`, ended by `rule`
+/// ([`crate::sweep::ends::cut`]; a full-width end runs at most `slack` past the centre line's,
+/// leaving room in the headland to turn). Each is tagged with the field of `region` it lies in.
 fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f64, rule: SwathEnds, slack: f64) -> Vec<Line> {
-    use geo::{Area, Contains};
+    use geo::Contains;
     let pattern = sweep(mainland, &MultiPolygon(vec![]), angle, crate::sweep::LineLayout::centered(spacing));
-    let rotated = crate::sweep::rotate(mainland, angle);
-    let segments: Vec<_> = pattern.lines.iter().flatten().collect();
-    // per segment: its centre line, then the samples across its band
-    let ys: Vec<f64> =
-        segments.iter().flat_map(|s| std::iter::once(s.offset).chain((0..BAND_SAMPLES).map(|j| s.lo + (s.hi - s.lo) * (j as f64 + 0.5) / BAND_SAMPLES as f64))).collect();
-    let at = crate::sweep::scanlines_intervals(&rotated, &ys);
-    let bands: Vec<Band> = segments
-        .iter()
-        .zip(at.chunks(BAND_SAMPLES + 1))
-        .map(|(s, at)| {
-            let within = |line: &Vec<(f64, f64)>| -> Option<(f64, f64)> {
-                line.iter()
-                    .copied()
-                    .filter(|&(lo, hi)| lo <= s.b && hi >= s.a)
-                    .fold(None, |acc: Option<(f64, f64)>, (lo, hi)| Some(acc.map_or((lo, hi), |(l, h)| (l.min(lo), h.max(hi)))))
-            };
-            // where the centre line misses the mainland (a band grazing a tip or a pond's
-            // headland) the swath still works the band's part of it, end to end
-            let (lo, hi) = within(&at[0]).unwrap_or((s.a, s.b));
-            let samples: Vec<(f64, f64)> = at[1..].iter().filter_map(within).collect();
-            let mut starts: Vec<f64> = samples.iter().map(|p| p.0).collect();
-            let mut ends: Vec<f64> = samples.iter().map(|p| p.1).collect();
-            starts.sort_by(f64::total_cmp);
-            ends.sort_by(|x, y| y.total_cmp(x));
-            Band { a: s.a, b: s.b, lo, hi, starts, ends, width: s.hi - s.lo }
-        })
-        .collect();
-    let cut = match rule {
-        SwathEnds::CentreLine => Cut::Centre,
-        SwathEnds::FullWidth => Cut::Slack(slack),
-        SwathEnds::Balanced => {
-            let allowed = BALANCED_LEFT * mainland.unsigned_area();
-            let left = |share: f64| -> f64 {
-                bands
-                    .iter()
-                    .map(|band| {
-                        let (a, b) = band.cut(Cut::Share(share));
-                        band.left_unworked(a, b)
-                    })
-                    .sum()
-            };
-            BALANCED_SHARES.into_iter().find(|&share| left(share) <= allowed).map_or(Cut::Slack(slack), Cut::Share)
-        }
-    };
-    bands
-        .iter()
+    let segments: Vec<_> = pattern.lines.into_iter().flatten().collect();
+    let ends = crate::sweep::ends::cut(&crate::sweep::rotate(mainland, angle), &segments, rule, slack);
+    ends.into_iter()
         .zip(&segments)
-        .filter_map(|(band, s)| {
-            let (a, b) = band.cut(cut);
-            (b - a > 0.05).then(|| {
-                let (a, b) = (from_sweep_frame(angle, a, s.offset), from_sweep_frame(angle, b, s.offset));
-                let centre = from_sweep_frame(angle, (s.a + s.b) / 2.0, s.offset);
-                let field = region.0.iter().position(|p| p.contains(&centre)).unwrap_or(0);
-                Line { a, b, region: field }
-            })
+        .filter(|((a, b), _)| b - a > 0.05)
+        .map(|((a, b), s)| {
+            let (a, b) = (from_sweep_frame(angle, a, s.offset), from_sweep_frame(angle, b, s.offset));
+            let centre = from_sweep_frame(angle, (s.a + s.b) / 2.0, s.offset);
+            let field = region.0.iter().position(|p| p.contains(&centre)).unwrap_or(0);
+            Line { a, b, region: field }
         })
         .collect()
 }
@@ -425,6 +298,7 @@ impl Drive<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sweep::ends::CENTRE_LINE_PAST_M;
     use geo::polygon;
 
     #[test]

@@ -30,6 +30,7 @@ use crate::route::connect::Connector;
 use crate::route::gtsp::{self, Instance};
 use crate::route::line_tour::{Line, LineProblem};
 use crate::route::visibility::TransitPlanner;
+use crate::sweep::ends::end_lines;
 use crate::sweep::{candidate_directions, from_sweep_frame, sweep, width_across};
 
 pub struct LineGtsp;
@@ -314,7 +315,8 @@ impl Search<'_> {
     /// The flyable lines of field `region` at heading `h`, and the metres of sweep lost to
     /// turning room before no-fly zones (lines cut short or dropped).
     fn field_lines(&self, region: usize, h: f64) -> (Vec<Line>, f64) {
-        let pattern = sweep(&self.fields[region], self.problem.keep_out, h, self.problem.layout);
+        let mut pattern = sweep(&self.fields[region], self.problem.keep_out, h, self.problem.layout);
+        end_lines(&mut pattern, &self.fields[region], self.problem.layout.ends);
         let whole: Vec<Line> = pattern
             .lines
             .iter()

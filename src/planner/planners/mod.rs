@@ -129,6 +129,11 @@ pub trait Planner: Send + Sync {
     fn for_ground_vehicles(&self) -> bool {
         false
     }
+    /// False for a planner that flies no parallel lines, so has no line ends to place
+    /// (`swath_ends`).
+    fn lays_parallel_lines(&self) -> bool {
+        true
+    }
 }
 
 /// Every planner the service offers, in the order listed to users.

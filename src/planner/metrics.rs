@@ -638,7 +638,8 @@ pub struct MeasureInput<'a> {
 }
 
 pub fn measure(m: &MeasureInput<'_>) -> Stats {
-    let by_kind = |k: PieceKind| m.path.pieces.iter().filter(|p| p.kind == k).map(|p| p.length()).sum::<f64>();
+    // from +0: an empty sum is -0.0, which the stats would show as "-0.0"
+    let by_kind = |k: PieceKind| m.path.pieces.iter().filter(|p| p.kind == k).fold(0.0, |sum, p| sum + p.length());
     let length_m = m.path.length();
     let energy_j: f64 = m.estimates.iter().map(PathEstimate::energy_j).sum();
     let area = m.region.unsigned_area();

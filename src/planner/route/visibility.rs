@@ -225,37 +225,49 @@ fn convex_corners(ring: &LineString) -> Vec<Coord> {
 
 /// Does the open segment a–b pass through the interior of the closed ring?
 fn segment_enters(a: Coord, b: Coord, ring: &[Coord]) -> bool {
-    // parameters along a–b where it meets the ring's boundary
-    let mut ts = vec![0.0, 1.0];
     let d = b - a;
+    let len2 = d.x * d.x + d.y * d.y;
+    let tolerance = 1e-9 * len2.sqrt().max(1.0);
+    // where a ring vertex lies on the segment: its parameter along a–b
+    let touch = |c: Coord| -> Option<f64> {
+        if len2 == 0.0 || cross(a, b, c).abs() > tolerance {
+            return None;
+        }
+        let t = ((c.x - a.x) * d.x + (c.y - a.y) * d.y) / len2;
+        (t > 0.0 && t < 1.0).then_some(t)
+    };
+    // an edge whose box misses the segment's, grown by the farthest a touching vertex may lie
+    // off it, neither crosses it nor has a vertex on it
+    let off = if len2 > 0.0 { tolerance / len2.sqrt() } else { 0.0 };
+    let (lo, hi) = (Coord { x: a.x.min(b.x) - off, y: a.y.min(b.y) - off }, Coord { x: a.x.max(b.x) + off, y: a.y.max(b.y) + off });
+    let mut touched = false;
     for w in ring.windows(2) {
         let (p, q) = (w[0], w[1]);
+        if p.x.max(q.x) < lo.x || p.x.min(q.x) > hi.x || p.y.max(q.y) < lo.y || p.y.min(q.y) > hi.y {
+            continue;
+        }
         let (d1, d2) = (cross(a, b, p), cross(a, b, q));
         let (d3, d4) = (cross(p, q, a), cross(p, q, b));
         if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
             return true; // proper crossing
         }
-        let len2 = d.x * d.x + d.y * d.y;
-        if len2 == 0.0 {
-            continue;
-        }
-        for c in [p, q] {
-            if cross(a, b, c).abs() <= 1e-9 * len2.sqrt().max(1.0) {
-                let t = ((c.x - a.x) * d.x + (c.y - a.y) * d.y) / len2;
-                if t > 0.0 && t < 1.0 {
-                    ts.push(t);
-                }
-            }
-        }
+        touched = touched || touch(p).is_some() || touch(q).is_some();
     }
-    ts.sort_by(f64::total_cmp);
-    ts.windows(2).any(|w| {
-        w[1] - w[0] > 1e-12 && {
-            let t = (w[0] + w[1]) / 2.0;
+    let enters_between = |t0: f64, t1: f64| {
+        t1 - t0 > 1e-12 && {
+            let t = (t0 + t1) / 2.0;
             let m = Coord { x: a.x + d.x * t, y: a.y + d.y * t };
             point_in_ring(m, ring) && !on_ring(m, ring)
         }
-    })
+    };
+    if !touched {
+        // no crossing and no vertex on it: the segment lies wholly inside or wholly outside
+        return enters_between(0.0, 1.0);
+    }
+    // the pieces between the vertices it touches, each wholly inside or outside
+    let mut ts: Vec<f64> = [0.0, 1.0].into_iter().chain(ring.iter().filter_map(|&c| touch(c))).collect();
+    ts.sort_by(f64::total_cmp);
+    ts.windows(2).any(|w| enters_between(w[0], w[1]))
 }
 
 /// Is `p` on the ring's boundary (within 1e-7 m)?
@@ -349,5 +361,26 @@ mod tests {
         assert!(segment_enters(Coord { x: 0.0, y: 0.0 }, Coord { x: 10.0, y: 10.0 }, &ring));
         assert!(!segment_enters(Coord { x: 0.0, y: 0.0 }, Coord { x: 10.0, y: 0.0 }, &ring));
         assert!(!segment_enters(Coord { x: -5.0, y: 0.0 }, Coord { x: 15.0, y: 0.0 }, &ring));
+    }
+
+    /// Segments that pass through corners: the parts between the corners they touch decide.
+    #[test]
+    fn a_segment_through_corners_enters_only_where_a_part_between_them_lies_inside() {
+        let c = |x: f64, y: f64| Coord { x, y };
+        let ring = square(0.0, 0.0, 10.0).exterior().0.clone();
+        // across the diagonal, in at one corner and out at the other; from outside through a
+        // corner to the middle (its midpoint is the corner), also a millimetre long
+        assert!(segment_enters(c(-5.0, -5.0), c(15.0, 15.0), &ring));
+        assert!(segment_enters(c(-5.0, -5.0), c(5.0, 5.0), &ring));
+        assert!(segment_enters(c(-0.0005, -0.0005), c(0.0005, 0.0005), &ring));
+        // grazing one corner from outside, and a millimetre long beside it
+        assert!(!segment_enters(c(-5.0, 5.0), c(5.0, -5.0), &ring));
+        assert!(!segment_enters(c(-0.0005, 0.0005), c(0.0005, -0.0005), &ring));
+        // a millimetre inside, and a millimetre from a corner inwards
+        assert!(segment_enters(c(5.0, 5.0), c(5.001, 5.0), &ring));
+        assert!(segment_enters(c(0.0, 0.0), c(0.0007, 0.0007), &ring));
+        // along an edge past both its corners, and wholly outside
+        assert!(!segment_enters(c(-1.0, 10.0), c(11.0, 10.0), &ring));
+        assert!(!segment_enters(c(20.0, 0.0), c(30.0, 10.0), &ring));
     }
 }

@@ -86,7 +86,8 @@ fn mod2pi(a: f64) -> f64 {
     a - TAU * (a / TAU).floor()
 }
 
-/// A normalised configuration with its sines and cosines, computed once for all six words.
+/// A normalised configuration with its sines and cosines, computed once for all six words,
+/// and the two arc tangents that LSL and LRL, and RSR and RLR, share (atan2 is odd in y).
 struct Normalised {
     alpha: f64,
     beta: f64,
@@ -96,25 +97,21 @@ struct Normalised {
     sb: f64,
     cb: f64,
     cab: f64,
+    tau_lsl: f64,
+    tau_rsr: f64,
 }
 
 /// The parameters `(t, p, q)` of `word` between the normalised configuration, if feasible.
 fn word_params(word: Word, n: &Normalised) -> Option<[f64; 3]> {
-    let Normalised { alpha, beta, d, sa, ca, sb, cb, cab } = *n;
+    let Normalised { alpha, beta, d, sa, ca, sb, cb, cab, tau_lsl, tau_rsr } = *n;
     match word {
         Word::Lsl => {
             let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sa - sb);
-            (p2 >= 0.0).then(|| {
-                let tau = (cb - ca).atan2(d + sa - sb);
-                [mod2pi(tau - alpha), p2.sqrt(), mod2pi(beta - tau)]
-            })
+            (p2 >= 0.0).then(|| [mod2pi(tau_lsl - alpha), p2.sqrt(), mod2pi(beta - tau_lsl)])
         }
         Word::Rsr => {
             let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sb - sa);
-            (p2 >= 0.0).then(|| {
-                let tau = (ca - cb).atan2(d - sa + sb);
-                [mod2pi(alpha - tau), p2.sqrt(), mod2pi(tau - beta)]
-            })
+            (p2 >= 0.0).then(|| [mod2pi(alpha - tau_rsr), p2.sqrt(), mod2pi(tau_rsr - beta)])
         }
         Word::Lsr => {
             let p2 = -2.0 + d * d + 2.0 * cab + 2.0 * d * (sa + sb);
@@ -136,7 +133,7 @@ fn word_params(word: Word, n: &Normalised) -> Option<[f64; 3]> {
             let g = (6.0 - d * d + 2.0 * cab + 2.0 * d * (sa - sb)) / 8.0;
             (g.abs() <= 1.0).then(|| {
                 let p = mod2pi(TAU - g.acos());
-                let t = mod2pi(alpha - (ca - cb).atan2(d - sa + sb) + p / 2.0);
+                let t = mod2pi(alpha - tau_rsr + p / 2.0);
                 [t, p, mod2pi(alpha - beta - t + p)]
             })
         }
@@ -144,7 +141,7 @@ fn word_params(word: Word, n: &Normalised) -> Option<[f64; 3]> {
             let g = (6.0 - d * d + 2.0 * cab + 2.0 * d * (sb - sa)) / 8.0;
             (g.abs() <= 1.0).then(|| {
                 let p = mod2pi(TAU - g.acos());
-                let t = mod2pi(-alpha - (ca - cb).atan2(d + sa - sb) + p / 2.0);
+                let t = mod2pi(-alpha + tau_lsl + p / 2.0);
                 [t, p, mod2pi(beta - alpha - t + p)]
             })
         }
@@ -158,7 +155,8 @@ fn normalise(q0: Pose, q1: Pose, r: f64) -> Normalised {
     let phi = if dist > 0.0 { dy.atan2(dx) } else { 0.0 };
     let (alpha, beta) = (mod2pi(q0.theta - phi), mod2pi(q1.theta - phi));
     let ((sa, ca), (sb, cb)) = (alpha.sin_cos(), beta.sin_cos());
-    Normalised { alpha, beta, d: dist / r, sa, ca, sb, cb, cab: ca * cb + sa * sb }
+    let d = dist / r;
+    Normalised { alpha, beta, d, sa, ca, sb, cb, cab: ca * cb + sa * sb, tau_lsl: (cb - ca).atan2(d + sa - sb), tau_rsr: (ca - cb).atan2(d - sa + sb) }
 }
 
 /// Every feasible word from `q0` to `q1` with radius `r > 0`, in the order of [`Word::ALL`].
@@ -292,7 +290,10 @@ impl DubinsPath {
     pub fn sample(&self, chord_tolerance_m: f64) -> Vec<Coord> {
         let r = self.radius;
         let step = arc_step(r, chord_tolerance_m);
-        let mut out = vec![self.start.coord()];
+        // room for every point at once: a route search samples millions of words
+        let arcs: f64 = self.segments().iter().filter(|(part, _)| *part != Part::S).map(|(_, s)| (s / r / step).ceil() + 1.0).sum();
+        let mut out = Vec::with_capacity(4 + arcs as usize);
+        out.push(self.start.coord());
         let mut q = self.start;
         for (part, s) in self.segments() {
             if s <= 0.0 {

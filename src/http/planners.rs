@@ -6,7 +6,7 @@ use utoipa::ToSchema;
 
 use crate::planner;
 use crate::planner::camera::{CameraPreset, PRESETS};
-use crate::planner::planners::{ParameterInfo, common_parameters, registry};
+use crate::planner::planners::{ParameterInfo, registry};
 
 #[derive(Debug, Serialize, ToSchema)]
 pub struct PlannerInfo {
@@ -19,7 +19,7 @@ pub struct PlannerInfo {
 
 #[utoipa::path(get, operation_id = "list_planners", path = "/api/v1/planners", tag = "planners", responses((status = 200, body = Vec<PlannerInfo>)))]
 pub async fn list() -> Json<Vec<PlannerInfo>> {
-    let coverage = registry().iter().map(|p| PlannerInfo { id: p.id(), description: p.description(), direction_rule: p.direction_rule(), parameters: common_parameters() });
+    let coverage = registry().iter().map(|p| PlannerInfo { id: p.id(), description: p.description(), direction_rule: p.direction_rule(), parameters: p.parameters() });
     let inspection = PlannerInfo {
         id: planner::INSPECTION,
         description: planner::INSPECTION_DESCRIPTION,

@@ -8,7 +8,9 @@ import { keepForComparison, showPlan } from './result.js';
 // ---- the parameter form, from the API's lists ----
 export async function fillForm() {
   const [planners, vehicles, cameras] = await Promise.all([api('GET', '/api/v1/planners'), api('GET', '/api/v1/vehicles'), api('GET', '/api/v1/cameras')]);
-  $('planner').innerHTML = planners.map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}">${p.id}</option>`).join('');
+  // data-line-ends: the planner lays parallel lines, whose ends `swath_ends` places
+  const lineEnds = (p) => p.parameters.some((q) => q.name === 'swath_ends');
+  $('planner').innerHTML = planners.map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}" data-line-ends="${lineEnds(p)}">${p.id}</option>`).join('');
   $('vehicle').innerHTML = vehicles.map((v) => `<option value="${v.profile}" data-kind="${v.kind}" title="${escapeHtml(v.description)}">${v.profile} (${v.kind.replace('_', ' ')})</option>`).join('');
   $('vehicle').value = 'generic_multirotor';
   $('camera').innerHTML += cameras.map((c) => `<option value="${c.id}">${escapeHtml(c.name || c.id)}</option>`).join('');
@@ -37,11 +39,15 @@ function syncForm() {
   else if ($('planner').value === 'headland') $('planner').value = 'boustrophedon';
   const camera = !ground && $('camera').value !== '';
   $('spacing-box').hidden = camera || ground || inspection;
+  $('line-ends-box').hidden = !aircraftLineEnds();
   $('fixed-heading-box').hidden = inspection || $('direction').value !== 'fixed';
   $('objective-box').hidden = $('planner').value !== 'auto';
   $('layers-box').hidden = ground || inspection || !(num('drones') > 1);
 }
 ['camera', 'direction', 'planner', 'drones', 'vehicle'].forEach((id) => $(id).addEventListener('change', syncForm));
+
+/** An aircraft's plan by a planner that lays parallel lines: the line-end rule applies. */
+const aircraftLineEnds = () => !groundVehicle() && !inspecting() && $('planner').selectedOptions[0]?.dataset.lineEnds === 'true';
 
 const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
 
@@ -79,6 +85,8 @@ export function planParams() {
   } else {
     p.line_spacing_m = num('spacing');
   }
+  // full width is an aircraft's default: sent only when another rule is chosen
+  if (aircraftLineEnds() && $('line-ends').value !== 'full_width') p.swath_ends = $('line-ends').value;
   if (num('altitude') !== undefined && p.gsd_cm === undefined) p.altitude_m = num('altitude');
   if ($('direction').value === 'fixed') p.heading_deg = num('fixed-heading');
   if ($('direction').value === 'optimal') p.sweep_direction = 'optimal';
@@ -110,7 +118,8 @@ export function restoreParams(p) {
   $('reverse-allowed').checked = Boolean(p.vehicle && p.vehicle.reverse_allowed);
   set('headland-passes', p.headland_passes);
   set('headland-order', p.headland_order);
-  set('swath-ends', p.swath_ends);
+  if (groundVehicle()) set('swath-ends', p.swath_ends);
+  else $('line-ends').value = p.swath_ends || 'full_width';
   $('camera').value = (p.camera && p.camera.preset) || '';
   set('spacing', p.line_spacing_m);
   set('altitude', p.altitude_m);

@@ -74,6 +74,8 @@ try {
   await page.selectOption('#planner', 'boustrophedon');
   await page.selectOption('#vehicle', 'iris'); // a small battery: the plan needs several sorties
   await page.fill('#spacing', '20');
+  assert.ok(await page.isVisible('#line-ends-box'), 'line ends for a planner that lays lines');
+  await page.selectOption('#line-ends', 'balanced');
   await page.click('#plan');
   await page.waitForSelector('td[data-figure=length]', { timeout: 60000 });
   assert.match(await page.textContent('#status'), /planned/);
@@ -117,6 +119,7 @@ try {
   await page.goto(`${base}/?mission=${missionId}`);
   await page.waitForSelector('body[data-ready=true]');
   await page.waitForSelector('td[data-figure=length]');
+  assert.equal(await page.inputValue('#line-ends'), 'balanced', 'the plan\'s line ends restored');
 
   // the saved mission is what was drawn
   const saved = await (await fetch(`${base}/api/v1/missions/${missionId}`)).json();
@@ -126,6 +129,7 @@ try {
   // compare with a second planner
   await page.check('#compare');
   await page.selectOption('#planner', 'e_spiral');
+  assert.ok(!(await page.isVisible('#line-ends-box')), 'no line ends for a spiral');
   await page.click('#plan');
   await waitFor(() => page.isVisible('#col-b'), 'the comparison column', 60000);
   const cells = await page.$$eval('#figures tbody tr:first-child td', (t) => t.map((x) => x.textContent));

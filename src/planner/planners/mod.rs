@@ -134,6 +134,10 @@ pub trait Planner: Send + Sync {
     fn lays_parallel_lines(&self) -> bool {
         true
     }
+    /// The request members this planner reads.
+    fn parameters(&self) -> Vec<ParameterInfo> {
+        common_parameters().into_iter().filter(|p| p.name != "swath_ends" || self.lays_parallel_lines()).collect()
+    }
 }
 
 /// Every planner the service offers, in the order listed to users.
@@ -191,7 +195,7 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
         p(
             "swath_ends",
             "string",
-            "ground vehicle: balanced (default: each swath runs on while a quarter of its width still has mainland to work), full_width (until its whole width has worked the mainland) or centre_line (stops where its centre line meets the headland: shortest, leaves a triangle at slanted ends)",
+            "where lines end at a slanted edge: balanced (each runs on while a quarter of its width still has area to work), full_width (until its whole width has worked the area) or centre_line (stops where its centre line meets the edge: shortest, leaves a triangle at slanted ends); default balanced for a ground vehicle, full_width for an aircraft",
         ),
         p("overlap", "number", "ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5 (default 0)"),
     ]

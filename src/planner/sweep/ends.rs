@@ -74,7 +74,9 @@ impl Band {
         // where the centre line misses the area (a band grazing a tip or a pond's headland)
         // the swath still works the band's part of it, end to end
         let (lo, hi) = within(&at[0]).unwrap_or((s.a, s.b));
-        let samples: Vec<(f64, f64)> = at[1..].iter().filter_map(within).collect();
+        // clamped to the segment: a sample beside a no-fly zone that cut the segment runs on
+        // past the zone, where the line's next segment (or a gap fill) works it, not this end
+        let samples: Vec<(f64, f64)> = at[1..].iter().filter_map(within).map(|(lo, hi)| (lo.max(s.a), hi.min(s.b))).collect();
         let mut starts: Vec<f64> = samples.iter().map(|p| p.0).collect();
         let mut ends: Vec<f64> = samples.iter().map(|p| p.1).collect();
         starts.sort_by(f64::total_cmp);
@@ -163,5 +165,41 @@ pub fn end_lines(pattern: &mut SweepPattern, area: &MultiPolygon, rule: SwathEnd
             (s.a, s.b) = ends.next().expect("one end pair per segment");
         }
         line.retain(|s| s.b - s.a > 0.05);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sweep::{LineLayout, sweep};
+    use geo::{BooleanOps, polygon};
+
+    /// A field with a slanted edge and a no-fly zone across some lines: balanced ends stop where
+    /// a quarter of the width is left at the slanted edge, on the lines the zone cuts too, and
+    /// the ends at the zone stay where the zone stops them.
+    #[test]
+    fn balanced_ends_move_back_at_a_slanted_edge_and_stay_at_a_zone() {
+        // the right edge runs from (100, 0) to (80, 60): x = 100 − y / 3
+        let field = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 80.0, y: 60.0), (x: 0.0, y: 60.0)]]);
+        let zone = MultiPolygon(vec![polygon![(x: 30.0, y: 20.0), (x: 50.0, y: 20.0), (x: 50.0, y: 40.0), (x: 30.0, y: 40.0)]]);
+        let region = field.difference(&zone);
+        let mut pattern = sweep(&region, &zone, 0.0, LineLayout::centered(6.0));
+        let full = pattern.clone();
+        end_lines(&mut pattern, &region, SwathEnds::Balanced);
+        let mut cut_by_zone = 0;
+        for (line, full) in pattern.lines.iter().zip(&full.lines) {
+            assert_eq!(line.len(), full.len());
+            let y = line[0].offset;
+            // full width runs 1 m past the centre line's end (the band's lower edge, 3 m below);
+            // a quarter of the width in, 1.5 m below the centre, 0.5 m
+            let (last, full_last) = (line.last().unwrap(), full.last().unwrap());
+            assert!((full_last.b - (100.0 - y / 3.0) - 1.0).abs() < 1e-6, "{full_last:?}");
+            assert!((last.b - (100.0 - y / 3.0) - 0.5).abs() < 1e-6, "{last:?}");
+            for (s, f) in line.iter().zip(full).take(line.len() - 1) {
+                assert_eq!((s.a, s.b), (f.a, f.b), "an end at the zone moved");
+                cut_by_zone += 1;
+            }
+        }
+        assert_eq!(cut_by_zone, 4, "four lines pass the zone");
     }
 }

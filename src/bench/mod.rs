@@ -68,7 +68,7 @@ pub fn fields2cover_spacing(area_m2: f64) -> f64 {
 
 /// Fields2Cover 2.1's figures in that configuration (its route planner, Dubins turns, no
 /// headland), measured on this machine when issue 19 was filed.
-const FIELDS2COVER_FIXED_WING: &str = "Fields2Cover 2.1 (route planner, Dubins r = w/2, no headland, centre-line swath ends), measured here: median efficiency 0.840 over the 16 fields, 0.884 on h00_00 (no holes); its turns cross holes 149 times";
+const FIELDS2COVER_FIXED_WING: &str = "Fields2Cover 2.1 (route planner, Dubins r = w/2, no headland, centre-line swath ends), measured here: median efficiency 0.840 over the 16 fields, 0.884 on h00_00 (no holes), 2.7–3.8 s a field with process start (the times below leave it out); its turns cross holes 149 times";
 
 /// What to benchmark.
 pub struct Options<'a> {

@@ -50,8 +50,7 @@ fn quantile(v: &mut [f64], q: f64) -> f64 {
 }
 
 fn mean(v: &[f64]) -> f64 {
-    // from +0: a sum of -0.0 (no transit) would print as "-0"
-    v.iter().fold(0.0, |s, x| s + x) / v.len().max(1) as f64
+    v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
 /// Line spacing for a field: a twentieth of the square root of its area, 5 to 60 m (about 20

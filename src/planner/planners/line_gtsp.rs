@@ -8,13 +8,18 @@
 //! one field, 3 for two, 1 for more). When that makes more than 5 000 combinations, a coarser
 //! grid (4°, 6°, …) is searched first, then the 2° neighbourhoods of its best five, then one
 //! field's heading at a time over its whole 2° list from the best five combinations, until
-//! the best stands. Combinations are evaluated in parallel, cheapest lower bound first,
-//! skipping those whose bound exceeds the best route found, each by a quick solve: exact
-//! (Held–Karp) up to ten lines, else greedy and one local search. Connection costs are
-//! computed once per pair of fields and headings and kept for the whole search. After each
-//! stage the best [`FINALISTS`] are solved in full and re-ranked (around no-fly zones, with
-//! unsolved combinations raised as the zones raised their solved neighbours); the best three are refined
-//! on a 0.5° grid. A fixed-wing aircraft cannot fly the end of a line that stops against a
+//! the best stands. Combinations are evaluated in parallel, each by a quick solve: exact
+//! (Held–Karp) up to ten lines, else greedy and one local search. With fields at headings of
+//! their own, connection costs are computed once per pair of fields and headings and kept for
+//! the whole search, and combinations are taken cheapest lower bound first, skipping those
+//! whose bound exceeds the best route found; one field (or fields sharing a heading) prices
+//! only the connections its quick solve asks for. After each stage the best [`FINALISTS`] are
+//! solved in full and re-ranked; the best three are refined on a 0.5° grid. Around no-fly
+//! zones, where a connection a zone blocks is dear, the ranking ignores the zones, the best
+//! [`FINALISTS_AROUND_ZONES`] of each stage are settled instead ([`Search::settle`]: the quick
+//! route improved on connections that pass zones by their detour hops), unsettled combinations
+//! are raised as the zones raised settled ones, and only the best [`FINAL_SOLVES`] are solved
+//! in full on the real connections, at the end. A fixed-wing aircraft cannot fly the end of a line that stops against a
 //! no-fly zone (no room to turn): each metre of sweep a heading loses that way costs
 //! `coverage_penalty` metres of route, or the shortest route would be the one that flies least.
 
@@ -53,9 +58,12 @@ const SEPARATE_HEADINGS_UP_TO: usize = 3;
 const MAX_COARSE_COMBINATIONS: usize = 5_000;
 /// Combinations ranked best by quick solves that are solved in full at each stage.
 const FINALISTS: usize = 48;
-/// The same around no-fly zones, where each is solved on connections priced around them (the
-/// costliest step: on 19 generated fields, 4 gave the routes 8 did in 10–50 % less time).
+/// The same around no-fly zones, where each is settled instead ([`Search::settle`]).
 const FINALISTS_AROUND_ZONES: usize = 4;
+/// Around no-fly zones, the settled combinations solved in full on the real connections at the
+/// end of the search, each from its settled route. Until 2026-11-27 the finalists of every
+/// stage were: 15–42 full solves of 0.1–0.4 s each, most of a plan's time.
+const FINAL_SOLVES: usize = 2;
 /// Around no-fly zones, settled combinations whose headings are all within this of an
 /// unsettled one's tell what the zones add to its cost (degrees).
 const NEAR_DEG: f64 = 4.0;
@@ -140,8 +148,9 @@ fn one_group_changed(choice: &[f64], grid: &[Vec<f64>]) -> Vec<Vec<f64>> {
 /// that ignore the zones) raised as the zones raised those of settled neighbours.
 struct Ranked {
     cost: f64,
-    /// The quick solve's cost, on the connections combinations are ranked on.
+    /// The quick solve's cost and node sequence, on the connections combinations are ranked on.
     quick: f64,
+    quick_seq: Vec<usize>,
     choice: Vec<f64>,
     seq: Option<Vec<usize>>,
 }
@@ -162,18 +171,20 @@ impl Ranking {
         self.ranked.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     }
 
-    /// Each unsettled combination's cost: its quick cost times the least ratio of real to
+    /// Each unsettled combination's cost: its quick cost times the least ratio of settled to
     /// quick cost among the settled combinations whose headings are all within [`NEAR_DEG`]
-    /// of its own (1 without one, never below 1). Neighbouring headings meet the zones alike
-    /// (real routes round nine zones cost 3–6 % more than quick ones); without this, every
-    /// combination whose quick cost was below the best real cost was solved in full, most
-    /// of a plan's time.
+    /// of its own, or without one among all settled combinations (1 without any, never below
+    /// 1). Neighbouring headings meet the zones alike (real routes round nine zones cost 3–6 %
+    /// more than quick ones); without this, every combination whose quick cost was below the
+    /// best real cost was settled, most of a plan's time. Headings with no settled neighbour
+    /// were settled at ratio 1, before anything better was known: 42 settles on `h12_00`
+    /// where 15 now give the same route.
     fn expect_as_neighbours(&mut self) {
         let settled: Vec<(Vec<f64>, f64)> = self.ranked.iter().filter(|r| r.seq.is_some() && r.cost.is_finite()).map(|r| (r.choice.clone(), (r.cost / r.quick).max(1.0))).collect();
         let apart = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| crate::geom::axial_difference(*x, *y)).fold(0.0, f64::max);
         for r in self.ranked.iter_mut().filter(|r| r.seq.is_none()) {
             let least = settled.iter().filter(|(choice, _)| apart(choice, &r.choice) <= NEAR_DEG.to_radians() + 1e-9).map(|(_, raise)| *raise).reduce(f64::min);
-            r.cost = r.quick * least.unwrap_or(1.0);
+            r.cost = r.quick * least.or(settled.iter().map(|(_, raise)| *raise).reduce(f64::min)).unwrap_or(1.0);
         }
         self.sort();
     }
@@ -288,8 +299,27 @@ impl Search<'_> {
         }
         let refined = ranking.around(REFINED_COMBINATIONS, &REFINE_DEG);
         self.evaluate(tables, &mut ranking, refined, progress, (0.8, 0.9))?;
-        let best = ranking.ranked.into_iter().next().ok_or_else(no_sweep_lines)?;
-        Ok((best.choice, best.seq.expect("the best combination is settled")))
+        self.final_route(tables, ranking)
+    }
+
+    /// The best combination and its route. Around no-fly zones the best [`FINAL_SOLVES`]
+    /// settled combinations are solved in full on the real connections (in parallel), each
+    /// from its settled route, and the cheapest kept.
+    fn final_route(&self, tables: &Tables, ranking: Ranking) -> Result<(Vec<f64>, Vec<usize>), PlanError> {
+        let mut settled = ranking.ranked.into_iter().filter(|r| r.cost.is_finite()).filter_map(|r| Some((r.choice, r.seq?)));
+        if self.ranks_on_real_connections() {
+            return settled.next().ok_or_else(no_sweep_lines);
+        }
+        let finalists: Vec<(Vec<f64>, Vec<usize>)> = settled.take(FINAL_SOLVES).collect();
+        let solved: Vec<(Vec<f64>, Vec<usize>, f64)> = finalists
+            .into_par_iter()
+            .filter_map(|(choice, seq)| self.solve_in_full(tables, &self.per_field(&choice), Some(&seq)).map(|(full, cost)| (choice, full, cost)))
+            .collect();
+        if self.problem.connector.stopped() {
+            return Err(PlanError::Cancelled);
+        }
+        let (choice, seq, _) = solved.into_iter().min_by(|a, b| a.2.total_cmp(&b.2)).ok_or_else(no_sweep_lines)?;
+        Ok((choice, seq))
     }
 
     /// Candidate headings of one group (math radians in [0, π)).
@@ -358,19 +388,35 @@ impl Search<'_> {
         LineProblem { connector: self.ranking_connector, ..self.route(lines) }
     }
 
-    /// The combination (a heading per field) solved in full on the real connections: its
-    /// node sequence and the solver's total plus the penalty for its lost sweep.
-    fn solve_in_full(&self, tables: &Tables, combo: &[f64]) -> Option<Solved> {
-        let solved = |inst: Instance| {
-            let seq = gtsp::solve(&inst);
+    /// The combination (a heading per field) solved in full on the real connections, from
+    /// `start` (a route of its lines) when given: its node sequence and the solver's total
+    /// plus the penalty for its lost sweep.
+    fn solve_in_full(&self, tables: &Tables, combo: &[f64], start: Option<&[usize]>) -> Option<Solved> {
+        let solved = |inst: &Instance| {
+            let seq = start.map_or_else(|| gtsp::solve(inst), |s| gtsp::solve_from(inst, s));
             let cost = inst.total(&seq) + self.penalty(tables, combo);
             (seq, cost)
         };
         if self.ranks_on_real_connections() {
-            return self.instance(tables, combo).map(|(_, inst)| solved(inst));
+            return self.on_ranking_instance(tables, combo, |_, inst| solved(inst));
         }
-        let lines = self.lines(combo);
-        (!lines.is_empty()).then(|| self.on_real_connections(&lines, |route| solved(route.instance())))
+        let lines = self.swept_lines(tables, combo);
+        (!lines.is_empty()).then(|| self.on_real_connections(&lines, |route| solved(&route.instance())))
+    }
+
+    /// Around no-fly zones, what the zones make of a combination's route, cheaply: its quick
+    /// route (`seq`, found as if there were none) improved by one local search on connections
+    /// that pass a zone by the hops along its detour ([`Connector::hops_only`]), and the total
+    /// plus the penalty for its lost sweep. A tenth of a full solve's time; on 23 generated
+    /// fields the full solves of the combinations it ranks best give routes as short as full
+    /// solves of those they ranked best.
+    fn settle(&self, tables: &Tables, combo: &[f64], seq: &[usize]) -> Option<Solved> {
+        let lines = self.swept_lines(tables, combo);
+        (!lines.is_empty()).then(|| {
+            let connector = self.problem.connector.hops_only();
+            let (seq, total) = LineProblem { connector: &connector, ..self.route(&lines) }.improve(seq);
+            (seq, total + self.penalty(tables, combo))
+        })
     }
 
     fn ranks_on_real_connections(&self) -> bool {
@@ -387,12 +433,16 @@ impl Search<'_> {
             .map(|&(r, h)| {
                 // sweeping is geometry that asks no connection: a stopped plan skips it
                 let (lines, lost_m) = if self.problem.connector.stopped() { (Vec::new(), 0.0) } else { self.field_lines(r, f64::from_bits(h)) };
+                // the blocks' instances read these; a lazy one prices its own
                 let route = self.ranking_route(&lines);
-                let (from_start, to_end) = (route.start_costs(), route.end_costs());
+                let (from_start, to_end) = if self.tabulates_blocks() { (route.start_costs(), route.end_costs()) } else { (None, None) };
                 ((r, h), Swept { lines, lost_m, from_start, to_end })
             })
             .collect();
         tables.swept.extend(swept);
+        if !self.tabulates_blocks() {
+            return;
+        }
         let mut pairs: Vec<(Key, Key)> = combos
             .iter()
             .flat_map(|c| {
@@ -415,6 +465,34 @@ impl Search<'_> {
             })
             .collect();
         tables.blocks.extend(blocks);
+    }
+
+    /// With several fields flown at headings of their own, combinations share the connections
+    /// between two fields at their headings: those are tabulated once. Otherwise no
+    /// combination shares another's, and each is priced lazily, only what its search asks for.
+    fn tabulates_blocks(&self) -> bool {
+        !self.shared && self.fields.len() > 1
+    }
+
+    /// The lines of a combination, from the tables.
+    fn swept_lines(&self, tables: &Tables, combo: &[f64]) -> Vec<Line> {
+        keys(combo).iter().flat_map(|k| tables.swept[k].lines.iter().copied()).collect()
+    }
+
+    /// `f` of a combination's route and instance on the connections combinations are ranked
+    /// on, `None` without lines: assembled from the tables' blocks, or priced lazily.
+    fn on_ranking_instance<T>(&self, tables: &Tables, combo: &[f64], f: impl FnOnce(&LineProblem, &Instance) -> T) -> Option<T> {
+        if self.tabulates_blocks() {
+            let (lines, inst) = self.instance(tables, combo)?;
+            return Some(f(&self.ranking_route(&lines), &inst));
+        }
+        let lines = self.swept_lines(tables, combo);
+        if lines.is_empty() {
+            return None;
+        }
+        let route = self.ranking_route(&lines);
+        let inst = route.instance();
+        Some(f(&route, &inst))
     }
 
     /// The lines and the instance of a combination (a heading per field), assembled from the
@@ -463,9 +541,16 @@ impl Search<'_> {
         let mut bounded: Vec<(f64, usize)> = combos
             .par_iter()
             .enumerate()
-            .map(|(i, combo)| match self.instance(tables, combo).filter(|_| !self.problem.connector.stopped()) {
-                Some((lines, inst)) => (self.ranking_route(&lines).lower_bound(&inst) + self.penalty(tables, combo), i),
-                None => (f64::INFINITY, i),
+            .map(|(i, combo)| {
+                let bound = if self.problem.connector.stopped() {
+                    None
+                } else if self.tabulates_blocks() {
+                    self.instance(tables, combo).map(|(lines, inst)| self.ranking_route(&lines).lower_bound(&inst))
+                } else {
+                    // a bound asks for every connection: there is no block to read it from
+                    (!self.swept_lines(tables, combo).is_empty()).then_some(0.0)
+                };
+                (bound.map_or(f64::INFINITY, |b| b + self.penalty(tables, combo)), i)
             })
             .collect();
         bounded.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -476,19 +561,22 @@ impl Search<'_> {
             if chunk[0].0 >= best || !chunk[0].0.is_finite() {
                 break;
             }
-            let costs: Vec<(f64, Option<Vec<usize>>, usize)> = chunk
+            let costs: Vec<(f64, Vec<usize>, bool, usize)> = chunk
                 .par_iter()
                 .filter(|(bound, _)| *bound < best && !self.problem.connector.stopped())
                 .filter_map(|&(_, i)| {
-                    let (_, inst) = self.instance(tables, &combos[i])?;
-                    let seq = gtsp::quick(&inst);
-                    let cost = inst.total(&seq) + self.penalty(tables, &combos[i]);
-                    Some((cost, (real && gtsp::quick_is_exact(&inst)).then_some(seq), i))
+                    let (seq, total, exact) = self.on_ranking_instance(tables, &combos[i], |_, inst| {
+                        let seq = gtsp::quick(inst);
+                        let total = inst.total(&seq);
+                        (seq, total, gtsp::quick_is_exact(inst))
+                    })?;
+                    Some((total + self.penalty(tables, &combos[i]), seq, real && exact, i))
                 })
                 .collect();
-            for (cost, seq, i) in costs {
+            for (cost, quick_seq, exact, i) in costs {
                 best = best.min(cost);
-                ranking.ranked.push(Ranked { cost, quick: cost, choice: fresh[i].clone(), seq });
+                let seq = exact.then(|| quick_seq.clone());
+                ranking.ranked.push(Ranked { cost, quick: cost, quick_seq, choice: fresh[i].clone(), seq });
             }
             if !progress.report(from + (to - from) * ((k + 1) * CHUNK) as f64 / bounded.len() as f64) {
                 return Err(PlanError::Cancelled);
@@ -496,7 +584,7 @@ impl Search<'_> {
         }
         let expect = |ranking: &mut Ranking| if real { ranking.sort() } else { ranking.expect_as_neighbours() };
         expect(ranking);
-        // real costs may exceed ranking costs: solve again while an unsettled combination
+        // real costs may exceed ranking costs: settle again while an unsettled combination
         // reaches the top
         loop {
             let open: Vec<(usize, Vec<f64>)> =
@@ -507,7 +595,10 @@ impl Search<'_> {
             if self.problem.connector.stopped() {
                 return Err(PlanError::Cancelled);
             }
-            let solved: Vec<(usize, Option<Solved>)> = open.into_par_iter().map(|(i, combo)| (i, self.solve_in_full(tables, &combo))).collect();
+            let solved: Vec<(usize, Option<Solved>)> = open
+                .into_par_iter()
+                .map(|(i, combo)| (i, if real { self.solve_in_full(tables, &combo, None) } else { self.settle(tables, &combo, &ranking.ranked[i].quick_seq) }))
+                .collect();
             for (i, result) in solved {
                 let (seq, cost) = result.unwrap_or((Vec::new(), f64::INFINITY));
                 ranking.ranked[i].cost = cost;
@@ -557,17 +648,17 @@ mod tests {
     use super::*;
 
     fn ranked(deg: f64, cost: f64, quick: f64, settled: bool) -> Ranked {
-        Ranked { cost, quick, choice: vec![deg.to_radians()], seq: settled.then(Vec::new) }
+        Ranked { cost, quick, quick_seq: Vec::new(), choice: vec![deg.to_radians()], seq: settled.then(Vec::new) }
     }
 
     #[test]
     fn unsettled_headings_are_raised_as_their_settled_neighbours_were() {
-        // settled at 1° (zones raised it 8 %) and 3° (5 %), and at 90° (zones made it cheaper)
+        // settled at 1° (zones raised it 8 %), 3° (5 %) and 90° (3 %)
         let mut ranking = Ranking {
             ranked: vec![
                 ranked(1.0, 1080.0, 1000.0, true),
                 ranked(3.0, 1050.0, 1000.0, true),
-                ranked(90.0, 900.0, 1000.0, true),
+                ranked(90.0, 1030.0, 1000.0, true),
                 ranked(4.5, 990.0, 990.0, false),
                 ranked(178.0, 1000.0, 1000.0, false),
                 ranked(30.0, 950.0, 950.0, false),
@@ -580,9 +671,13 @@ mod tests {
         // within 4° of both: the least raise; across 180°/0° only 1° is near
         assert!((cost(4.5) - 990.0 * 1.05).abs() < 1e-9, "{}", cost(4.5));
         assert!((cost(178.0) - 1080.0).abs() < 1e-9, "{}", cost(178.0));
-        // no settled neighbour, or one the zones did not raise: the quick cost
-        assert_eq!(cost(30.0), 950.0);
-        assert_eq!(cost(91.0), 980.0);
+        // no settled neighbour: the least raise of all
+        assert!((cost(30.0) - 950.0 * 1.03).abs() < 1e-9, "{}", cost(30.0));
+        assert!((cost(91.0) - 980.0 * 1.03).abs() < 1e-9, "{}", cost(91.0));
         assert!(ranking.ranked.windows(2).all(|w| w[0].cost <= w[1].cost), "sorted");
+        // settled combinations the zones made cheaper raise nothing
+        let mut cheaper = Ranking { ranked: vec![ranked(90.0, 900.0, 1000.0, true), ranked(30.0, 950.0, 950.0, false)], seen: HashSet::new() };
+        cheaper.expect_as_neighbours();
+        assert_eq!(cheaper.ranked.iter().map(|r| r.cost).collect::<Vec<_>>(), vec![900.0, 950.0]);
     }
 }

@@ -196,11 +196,29 @@ impl LineProblem<'_> {
         let priced: Vec<Vec<(usize, f64)>> = nearest_entries(self.lines).par_iter().enumerate().map(|(u, near)| self.cheapest(u, near, gtsp::NEIGHBOURS)).collect();
         let candidates = priced.iter().map(|row| row.iter().map(|&(v, _)| v).collect()).collect();
         let known: KnownCosts = priced.into_iter().enumerate().flat_map(|(u, row)| row.into_iter().map(move |(v, c)| ((u, v), c))).collect();
-        let price = |u: usize, v: usize| self.priced(u, v, self.connection(u, v));
-        let floor = |u: usize, v: usize| self.priced(u, v, self.connection_floor(u, v));
-        let mut inst = self.instance_with(Costs::lazy(n, known, price, floor), self.start_costs(), self.end_costs());
+        let mut inst = self.instance_with(self.lazy_costs(known), self.start_costs(), self.end_costs());
         inst.candidates = Some(candidates);
         inst
+    }
+
+    /// `seq` improved by one local search ([`gtsp::improve`]) on connections priced when the
+    /// search first needs one, none in advance: what the real connections change in a route
+    /// found on others, at a fraction of a full solve's cost. Returns the sequence and its
+    /// total (as on [`Self::instance`]).
+    pub fn improve(&self, seq: &[usize]) -> (Vec<usize>, f64) {
+        let mut inst = self.instance_with(self.lazy_costs(Vec::new()), self.start_costs(), self.end_costs());
+        inst.candidates = Some(nearest_entries(self.lines));
+        let better = gtsp::improve(&inst, seq);
+        let total = inst.total(&better);
+        (better, total)
+    }
+
+    /// Connections priced when the search first asks for one (`known` ones kept), moves
+    /// weighed on their floors first.
+    fn lazy_costs(&self, known: KnownCosts) -> Costs<'_> {
+        let price = |u: usize, v: usize| self.priced(u, v, self.connection(u, v));
+        let floor = |u: usize, v: usize| self.priced(u, v, self.connection_floor(u, v));
+        Costs::lazy(2 * self.lines.len(), known, price, floor)
     }
 
     /// The `k` cheapest connections from the exit of `u` to the entries of `near`, without

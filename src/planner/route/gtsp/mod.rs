@@ -255,6 +255,13 @@ pub fn quick(inst: &Instance) -> Vec<usize> {
     }
 }
 
+/// `seq` after one local search: [`quick`] from a given sequence instead of the greedy one.
+pub fn improve(inst: &Instance, seq: &[usize]) -> Vec<usize> {
+    let (of, nb) = neighbours(inst);
+    let total = inst.total(seq);
+    local_search(inst, &nb, &of, (seq.to_vec(), total), 0..inst.clusters.len(), true).0
+}
+
 /// Each node's cluster, and the neighbour lists the search uses: every node on small
 /// instances, the [`NEIGHBOURS`] cheapest on larger ones.
 fn neighbours(inst: &Instance) -> (Vec<usize>, Neighbours) {
@@ -362,13 +369,28 @@ impl Rng {
 /// Iterated local search from the greedy tour and, for instances of moderate size, from a
 /// few random orders too; the best result wins.
 pub fn heuristic(inst: &Instance) -> Vec<usize> {
+    heuristic_from(inst, None)
+}
+
+/// [`solve`] from `start` (one node per cluster) instead of the greedy tour, when it is not
+/// solved exactly: a good start saves the kicks that would find what it already has.
+pub fn solve_from(inst: &Instance, start: &[usize]) -> Vec<usize> {
+    match inst.clusters.len() {
+        0 => Vec::new(),
+        m if m <= EXACT_CLUSTERS && inst.n() <= EXACT_NODES => held_karp(inst),
+        _ => heuristic_from(inst, Some(start)),
+    }
+}
+
+fn heuristic_from(inst: &Instance, start: Option<&[usize]>) -> Vec<usize> {
     let m = inst.clusters.len();
     let (of, nb) = neighbours(inst);
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     // on instances small enough for restarts, kicks and restarts go on only while a better
     // order can still exist by more than the gap
     let good_enough = (m <= RESTART_UP_TO).then(|| lower_bound(inst) * (1.0 + RESTART_GAP));
-    let mut best = iterated_local_search(inst, &nb, &of, greedy_with(inst, &nb, &of), good_enough, &mut rng);
+    let first = start.map_or_else(|| greedy_with(inst, &nb, &of), <[usize]>::to_vec);
+    let mut best = iterated_local_search(inst, &nb, &of, first, good_enough, &mut rng);
     if let Some(good_enough) = good_enough.filter(|&g| inst.total(&best) > g) {
         for _ in 0..RESTARTS {
             if inst.stop.requested() {
@@ -506,6 +528,12 @@ mod tests {
             prop_assert!(inst.total(&heur) <= inst.total(&fast) + 1e-6);
             prop_assert!(inst.total(&fast) <= inst.total(&greedy(&inst)) + 1e-6);
             prop_assert!(lower_bound(&inst) <= inst.total(&heur) + 1e-6);
+            // from a given route: never worse than it
+            let improved = improve(&inst, &greedy(&inst));
+            let from_quick = solve_from(&inst, &fast);
+            prop_assert!(valid(&inst, &improved) && valid(&inst, &from_quick));
+            prop_assert!(inst.total(&improved) <= inst.total(&greedy(&inst)) + 1e-6);
+            prop_assert!(inst.total(&from_quick) <= inst.total(&fast) + 1e-6);
         }
     }
 

@@ -9,7 +9,7 @@ pub mod headland;
 pub mod naive;
 pub mod polygon;
 
-use geo::{BooleanOps, Coord, LineString, MultiPolygon, Polygon};
+use geo::{Area, BooleanOps, Coord, LineString, MultiPolygon, Polygon};
 
 use super::geom::distance;
 use super::sweep::ends::end_lines;
@@ -78,7 +78,7 @@ impl CoverageArea<'_> {
     /// where the region itself ends.
     pub fn sweep(&self, piece: &MultiPolygon, angle: f64) -> SweepPattern {
         let mut pattern = sweep(piece, self.keep_out, angle, self.layout);
-        end_lines(&mut pattern, self.region, self.layout.ends);
+        end_lines(&mut pattern, self.region, piece.unsigned_area(), self.layout.ends);
         pattern
     }
 }

@@ -153,10 +153,10 @@ fn best_direction(mainland: &MultiPolygon, layout: crate::sweep::LineLayout, rad
 /// ([`crate::sweep::ends::cut`]; a full-width end runs at most `slack` past the centre line's,
 /// leaving room in the headland to turn). Each is tagged with the field of `region` it lies in.
 fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f64, rule: SwathEnds, slack: f64) -> Vec<Line> {
-    use geo::Contains;
+    use geo::{Area, Contains};
     let pattern = sweep(mainland, &MultiPolygon(vec![]), angle, crate::sweep::LineLayout::centered(spacing));
     let segments: Vec<_> = pattern.lines.into_iter().flatten().collect();
-    let ends = crate::sweep::ends::cut(&crate::sweep::rotate(mainland, angle), &segments, rule, slack);
+    let ends = crate::sweep::ends::cut(&crate::sweep::rotate(mainland, angle), &segments, rule, slack, mainland.unsigned_area());
     ends.into_iter()
         .zip(&segments)
         .filter(|((a, b), _)| b - a > 0.05)

@@ -2,7 +2,7 @@
 //! decomposition §10.3): run on until its whole width has worked the area, stop with its centre
 //! line, or stop between the two where a quarter of its width is left.
 
-use geo::{Area, MultiPolygon};
+use geo::MultiPolygon;
 use serde::{Deserialize, Serialize};
 
 use super::{SweepPattern, SweepSegment, rotate, scanlines_intervals};
@@ -123,9 +123,11 @@ fn at_share(sorted: &[f64], share: f64) -> Option<f64> {
 /// of it: an end only moves back, and only where the area itself ends, so a part's edge inside
 /// the area keeps its full width. `full_width` stops `slack` past the centre line's end unless
 /// a quarter of the band still holds area further on; `balanced` stops where a quarter of the
-/// band still holds area, or less when that would leave more than [`BALANCED_LEFT`] of the
-/// area unworked; `centre_line` ends with the centre line.
-pub fn cut(area: &MultiPolygon, segments: &[SweepSegment], rule: SwathEnds, slack: f64) -> Vec<(f64, f64)> {
+/// band still holds area, or less when that would leave more than [`BALANCED_LEFT`] of
+/// `part_area` (the area of the part the segments sweep) unworked; `centre_line` ends with the
+/// centre line. Each part is allowed its own share: a decomposition's parts once each left up
+/// to [`BALANCED_LEFT`] of the whole area, 1 % and more together.
+pub fn cut(area: &MultiPolygon, segments: &[SweepSegment], rule: SwathEnds, slack: f64, part_area: f64) -> Vec<(f64, f64)> {
     let ys: Vec<f64> =
         segments.iter().flat_map(|s| std::iter::once(s.offset).chain((0..BAND_SAMPLES).map(|j| s.lo + (s.hi - s.lo) * (j as f64 + 0.5) / BAND_SAMPLES as f64))).collect();
     let at = scanlines_intervals(area, &ys);
@@ -134,7 +136,7 @@ pub fn cut(area: &MultiPolygon, segments: &[SweepSegment], rule: SwathEnds, slac
         SwathEnds::CentreLine => Cut::Centre,
         SwathEnds::FullWidth => Cut::Slack(slack),
         SwathEnds::Balanced => {
-            let allowed = BALANCED_LEFT * area.unsigned_area();
+            let allowed = BALANCED_LEFT * part_area;
             let left = |share: f64| -> f64 {
                 bands
                     .iter()
@@ -150,16 +152,17 @@ pub fn cut(area: &MultiPolygon, segments: &[SweepSegment], rule: SwathEnds, slac
     bands.iter().map(|band| band.cut(cut)).collect()
 }
 
-/// Ends the lines of `pattern` by `rule` against `area` (the whole area to cover, local
-/// frame), dropping what is left shorter than 5 cm. Full-width ends leave the pattern as it
-/// is; so do gap fills, which work what the lines leave beside no-fly zones.
-pub fn end_lines(pattern: &mut SweepPattern, area: &MultiPolygon, rule: SwathEnds) {
+/// Ends the lines of `pattern` (a sweep of a part of `area` whose area is `part_area`) by
+/// `rule` against `area` (the whole area to cover, local frame), dropping what is left shorter
+/// than 5 cm. Full-width ends leave the pattern as it is; so do gap fills, which work what the
+/// lines leave beside no-fly zones.
+pub fn end_lines(pattern: &mut SweepPattern, area: &MultiPolygon, part_area: f64, rule: SwathEnds) {
     if rule == SwathEnds::FullWidth {
         return;
     }
     let rotated = rotate(area, pattern.angle);
     let segments: Vec<SweepSegment> = pattern.lines.iter().flatten().copied().collect();
-    let mut ends = cut(&rotated, &segments, rule, f64::INFINITY).into_iter();
+    let mut ends = cut(&rotated, &segments, rule, f64::INFINITY, part_area).into_iter();
     for line in &mut pattern.lines {
         for s in line.iter_mut() {
             (s.a, s.b) = ends.next().expect("one end pair per segment");
@@ -172,7 +175,7 @@ pub fn end_lines(pattern: &mut SweepPattern, area: &MultiPolygon, rule: SwathEnd
 mod tests {
     use super::*;
     use crate::sweep::{LineLayout, sweep};
-    use geo::{BooleanOps, polygon};
+    use geo::{Area, BooleanOps, polygon};
 
     /// A field with a slanted edge and a no-fly zone across some lines: balanced ends stop where
     /// a quarter of the width is left at the slanted edge, on the lines the zone cuts too, and
@@ -185,7 +188,7 @@ mod tests {
         let region = field.difference(&zone);
         let mut pattern = sweep(&region, &zone, 0.0, LineLayout::centered(6.0));
         let full = pattern.clone();
-        end_lines(&mut pattern, &region, SwathEnds::Balanced);
+        end_lines(&mut pattern, &region, region.unsigned_area(), SwathEnds::Balanced);
         let mut cut_by_zone = 0;
         for (line, full) in pattern.lines.iter().zip(&full.lines) {
             assert_eq!(line.len(), full.len());

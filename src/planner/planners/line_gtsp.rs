@@ -207,8 +207,9 @@ impl Ranking {
 type Key = (usize, u64);
 
 /// One field swept at one heading: its flyable lines, the metres of sweep cut off them to
-/// leave room to turn before no-fly zones, and the costs from the start to each node's entry
-/// and from each node's exit to the end.
+/// leave room to turn before no-fly zones, and, where blocks are tabulated
+/// ([`Search::tabulates_blocks`]), the costs from the start to each node's entry and from each
+/// node's exit to the end.
 struct Swept {
     lines: Vec<Line>,
     lost_m: f64,
@@ -504,7 +505,7 @@ impl Search<'_> {
     /// tables; `None` without lines.
     fn instance(&self, tables: &Tables, combo: &[f64]) -> Option<(Vec<Line>, Instance<'static>)> {
         let keys = keys(combo);
-        let lines: Vec<Line> = keys.iter().flat_map(|k| tables.swept[k].lines.iter().copied()).collect();
+        let lines = self.swept_lines(tables, combo);
         if lines.is_empty() {
             return None;
         }

@@ -92,12 +92,11 @@ impl Problem<'_> {
     /// Line-level routing of `lines` from this problem's start to its end.
     pub fn line_problem<'l>(&'l self, lines: &'l [Line], allow_reentry: bool) -> LineProblem<'l> {
         LineProblem {
-            lines,
-            connector: self.connector,
             start: self.start.map(|at| Terminal { at, heading: self.start_heading }),
             end: self.end.map(|at| Terminal { at, heading: self.end_heading }),
             allow_reentry,
             obstacles: self.obstacles,
+            ..LineProblem::new(lines, self.connector)
         }
     }
 }

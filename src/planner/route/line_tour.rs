@@ -68,6 +68,9 @@ pub struct LineProblem<'a> {
     pub allow_reentry: bool,
     /// Obstacles to climb over: connections cost their raised length plus the lost coverage.
     pub obstacles: Option<&'a Obstacles>,
+    /// Each node's entry and exit pose, found once: their arc tangents were a tenth of
+    /// pricing connections. Made by [`LineProblem::new`] from `lines`.
+    pub(crate) poses: Vec<[Pose; 2]>,
 }
 
 /// Added to every connection between regions when re-entries are not allowed: larger than any
@@ -97,7 +100,8 @@ pub fn nearest_entries(lines: &[Line]) -> Vec<Vec<usize>> {
         .into_par_iter()
         .map(|u| {
             let from = exit(lines, u).coord();
-            let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| (crate::geom::distance(from, entries[v]), v)).collect();
+            // squared distances order as distances do, without a square root each
+            let mut near: Vec<(f64, usize)> = (0..n).filter(|&v| v / 2 != u / 2).map(|v| ((entries[v].x - from.x).powi(2) + (entries[v].y - from.y).powi(2), v)).collect();
             if near.len() > CANDIDATES {
                 near.select_nth_unstable_by(CANDIDATES, |a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
                 near.truncate(CANDIDATES);
@@ -124,7 +128,22 @@ pub fn line_instance<'c>(lines: &[Line], cost: Costs<'c>, from_start: Option<Vec
     }
 }
 
-impl LineProblem<'_> {
+impl<'a> LineProblem<'a> {
+    /// The routing of `lines` by `connector`, with no start, end nor obstacles, re-entering
+    /// regions allowed.
+    pub fn new(lines: &'a [Line], connector: &'a Connector<'a>) -> Self {
+        let poses = (0..2 * lines.len()).map(|v| [entry(lines, v), exit(lines, v)]).collect();
+        LineProblem { lines, connector, start: None, end: None, allow_reentry: true, obstacles: None, poses }
+    }
+
+    fn entry(&self, v: usize) -> Pose {
+        self.poses[v][0]
+    }
+
+    fn exit(&self, v: usize) -> Pose {
+        self.poses[v][1]
+    }
+
     /// Cost of the connection from the exit of node `u` to the entry of node `v`: its length,
     /// or with obstacles its raised 3D length plus the penalty for the coverage it loses;
     /// infinite when there is no way.
@@ -132,12 +151,12 @@ impl LineProblem<'_> {
         if u / 2 == v / 2 {
             return f64::INFINITY;
         }
-        let (from, to) = (exit(self.lines, u), entry(self.lines, v));
+        let (from, to) = (self.exit(u), self.entry(v));
         let plain = self.connector.length(from, to);
         match self.obstacles {
             Some(obs) if plain.is_finite() && obs.near(&self.connector.reach(from, to)) => {
                 let Some(points) = self.connector.path(from, to) else { return f64::INFINITY };
-                let (length_3d, lost) = obs.connection((entry(self.lines, u).coord(), from.coord()), &points, (to.coord(), exit(self.lines, v).coord()));
+                let (length_3d, lost) = obs.connection((self.entry(u).coord(), from.coord()), &points, (to.coord(), self.exit(v).coord()));
                 length_3d + obs.penalty * lost
             }
             _ => plain,
@@ -151,7 +170,7 @@ impl LineProblem<'_> {
         if u / 2 == v / 2 {
             return f64::INFINITY;
         }
-        CHORDS_AT_LEAST * self.connector.turn.length(exit(self.lines, u), entry(self.lines, v))
+        CHORDS_AT_LEAST * self.connector.turn.length(self.exit(u), self.entry(v))
     }
 
     /// From the start to the entry of each node (`None` without a start).
@@ -159,7 +178,7 @@ impl LineProblem<'_> {
         self.start.map(|s| {
             (0..2 * self.lines.len())
                 .map(|v| {
-                    let e = entry(self.lines, v);
+                    let e = self.entry(v);
                     self.connector.length(s.towards(e.coord()), e)
                 })
                 .collect()
@@ -171,7 +190,7 @@ impl LineProblem<'_> {
         self.end.map(|t| {
             (0..2 * self.lines.len())
                 .map(|v| {
-                    let x = exit(self.lines, v);
+                    let x = self.exit(v);
                     self.connector.length(x, t.from(x.coord()))
                 })
                 .collect()
@@ -310,7 +329,7 @@ impl LineProblem<'_> {
 
     /// Flight legs of a node sequence: `(entry, exit)` poses.
     pub fn legs(&self, seq: &[usize]) -> Vec<(Pose, Pose)> {
-        seq.iter().map(|&v| (entry(self.lines, v), exit(self.lines, v))).collect()
+        seq.iter().map(|&v| (self.entry(v), self.exit(v))).collect()
     }
 
     /// Start pose for a first leg entering at `p`, end pose for a last leg leaving at `p`.
@@ -334,7 +353,7 @@ mod tests {
         let none = MultiPolygon(vec![]);
         let transit = TransitPlanner::new(&none, &none);
         let connector = Connector::new(TurnModel::Dubins(85.0), &transit, None);
-        let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
+        let problem = LineProblem::new(&lines, &connector);
         let (seq, cost) = problem.solve();
         assert_eq!(seq.len(), 6);
         assert!((cost - 3000.0 - 1734.6).abs() < 0.1, "{cost}");
@@ -369,7 +388,7 @@ mod tests {
         let grown = MultiPolygon(vec![polygon![(x: 255., y: -65.), (x: 345., y: -65.), (x: 345., y: 665.), (x: 255., y: 665.)]]);
         let (transit, detour) = (TransitPlanner::new(&zone, &zone), TransitPlanner::new(&grown, &zone));
         let connector = Connector::new(TurnModel::Dubins(10.0), &transit, Some(&detour));
-        let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
+        let problem = LineProblem::new(&lines, &connector);
         let mut priced_fewer = false;
         for (u, near) in nearest_entries(&lines).iter().enumerate() {
             let mut all: Vec<(f64, usize)> = near.iter().map(|&v| (problem.priced(u, v, problem.connection(u, v)), v)).collect();
@@ -396,7 +415,7 @@ mod tests {
         let none = MultiPolygon(vec![]);
         let transit = TransitPlanner::new(&none, &none);
         let connector = Connector::new(TurnModel::Dubins(85.0), &transit, None);
-        let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: false, obstacles: None };
+        let problem = LineProblem { allow_reentry: false, ..LineProblem::new(&lines, &connector) };
         let inst = problem.instance();
         let seq = solve(&inst);
         let bound = problem.lower_bound(&inst);

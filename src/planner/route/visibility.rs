@@ -157,13 +157,15 @@ impl TransitPlanner {
         &self.nodes
     }
 
-    /// True when no leg of the polyline enters a wall.
+    /// True when no leg of the polyline enters a wall. Walls are tested one at a time against
+    /// the legs in their box: a sampled arc has dozens of short legs, which most walls'
+    /// boxes miss.
     pub fn is_polyline_clear(&self, points: &[Coord]) -> bool {
         let Some(bb) = bounding(points) else { return true };
-        if !self.any_wall_in(&bb) {
-            return true;
-        }
-        points.windows(2).all(|w| self.is_clear(w[0], w[1]))
+        self.walls
+            .iter()
+            .filter(|(wall_box, _)| wall_box.intersects(&bb))
+            .all(|(wall_box, ring)| points.windows(2).all(|w| !wall_box.intersects(&Rect::new(w[0], w[1])) || !segment_enters(w[0], w[1], ring)))
     }
 
     /// True when there is any wall at all.

@@ -39,7 +39,7 @@ pub fn parallel_lines(n: usize) -> RoutingRun {
     let transit = TransitPlanner::new(&none, &none);
     let connector = Connector::new(TurnModel::Dubins(50.0), &transit, None);
     let lines: Vec<Line> = (0..n).map(|i| Line { a: Coord { x: 0.0, y: 20.0 * i as f64 }, b: Coord { x: 1000.0, y: 20.0 * i as f64 }, region: 0 }).collect();
-    let problem = LineProblem { lines: &lines, connector: &connector, start: None, end: None, allow_reentry: true, obstacles: None };
+    let problem = LineProblem::new(&lines, &connector);
     let ms = |a: Instant, b: Instant| (b - a).as_secs_f64() * 1000.0;
     let t0 = Instant::now();
     let inst = problem.instance();

@@ -82,12 +82,21 @@ pub struct DubinsPath {
     pub params: [f64; 3],
 }
 
+/// `a` in [0, 2π). Arguments here are sums of a few angles, so a turn or two of 2π brings
+/// them in without `floor` (a library call on the baseline x86-64 target).
 fn mod2pi(a: f64) -> f64 {
-    a - TAU * (a / TAU).floor()
+    if (0.0..TAU).contains(&a) {
+        a
+    } else if (-TAU..0.0).contains(&a) {
+        a + TAU
+    } else if (TAU..2.0 * TAU).contains(&a) {
+        a - TAU
+    } else {
+        a - TAU * (a / TAU).floor()
+    }
 }
 
-/// A normalised configuration with its sines and cosines, computed once for all six words,
-/// and the two arc tangents that LSL and LRL, and RSR and RLR, share (atan2 is odd in y).
+/// A normalised configuration with its sines and cosines, computed once for all six words.
 struct Normalised {
     alpha: f64,
     beta: f64,
@@ -97,66 +106,99 @@ struct Normalised {
     sb: f64,
     cb: f64,
     cab: f64,
-    tau_lsl: f64,
-    tau_rsr: f64,
+}
+
+impl Normalised {
+    /// The arc tangent LSL and LRL share.
+    fn tau_lsl(&self) -> f64 {
+        (self.cb - self.ca).atan2(self.d + self.sa - self.sb)
+    }
+
+    /// The arc tangent RSR and RLR share.
+    fn tau_rsr(&self) -> f64 {
+        (self.ca - self.cb).atan2(self.d - self.sa + self.sb)
+    }
+
+    /// The square of the straight part of a CSC word (negative: the word does not exist), or
+    /// the cosine of a CCC word's middle arc over its half (beyond ±1: it does not exist).
+    fn shape(&self, word: Word) -> f64 {
+        let Normalised { d, sa, sb, cab, .. } = *self;
+        match word {
+            Word::Lsl => 2.0 + d * d - 2.0 * cab + 2.0 * d * (sa - sb),
+            Word::Rsr => 2.0 + d * d - 2.0 * cab + 2.0 * d * (sb - sa),
+            Word::Lsr => -2.0 + d * d + 2.0 * cab + 2.0 * d * (sa + sb),
+            Word::Rsl => -2.0 + d * d + 2.0 * cab - 2.0 * d * (sa + sb),
+            Word::Rlr => (6.0 - d * d + 2.0 * cab + 2.0 * d * (sa - sb)) / 8.0,
+            Word::Lrl => (6.0 - d * d + 2.0 * cab + 2.0 * d * (sb - sa)) / 8.0,
+        }
+    }
+
+    /// A lower bound of `word`'s normalised length without arc tangents (+∞ where it does not
+    /// exist). A CSC word's arcs turn by t and q in [0, 2π): LSL's sum to β − α modulo 2π,
+    /// RSR's to α − β, and LSR's and RSL's differ by β − α modulo 2π, so their sum is at least
+    /// that difference's distance from a whole turn. A CCC word's middle arc is at least π.
+    fn floor(&self, word: Word) -> f64 {
+        let shape = self.shape(word);
+        let turned = mod2pi(self.beta - self.alpha);
+        match word {
+            Word::Lsl | Word::Rsr | Word::Lsr | Word::Rsl if shape < 0.0 => f64::INFINITY,
+            Word::Lsl => shape.sqrt() + turned,
+            Word::Rsr => shape.sqrt() + mod2pi(self.alpha - self.beta),
+            Word::Lsr | Word::Rsl => shape.sqrt() + turned.min(TAU - turned),
+            Word::Rlr | Word::Lrl if shape.abs() > 1.0 => f64::INFINITY,
+            Word::Rlr | Word::Lrl => PI,
+        }
+    }
 }
 
 /// The parameters `(t, p, q)` of `word` between the normalised configuration, if feasible.
 fn word_params(word: Word, n: &Normalised) -> Option<[f64; 3]> {
-    let Normalised { alpha, beta, d, sa, ca, sb, cb, cab, tau_lsl, tau_rsr } = *n;
+    let Normalised { alpha, beta, d, sa, ca, sb, cb, .. } = *n;
+    let shape = n.shape(word);
     match word {
-        Word::Lsl => {
-            let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sa - sb);
-            (p2 >= 0.0).then(|| [mod2pi(tau_lsl - alpha), p2.sqrt(), mod2pi(beta - tau_lsl)])
-        }
-        Word::Rsr => {
-            let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sb - sa);
-            (p2 >= 0.0).then(|| [mod2pi(alpha - tau_rsr), p2.sqrt(), mod2pi(tau_rsr - beta)])
-        }
-        Word::Lsr => {
-            let p2 = -2.0 + d * d + 2.0 * cab + 2.0 * d * (sa + sb);
-            (p2 >= 0.0).then(|| {
-                let p = p2.sqrt();
-                let tau = (-ca - cb).atan2(d + sa + sb) - (-2.0f64).atan2(p);
-                [mod2pi(tau - alpha), p, mod2pi(tau - beta)]
-            })
-        }
-        Word::Rsl => {
-            let p2 = -2.0 + d * d + 2.0 * cab - 2.0 * d * (sa + sb);
-            (p2 >= 0.0).then(|| {
-                let p = p2.sqrt();
-                let tau = (ca + cb).atan2(d - sa - sb) - 2.0f64.atan2(p);
-                [mod2pi(alpha - tau), p, mod2pi(beta - tau)]
-            })
-        }
-        Word::Rlr => {
-            let g = (6.0 - d * d + 2.0 * cab + 2.0 * d * (sa - sb)) / 8.0;
-            (g.abs() <= 1.0).then(|| {
-                let p = mod2pi(TAU - g.acos());
-                let t = mod2pi(alpha - tau_rsr + p / 2.0);
-                [t, p, mod2pi(alpha - beta - t + p)]
-            })
-        }
-        Word::Lrl => {
-            let g = (6.0 - d * d + 2.0 * cab + 2.0 * d * (sb - sa)) / 8.0;
-            (g.abs() <= 1.0).then(|| {
-                let p = mod2pi(TAU - g.acos());
-                let t = mod2pi(-alpha + tau_lsl + p / 2.0);
-                [t, p, mod2pi(beta - alpha - t + p)]
-            })
-        }
+        Word::Lsl => (shape >= 0.0).then(|| {
+            let tau = n.tau_lsl();
+            [mod2pi(tau - alpha), shape.sqrt(), mod2pi(beta - tau)]
+        }),
+        Word::Rsr => (shape >= 0.0).then(|| {
+            let tau = n.tau_rsr();
+            [mod2pi(alpha - tau), shape.sqrt(), mod2pi(tau - beta)]
+        }),
+        Word::Lsr => (shape >= 0.0).then(|| {
+            let p = shape.sqrt();
+            // atan2(y, x) − atan2(−2, p) in one arc tangent (equal modulo 2π)
+            let (y, x) = (-ca - cb, d + sa + sb);
+            let tau = (y * p + 2.0 * x).atan2(x * p - 2.0 * y);
+            [mod2pi(tau - alpha), p, mod2pi(tau - beta)]
+        }),
+        Word::Rsl => (shape >= 0.0).then(|| {
+            let p = shape.sqrt();
+            // atan2(y, x) − atan2(2, p) in one arc tangent (equal modulo 2π)
+            let (y, x) = (ca + cb, d - sa - sb);
+            let tau = (y * p - 2.0 * x).atan2(x * p + 2.0 * y);
+            [mod2pi(alpha - tau), p, mod2pi(beta - tau)]
+        }),
+        Word::Rlr => (shape.abs() <= 1.0).then(|| {
+            let p = mod2pi(TAU - shape.acos());
+            let t = mod2pi(alpha - n.tau_rsr() + p / 2.0);
+            [t, p, mod2pi(alpha - beta - t + p)]
+        }),
+        Word::Lrl => (shape.abs() <= 1.0).then(|| {
+            let p = mod2pi(TAU - shape.acos());
+            let t = mod2pi(-alpha + n.tau_lsl() + p / 2.0);
+            [t, p, mod2pi(beta - alpha - t + p)]
+        }),
     }
 }
 
 fn normalise(q0: Pose, q1: Pose, r: f64) -> Normalised {
     debug_assert!(r > 0.0);
     let (dx, dy) = (q1.x - q0.x, q1.y - q0.y);
-    let dist = dx.hypot(dy);
+    let dist = (dx * dx + dy * dy).sqrt();
     let phi = if dist > 0.0 { dy.atan2(dx) } else { 0.0 };
     let (alpha, beta) = (mod2pi(q0.theta - phi), mod2pi(q1.theta - phi));
     let ((sa, ca), (sb, cb)) = (alpha.sin_cos(), beta.sin_cos());
-    let d = dist / r;
-    Normalised { alpha, beta, d, sa, ca, sb, cb, cab: ca * cb + sa * sb, tau_lsl: (cb - ca).atan2(d + sa - sb), tau_rsr: (ca - cb).atan2(d - sa + sb) }
+    Normalised { alpha, beta, d: dist / r, sa, ca, sb, cb, cab: ca * cb + sa * sb }
 }
 
 /// Every feasible word from `q0` to `q1` with radius `r > 0`, in the order of [`Word::ALL`].
@@ -166,20 +208,25 @@ pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
 }
 
 /// The shortest path from `q0` to `q1` with radius `r > 0`; ties go to the first word of
-/// [`Word::ALL`]. The words are priced in place, without a list (it is called millions of
-/// times by the route search).
+/// [`Word::ALL`]. It is called millions of times by the route search, so the words are
+/// priced in place, without a list, and a word whose [`Normalised::floor`] is above the
+/// best so far is not priced at all (its arc tangents were most of the time).
 pub fn shortest(q0: Pose, q1: Pose, r: f64) -> DubinsPath {
     let n = normalise(q0, q1, r);
-    let mut best: Option<DubinsPath> = None;
+    let mut best: Option<(DubinsPath, f64)> = None;
     for word in Word::ALL {
+        // rounding may put a length a hair below its floor
+        if best.is_some_and(|(_, sum)| n.floor(word) * (1.0 - 1e-12) > sum) {
+            continue;
+        }
         if let Some(params) = word_params(word, &n) {
             let path = DubinsPath { start: q0, radius: r, word, params };
-            if best.is_none_or(|b| path.length() < b.length()) {
-                best = Some(path);
+            if best.is_none_or(|(b, _)| path.length() < b.length()) {
+                best = Some((path, params.iter().sum()));
             }
         }
     }
-    best.expect("LSL or RSR is always feasible")
+    best.expect("LSL or RSR is always feasible").0
 }
 
 /// A lower bound of the shortest path from `q0` to the point `p` arriving in any heading
@@ -493,6 +540,14 @@ mod tests {
                 prop_assert!(angle_gap(end.theta, q1.theta) <= 1e-9, "{:?} heading off by {}", w.word, angle_gap(end.theta, q1.theta));
                 prop_assert!(best.length() <= w.length() + 1e-9);
             }
+            // the floors that let `shortest` skip words are below the words' lengths, and the
+            // skipping picks what pricing every word picks: the first of the shortest
+            let n = normalise(q0, q1, r);
+            for w in &words {
+                prop_assert!(n.floor(w.word) * r <= w.length() + 1e-9 * r, "{:?}: floor {} above {}", w.word, n.floor(w.word) * r, w.length());
+            }
+            let least = words.iter().map(DubinsPath::length).fold(f64::INFINITY, f64::min);
+            prop_assert_eq!(Some(best.word), words.iter().find(|w| w.length() == least).map(|w| w.word));
             let back = shortest_length(q1.reversed(), q0.reversed(), r);
             prop_assert!((back - best.length()).abs() <= 1e-6 * r.max(1.0), "reversal: {} vs {}", back, best.length());
             let d = (q1.x - q0.x).hypot(q1.y - q0.y);

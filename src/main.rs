@@ -73,6 +73,9 @@ enum Command {
         /// Fields2Cover's fixed-wing configuration (width max(8, √area/25), radius half of it, zones 1 m off) on the fields h*_00, beside its figures.
         #[arg(long)]
         fields2cover: bool,
+        /// The holes are only not to be covered and may be flown over (Fields2Cover's semantics), not no-fly zones.
+        #[arg(long)]
+        overfly_holes: bool,
         /// Instead: route 100, 300 and 600 parallel lines with Dubins turns.
         #[arg(long)]
         routing: bool,
@@ -233,7 +236,7 @@ fn main() -> ExitCode {
             print!("{}", coverplan::bench::routing());
             Ok(())
         }
-        Command::Bench { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, .. } => {
+        Command::Bench { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, overfly_holes, .. } => {
             let options = coverplan::bench::Options {
                 planner: planner.as_deref(),
                 repeats,
@@ -242,6 +245,7 @@ fn main() -> ExitCode {
                 fields: &fields,
                 ends: ends.as_deref(),
                 fields2cover,
+                overfly_holes,
             };
             coverplan::bench::run(&data, &options).map(|table| print!("{table}"))
         }

@@ -83,6 +83,9 @@ pub struct Options<'a> {
     pub ends: Option<&'a str>,
     /// Fields2Cover's fixed-wing configuration ([`fields2cover_spacing`]) on the fields `h*_00`.
     pub fields2cover: bool,
+    /// The fields' holes are only not to be covered, free to fly over (as Fields2Cover treats
+    /// them), instead of also being no-fly zones.
+    pub overfly_holes: bool,
 }
 
 /// Resets the process's peak resident memory (Linux: `/proc/self/clear_refs`), so that the next
@@ -124,14 +127,14 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
         (None, false) => "sqrt(area)/20 within 5..60 m".to_owned(),
     };
     let vehicle = if fixed_wing { "fixed wing turning at half the spacing" } else { "multirotor" };
-    let margin = if options.fields2cover { "kept 1 m off" } else { "kept 10 m off" };
+    let holes = match (options.overfly_holes, options.fields2cover) {
+        (true, _) => "holes not to cover but free to fly over",
+        (false, true) => "holes as no-fly zones kept 1 m off",
+        (false, false) => "holes as no-fly zones kept 10 m off",
+    };
     let ends_rule = options.ends.unwrap_or("the planners' default");
     let mut out = String::new();
-    out.push_str(&format!(
-        "fields: {} from {}; {repeats} runs each; spacing {spacing_rule}; {vehicle}; holes as no-fly zones {margin}; line ends {ends_rule}\n",
-        entries.len(),
-        dir.display()
-    ));
+    out.push_str(&format!("fields: {} from {}; {repeats} runs each; spacing {spacing_rule}; {vehicle}; {holes}; line ends {ends_rule}\n", entries.len(), dir.display()));
     if options.fields2cover {
         out.push_str(&format!("beside: {FIELDS2COVER_FIXED_WING}\n"));
     }
@@ -173,7 +176,13 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
             if fixed_wing {
                 params.vehicle = VehicleParams { kind: Some(VehicleKind::FixedWing), turn_radius_m: Some(spacing / 2.0), ..VehicleParams::default() };
             }
-            let mission = MissionGeometry { area: &m["area"], no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null()), obstacles: None, structures: None, home: None };
+            let mission = MissionGeometry {
+                area: &m["area"],
+                no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null() && !options.overfly_holes),
+                obstacles: None,
+                structures: None,
+                home: None,
+            };
             for _ in 0..repeats {
                 reset_peak();
                 let t = Instant::now();

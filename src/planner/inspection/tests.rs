@@ -174,11 +174,14 @@ proptest! {
         prop_assert!(planned.budget_used <= case.spec.budget.value() * (1.0 + 1e-9), "{} over {:?}", planned.budget_used, case.spec.budget);
         let measured = case.spec.budget.measure(stats.length_m, stats.duration_s, stats.energy_j);
         prop_assert!((measured - planned.budget_used).abs() <= 1e-6 * measured.max(1.0), "{measured} vs {}", planned.budget_used);
-        // the same seed, the same plan (when the search ended on its counts, not its clock)
+        // the same seed, the same plan (when both searches ended on their counts, not the
+        // clock: a debug build under load can take the second run past the time limit)
         if planned.search_end != SearchEnd::TimeLimit {
             let again = run(&case, &iris);
-            prop_assert_eq!(&again.legs, &planned.legs);
-            prop_assert_eq!(&again.viewpoints, &planned.viewpoints);
+            if again.search_end != SearchEnd::TimeLimit {
+                prop_assert_eq!(&again.legs, &planned.legs);
+                prop_assert_eq!(&again.viewpoints, &planned.viewpoints);
+            }
         }
     }
 }

@@ -434,7 +434,7 @@ pub fn order<R: Send>(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<P
                 .collect()
         })
     };
-    let mut inst = line_instance(lines, Costs::lazy(n, known, |u, v| links.cost(u, v), floor), terminal(start, true), terminal(end, false), stop.clone());
+    let mut inst = line_instance(lines, Costs::lazy(n, known, |u, v| links.cost(u, v), |u, v| (floor(u, v), false)), terminal(start, true), terminal(end, false), stop.clone());
     inst.candidates = Some(candidates);
     let mut aside = None;
     let seq = rayon::in_place_scope(|s| {

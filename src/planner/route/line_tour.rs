@@ -165,12 +165,19 @@ impl<'a> LineProblem<'a> {
 
     /// A lower bound of [`Self::connection`], cheap: the connection in open sky (no zone
     /// makes a connection shorter, nor climbing over an obstacle), less the most that
-    /// sampling arcs into chords (10° at most) takes off a flown path's length.
-    pub fn connection_floor(&self, u: usize, v: usize) -> f64 {
+    /// sampling arcs into chords (10° at most) takes off a flown path's length. The flag
+    /// says the bound is the connection itself: with no zone within the turn's reach and no
+    /// obstacle, the connection is the open-sky one, as cheap to price as its bound, and
+    /// bounding it first priced it twice (most connections while ranking headings).
+    pub fn connection_floor(&self, u: usize, v: usize) -> (f64, bool) {
         if u / 2 == v / 2 {
-            return f64::INFINITY;
+            return (f64::INFINITY, false);
         }
-        CHORDS_AT_LEAST * self.connector.turn.length(self.exit(u), self.entry(v))
+        let (from, to) = (self.exit(u), self.entry(v));
+        if self.obstacles.is_none() && !self.connector.transit.any_wall_in(&self.connector.reach(from, to)) {
+            return (self.connection(u, v), true);
+        }
+        (CHORDS_AT_LEAST * self.connector.turn.length(from, to), false)
     }
 
     /// From the start to the entry of each node (`None` without a start).
@@ -236,7 +243,10 @@ impl<'a> LineProblem<'a> {
     /// weighed on their floors first.
     fn lazy_costs(&self, known: KnownCosts) -> Costs<'_> {
         let price = |u: usize, v: usize| self.priced(u, v, self.connection(u, v));
-        let floor = |u: usize, v: usize| self.priced(u, v, self.connection_floor(u, v));
+        let floor = |u: usize, v: usize| {
+            let (floor, exact) = self.connection_floor(u, v);
+            (self.priced(u, v, floor), exact)
+        };
         Costs::lazy(2 * self.lines.len(), known, price, floor)
     }
 
@@ -246,15 +256,21 @@ impl<'a> LineProblem<'a> {
     /// connections, and the far candidates rarely make the cut. Returns every connection
     /// priced, with its cost.
     fn cheapest(&self, u: usize, near: &[usize], k: usize) -> Vec<(usize, f64)> {
-        let mut by_floor: Vec<(f64, usize)> = near.iter().map(|&v| (self.priced(u, v, self.connection_floor(u, v)), v)).collect();
+        let mut by_floor: Vec<(f64, usize, bool)> = near
+            .iter()
+            .map(|&v| {
+                let (floor, exact) = self.connection_floor(u, v);
+                (self.priced(u, v, floor), v, exact)
+            })
+            .collect();
         by_floor.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut priced: Vec<(usize, f64)> = Vec::with_capacity(near.len());
         let mut costs: Vec<f64> = Vec::with_capacity(near.len());
-        for (floor, v) in by_floor {
+        for (floor, v, exact) in by_floor {
             if costs.len() >= k && costs[k - 1] < floor {
                 break;
             }
-            let c = self.priced(u, v, self.connection(u, v));
+            let c = if exact { floor } else { self.priced(u, v, self.connection(u, v)) };
             costs.insert(costs.partition_point(|&x| x <= c), c);
             priced.push((v, c));
         }
@@ -400,6 +416,22 @@ mod tests {
             priced_fewer |= found.len() < near.len();
         }
         assert!(priced_fewer, "every candidate was priced");
+        // floors never exceed their connections, and those flagged exact are them: the
+        // connections no zone is within reach of, and only those
+        let (mut exact_seen, mut bounds_seen) = (false, false);
+        for u in 0..2 * lines.len() {
+            for v in (0..2 * lines.len()).filter(|v| v / 2 != u / 2) {
+                let ((floor, exact), cost) = (problem.connection_floor(u, v), problem.connection(u, v));
+                assert!(floor <= cost + 1e-9, "floor {floor} above {cost} from {u} to {v}");
+                let zone_near = transit.any_wall_in(&connector.reach(exit(&lines, u), entry(&lines, v)));
+                assert_eq!(exact, !zone_near, "from {u} to {v}");
+                if exact {
+                    assert_eq!(floor, cost, "from {u} to {v}");
+                }
+                (exact_seen, bounds_seen) = (exact_seen || exact, bounds_seen || !exact);
+            }
+        }
+        assert!(exact_seen && bounds_seen);
     }
 
     #[test]

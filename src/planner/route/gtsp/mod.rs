@@ -48,13 +48,15 @@ pub struct LazyCosts<'a> {
     floors: Vec<Cell<f64>>,
     map: RefCell<HashMap<(usize, usize), f64, foldhash::fast::FixedState>>,
     compute: Box<dyn Fn(usize, usize) -> f64 + 'a>,
-    floor: Box<dyn Fn(usize, usize) -> f64 + 'a>,
+    /// A lower bound of `compute`, and whether it is `compute`'s own cost (then kept as such).
+    floor: Box<dyn Fn(usize, usize) -> (f64, bool) + 'a>,
 }
 
 impl<'a> Costs<'a> {
     /// Costs of `n` nodes computed by `compute` when first asked for, `known` ones kept;
-    /// `floor` is a cheap lower bound of `compute`, what moves are priced on first.
-    pub fn lazy(n: usize, known: KnownCosts, compute: impl Fn(usize, usize) -> f64 + 'a, floor: impl Fn(usize, usize) -> f64 + 'a) -> Self {
+    /// `floor` is a cheap lower bound of `compute`, what moves are priced on first, flagged
+    /// where it is the cost itself.
+    pub fn lazy(n: usize, known: KnownCosts, compute: impl Fn(usize, usize) -> f64 + 'a, floor: impl Fn(usize, usize) -> (f64, bool) + 'a) -> Self {
         let lazy = LazyCosts {
             n,
             table: if n <= LAZY_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() },
@@ -93,11 +95,19 @@ impl LazyCosts<'_> {
         self.known(u, v).or_else(|| self.known(reverse[v], reverse[u]))
     }
 
-    /// The floor from `u` to `v`, computed unless kept.
+    /// The floor from `u` to `v`, computed unless kept; one that is the cost is kept as the
+    /// cost too.
     fn floor(&self, u: usize, v: usize) -> f64 {
-        let Some(cell) = self.floors.get(u * self.n + v) else { return (self.floor)(u, v) };
+        let compute = || {
+            let (floor, exact) = (self.floor)(u, v);
+            if exact {
+                self.keep(u, v, floor);
+            }
+            floor
+        };
+        let Some(cell) = self.floors.get(u * self.n + v) else { return compute() };
         if cell.get().is_nan() {
-            cell.set((self.floor)(u, v));
+            cell.set(compute());
         }
         cell.get()
     }

@@ -148,8 +148,7 @@ impl TransitPlanner {
 
     /// True when the segment `a`–`b` does not enter the interior of any wall.
     pub fn is_clear(&self, a: Coord, b: Coord) -> bool {
-        let seg = Rect::new(a, b);
-        self.walls.iter().all(|(bb, ring)| !bb.intersects(&seg) || !segment_enters(a, b, ring))
+        self.walls.iter().all(|(wall_box, ring)| !leg_enters(wall_box, ring, a, b))
     }
 
     /// The corners a transit may bend around.
@@ -162,10 +161,7 @@ impl TransitPlanner {
     /// boxes miss.
     pub fn is_polyline_clear(&self, points: &[Coord]) -> bool {
         let Some(bb) = bounding(points) else { return true };
-        self.walls
-            .iter()
-            .filter(|(wall_box, _)| wall_box.intersects(&bb))
-            .all(|(wall_box, ring)| points.windows(2).all(|w| !wall_box.intersects(&Rect::new(w[0], w[1])) || !segment_enters(w[0], w[1], ring)))
+        self.walls.iter().filter(|(wall_box, _)| wall_box.intersects(&bb)).all(|(wall_box, ring)| points.windows(2).all(|w| !leg_enters(wall_box, ring, w[0], w[1])))
     }
 
     /// True when there is any wall at all.
@@ -223,6 +219,11 @@ fn convex_corners(ring: &LineString) -> Vec<Coord> {
         })
         .map(|i| pts[i])
         .collect()
+}
+
+/// Does the leg a–b enter the wall `ring` (bounding box `wall_box`)? The boxes first.
+fn leg_enters(wall_box: &Rect, ring: &[Coord], a: Coord, b: Coord) -> bool {
+    wall_box.intersects(&Rect::new(a, b)) && segment_enters(a, b, ring)
 }
 
 /// Does the open segment a–b pass through the interior of the closed ring?

@@ -213,20 +213,20 @@ pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
 /// best so far is not priced at all (its arc tangents were most of the time).
 pub fn shortest(q0: Pose, q1: Pose, r: f64) -> DubinsPath {
     let n = normalise(q0, q1, r);
-    let mut best: Option<(DubinsPath, f64)> = None;
+    let mut best: Option<DubinsPath> = None;
     for word in Word::ALL {
-        // rounding may put a length a hair below its floor
-        if best.is_some_and(|(_, sum)| n.floor(word) * (1.0 - 1e-12) > sum) {
+        // floors are normalised lengths; rounding may put a length a hair below its floor
+        if best.is_some_and(|b| n.floor(word) * (1.0 - 1e-12) > b.params.iter().sum::<f64>()) {
             continue;
         }
         if let Some(params) = word_params(word, &n) {
             let path = DubinsPath { start: q0, radius: r, word, params };
-            if best.is_none_or(|(b, _)| path.length() < b.length()) {
-                best = Some((path, params.iter().sum()));
+            if best.is_none_or(|b| path.length() < b.length()) {
+                best = Some(path);
             }
         }
     }
-    best.expect("LSL or RSR is always feasible").0
+    best.expect("LSL or RSR is always feasible")
 }
 
 /// A lower bound of the shortest path from `q0` to the point `p` arriving in any heading

@@ -219,14 +219,22 @@ impl Connector<'_> {
 
     /// The points of `word` (ending exactly at `to`) when it stays clear of the walls.
     fn clear_points(&self, word: DubinsPath, to: Pose) -> Option<Vec<Coord>> {
-        let points = word_points(word, to);
-        (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&points)).then_some(points)
+        self.is_word_clear(word, to).then(|| word_points(word, to))
     }
 
     /// True when `word` (ending at `to`) stays clear of the walls: a word whose box meets no
-    /// wall is clear without computing its points.
+    /// wall is clear without computing its points. Its straight part, one leg of its points,
+    /// is tested first: around zones most words priced are blocked, nine in ten of them there
+    /// (h12_00, Fields2Cover's configuration), found without drawing an arc.
     fn is_word_clear(&self, word: DubinsPath, to: Pose) -> bool {
-        !self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&word_points(word, to))
+        if !self.transit.any_wall_in(&word.bounds()) {
+            return true;
+        }
+        let straight = word.straight().map(|[a, b]| [a, if word.params[2] > 0.0 { b } else { to.coord() }]);
+        if straight.is_some_and(|[a, b]| !self.transit.is_clear(a, b)) {
+            return false;
+        }
+        self.transit.is_polyline_clear(&word_points(word, to))
     }
 
     /// Two clear Dubins paths through one corner of the detour graph, passed in one of

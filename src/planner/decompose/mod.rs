@@ -78,7 +78,7 @@ impl CoverageArea<'_> {
     /// where the region itself ends.
     pub fn sweep(&self, piece: &MultiPolygon, angle: f64) -> SweepPattern {
         let mut pattern = sweep(piece, self.keep_out, angle, self.layout);
-        end_lines(&mut pattern, self.region, piece.unsigned_area(), self.layout.ends);
+        end_lines(&mut pattern, self.region, self.layout.ends, piece.unsigned_area());
         pattern
     }
 }

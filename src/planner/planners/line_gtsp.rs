@@ -348,7 +348,7 @@ impl Search<'_> {
     /// turning room before no-fly zones (lines cut short or dropped).
     fn field_lines(&self, region: usize, h: f64) -> (Vec<Line>, f64) {
         let mut pattern = sweep(&self.fields[region], self.problem.keep_out, h, self.problem.layout);
-        end_lines(&mut pattern, &self.fields[region], self.fields[region].unsigned_area(), self.problem.layout.ends);
+        end_lines(&mut pattern, &self.fields[region], self.problem.layout.ends, self.fields[region].unsigned_area());
         let whole: Vec<Line> = pattern
             .lines
             .iter()

@@ -156,7 +156,7 @@ pub fn cut(area: &MultiPolygon, segments: &[SweepSegment], rule: SwathEnds, slac
 /// `rule` against `area` (the whole area to cover, local frame), dropping what is left shorter
 /// than 5 cm. Full-width ends leave the pattern as it is; so do gap fills, which work what the
 /// lines leave beside no-fly zones.
-pub fn end_lines(pattern: &mut SweepPattern, area: &MultiPolygon, part_area: f64, rule: SwathEnds) {
+pub fn end_lines(pattern: &mut SweepPattern, area: &MultiPolygon, rule: SwathEnds, part_area: f64) {
     if rule == SwathEnds::FullWidth {
         return;
     }
@@ -188,7 +188,7 @@ mod tests {
         let region = field.difference(&zone);
         let mut pattern = sweep(&region, &zone, 0.0, LineLayout::centered(6.0));
         let full = pattern.clone();
-        end_lines(&mut pattern, &region, region.unsigned_area(), SwathEnds::Balanced);
+        end_lines(&mut pattern, &region, SwathEnds::Balanced, region.unsigned_area());
         let mut cut_by_zone = 0;
         for (line, full) in pattern.lines.iter().zip(&full.lines) {
             assert_eq!(line.len(), full.len());

@@ -222,19 +222,16 @@ impl Connector<'_> {
         self.is_word_clear(word, to).then(|| word_points(word, to))
     }
 
-    /// True when `word` (ending at `to`) stays clear of the walls: a word whose box meets no
-    /// wall is clear without computing its points. Its straight part, one leg of its points,
-    /// is tested first: around zones most words priced are blocked, nine in ten of them there
-    /// (h12_00, Fields2Cover's configuration), found without drawing an arc.
+    /// True when `word` (ending at `to`) stays clear of the walls. Its straight part, one leg
+    /// of its points, is tested first: around zones most words priced are blocked, nine in ten
+    /// of them there (h12_00, Fields2Cover's configuration), found without drawing an arc or
+    /// bounding the word. A word whose box meets no wall is clear without computing its points.
     fn is_word_clear(&self, word: DubinsPath, to: Pose) -> bool {
-        if !self.transit.any_wall_in(&word.bounds()) {
-            return true;
-        }
         let straight = word.straight().map(|[a, b]| [a, if word.params[2] > 0.0 { b } else { to.coord() }]);
         if straight.is_some_and(|[a, b]| !self.transit.is_clear(a, b)) {
             return false;
         }
-        self.transit.is_polyline_clear(&word_points(word, to))
+        !self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&word_points(word, to))
     }
 
     /// Two clear Dubins paths through one corner of the detour graph, passed in one of
@@ -310,8 +307,9 @@ impl Connector<'_> {
         let corners = if detour.is_clear(a, b) {
             vec![a, b]
         } else {
-            let tree = place(&self.trees, a, || detour.tree_from(a));
-            detour.path_between(&tree, b, &place(&self.sights, b, || detour.seen_from(b)))?
+            let sight = |p: Coord| place(&self.sights, p, || detour.seen_from(p));
+            let tree = place(&self.trees, a, || detour.tree_seeing(a, &sight(a)));
+            detour.path_between(&tree, b, &sight(b))?
         };
         let k = corners.len();
         let mut poses = vec![from];

@@ -71,7 +71,13 @@ impl TransitPlanner {
     /// The shortest ways from `a` to every node, for [`Self::path_between`]: a place that many
     /// paths start from computes it once.
     pub fn tree_from(&self, a: Coord) -> Tree {
-        let (dist, prev) = self.dijkstra(&self.seen_from(a));
+        self.tree_seeing(a, &self.seen_from(a))
+    }
+
+    /// [`Self::tree_from`] `a`, whose nodes in sight are `seen` (from [`Self::seen_from`]): a
+    /// place kept as a target too has them already, and finding them was most of a tree's time.
+    pub fn tree_seeing(&self, a: Coord, seen: &[(usize, f64)]) -> Tree {
+        let (dist, prev) = self.dijkstra(seen);
         Tree { from: a, dist, prev }
     }
 

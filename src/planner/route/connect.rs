@@ -219,19 +219,26 @@ impl Connector<'_> {
 
     /// The points of `word` (ending exactly at `to`) when it stays clear of the walls.
     fn clear_points(&self, word: DubinsPath, to: Pose) -> Option<Vec<Coord>> {
-        self.is_word_clear(word, to).then(|| word_points(word, to))
+        if self.straight_enters(word, to) {
+            return None;
+        }
+        let points = word_points(word, to);
+        (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&points)).then_some(points)
     }
 
-    /// True when `word` (ending at `to`) stays clear of the walls. Its straight part, one leg
-    /// of its points, is tested first: around zones most words priced are blocked, nine in ten
-    /// of them there (h12_00, Fields2Cover's configuration), found without drawing an arc or
-    /// bounding the word. A word whose box meets no wall is clear without computing its points.
+    /// True when `word` (ending at `to`) stays clear of the walls: a word whose box meets no
+    /// wall is clear without computing its points.
     fn is_word_clear(&self, word: DubinsPath, to: Pose) -> bool {
+        !self.straight_enters(word, to) && (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&word_points(word, to)))
+    }
+
+    /// True when the straight part of `word` (ending at `to`), one leg of its points, enters a
+    /// wall. Tested first: around zones most words priced are blocked, nine in ten of them
+    /// there (h12_00, Fields2Cover's configuration), found without drawing an arc or bounding
+    /// the word.
+    fn straight_enters(&self, word: DubinsPath, to: Pose) -> bool {
         let straight = word.straight().map(|[a, b]| [a, if word.params[2] > 0.0 { b } else { to.coord() }]);
-        if straight.is_some_and(|[a, b]| !self.transit.is_clear(a, b)) {
-            return false;
-        }
-        !self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&word_points(word, to))
+        straight.is_some_and(|[a, b]| !self.transit.is_clear(a, b))
     }
 
     /// Two clear Dubins paths through one corner of the detour graph, passed in one of

@@ -217,7 +217,8 @@ impl Connector<'_> {
         words.into_iter().find_map(|w| self.clear_points(w, to))
     }
 
-    /// The points of `word` (ending exactly at `to`) when it stays clear of the walls.
+    /// The points of `word` (ending exactly at `to`) when it stays clear of the walls: a word
+    /// whose box meets no wall is clear without testing its points.
     fn clear_points(&self, word: DubinsPath, to: Pose) -> Option<Vec<Coord>> {
         if self.straight_enters(word, to) {
             return None;
@@ -226,10 +227,9 @@ impl Connector<'_> {
         (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&points)).then_some(points)
     }
 
-    /// True when `word` (ending at `to`) stays clear of the walls: a word whose box meets no
-    /// wall is clear without computing its points.
+    /// True when `word` (ending at `to`) stays clear of the walls.
     fn is_word_clear(&self, word: DubinsPath, to: Pose) -> bool {
-        !self.straight_enters(word, to) && (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&word_points(word, to)))
+        self.clear_points(word, to).is_some()
     }
 
     /// True when the straight part of `word` (ending at `to`), one leg of its points, enters a

@@ -6,3 +6,4 @@ mod inspection;
 mod obstacles;
 mod patrolling;
 mod seed004;
+mod several_fields;

@@ -3,6 +3,7 @@
 //! must still let through each field's best heading.
 
 use coverplan_planner::frame::LocalFrame;
+use coverplan_planner::geom::axial_difference;
 use coverplan_planner::{FieldLimits, MissionGeometry, PlanParams, Stop, plan};
 use geo::Coord;
 use proptest::prelude::*;
@@ -16,12 +17,6 @@ fn rectangle(frame: &LocalFrame, centre: (f64, f64), length: f64, width: f64, de
         json!(frame.to_wgs84(Coord { x: centre.0 + x * cos - y * sin, y: centre.1 + x * sin + y * cos }))
     };
     json!([[corner(-1., -1.), corner(1., -1.), corner(1., 1.), corner(-1., 1.), corner(-1., -1.)]])
-}
-
-/// Difference of two line directions in degrees, in [0, 90].
-fn axial_deg(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(180.0);
-    d.min(180.0 - d)
 }
 
 proptest! {
@@ -51,7 +46,7 @@ proptest! {
             let b = frame.to_local(coordinates[coordinates.len() - 1][0], coordinates[coordinates.len() - 1][1]);
             let (field, long_side) = if (a.x + b.x) / 2.0 < 350.0 { (0, west_deg) } else { (1, east_deg) };
             let heading = (b.y - a.y).atan2(b.x - a.x).to_degrees();
-            prop_assert!(axial_deg(heading, long_side) <= 2.0, "field {field}: a sweep at {heading:.1}°, its long side at {long_side:.1}°");
+            prop_assert!(axial_difference(heading.to_radians(), long_side.to_radians()) <= 2f64.to_radians(), "field {field}: a sweep at {heading:.1}°, its long side at {long_side:.1}°");
             sweeps[field] += 1;
         }
         prop_assert!(sweeps[0] >= 5 && sweeps[1] >= 4, "sweeps per field {sweeps:?}");

@@ -12,7 +12,9 @@
 
 use geo::algorithm::buffer::{BufferStyle, LineJoin};
 use geo::orient::{Direction, Orient};
-use geo::{Area, BooleanOps, Buffer, Contains, Coord, Distance, Euclidean, Line, LineString, MinimumRotatedRect, MultiLineString, MultiPolygon, Point, Polygon, Simplify};
+use geo::{
+    Area, BooleanOps, Buffer, Contains, Coord, Distance, Euclidean, InteriorPoint, Line, LineString, MinimumRotatedRect, MultiLineString, MultiPolygon, Point, Polygon, Simplify,
+};
 
 use super::{PlannedPath, Planner, Problem, Progress, connect, no_sweep_lines};
 use crate::error::{InputError, PlanError};
@@ -259,18 +261,27 @@ fn corner_spurs(passes: &[Pass], pieces: &[Polygon], region: &MultiPolygon) -> V
             .min_by(|a, b| a.3.total_cmp(&b.3));
         let Some((pass, vertex, at, _)) = nearest else { break };
         let far = piece.exterior().0.iter().copied().max_by(|&a, &b| distance(a, at).total_cmp(&distance(b, at))).expect("a piece has vertices");
-        let reach = distance(at, far);
-        if reach <= SPUR_CLEARANCE_M {
-            continue;
-        }
-        let tip = at + (far - at) * ((reach - SPUR_CLEARANCE_M) / reach);
-        if region.0.iter().any(|p| p.contains(&Line::new(at, tip))) {
+        // the far corner, or where the spur to it would run along the area's edge (from a pass
+        // that ends on that edge: a fleet's band), a point pulled towards the piece's inside
+        let inside = piece.interior_point().map_or(far, |p| p.0);
+        let spur = SPUR_PULLS.iter().map(|&s| far + (inside - far) * s).find_map(|aim| {
+            let reach = distance(at, aim);
+            let along = |d: f64| at + (aim - at) * (d / reach);
+            // checked from a hair past the vertex, which lies on the edge where a pass ends there
+            let inside = reach > 2.0 * SPUR_CLEARANCE_M && region.0.iter().any(|p| p.contains(&Line::new(along(SPUR_CLEARANCE_M), along(reach - SPUR_CLEARANCE_M))));
+            inside.then(|| along(reach - SPUR_CLEARANCE_M))
+        });
+        if let Some(tip) = spur {
             spurs.push(Spur { pass, vertex, tip });
             left -= piece.unsigned_area();
         }
     }
     spurs
 }
+
+/// Where a spur may aim, as shares of the way from a piece's far corner towards its inside: the
+/// corner first; a spur along the area's edge is not inside it and sweeps half its swath outside.
+const SPUR_PULLS: [f64; 3] = [0.0, 0.25, 0.5];
 
 impl Planner for ESpiral {
     fn lays_parallel_lines(&self) -> bool {

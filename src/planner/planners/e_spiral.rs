@@ -268,8 +268,8 @@ fn corner_spurs(passes: &[Pass], pieces: &[Polygon], region: &MultiPolygon) -> V
             let reach = distance(at, aim);
             let along = |d: f64| at + (aim - at) * (d / reach);
             // checked from a hair past the vertex, which lies on the edge where a pass ends there
-            let inside = reach > 2.0 * SPUR_CLEARANCE_M && region.0.iter().any(|p| p.contains(&Line::new(along(SPUR_CLEARANCE_M), along(reach - SPUR_CLEARANCE_M))));
-            inside.then(|| along(reach - SPUR_CLEARANCE_M))
+            let clear = reach > 2.0 * SPUR_CLEARANCE_M && region.0.iter().any(|p| p.contains(&Line::new(along(SPUR_CLEARANCE_M), along(reach - SPUR_CLEARANCE_M))));
+            clear.then(|| along(reach - SPUR_CLEARANCE_M))
         });
         if let Some(tip) = spur {
             spurs.push(Spur { pass, vertex, tip });

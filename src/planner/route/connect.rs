@@ -12,7 +12,7 @@ use geo::{Coord, Rect};
 
 use super::visibility::{TransitPlanner, Tree};
 use crate::stop::Stop;
-use crate::turn::dubins::{DubinsPath, Pose, all_words, shortest, to_point_lower_bound};
+use crate::turn::dubins::{DubinsPath, Pose, all_words, lengths_arriving, lengths_leaving, shortest, to_point_lower_bound};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel, half_circles, turnable_stretch};
 
 pub struct Connector<'a> {
@@ -267,8 +267,9 @@ impl Connector<'_> {
             }
             if corner == 1 {
                 let poses = at * VIA_HEADINGS..(at + 1) * VIA_HEADINGS;
-                let legs_out = out.length[at].get_or_init(|| Box::new(std::array::from_fn(|k| shortest(from, self.via[poses.start + k], r).length())));
-                let legs_in = into.length[at].get_or_init(|| Box::new(std::array::from_fn(|k| shortest(self.via[poses.start + k], to, r).length())));
+                let (corner, headings) = (self.via[poses.start].coord(), std::array::from_fn(|k| self.via[poses.start + k].theta));
+                let legs_out = out.length[at].get_or_init(|| Box::new(lengths_arriving(from, corner, &headings, r)));
+                let legs_in = into.length[at].get_or_init(|| Box::new(lengths_leaving(corner, &headings, to, r)));
                 for (k, via) in poses.enumerate().filter(|&(_, via)| open(&out, via) && open(&into, via)) {
                     shortest_first.push(Reverse(((legs_out[k] + legs_in[k]).to_bits(), 0, via)));
                 }

@@ -192,13 +192,59 @@ fn word_params(word: Word, n: &Normalised) -> Option<[f64; 3]> {
 }
 
 fn normalise(q0: Pose, q1: Pose, r: f64) -> Normalised {
-    debug_assert!(r > 0.0);
-    let (dx, dy) = (q1.x - q0.x, q1.y - q0.y);
-    let dist = (dx * dx + dy * dy).sqrt();
-    let phi = if dist > 0.0 { dy.atan2(dx) } else { 0.0 };
-    let (alpha, beta) = (mod2pi(q0.theta - phi), mod2pi(q1.theta - phi));
-    let ((sa, ca), (sb, cb)) = (alpha.sin_cos(), beta.sin_cos());
-    Normalised { alpha, beta, d: dist / r, sa, ca, sb, cb, cab: ca * cb + sa * sb }
+    let line = Between::new(q0.coord(), q1.coord(), r);
+    line.normalised(line.angle(q0.theta), line.angle(q1.theta))
+}
+
+/// The straight line between two places, what every word between them shares: its length
+/// over `r` and its direction.
+struct Between {
+    d: f64,
+    phi: f64,
+}
+
+/// A heading relative to a [`Between`], with its sine and cosine.
+#[derive(Clone, Copy)]
+struct Angle {
+    at: f64,
+    sin: f64,
+    cos: f64,
+}
+
+impl Between {
+    fn new(a: Coord, b: Coord, r: f64) -> Self {
+        debug_assert!(r > 0.0);
+        let (dx, dy) = (b.x - a.x, b.y - a.y);
+        let dist = (dx * dx + dy * dy).sqrt();
+        Between { d: dist / r, phi: if dist > 0.0 { dy.atan2(dx) } else { 0.0 } }
+    }
+
+    fn angle(&self, theta: f64) -> Angle {
+        let at = mod2pi(theta - self.phi);
+        let (sin, cos) = at.sin_cos();
+        Angle { at, sin, cos }
+    }
+
+    fn normalised(&self, a: Angle, b: Angle) -> Normalised {
+        Normalised { alpha: a.at, beta: b.at, d: self.d, sa: a.sin, ca: a.cos, sb: b.sin, cb: b.cos, cab: a.cos * b.cos + a.sin * b.sin }
+    }
+}
+
+/// [`shortest`]'s lengths from `q0` to the place `to` arriving in each of `headings`, and
+/// from `to` leaving in each of `headings` to `q1`, the same to the bit: the line's arc tangent
+/// and the fixed pose's sine and cosine are found once for all (a detour corner is looked at
+/// in 16 headings, each from or to one pose).
+pub fn lengths_arriving<const N: usize>(q0: Pose, to: Coord, headings: &[f64; N], r: f64) -> [f64; N] {
+    let line = Between::new(q0.coord(), to, r);
+    let leaving = line.angle(q0.theta);
+    std::array::from_fn(|k| shortest_of(&line.normalised(leaving, line.angle(headings[k])), q0, r).length())
+}
+
+/// See [`lengths_arriving`].
+pub fn lengths_leaving<const N: usize>(from: Coord, headings: &[f64; N], q1: Pose, r: f64) -> [f64; N] {
+    let line = Between::new(from, q1.coord(), r);
+    let arriving = line.angle(q1.theta);
+    std::array::from_fn(|k| shortest_of(&line.normalised(line.angle(headings[k]), arriving), Pose::at(from, headings[k]), r).length())
 }
 
 /// Every feasible word from `q0` to `q1` with radius `r > 0`, in the order of [`Word::ALL`].
@@ -212,14 +258,18 @@ pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
 /// priced in place, without a list, and a word whose [`Normalised::floor`] is above the
 /// best so far is not priced at all (its arc tangents were most of the time).
 pub fn shortest(q0: Pose, q1: Pose, r: f64) -> DubinsPath {
-    let n = normalise(q0, q1, r);
+    shortest_of(&normalise(q0, q1, r), q0, r)
+}
+
+/// [`shortest`] from `q0` in the normalised configuration `n`.
+fn shortest_of(n: &Normalised, q0: Pose, r: f64) -> DubinsPath {
     let mut best: Option<DubinsPath> = None;
     for word in Word::ALL {
         // floors are normalised lengths; rounding may put a length a hair below its floor
         if best.is_some_and(|b| n.floor(word) * (1.0 - 1e-12) > b.params.iter().sum::<f64>()) {
             continue;
         }
-        if let Some(params) = word_params(word, &n) {
+        if let Some(params) = word_params(word, n) {
             let path = DubinsPath { start: q0, radius: r, word, params };
             if best.is_none_or(|b| path.length() < b.length()) {
                 best = Some(path);
@@ -401,6 +451,24 @@ mod tests {
             if outside {
                 // (the headings tried are a degree apart)
                 prop_assert!(best - bound < 1.0 + 0.02 * r, "bound {bound} far below {best}");
+            }
+        }
+    }
+
+    proptest! {
+        /// The lengths to and from a place in several headings are [`shortest`]'s, to the bit,
+        /// the place itself (no line between) included.
+        #[test]
+        fn fanned_lengths_are_the_shortest_words(
+            x in -300.0..300.0f64, y in -300.0..300.0f64, theta in 0.0..TAU, r in 5.0..90.0f64, same_place in any::<bool>(),
+        ) {
+            let q = Pose::new(0.0, 0.0, theta);
+            let at = if same_place { q.coord() } else { Coord { x, y } };
+            let headings: [f64; 16] = std::array::from_fn(|k| k as f64 * TAU / 16.0);
+            let (arriving, leaving) = (lengths_arriving(q, at, &headings, r), lengths_leaving(at, &headings, q, r));
+            for (k, &h) in headings.iter().enumerate() {
+                prop_assert_eq!(arriving[k].to_bits(), shortest(q, Pose::at(at, h), r).length().to_bits());
+                prop_assert_eq!(leaving[k].to_bits(), shortest(Pose::at(at, h), q, r).length().to_bits());
             }
         }
     }

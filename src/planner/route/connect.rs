@@ -267,9 +267,9 @@ impl Connector<'_> {
             }
             if corner == 1 {
                 let poses = at * VIA_HEADINGS..(at + 1) * VIA_HEADINGS;
-                let (corner, headings) = (self.via[poses.start].coord(), std::array::from_fn(|k| self.via[poses.start + k].theta));
-                let legs_out = out.length[at].get_or_init(|| Box::new(lengths_arriving(from, corner, &headings, r)));
-                let legs_in = into.length[at].get_or_init(|| Box::new(lengths_leaving(corner, &headings, to, r)));
+                let (place, headings) = (self.via[poses.start].coord(), std::array::from_fn(|k| self.via[poses.start + k].theta));
+                let legs_out = out.length[at].get_or_init(|| Box::new(lengths_arriving(from, place, &headings, r)));
+                let legs_in = into.length[at].get_or_init(|| Box::new(lengths_leaving(place, &headings, to, r)));
                 for (k, via) in poses.enumerate().filter(|&(_, via)| open(&out, via) && open(&into, via)) {
                     shortest_first.push(Reverse(((legs_out[k] + legs_in[k]).to_bits(), 0, via)));
                 }

@@ -403,10 +403,10 @@ mod tests {
             layers.cover(&band);
             assert!(matches!(layers.passes[..], [Pass::Line(..)]), "slant {slant}: one line down the band");
             let goal = (1.0 - COVERAGE_GOAL) * band.unsigned_area();
-            let pieces: Vec<Polygon> = band.difference(&swept(&layers)).0.into_iter().filter(|p| p.unsigned_area() >= 1.0).collect();
+            let mut swath = swept(&layers);
+            let pieces: Vec<Polygon> = band.difference(&swath).0.into_iter().filter(|p| p.unsigned_area() >= 1.0).collect();
             assert!(pieces.iter().map(Area::unsigned_area).sum::<f64>() > goal, "slant {slant}: the line alone reaches the goal");
             let spurs = corner_spurs(&layers.passes, &pieces, &MultiPolygon(vec![band.clone()]));
-            let mut swath = swept(&layers);
             for spur in &spurs {
                 let leg = LineString::new(vec![layers.passes[spur.pass].vertex(spur.vertex), spur.tip]);
                 assert!(band.buffer(0.01).contains(&leg), "slant {slant}: a spur leaves the band");

@@ -45,8 +45,12 @@ proptest! {
             let a = frame.to_local(coordinates[0][0], coordinates[0][1]);
             let b = frame.to_local(coordinates[coordinates.len() - 1][0], coordinates[coordinates.len() - 1][1]);
             let (field, long_side) = if (a.x + b.x) / 2.0 < 350.0 { (0, west_deg) } else { (1, east_deg) };
-            let heading = (b.y - a.y).atan2(b.x - a.x).to_degrees();
-            prop_assert!(axial_difference(heading.to_radians(), long_side.to_radians()) <= 2f64.to_radians(), "field {field}: a sweep at {heading:.1}°, its long side at {long_side:.1}°");
+            let heading = (b.y - a.y).atan2(b.x - a.x);
+            prop_assert!(
+                axial_difference(heading, long_side.to_radians()) <= 2f64.to_radians(),
+                "field {field}: a sweep at {:.1}°, its long side at {long_side:.1}°",
+                heading.to_degrees()
+            );
             sweeps[field] += 1;
         }
         prop_assert!(sweeps[0] >= 5 && sweeps[1] >= 4, "sweeps per field {sweeps:?}");

@@ -14,7 +14,7 @@ use std::cell::OnceCell;
 use geo::{Coord, MultiPolygon};
 use rayon::prelude::*;
 
-use super::gtsp::{Costs, KnownCosts};
+use super::gtsp::{Costs, KnownCosts, Slot, slots};
 use super::line_tour::{Line, NO_WAY, entry, exit, line_instance, nearest_entries};
 use crate::geom::{EdgeIndex, distance, polyline_length};
 use crate::path::TurnShape;
@@ -405,17 +405,17 @@ pub fn order<R: Send>(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<P
     if n == 0 {
         return (Vec::new(), beside());
     }
-    // the search asks for the same floors many times: each is kept once computed (NaN: not yet)
-    let memo: Vec<std::cell::Cell<f64>> = if n <= FLOORS_KEPT_UP_TO { vec![std::cell::Cell::new(f64::NAN); n * n] } else { Vec::new() };
+    // the search asks for the same floors many times: each is kept once computed
+    let memo = if n <= FLOORS_KEPT_UP_TO { slots(n * n) } else { Vec::new() };
     let floor = |u: usize, v: usize| {
         if u / 2 == v / 2 {
             return NO_WAY;
         }
-        let kept = memo.get(u * n + v).map(std::cell::Cell::get).filter(|f| !f.is_nan());
+        let kept = memo.get(u * n + v).and_then(Slot::get);
         kept.unwrap_or_else(|| {
             let f = routes.floor(exit(lines, u), entry(lines, v));
-            if let Some(cell) = memo.get(u * n + v) {
-                cell.set(f);
+            if let Some(slot) = memo.get(u * n + v) {
+                slot.set(f);
             }
             f
         })

@@ -14,8 +14,11 @@ mod bound;
 mod held_karp;
 mod local_search;
 
-use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
+use std::sync::RwLock;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+use rayon::prelude::*;
 
 use crate::stop::Stop;
 pub use bound::lower_bound;
@@ -42,26 +45,51 @@ const LAZY_TABLE_UP_TO: usize = 3000;
 /// floor is six words with their arc tangents.
 const FLOOR_TABLE_UP_TO: usize = 1000;
 
+/// Shared by the searches that run side by side (kicks tried ahead, a restart beside the first
+/// search): a cost is a pure function of the pair naming its connection, so two threads that
+/// price it at once store the same value, and no search sees another's order of asking.
 pub struct LazyCosts<'a> {
     n: usize,
-    table: Vec<Cell<f64>>,
-    floors: Vec<Cell<f64>>,
-    map: RefCell<HashMap<(usize, usize), f64, foldhash::fast::FixedState>>,
-    compute: Box<dyn Fn(usize, usize) -> f64 + 'a>,
+    table: Vec<Slot>,
+    floors: Vec<Slot>,
+    map: RwLock<HashMap<(usize, usize), f64, foldhash::fast::FixedState>>,
+    compute: Box<dyn Fn(usize, usize) -> f64 + Sync + 'a>,
     /// A lower bound of `compute`, and whether it is `compute`'s own cost (then kept as such).
-    floor: Box<dyn Fn(usize, usize) -> (f64, bool) + 'a>,
+    floor: Box<dyn Fn(usize, usize) -> (f64, bool) + Sync + 'a>,
+}
+
+/// A cost kept by its bits, NaN until it is known; threads may share it.
+pub struct Slot(AtomicU64);
+
+impl Slot {
+    fn empty() -> Self {
+        Slot(AtomicU64::new(f64::NAN.to_bits()))
+    }
+
+    pub fn get(&self) -> Option<f64> {
+        Some(f64::from_bits(self.0.load(Ordering::Relaxed))).filter(|c| !c.is_nan())
+    }
+
+    pub fn set(&self, c: f64) {
+        self.0.store(c.to_bits(), Ordering::Relaxed);
+    }
+}
+
+/// `count` empty slots.
+pub fn slots(count: usize) -> Vec<Slot> {
+    (0..count).map(|_| Slot::empty()).collect()
 }
 
 impl<'a> Costs<'a> {
     /// Costs of `n` nodes computed by `compute` when first asked for, `known` ones kept;
     /// `floor` is a cheap lower bound of `compute`, what moves are priced on first, flagged
     /// where it is the cost itself.
-    pub fn lazy(n: usize, known: KnownCosts, compute: impl Fn(usize, usize) -> f64 + 'a, floor: impl Fn(usize, usize) -> (f64, bool) + 'a) -> Self {
+    pub fn lazy(n: usize, known: KnownCosts, compute: impl Fn(usize, usize) -> f64 + Sync + 'a, floor: impl Fn(usize, usize) -> (f64, bool) + Sync + 'a) -> Self {
         let lazy = LazyCosts {
             n,
-            table: if n <= LAZY_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() },
-            floors: if n <= FLOOR_TABLE_UP_TO { vec![Cell::new(f64::NAN); n * n] } else { Vec::new() },
-            map: RefCell::default(),
+            table: if n <= LAZY_TABLE_UP_TO { slots(n * n) } else { Vec::new() },
+            floors: if n <= FLOOR_TABLE_UP_TO { slots(n * n) } else { Vec::new() },
+            map: RwLock::default(),
             compute: Box::new(compute),
             floor: Box::new(floor),
         };
@@ -77,22 +105,24 @@ impl LazyCosts<'_> {
         match self.table.get(u * self.n + v) {
             Some(cell) => cell.set(c),
             None => {
-                self.map.borrow_mut().insert((u, v), c);
+                self.map.write().unwrap_or_else(std::sync::PoisonError::into_inner).insert((u, v), c);
             }
         }
     }
 
     fn known(&self, u: usize, v: usize) -> Option<f64> {
         match self.table.get(u * self.n + v) {
-            Some(cell) => Some(cell.get()).filter(|c| !c.is_nan()),
-            None => self.map.borrow().get(&(u, v)).copied(),
+            Some(cell) => cell.get(),
+            None => self.map.read().unwrap_or_else(std::sync::PoisonError::into_inner).get(&(u, v)).copied(),
         }
     }
 
     /// The cost from `u` to `v` when it or its twin (`rev v` to `rev u`: the same connection
-    /// flown backwards, of the same length) is known.
-    fn known_either_way(&self, u: usize, v: usize, reverse: &[usize]) -> Option<f64> {
-        self.known(u, v).or_else(|| self.known(reverse[v], reverse[u]))
+    /// flown backwards, of the same length) is known: the pair that names the connection
+    /// ([`twins`]) first. Only that pair is computed, so the answer does not depend on which of
+    /// the two the searches asked for first.
+    fn known_either_way(&self, (a, b): (usize, usize), (c, d): (usize, usize)) -> Option<f64> {
+        self.known(a, b).or_else(|| self.known(c, d))
     }
 
     /// The floor from `u` to `v`, computed unless kept; one that is the cost is kept as the
@@ -106,20 +136,30 @@ impl LazyCosts<'_> {
             floor
         };
         let Some(cell) = self.floors.get(u * self.n + v) else { return compute() };
-        if cell.get().is_nan() {
-            cell.set(compute());
-        }
-        cell.get()
+        cell.get().unwrap_or_else(|| {
+            let floor = compute();
+            cell.set(floor);
+            floor
+        })
     }
 
-    /// The cost from `u` to `v`, computed unless known either way.
+    /// The cost from `u` to `v`, computed (as the pair naming the connection) unless known
+    /// either way.
     fn get(&self, u: usize, v: usize, reverse: &[usize]) -> f64 {
-        self.known_either_way(u, v, reverse).unwrap_or_else(|| {
-            let c = (self.compute)(u, v);
-            self.keep(u, v, c);
+        let (name, twin) = twins(u, v, reverse);
+        self.known_either_way(name, twin).unwrap_or_else(|| {
+            let c = (self.compute)(name.0, name.1);
+            self.keep(name.0, name.1, c);
             c
         })
     }
+}
+
+/// A connection as two pairs: from `u` to `v`, and its twin from `rev v` to `rev u`; the
+/// smaller names it, the other follows.
+fn twins(u: usize, v: usize, reverse: &[usize]) -> ((usize, usize), (usize, usize)) {
+    let twin = (reverse[v], reverse[u]);
+    if (u, v) <= twin { ((u, v), twin) } else { (twin, (u, v)) }
 }
 
 /// A GTSP instance. Nodes are `0..n`; each belongs to exactly one cluster.
@@ -161,6 +201,8 @@ pub fn kicks(m: usize) -> usize {
 const RESTART_UP_TO: usize = 40;
 const RESTARTS: usize = 3;
 const RESTART_GAP: f64 = 0.005;
+/// The seed restarts draw their orders and kicks from, each its own stream.
+const RESTART_SEED: u64 = 0x2545_F491_4F6C_DD1D;
 /// Kicks in a row that find nothing better end a search: at least this many, and at least one
 /// per cluster (the effort follows what is still being gained). At 100, searches of 45 swaths
 /// found their last gain within 45 kicks and spent most of their time waiting for another.
@@ -185,7 +227,10 @@ impl Instance<'_> {
     pub fn floor(&self, u: usize, v: usize) -> f64 {
         match &self.cost {
             Costs::Dense(cost) => cost[u * self.n() + v],
-            Costs::Lazy(lazy) => lazy.known_either_way(u, v, &self.reverse).unwrap_or_else(|| lazy.floor(u, v)),
+            Costs::Lazy(lazy) => {
+                let (name, twin) = twins(u, v, &self.reverse);
+                lazy.known_either_way(name, twin).unwrap_or_else(|| lazy.floor(name.0, name.1))
+            }
         }
     }
 
@@ -365,6 +410,7 @@ pub fn optimise_clusters(inst: &Instance, seq: &[usize]) -> Vec<usize> {
 }
 
 /// A small deterministic generator (xorshift64*), for the kicks.
+#[derive(Clone)]
 pub(crate) struct Rng(pub u64);
 
 impl Rng {
@@ -393,6 +439,11 @@ pub fn solve_from(inst: &Instance, start: &[usize]) -> Vec<usize> {
 }
 
 fn heuristic_from(inst: &Instance, start: Option<&[usize]>) -> Vec<usize> {
+    heuristic_in_lanes(inst, start, rayon::current_num_threads())
+}
+
+/// [`heuristic_from`] with kicks tried `lanes` at a time.
+fn heuristic_in_lanes(inst: &Instance, start: Option<&[usize]>, lanes: usize) -> Vec<usize> {
     let m = inst.clusters.len();
     let (of, nb) = neighbours(inst);
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
@@ -400,63 +451,126 @@ fn heuristic_from(inst: &Instance, start: Option<&[usize]>) -> Vec<usize> {
     // order can still exist by more than the gap
     let good_enough = (m <= RESTART_UP_TO).then(|| lower_bound(inst) * (1.0 + RESTART_GAP));
     let first = start.map_or_else(|| greedy_with(inst, &nb, &of), <[usize]>::to_vec);
-    let mut best = iterated_local_search(inst, &nb, &of, first, good_enough, &mut rng);
-    if let Some(good_enough) = good_enough.filter(|&g| inst.total(&best) > g) {
-        for _ in 0..RESTARTS {
-            if inst.stop.requested() {
-                break;
-            }
-            let mut order: Vec<usize> = (0..m).map(|k| inst.clusters[k][0]).collect();
-            for i in (1..m).rev() {
-                order.swap(i, rng.below(i + 1));
-            }
-            let found = iterated_local_search(inst, &nb, &of, optimise_clusters(inst, &order), Some(good_enough), &mut rng);
-            let (before, after) = (inst.total(&best), inst.total(&found));
-            if after < before - EPS {
-                best = found;
-            }
-            // a restart that gains less than the gap says the searches are near the best: the
-            // next would cost as much for less
-            if before - after <= RESTART_GAP * before {
-                break;
-            }
+    let Some(good_enough) = good_enough else { return iterated_local_search(inst, &nb, &of, first, None, &mut rng, lanes) };
+    // restart `k` from a random order of its own, so that it need not wait for the searches
+    // before it: the first runs beside the first search where a core is free, and counts only
+    // when that search ends above the gap (else it is skipped, or its result dropped)
+    let restart = |k: usize| {
+        let mut rng = Rng(RESTART_SEED.wrapping_add((k as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15)) | 1);
+        let mut order: Vec<usize> = inst.clusters.iter().map(|c| c[0]).collect();
+        for i in (1..m).rev() {
+            order.swap(i, rng.below(i + 1));
+        }
+        iterated_local_search(inst, &nb, &of, optimise_clusters(inst, &order), Some(good_enough), &mut rng, lanes)
+    };
+    let within_gap = AtomicBool::new(false);
+    let (mut best, mut first_restart) = rayon::join(
+        || {
+            let best = iterated_local_search(inst, &nb, &of, first, Some(good_enough), &mut rng, lanes);
+            within_gap.store(inst.total(&best) <= good_enough, Ordering::Relaxed);
+            best
+        },
+        || (!within_gap.load(Ordering::Relaxed)).then(|| restart(0)),
+    );
+    if inst.total(&best) <= good_enough {
+        return best;
+    }
+    for k in 0..RESTARTS {
+        if inst.stop.requested() {
+            break;
+        }
+        let found = first_restart.take().unwrap_or_else(|| restart(k));
+        let (before, after) = (inst.total(&best), inst.total(&found));
+        if after < before - EPS {
+            best = found;
+        }
+        // a restart that gains less than the gap says the searches are near the best: the
+        // next would cost as much for less
+        if before - after <= RESTART_GAP * before {
+            break;
         }
     }
     best
 }
 
-/// Kicks until [`STALL_KICKS`] in a row find nothing better, or the best costs no more than
-/// `good_enough`.
-fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: Vec<usize>, good_enough: Option<f64>, rng: &mut Rng) -> Vec<usize> {
-    let m = start.len();
-    let total = inst.total(&start);
-    let (mut best, mut best_cost) = local_search(inst, nb, of, (start, total), 0..m, true);
-    if m < 8 {
-        return best;
-    }
-    let stall = STALL_KICKS.max(m);
-    let mut since_better = 0;
-    for _ in 0..kicks(m) {
-        if since_better == stall || good_enough.is_some_and(|g| best_cost <= g) || inst.stop.requested() {
-            break;
-        }
-        since_better += 1;
-        // double bridge A B C D → A C B D, with B and C short so the repair stays local; A
-        // may be empty, or the first cluster flown could never change by a kick
+/// A double-bridge kick A B C D → A C B D: the cuts before `x`, `y` and `z`, with B and C
+/// short so the repair stays local. A may be empty, or the first cluster flown could never
+/// change by a kick.
+#[derive(Debug, Clone, Copy)]
+struct Kick {
+    x: usize,
+    y: usize,
+    z: usize,
+}
+
+impl Kick {
+    fn draw(rng: &mut Rng, m: usize) -> Self {
         let x = rng.below(m - 1);
         let y = x + 1 + rng.below(KICK_SEGMENT.min(m - 1 - x));
         let z = y + 1 + rng.below(KICK_SEGMENT.min(m - y));
+        Kick { x, y, z }
+    }
+
+    /// `best` (of total `best_cost`) kicked, and repaired by a local search around the cuts:
+    /// the candidate and its total.
+    fn tried(self, inst: &Instance, nb: &Neighbours, of: &[usize], best: &[usize], best_cost: f64) -> (Vec<usize>, f64) {
+        let Kick { x, y, z } = self;
+        let m = best.len();
         let at = |i: usize| best.get(i).copied();
         let before = |i: usize| i.checked_sub(1).and_then(at);
         let broken = inst.link(before(x), at(x)) + inst.link(before(y), at(y)) + inst.link(before(z), at(z));
         let joined = inst.link(before(x), at(y)) + inst.link(before(z), at(x)) + inst.link(before(y), at(z));
         let kicked: Vec<usize> = best[..x].iter().chain(&best[y..z]).chain(&best[x..y]).chain(&best[z..]).copied().collect();
         let touched = [x.checked_sub(1), Some(x), Some(y - 1), Some(y), Some(z - 1), Some(z)].into_iter().flatten().filter(|&p| p < m).map(|p| of[best[p]]);
-        let (candidate, cost) = local_search(inst, nb, of, (kicked, best_cost + joined - broken), touched, false);
-        if cost < best_cost - EPS {
-            best = candidate;
-            best_cost = cost;
-            since_better = 0;
+        local_search(inst, nb, of, (kicked, best_cost + joined - broken), touched, false)
+    }
+}
+
+/// Kicks until [`STALL_KICKS`] in a row find nothing better, or the best costs no more than
+/// `good_enough`.
+///
+/// The kicks are tried `lanes` at a time on the same best, where cores are free: the loop one
+/// at a time would try each on that best too until one gains, so the kicks after the first
+/// gain are dropped (or skipped, when no core has taken them yet) and drawn again on the new
+/// best. The result does not depend on `lanes`.
+fn iterated_local_search(inst: &Instance, nb: &Neighbours, of: &[usize], start: Vec<usize>, good_enough: Option<f64>, rng: &mut Rng, lanes: usize) -> Vec<usize> {
+    let m = start.len();
+    let total = inst.total(&start);
+    let (mut best, mut best_cost) = local_search(inst, nb, of, (start, total), 0..m, true);
+    if m < 8 {
+        return best;
+    }
+    let (budget, stall) = (kicks(m), STALL_KICKS.max(m));
+    let (mut kicked, mut since_better) = (0, 0);
+    while kicked < budget && since_better < stall && !good_enough.is_some_and(|g| best_cost <= g) && !inst.stop.requested() {
+        let mut ahead = rng.clone();
+        let tries: Vec<Kick> = (0..lanes.min(budget - kicked).min(stall - since_better)).map(|_| Kick::draw(&mut ahead, m)).collect();
+        // the first kick found to gain so far: no later one is worth starting
+        let first_gain = AtomicU64::new(u64::MAX);
+        let found: Vec<Option<(Vec<usize>, f64)>> = tries
+            .par_iter()
+            .enumerate()
+            .map(|(i, kick)| {
+                if first_gain.load(Ordering::Relaxed) < i as u64 {
+                    return None;
+                }
+                let (candidate, cost) = kick.tried(inst, nb, of, &best, best_cost);
+                if cost < best_cost - EPS {
+                    first_gain.fetch_min(i as u64, Ordering::Relaxed);
+                }
+                Some((candidate, cost))
+            })
+            .collect();
+        for (candidate, cost) in found.into_iter().map_while(|f| f) {
+            Kick::draw(rng, m);
+            kicked += 1;
+            since_better += 1;
+            if cost < best_cost - EPS {
+                best = candidate;
+                best_cost = cost;
+                since_better = 0;
+                break;
+            }
         }
     }
     local_search(inst, nb, of, (best, best_cost), 0..m, true).0
@@ -567,6 +681,31 @@ mod tests {
         }
         assert!(missed <= samples * 3 / 100, "the optimum missed on {missed} of {samples} instances");
         assert!(gap / (samples as f64) < 0.0005, "mean gap {} %", 100.0 * gap / samples as f64);
+    }
+
+    /// Kicks tried several at a time give the sequence they give one at a time, on instances
+    /// with restarts (at most [`RESTART_UP_TO`] clusters) and without; also where costs are
+    /// priced as the searches ask and a connection costs a little more one way than the other
+    /// (as a ground vehicle's turns may), so that a search that priced a twin first would see
+    /// another cost.
+    #[test]
+    fn kicks_tried_side_by_side_find_what_one_at_a_time_finds() {
+        let mut rng = Rng(0xC0FFEE);
+        let mut coordinate = || rng.below(1 << 20) as f64 / (1 << 20) as f64 * 1000.0;
+        for i in 0..24 {
+            let seg: Vec<Segment> = (0..14 + 3 * i).map(|_| ((coordinate(), coordinate()), (coordinate(), coordinate()))).collect();
+            let dense = segments_instance(&seg, i % 2 == 0);
+            let Costs::Dense(table) = &dense.cost else { unreachable!("segments are priced in advance") };
+            let n = dense.n();
+            let one_way = |u: usize, v: usize| table[u * n + v] + if (u + v).is_multiple_of(3) { 7.0 } else { 0.0 };
+            // a fresh instance per search: the neighbours are ranked on what is priced so far
+            let lazy = || Instance { cost: Costs::lazy(n, Vec::new(), one_way, |u, v| (table[u * n + v], false)), ..segments_instance(&seg, i % 2 == 0) };
+            let (dense_alone, lazy_alone) = (heuristic_in_lanes(&dense, None, 1), heuristic_in_lanes(&lazy(), None, 1));
+            for lanes in [2, 3, 8] {
+                assert_eq!(heuristic_in_lanes(&dense, None, lanes), dense_alone, "{} segments, {lanes} lanes", seg.len());
+                assert_eq!(heuristic_in_lanes(&lazy(), None, lanes), lazy_alone, "{} segments priced lazily, {lanes} lanes", seg.len());
+            }
+        }
     }
 
     #[test]

@@ -61,6 +61,8 @@ const MAX_COARSE_COMBINATIONS: usize = 5_000;
 const FINALISTS: usize = 48;
 /// The same around no-fly zones, where each is settled instead ([`Search::settle`]).
 const FINALISTS_AROUND_ZONES: usize = 4;
+/// Combinations settled side by side: a round with one fewer takes the next in the ranking.
+const SETTLED_TOGETHER: usize = 2;
 /// Around no-fly zones, the settled combinations solved in full on the real connections at the
 /// end of the search, each from its settled route. Until 2026-11-27 the finalists of every
 /// stage were: 15–42 full solves of 0.1–0.4 s each, most of a plan's time.
@@ -628,11 +630,17 @@ impl Search<'_> {
         // real costs may exceed ranking costs: settle again while an unsettled combination
         // reaches the top
         loop {
-            let open: Vec<(usize, Vec<f64>)> =
-                ranking.ranked.iter().enumerate().take(self.finalists).filter(|(_, r)| r.seq.is_none()).map(|(i, r)| (i, self.per_field(&r.choice))).collect();
+            let unsettled = |i: &usize| ranking.ranked[*i].seq.is_none();
+            let mut open: Vec<usize> = (0..ranking.ranked.len().min(self.finalists)).filter(unsettled).collect();
             if open.is_empty() {
                 break;
             }
+            // settled in pairs: a round of an odd count also settles the next combination in the
+            // ranking, on the core it would leave idle (a fixed pair, so that the route does
+            // not depend on the machine's cores)
+            let spare = open.len() % SETTLED_TOGETHER;
+            open.extend((self.finalists..ranking.ranked.len()).filter(|&i| unsettled(&i) && ranking.ranked[i].cost.is_finite()).take(spare));
+            let open: Vec<(usize, Vec<f64>)> = open.into_iter().map(|i| (i, self.per_field(&ranking.ranked[i].choice))).collect();
             if self.problem.connector.stopped() {
                 return Err(PlanError::Cancelled);
             }

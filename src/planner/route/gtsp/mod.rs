@@ -439,8 +439,12 @@ pub fn solve_from(inst: &Instance, start: &[usize]) -> Vec<usize> {
 }
 
 fn heuristic_from(inst: &Instance, start: Option<&[usize]>) -> Vec<usize> {
-    heuristic_in_lanes(inst, start, rayon::current_num_threads())
+    heuristic_in_lanes(inst, start, rayon::current_num_threads().clamp(1, MAX_LANES))
 }
+
+/// Most kicks tried at once: the more are tried, the likelier one before the last gains and
+/// the work after it is dropped.
+const MAX_LANES: usize = 4;
 
 /// [`heuristic_from`] with kicks tried `lanes` at a time.
 fn heuristic_in_lanes(inst: &Instance, start: Option<&[usize]>, lanes: usize) -> Vec<usize> {

@@ -167,10 +167,18 @@ struct Ranked {
 #[derive(Default)]
 struct Ranking {
     ranked: Vec<Ranked>,
-    seen: HashSet<Vec<u64>>,
+    seen: HashSet<Vec<i64>>,
 }
 
 impl Ranking {
+    /// True the first time a combination is looked at. Headings are compared to the
+    /// micro-degree, modulo 180°: one reached by two ways (44° − 0.5° and 42° + 1.5°, in
+    /// radians) can differ in its last bits, and was ranked twice, so that both final solves
+    /// went to one combination (`h11_00`).
+    fn first_look(&mut self, choice: &[f64]) -> bool {
+        self.seen.insert(choice.iter().map(|h| ((h.to_degrees() * 1e6).round() as i64).rem_euclid(180_000_000)).collect())
+    }
+
     fn best_cost(&self) -> f64 {
         self.ranked.first().map_or(f64::INFINITY, |r| r.cost)
     }
@@ -576,7 +584,7 @@ impl Search<'_> {
         if self.problem.connector.stopped() {
             return Err(PlanError::Cancelled);
         }
-        let fresh: Vec<Vec<f64>> = choices.into_iter().filter(|c| ranking.seen.insert(c.iter().map(|h| h.to_bits()).collect())).collect();
+        let fresh: Vec<Vec<f64>> = choices.into_iter().filter(|c| ranking.first_look(c)).collect();
         let combos: Vec<Vec<f64>> = fresh.iter().map(|c| self.per_field(c)).collect();
         self.tabulate(tables, &combos);
         let tables = &*tables;
@@ -728,5 +736,18 @@ mod tests {
         let mut cheaper = Ranking { ranked: vec![ranked(90.0, 900.0, 1000.0, true), ranked(30.0, 950.0, 950.0, false)], seen: HashSet::new() };
         cheaper.expect_as_neighbours();
         assert_eq!(cheaper.ranked.iter().map(|r| r.cost).collect::<Vec<_>>(), vec![900.0, 950.0]);
+    }
+
+    #[test]
+    fn a_heading_refined_from_two_neighbours_is_looked_at_once() {
+        let mut ranking =
+            Ranking { ranked: vec![ranked(44.0, 1.0, 1.0, true), ranked(42.0, 2.0, 2.0, true), ranked(1.0, 3.0, 3.0, true), ranked(179.0, 4.0, 4.0, true)], seen: HashSet::new() };
+        let around = ranking.around(4, &REFINE_DEG);
+        assert_eq!(around.len(), 4 * REFINE_DEG.len());
+        let looked: Vec<f64> = around.into_iter().filter(|c| ranking.first_look(c)).map(|c| c[0].to_degrees()).collect();
+        // 40.5°–45.5° and, across 0°/180°, 177.5°–2.5°, each once
+        assert_eq!(looked.len(), 11 + 11, "{looked:?}");
+        assert!(!ranking.first_look(&[43.5_f64.to_radians()]), "43.5° was looked at");
+        assert!(ranking.first_look(&[46.0_f64.to_radians()]), "46° was not");
     }
 }

@@ -476,7 +476,7 @@ fn heuristic_in_lanes(inst: &Instance, start: Option<&[usize]>, lanes: usize) ->
         },
         || (!within_gap.load(Ordering::Relaxed)).then(|| restart(0)),
     );
-    if inst.total(&best) <= good_enough {
+    if within_gap.into_inner() {
         return best;
     }
     for k in 0..RESTARTS {

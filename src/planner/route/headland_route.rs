@@ -14,7 +14,7 @@ use std::cell::OnceCell;
 use geo::{Coord, MultiPolygon};
 use rayon::prelude::*;
 
-use super::gtsp::{Costs, KnownCosts, Slot, slots};
+use super::gtsp::{Costs, KnownCosts, kept_in, slots};
 use super::line_tour::{Line, NO_WAY, entry, exit, line_instance, nearest_entries};
 use crate::geom::{EdgeIndex, distance, polyline_length};
 use crate::path::TurnShape;
@@ -411,14 +411,7 @@ pub fn order<R: Send>(links: &SwathLinks<'_>, start: Option<Pose>, end: Option<P
         if u / 2 == v / 2 {
             return NO_WAY;
         }
-        let kept = memo.get(u * n + v).and_then(Slot::get);
-        kept.unwrap_or_else(|| {
-            let f = routes.floor(exit(lines, u), entry(lines, v));
-            if let Some(slot) = memo.get(u * n + v) {
-                slot.set(f);
-            }
-            f
-        })
+        kept_in(&memo, u * n + v, || routes.floor(exit(lines, u), entry(lines, v)))
     };
     let candidates = nearest_entries(lines);
     let known: KnownCosts = candidates.par_iter().enumerate().flat_map_iter(|(u, c)| c.iter().map(move |&v| ((u, v), links.cost(u, v)))).collect();

@@ -66,11 +66,11 @@ impl Slot {
         Slot(AtomicU64::new(f64::NAN.to_bits()))
     }
 
-    pub fn get(&self) -> Option<f64> {
+    fn get(&self) -> Option<f64> {
         Some(f64::from_bits(self.0.load(Ordering::Relaxed))).filter(|c| !c.is_nan())
     }
 
-    pub fn set(&self, c: f64) {
+    fn set(&self, c: f64) {
         self.0.store(c.to_bits(), Ordering::Relaxed);
     }
 }
@@ -78,6 +78,17 @@ impl Slot {
 /// `count` empty slots.
 pub fn slots(count: usize) -> Vec<Slot> {
     (0..count).map(|_| Slot::empty()).collect()
+}
+
+/// The cost in `slots[i]`, computed and kept there the first time; computed each time where
+/// there is no such slot (a table too large to keep).
+pub fn kept_in(slots: &[Slot], i: usize, compute: impl FnOnce() -> f64) -> f64 {
+    let Some(slot) = slots.get(i) else { return compute() };
+    slot.get().unwrap_or_else(|| {
+        let c = compute();
+        slot.set(c);
+        c
+    })
 }
 
 impl<'a> Costs<'a> {
@@ -135,12 +146,7 @@ impl LazyCosts<'_> {
             }
             floor
         };
-        let Some(cell) = self.floors.get(u * self.n + v) else { return compute() };
-        cell.get().unwrap_or_else(|| {
-            let floor = compute();
-            cell.set(floor);
-            floor
-        })
+        kept_in(&self.floors, u * self.n + v, compute)
     }
 
     /// The cost from `u` to `v`, computed (as the pair naming the connection) unless known

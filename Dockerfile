@@ -3,6 +3,7 @@ FROM rust:1-bookworm AS build
 WORKDIR /src
 COPY Cargo.toml Cargo.lock ./
 COPY src ./src
+COPY planner ./planner
 COPY migrations ./migrations
 # the map page is built into the binary
 COPY static ./static

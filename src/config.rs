@@ -1,11 +1,10 @@
-//! Server configuration, from flags or `COVERPLAN_*` environment variables.
+//! Server configuration, from flags or `COVERPLAN_*` environment variables. The lowest layer of
+//! the service: `http`, `jobs` and `store` read their settings from here.
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::http::auth::RateLimit;
-use crate::jobs::QueueSettings;
 use crate::planner::FieldLimits;
 
 #[derive(Debug, Clone)]
@@ -60,4 +59,34 @@ impl Config {
 /// `postgres://` URLs stay as they are.
 pub fn database_url(value: &str) -> String {
     if value.starts_with("sqlite:") || crate::store::is_postgres(value) { value.to_owned() } else { format!("sqlite://{value}") }
+}
+
+/// Requests per second and burst allowed to each key.
+#[derive(Debug, Clone, Copy)]
+pub struct RateLimit {
+    pub per_second: u32,
+    pub burst: u32,
+}
+
+/// How the queue runs its jobs.
+#[derive(Debug, Clone)]
+pub struct QueueSettings {
+    /// The longest any plan may take (`COVERPLAN_JOB_TIMEOUT_S`); a plan's own `time_limit_s`
+    /// may only shorten it.
+    pub time_limit: Duration,
+    /// Holds each job this long after claiming it (a test knob: makes "killed while running"
+    /// reproducible). Zero in production.
+    pub start_delay: Duration,
+    /// How long a claim holds without a heartbeat (`COVERPLAN_LEASE_S`): a plan whose replica
+    /// died is taken again this long after its last heartbeat.
+    pub lease: Duration,
+    /// This process's name in the claims it makes (`COVERPLAN_REPLICA`); by default the host's
+    /// name and a random suffix.
+    pub replica: Option<String>,
+}
+
+impl Default for QueueSettings {
+    fn default() -> Self {
+        QueueSettings { time_limit: Duration::from_secs(120), start_delay: Duration::ZERO, lease: Duration::from_secs(30), replica: None }
+    }
 }

@@ -3,6 +3,7 @@
 //! [`planner`] is the pure planning library; [`store`], [`jobs`] and [`http`] make the service
 //! around it ([`server`] starts it), and the `coverplan` binary is the command line.
 
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod config;
 pub mod http;

@@ -47,59 +47,9 @@ enum Command {
         #[arg(long, default_value = "ardupilot", value_parser = ["ardupilot", "px4"])]
         firmware: String,
     },
-    /// Time the planners on the generated fields and print a table.
-    Bench {
-        /// Folder with index.json and the field files.
-        #[arg(long, default_value = "tests/fixtures/random-fields")]
-        data: PathBuf,
-        /// Only this planner.
-        #[arg(long)]
-        planner: Option<String>,
-        /// Runs per field.
-        #[arg(long, default_value_t = 3)]
-        repeats: usize,
-        /// multirotor (default) or fixed_wing (turning at half the line spacing).
-        #[arg(long)]
-        vehicle: Option<String>,
-        /// Line spacing in metres for every field (default: a twentieth of the square root of its area).
-        #[arg(long)]
-        spacing: Option<f64>,
-        /// Only these fields (file names without .json), comma-separated.
-        #[arg(long, value_delimiter = ',')]
-        fields: Vec<String>,
-        /// Where lines end at slanted edges: full_width, balanced or centre_line (default: the planners' own).
-        #[arg(long, value_parser = ["full_width", "balanced", "centre_line"])]
-        ends: Option<String>,
-        /// Fields2Cover's fixed-wing configuration (width max(8, √area/25), radius half of it, zones 1 m off) on the fields h*_00, beside its figures.
-        #[arg(long)]
-        fields2cover: bool,
-        /// The holes are only not to be covered and may be flown over (Fields2Cover's semantics), not no-fly zones.
-        #[arg(long)]
-        overfly_holes: bool,
-        /// Instead: route 100, 300 and 600 parallel lines with Dubins turns.
-        #[arg(long)]
-        routing: bool,
-        /// Instead: E-Spiral against E-BF energy on generated polygons, and EG-CPP time by grid size.
-        #[arg(long)]
-        energy: bool,
-        /// Instead: the patrolling experiments of seed 002 §5.3 (30 seeds a row) beside the published means.
-        #[arg(long)]
-        patrol: bool,
-        /// Instead: the last landing of 1, 2, 4 and 8 drones sharing each field, against the ideal.
-        #[arg(long)]
-        fleet: bool,
-        /// Instead: ground vehicles (planner headland) on the real fields beside Fields2Cover's figures, and on the generated fields.
-        #[arg(long)]
-        ground: bool,
-        /// Instead: inspection (seed 001's first scene rebuilt, and a barn): budget × share seen × time.
-        #[arg(long)]
-        inspection: bool,
-        /// Instead: the shared job queue on the PostgreSQL server at this admin URL
-        /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
-        /// the time of one claim at 10 000 queued plans.
-        #[arg(long, value_name = "ADMIN_URL")]
-        queue: Option<String>,
-    },
+    /// Time the planners on the generated fields and print a table (built with `--features bench`).
+    #[cfg(feature = "bench")]
+    Bench(coverplan::bench::BenchArgs),
     /// Manage API keys: once any key exists, every API request needs one.
     Keys {
         #[command(subcommand)]
@@ -215,40 +165,8 @@ fn main() -> ExitCode {
             let firmware = if firmware == "px4" { Firmware::Px4 } else { Firmware::Ardupilot };
             plan(&mission, params.as_deref(), out.as_deref(), &format, firmware)
         }
-        Command::Bench { energy: true, repeats, .. } => {
-            print!("{}", coverplan::bench::energy::run(repeats.max(1) * 4));
-            Ok(())
-        }
-        Command::Bench { queue: Some(admin), .. } => {
-            tokio::runtime::Runtime::new().map_err(Into::into).and_then(|rt| rt.block_on(coverplan::bench::queue::run(&admin))).map(|table| print!("{table}"))
-        }
-        Command::Bench { patrol: true, .. } => {
-            print!("{}", coverplan::bench::patrol::run());
-            Ok(())
-        }
-        Command::Bench { inspection: true, repeats, .. } => {
-            print!("{}", coverplan::bench::inspection::run(repeats));
-            Ok(())
-        }
-        Command::Bench { ground: true, data, repeats, fields, .. } => coverplan::bench::ground::run(&data, repeats, &fields).map(|table| print!("{table}")),
-        Command::Bench { fleet: true, data, fields, .. } => coverplan::bench::fleet::run(&data, &fields).map(|table| print!("{table}")),
-        Command::Bench { routing: true, .. } => {
-            print!("{}", coverplan::bench::routing());
-            Ok(())
-        }
-        Command::Bench { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, overfly_holes, .. } => {
-            let options = coverplan::bench::Options {
-                planner: planner.as_deref(),
-                repeats,
-                vehicle: vehicle.as_deref(),
-                spacing_m: spacing,
-                fields: &fields,
-                ends: ends.as_deref(),
-                fields2cover,
-                overfly_holes,
-            };
-            coverplan::bench::run(&data, &options).map(|table| print!("{table}"))
-        }
+        #[cfg(feature = "bench")]
+        Command::Bench(args) => coverplan::bench::run_command(args),
         Command::Keys { action, database_url: url } => tokio::runtime::Runtime::new().map_err(Into::into).and_then(|rt| rt.block_on(keys(action, &database_url(&url)))),
         Command::Openapi => {
             print!("{}", coverplan::http::openapi::document());

@@ -37,8 +37,8 @@ for component in rustfmt clippy; do
 done
 # style and lints first: they fail in seconds
 cargo fmt --all --check
-cargo clippy --workspace --all-targets --locked -- -D warnings
-cargo test --workspace --all-targets --locked --no-fail-fast
+cargo clippy --workspace --all-targets --all-features --locked -- -D warnings
+cargo test --workspace --all-targets --all-features --locked --no-fail-fast
 # the store, queue and API tests again on a throwaway PostgreSQL server (with the test of two
 # replicas sharing it, one killed mid-plan)
 eval "$(bash tests/postgres.sh start)"

@@ -4,12 +4,15 @@
 //! routing, energy, patrolling, fleet, ground-vehicle, inspection and shared-queue benchmarks
 //! instead.
 
+mod command;
 pub mod energy;
 pub mod fleet;
 pub mod ground;
 pub mod inspection;
 pub mod patrol;
 pub mod queue;
+
+pub use command::{BenchArgs, run_command};
 
 use std::path::Path;
 use std::time::Instant;

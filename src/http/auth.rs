@@ -21,12 +21,7 @@ use super::error::ApiError;
 use crate::store::keys;
 pub use crate::store::keys::Caller;
 
-/// Requests per second and burst allowed to each key.
-#[derive(Debug, Clone, Copy)]
-pub struct RateLimit {
-    pub per_second: u32,
-    pub burst: u32,
-}
+pub use crate::config::RateLimit;
 
 /// One bucket per key (a generic cell rate algorithm: `burst` at once, refilled at
 /// `per_second`).

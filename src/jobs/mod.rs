@@ -43,28 +43,7 @@ pub const HEARTBEAT: Duration = Duration::from_millis(500);
 /// failing the plan without it (its thread is left to finish on its own).
 pub const ABANDON_AFTER: Duration = Duration::from_millis(500);
 
-/// How the queue runs its jobs.
-#[derive(Debug, Clone)]
-pub struct QueueSettings {
-    /// The longest any plan may take (`COVERPLAN_JOB_TIMEOUT_S`); a plan's own `time_limit_s`
-    /// may only shorten it.
-    pub time_limit: Duration,
-    /// Holds each job this long after claiming it (a test knob: makes "killed while running"
-    /// reproducible). Zero in production.
-    pub start_delay: Duration,
-    /// How long a claim holds without a heartbeat (`COVERPLAN_LEASE_S`): a plan whose replica
-    /// died is taken again this long after its last heartbeat.
-    pub lease: Duration,
-    /// This process's name in the claims it makes (`COVERPLAN_REPLICA`); by default the host's
-    /// name and a random suffix.
-    pub replica: Option<String>,
-}
-
-impl Default for QueueSettings {
-    fn default() -> Self {
-        QueueSettings { time_limit: Duration::from_secs(120), start_delay: Duration::ZERO, lease: Duration::from_secs(30), replica: None }
-    }
-}
+pub use crate::config::QueueSettings;
 
 /// The geometry of a mission snapshot stored with a plan.
 pub fn snapshot_geometry(mission: &Value) -> MissionGeometry<'_> {

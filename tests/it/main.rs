@@ -2,8 +2,9 @@
 //! each module starts the real application (port 0, a fresh database) or the real binary.
 
 mod api;
+#[cfg(feature = "bench")]
+mod bench;
 mod common;
-mod fleets;
 mod ground_plans;
 mod inspection;
 mod interop;
@@ -11,7 +12,6 @@ mod jobs;
 mod observability;
 mod openapi;
 mod patrols;
-mod planner_properties;
 mod process;
 mod replicas;
 mod repository;

@@ -1,6 +1,5 @@
-//! The repository keeps its promises to readers and tools: proptest's saved failing cases sit
-//! where proptest reads them, the fixtures' README names files that exist, and every SQL file
-//! of `migrations/` is a migration the binary runs.
+//! The repository keeps its promises to readers and tools: the fixtures' README names files
+//! that exist, and every SQL file of `migrations/` is a migration the binary runs.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -21,29 +20,6 @@ fn files_under(dir: &Path, ext: &str) -> Vec<PathBuf> {
         }
     }
     out
-}
-
-/// proptest saves a test file's failing cases beside the source tree of its crate root (the
-/// nearest folder with a `lib.rs` or `main.rs`): `<parent>/proptest-regressions/<path>.txt`.
-/// A saved file whose test file moved is never read again.
-#[test]
-fn saved_proptest_cases_sit_where_proptest_reads_them() {
-    // (folder of saved cases, the crate root it mirrors)
-    let mirrors = [("src/proptest-regressions", "src/planner"), ("src/planner/tests/proptest-regressions", "src/planner/tests/it"), ("tests/proptest-regressions", "tests/it")];
-    let mut saved = 0;
-    for (cases, crate_root) in mirrors {
-        for file in files_under(&root().join(cases), "txt") {
-            let rel = file.strip_prefix(root().join(cases)).unwrap().with_extension("rs");
-            let source = root().join(crate_root).join(&rel);
-            let text = fs::read_to_string(&source).unwrap_or_else(|_| panic!("{} has no test file {}", file.display(), source.display()));
-            assert!(text.contains("proptest!"), "{} holds no property test", source.display());
-            saved += 1;
-        }
-    }
-    assert!(saved >= 4, "{saved} saved files found");
-    // no saved cases anywhere else
-    let everywhere: usize = ["src", "tests"].iter().map(|d| files_under(&root().join(d), "txt").iter().filter(|f| f.to_string_lossy().contains("proptest")).count()).sum();
-    assert_eq!(everywhere, saved, "saved cases outside the folders proptest reads");
 }
 
 #[test]

@@ -3,11 +3,11 @@
 //! the same output for the same input. Every planner of the registry is checked, so a new
 //! planner is checked as soon as it is registered.
 
-use crate::common;
+use crate::fixtures::fixture;
 
-use coverplan::planner::frame::LocalFrame;
-use coverplan::planner::planners::registry;
-use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
+use coverplan_planner::frame::LocalFrame;
+use coverplan_planner::planners::registry;
+use coverplan_planner::{self as planner, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
 use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Point, Polygon};
 use proptest::prelude::*;
 use serde_json::{Value, json};
@@ -182,7 +182,7 @@ fn every_fixture_field_is_planned_correctly() {
     let all = planners();
     let mut planned = vec![0; all.len()];
     for (i, f) in files.iter().enumerate() {
-        let m = common::fixture(f);
+        let m = fixture(f);
         let frame = LocalFrame::centred_on({
             let mut pts = Vec::new();
             collect_positions(&m["area"], &mut pts);
@@ -214,7 +214,7 @@ fn real_fields_are_covered_to_99_percent_in_any_direction() {
     let all = planners();
     let mut k = 0;
     for f in ["ee-field-3-holes", "nl-parcel-17ha", "nl-parcel-b", "us-field-two-cells", "us-field-two-cells-1"] {
-        let m = common::fixture(&format!("real-fields/{f}.json"));
+        let m = fixture(&format!("real-fields/{f}.json"));
         for heading in [0.0, 33.0, 90.0, 147.0] {
             // two planners of the registry in turn for each field and heading
             for planner in [all[k % all.len()], all[(k + 4) % all.len()]] {
@@ -344,7 +344,7 @@ fn fixed_wing_plans_respect_zones_and_turning_radius() {
     let mut planned = 0;
     for (k, entry) in index.as_array().unwrap().iter().enumerate().filter(|(k, _)| k % 4 == 0) {
         let f = format!("random-fields/{}", entry["file"].as_str().unwrap());
-        let m = common::fixture(&f);
+        let m = fixture(&f);
         let frame = LocalFrame::centred_on({
             let mut pts = Vec::new();
             collect_positions(&m["area"], &mut pts);

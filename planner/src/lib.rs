@@ -28,7 +28,8 @@
 //! - [`export`]: the trajectory as GeoJSON, and the files of flight planners, Google Earth and
 //!   farm terminals written from it; [`import`]: missions read from such files;
 //!   [`estimate`]: a given route's time and energy;
-//! - [`routing_study`]: routing kept for comparison in the benchmark, not used by planners;
+//! - `routing_study` (feature `routing-study`): routing kept for comparison in the benchmark,
+//!   not used by planners;
 //! - `compose`: one vehicle's flight from the stages (plan, obstacles, sorties, estimate), and a
 //!   fleet's; this root validates the request and writes the result.
 //!
@@ -55,6 +56,7 @@ pub mod path;
 pub mod patrol;
 pub mod planners;
 mod route;
+#[cfg(any(test, feature = "routing-study"))]
 pub mod routing_study;
 mod sortie;
 pub mod stop;

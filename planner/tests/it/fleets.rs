@@ -5,8 +5,8 @@
 
 use crate::planner_properties::{check_covering, coverage_floor, params, star_field, unlimited_battery};
 
-use coverplan::planner::frame::LocalFrame;
-use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
+use coverplan_planner::frame::LocalFrame;
+use coverplan_planner::{self as planner, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
 use geo::Coord;
 use proptest::prelude::*;
 use serde_json::{Value, json};

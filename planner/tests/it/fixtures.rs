@@ -1,0 +1,11 @@
+//! The fixture fields the service's tests share (`tests/fixtures/` at the repository's root).
+
+use std::path::PathBuf;
+
+use serde_json::Value;
+
+/// A fixture file, parsed; `path` is relative to `tests/fixtures/`.
+pub fn fixture(path: &str) -> Value {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures").join(path);
+    serde_json::from_str(&std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))).unwrap()
+}

@@ -1,0 +1,103 @@
+//! The `coverplan bench` command line: which benchmark to run, and its options.
+
+use std::path::PathBuf;
+
+use super::{Options, energy, fleet, ground, inspection, patrol, queue, routing, run};
+
+/// Time the planners on the generated fields and print a table.
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// Folder with index.json and the field files.
+    #[arg(long, default_value = "tests/fixtures/random-fields")]
+    pub data: PathBuf,
+    /// Only this planner.
+    #[arg(long)]
+    pub planner: Option<String>,
+    /// Runs per field.
+    #[arg(long, default_value_t = 3)]
+    pub repeats: usize,
+    /// multirotor (default) or fixed_wing (turning at half the line spacing).
+    #[arg(long)]
+    pub vehicle: Option<String>,
+    /// Line spacing in metres for every field (default: a twentieth of the square root of its area).
+    #[arg(long)]
+    pub spacing: Option<f64>,
+    /// Only these fields (file names without .json), comma-separated.
+    #[arg(long, value_delimiter = ',')]
+    pub fields: Vec<String>,
+    /// Where lines end at slanted edges: full_width, balanced or centre_line (default: the planners' own).
+    #[arg(long, value_parser = ["full_width", "balanced", "centre_line"])]
+    pub ends: Option<String>,
+    /// Fields2Cover's fixed-wing configuration (width max(8, √area/25), radius half of it, zones 1 m off) on the fields h*_00, beside its figures.
+    #[arg(long)]
+    pub fields2cover: bool,
+    /// The holes are only not to be covered and may be flown over (Fields2Cover's semantics), not no-fly zones.
+    #[arg(long)]
+    pub overfly_holes: bool,
+    /// Instead: route 100, 300 and 600 parallel lines with Dubins turns.
+    #[arg(long)]
+    pub routing: bool,
+    /// Instead: E-Spiral against E-BF energy on generated polygons, and EG-CPP time by grid size.
+    #[arg(long)]
+    pub energy: bool,
+    /// Instead: the patrolling experiments of seed 002 §5.3 (30 seeds a row) beside the published means.
+    #[arg(long)]
+    pub patrol: bool,
+    /// Instead: the last landing of 1, 2, 4 and 8 drones sharing each field, against the ideal.
+    #[arg(long)]
+    pub fleet: bool,
+    /// Instead: ground vehicles (planner headland) on the real fields beside Fields2Cover's figures, and on the generated fields.
+    #[arg(long)]
+    pub ground: bool,
+    /// Instead: inspection (seed 001's first scene rebuilt, and a barn): budget × share seen × time.
+    #[arg(long)]
+    pub inspection: bool,
+    /// Instead: the shared job queue on the PostgreSQL server at this admin URL
+    /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
+    /// the time of one claim at 10 000 queued plans.
+    #[arg(long, value_name = "ADMIN_URL")]
+    pub queue: Option<String>,
+    /// Print the table as a section of `docs/benchmarks.md`: the command that regenerates it,
+    /// then the table.
+    #[arg(long)]
+    pub markdown: bool,
+}
+
+/// Runs the benchmark `args` asks for and prints its table; with `--markdown`, as a section of
+/// `docs/benchmarks.md` headed by the command that regenerates it.
+pub fn run_command(args: BenchArgs) -> anyhow::Result<()> {
+    let markdown = args.markdown;
+    let table = table(args)?;
+    if markdown {
+        let command: Vec<String> = std::env::args().skip(1).filter(|a| a != "--markdown").collect();
+        print!("```sh\ncargo run --release --features bench -- {} --markdown\n```\n\n{table}", command.join(" "));
+    } else {
+        print!("{table}");
+    }
+    Ok(())
+}
+
+fn table(args: BenchArgs) -> anyhow::Result<String> {
+    Ok(match args {
+        BenchArgs { energy: true, repeats, .. } => energy::run(repeats.max(1) * 4),
+        BenchArgs { queue: Some(admin), .. } => tokio::runtime::Runtime::new()?.block_on(queue::run(&admin))?,
+        BenchArgs { patrol: true, .. } => patrol::run(),
+        BenchArgs { inspection: true, repeats, .. } => inspection::run(repeats),
+        BenchArgs { ground: true, data, repeats, fields, .. } => ground::run(&data, repeats, &fields)?,
+        BenchArgs { fleet: true, data, fields, .. } => fleet::run(&data, &fields)?,
+        BenchArgs { routing: true, .. } => routing(),
+        BenchArgs { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, overfly_holes, .. } => {
+            let options = Options {
+                planner: planner.as_deref(),
+                repeats,
+                vehicle: vehicle.as_deref(),
+                spacing_m: spacing,
+                fields: &fields,
+                ends: ends.as_deref(),
+                fields2cover,
+                overfly_holes,
+            };
+            run(&data, &options)?
+        }
+    })
+}

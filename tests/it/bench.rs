@@ -1,0 +1,55 @@
+//! `coverplan bench` (built with `--features bench`): the tables it prints, and the command that
+//! heads each one in `docs/benchmarks.md`.
+
+use std::process::Command;
+
+#[test]
+fn the_routing_benchmark_prints_its_table_headed_by_its_command_in_markdown() {
+    let out = Command::new(env!("CARGO_BIN_EXE_coverplan")).args(["bench", "--routing", "--markdown"]).output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("```sh\ncargo run --release --features bench -- bench --routing --markdown\n```\n"), "{text}");
+    // | lines | matrix ms | solve ms | total ms | length | boustrophedon | saved | Noon–Bean | ms |
+    let rows: Vec<Vec<String>> = text
+        .lines()
+        .filter(|l| l.starts_with("| ") && l[2..].trim_start().starts_with(|c: char| c.is_ascii_digit()))
+        .map(|l| l.split('|').map(|c| c.trim().to_string()).collect())
+        .collect();
+    assert_eq!(rows.iter().map(|r| r[1].as_str()).collect::<Vec<_>>(), ["100", "300", "600"], "{text}");
+    for r in &rows {
+        let number = |i: usize| r[i].parse::<f64>().unwrap_or_else(|_| panic!("column {i} of {r:?}"));
+        assert!(number(5) < number(6), "the routed lines are no shorter than boustrophedon: {r:?}");
+        assert!(number(8).is_finite() && number(8) < number(6), "the Noon–Bean route: {r:?}");
+    }
+}
+
+/// `bench --fields2cover` rows per hole count: (holes, min coverage), and the header.
+fn fields2cover_bench(extra: &[&str]) -> (String, Vec<(usize, f64)>) {
+    let args = [&["bench", "--fields2cover", "--planner", "boustrophedon", "--fields", "h03_00,h08_00"], extra].concat();
+    let out = Command::new(env!("CARGO_BIN_EXE_coverplan")).args(args).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    // | holes | fields | refused | median ms | p95 ms | peak MB | length | vs | efficiency | min coverage | …
+    let rows = text
+        .lines()
+        .filter(|l| l.starts_with("| ") && l[2..].trim_start().starts_with(|c: char| c.is_ascii_digit()))
+        .map(|l| l.split('|').map(str::trim).collect::<Vec<_>>())
+        .map(|r| (r[1].parse().unwrap(), r[10].parse().unwrap()))
+        .collect();
+    (text, rows)
+}
+
+#[test]
+fn the_fields2cover_benchmark_flies_over_holes_only_when_asked() {
+    let (zones_text, zones) = fields2cover_bench(&[]);
+    let (over_text, over) = fields2cover_bench(&["--overfly-holes"]);
+    assert!(zones_text.contains("holes as no-fly zones kept 1 m off"), "{zones_text}");
+    assert!(over_text.contains("holes not to cover but free to fly over"), "{over_text}");
+    assert_eq!(zones.iter().map(|r| r.0).collect::<Vec<_>>(), [3, 8], "{zones_text}");
+    assert_eq!(over.iter().map(|r| r.0).collect::<Vec<_>>(), [3, 8], "{over_text}");
+    // lines end at a zone with room to turn before it, so some ground beside each hole is left;
+    // over holes that are no zones full-width lines run up to them
+    for ((_, with_zones), (_, overflown)) in zones.iter().zip(&over) {
+        assert!(*overflown >= 0.999 && with_zones < overflown, "coverage {with_zones} with zones, {overflown} flying over:\n{zones_text}\n{over_text}");
+    }
+}

@@ -40,8 +40,8 @@ enum Command {
         /// Output file (default: standard output)
         #[arg(long)]
         out: Option<PathBuf>,
-        /// geojson (default, with the plan's figures), plan, waypoints, kml, kmz, wpml or isoxml
-        #[arg(long, default_value = "geojson")]
+        /// Export format (`GET /api/v1/formats` describes each)
+        #[arg(long, default_value = export::default_format().id, value_parser = clap::builder::PossibleValuesParser::new(export::format_ids()))]
         format: String,
         /// Autopilot of plan and waypoints files: ardupilot or px4
         #[arg(long, default_value = "ardupilot", value_parser = ["ardupilot", "px4"])]
@@ -293,7 +293,8 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         PlanError::Cancelled if stop.timed_out() => anyhow::anyhow!("the plan took longer than its time_limit_s and was stopped"),
         e => anyhow::anyhow!("{e}"),
     })?;
-    let bytes = if format == "geojson" {
+    // the trajectory as the planner makes it, with the plan's figures as its properties
+    let bytes = if export::find(format).is_some_and(|e| e.format().verbatim) {
         let mut collection = serde_json::to_value(&output.trajectory)?;
         collection["properties"] = serde_json::to_value(&output.stats)?;
         (serde_json::to_string_pretty(&collection)? + "\n").into_bytes()

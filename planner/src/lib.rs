@@ -106,13 +106,6 @@ pub const MAX_ROUTED_LINES: usize = 800;
 /// against every zone: 1.4 s for 1 921 corners on two cores).
 pub const MAX_TRANSIT_CORNERS: usize = 2000;
 
-/// Planners a fleet's parts can be planned with: every one but `eg_cpp`, whose grid over a band
-/// often falls apart into cells no clear move joins. Parts are swept along the bands; the
-/// decomposition planners that lay each cell's lines on its own width (`naive`, `eecd`,
-/// `energy_aware`, `e_bf`) sweep more ground twice at the cuts than `boustrophedon` and
-/// `line_gtsp`, which `overlap_ratio` reports.
-pub const FLEET_PLANNERS: &[&str] = &["boustrophedon", "line_gtsp", "naive", "eecd", "energy_aware", "e_bf", "e_spiral", "auto"];
-
 /// Checks a mission without planning it: the same validation as [`plan`] applies first.
 pub fn validate_mission(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> Result<(), InputError> {
     Field::parse(mission, limits).map(|_| ())
@@ -120,17 +113,17 @@ pub fn validate_mission(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> 
 
 fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehicle::Vehicle], limits: &FieldLimits) -> Result<Prepared, InputError> {
     let resolved = params.resolve(profiles)?;
-    let planner_id = params.planner_id(&resolved.vehicle);
-    let planner = planners::find(planner_id).ok_or_else(|| unknown_planner(planner_id))?;
+    let planner = chosen_planner(params, resolved.vehicle.kind)?;
     if resolved.headland.is_some() != planner.for_ground_vehicles() {
         let why = if resolved.headland.is_some() { "a ground vehicle is planned with planner headland" } else { "this planner plans ground vehicles: give vehicle kind ground" };
         return Err(InputError::new("planner_vehicle_mismatch", "/planner", why));
     }
-    if !resolved.fleet.is_empty() && !FLEET_PLANNERS.contains(&planner.id()) {
+    if !resolved.fleet.is_empty() && !planner.plans_fleet_parts() {
+        let fleet_planners: Vec<&str> = planners::registry().iter().filter(|p| p.plans_fleet_parts()).map(|p| p.id()).collect();
         return Err(InputError::new(
             "planner_not_for_fleets",
             "/planner",
-            format!("a fleet's parts are planned with {}: their lines follow the bands the field is cut into", FLEET_PLANNERS.join(", ")),
+            format!("a fleet's parts are planned with {}: their lines follow the bands the field is cut into", fleet_planners.join(", ")),
         ));
     }
     if params.swath_ends.is_some() && !planner.lays_parallel_lines() {
@@ -157,7 +150,7 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
     if region.unsigned_area() < 1.0 {
         return Err(InputError::new("nothing_to_cover", "/no_fly_zones", "the no-fly zones and their margin cover the whole field"));
     }
-    let routes_lines = matches!(planner.id(), "line_gtsp" | "auto") || matches!(resolved.vehicle.turn_model(), TurnModel::Dubins(_));
+    let routes_lines = planner.orders_lines_one_by_one() || matches!(resolved.vehicle.turn_model(), TurnModel::Dubins(_));
     // the line count and a ground vehicle's headland (most of the set-up) side by side
     let too_many_lines = || -> Result<(), InputError> {
         if !routes_lines {
@@ -277,6 +270,22 @@ impl InspectionSetup {
             end: self.end,
         }
     }
+}
+
+/// Every method a plan request may name, as `GET /api/v1/planners` lists them: the coverage
+/// planners of [`planners::registry`], then the inspection of structures.
+pub fn catalogue() -> Vec<planners::PlannerInfo> {
+    let inspection = planners::PlannerInfo {
+        id: INSPECTION,
+        method: planners::MethodKind::Inspection,
+        description: INSPECTION_DESCRIPTION,
+        direction_rule: "none: viewpoints, not sweep lines",
+        vehicle_kinds: vec![vehicle::VehicleKind::Multirotor],
+        default_for: Vec::new(),
+        fleets: false,
+        parameters: inspection::parameters(),
+    };
+    planners::registry().iter().map(|p| planners::PlannerInfo::of(*p)).chain([inspection]).collect()
 }
 
 /// The preset an inspection's camera defaults to.
@@ -461,7 +470,34 @@ fn plan_until(
     Ok(PlanOutput { stats, trajectory })
 }
 
-pub fn unknown_planner(id: &str) -> InputError {
+/// The planner a request names, or the registry's default for its vehicle's kind.
+fn chosen_planner(params: &PlanParams, kind: vehicle::VehicleKind) -> Result<&'static dyn planners::Planner, InputError> {
+    match params.planner.as_deref() {
+        Some(id) => planners::find(id).ok_or_else(|| unknown_planner(id)),
+        None => planners::default_for(kind).ok_or_else(|| InputError::new("unknown_planner", "/planner", format!("no planner is the default for a {kind:?} vehicle: name one"))),
+    }
+}
+
+/// The id of the method a request is planned with (the one it names, or the default for its
+/// vehicle), for labels; `None` when the request would be refused.
+pub fn method_id(params: &PlanParams, profiles: &[vehicle::Vehicle]) -> Option<&'static str> {
+    if params.planner.as_deref() == Some(INSPECTION) {
+        return Some(INSPECTION);
+    }
+    let resolved = params.resolve(profiles).ok()?;
+    chosen_planner(params, resolved.vehicle.kind).ok().map(|p| p.id())
+}
+
+/// The vehicles a request flies (its fleet's, or its one vehicle), resolved from `profiles`.
+pub fn vehicles_flown(params: &PlanParams, profiles: &[vehicle::Vehicle]) -> Result<Vec<vehicle::Vehicle>, InputError> {
+    if params.planner.as_deref() == Some(INSPECTION) {
+        return Ok(vec![params.resolve_inspection(profiles)?.0]);
+    }
+    let resolved = params.resolve(profiles)?;
+    Ok(if resolved.fleet.is_empty() { vec![resolved.vehicle] } else { resolved.fleet.into_iter().map(|d| d.vehicle).collect() })
+}
+
+fn unknown_planner(id: &str) -> InputError {
     let known: Vec<&str> = planners::registry().iter().map(|p| p.id()).chain([INSPECTION]).collect();
     InputError::new("unknown_planner", "/planner", format!("no planner named `{id}`; known: {}", known.join(", ")))
 }

@@ -62,6 +62,7 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(patrols::next_moves))
         .routes(routes!(planners::list))
         .routes(routes!(planners::cameras))
+        .routes(routes!(planners::formats))
         .routes(routes!(vehicles::list, vehicles::create))
         .routes(routes!(vehicles::get, vehicles::update, vehicles::delete))
         .routes(routes!(vehicles::estimate))

@@ -138,7 +138,8 @@ pub fn complete(doc: utoipa::openapi::OpenApi) -> utoipa::openapi::OpenApi {
     // requests that work as they are, for readers and for the generators' first tries
     let field = json!({"type": "Polygon", "coordinates": [[[5.6600, 51.9850], [5.6629, 51.9850], [5.6629, 51.9864], [5.6600, 51.9864], [5.6600, 51.9850]]]});
     schemas["MissionRequest"]["example"] = json!({"name": "North field", "area": field, "home": [5.6598, 51.9849]});
-    schemas["PlanParams"]["example"] = json!({"planner": "boustrophedon", "line_spacing_m": 25, "vehicle": {"profile": "iris"}});
+    let default_planner = crate::planner::planners::default_for(crate::planner::vehicle::VehicleKind::Multirotor).map(|p| p.id());
+    schemas["PlanParams"]["example"] = json!({"planner": default_planner, "line_spacing_m": 25, "vehicle": {"profile": "iris"}});
     schemas["EstimateRequest"]["example"] = json!({"waypoints": [[5.66, 51.985], [5.6629, 51.985], [5.6629, 51.9864]], "vehicle": {"profile": "iris"}});
     if let Some(items) = schemas["MissionItems"].as_object_mut()
         && let Some(forms) = items.remove("oneOf")

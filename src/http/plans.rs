@@ -47,12 +47,7 @@ pub async fn create(
     if params.time_limit_s.is_some_and(|s| s > most) {
         return Err(ApiError::invalid("parameter_out_of_range", "/time_limit_s", format!("this server plans for at most {most} s; ask for that or less")));
     }
-    let flown: Vec<Vehicle> = if params.planner.as_deref() == Some(planner::INSPECTION) {
-        vec![params.resolve_inspection(&profiles)?.0]
-    } else {
-        let resolved = params.resolve(&profiles)?;
-        if resolved.fleet.is_empty() { vec![resolved.vehicle] } else { resolved.fleet.into_iter().map(|d| d.vehicle).collect() }
-    };
+    let flown = planner::vehicles_flown(&params, &profiles)?;
     let snapshot = snapshot(&mission, &profiles, &flown.iter().collect::<Vec<_>>());
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &mission_id, &params, &snapshot).await?)))
@@ -99,12 +94,11 @@ async fn find(state: &AppState, caller: &Caller, id: &str) -> Result<Plan, ApiEr
 #[derive(Debug, Deserialize, IntoParams)]
 #[into_params(parameter_in = Query)]
 pub struct TrajectoryQuery {
-    /// `geojson` (default), `plan` (QGroundControl), `waypoints` (QGC WPL 110 for Mission
-    /// Planner and ArduPilot), `kml`, `kmz` (Google Earth), `wpml` (DJI Pilot 2 KMZ) or `isoxml`
-    /// (ISO 11783-10 TaskData zip). A plan of several sorties comes as a zip of one `plan`,
-    /// `waypoints` or `wpml` file per sortie.
+    /// An export format's id, as `GET /api/v1/formats` lists them (default: the first). A plan
+    /// of several sorties comes as a zip of one file per sortie in the formats that describe one
+    /// flight (`one_flight_per_file`).
     pub format: Option<String>,
-    /// `ardupilot` (default) or `px4`: the autopilot of `plan` and `waypoints` files.
+    /// `ardupilot` (default) or `px4`: the autopilot of the formats with `firmware_commands`.
     pub firmware: Option<String>,
     /// Altitude above home for flight files of plans made without one, 1 to 10 000 m (default:
     /// the plan's, else 50 m).
@@ -119,10 +113,9 @@ pub struct TrajectoryQuery {
         (status = 400, body = Problem, description = "unknown format or firmware, or an unreadable query parameter"), (status = 404, body = Problem),
         (status = 409, body = Problem, description = "the plan has no trajectory (yet)"), (status = 422, body = Problem, description = "the format cannot say this plan")))]
 pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiQuery(query): ApiQuery<TrajectoryQuery>) -> Result<Response, ApiError> {
-    let format = query.format.as_deref().unwrap_or("geojson");
-    if export::find(format).is_none() {
-        return Err(ApiError::bad_request("unknown_format", "/format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))));
-    }
+    let format = query.format.as_deref().unwrap_or(export::default_format().id);
+    let exporter = export::find(format)
+        .ok_or_else(|| ApiError::bad_request("unknown_format", "/format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))))?;
     if let Some(a) = query.altitude_m.filter(|a| !(1.0..=10_000.0).contains(a)) {
         return Err(ApiError::invalid("parameter_out_of_range", "/altitude_m", format!("{a} m is outside the accepted range [1, 10000] m above home")));
     }
@@ -136,9 +129,10 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
         let status = json!(source.status);
         return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", status.as_str().unwrap_or("?"))));
     };
-    let file = if format == "geojson" {
-        // as stored: no need to read it
-        ExportFile { file_name: format!("{}.geojson", export::file_stem(&source.name)), media_type: "application/geo+json", bytes: geojson.into_bytes() }
+    let as_stored = exporter.format();
+    let file = if as_stored.verbatim {
+        // no need to read it
+        ExportFile { file_name: format!("{}{}", export::file_stem(&source.name), as_stored.extension), media_type: as_stored.media_type, bytes: geojson.into_bytes() }
     } else {
         // reading and writing a large trajectory takes a while: off the async runtime
         let format = format.to_owned();

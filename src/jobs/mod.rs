@@ -65,6 +65,13 @@ pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
     }
 }
 
+/// The method a stored plan request is planned with, for its log lines.
+fn request_label(job: &plans::Job) -> &'static str {
+    let params = serde_json::from_value::<PlanParams>(job.params.clone()).ok();
+    let profiles = snapshot_profiles(&job.mission).ok();
+    params.zip(profiles).and_then(|(params, profiles)| planner::method_id(&params, &profiles)).unwrap_or("unreadable request")
+}
+
 /// Runs a stored job with the real planner.
 pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, PlanError> {
     let unreadable = |e: serde_json::Error| PlanError::Infeasible(format!("stored parameters are unreadable: {e}"));
@@ -227,7 +234,7 @@ impl JobQueue {
 
     async fn run_in_span(&self, job: plans::Job) {
         let limit = self.time_limit(&job);
-        let planner = if plans::is_patrol(&job.params) { "patrol" } else { job.params.get("planner").and_then(Value::as_str).unwrap_or("boustrophedon") }.to_owned();
+        let planner = if plans::is_patrol(&job.params) { "patrol" } else { request_label(&job) };
         let started = tokio::time::Instant::now();
         let stop = Stop::until(started.into_std() + self.settings.start_delay + limit);
         let requeue = Arc::new(AtomicBool::new(false));

@@ -3,29 +3,44 @@
 import { $, api, escapeHtml, status } from './api.js';
 import { state } from './map.js';
 import { saveMission, setPose } from './mission.js';
-import { keepForComparison, showPlan } from './result.js';
+import { fillFormats, keepForComparison, showPlan } from './result.js';
 
 // ---- the parameter form, from the API's lists ----
 export async function fillForm() {
-  const [planners, vehicles, cameras] = await Promise.all([api('GET', '/api/v1/planners'), api('GET', '/api/v1/vehicles'), api('GET', '/api/v1/cameras')]);
-  // data-line-ends: the planner lays parallel lines, whose ends `swath_ends` places
-  const lineEnds = (p) => p.parameters.some((q) => q.name === 'swath_ends');
-  $('planner').innerHTML = planners.map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}" data-line-ends="${lineEnds(p)}">${p.id}</option>`).join('');
+  const [planners, vehicles, cameras] = await Promise.all([api('GET', '/api/v1/planners'), api('GET', '/api/v1/vehicles'), api('GET', '/api/v1/cameras'), fillFormats()]);
+  catalogue = new Map(planners.map((p) => [p.id, p]));
+  $('planner').innerHTML = planners.map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}">${p.id}</option>`).join('');
   $('vehicle').innerHTML = vehicles.map((v) => `<option value="${v.profile}" data-kind="${v.kind}" title="${escapeHtml(v.description)}">${v.profile} (${v.kind.replace('_', ' ')})</option>`).join('');
   $('vehicle').value = 'generic_multirotor';
   $('camera').innerHTML += cameras.map((c) => `<option value="${c.id}">${escapeHtml(c.name || c.id)}</option>`).join('');
   syncForm();
 }
 
-/** True when the chosen vehicle works the ground: it gets its implement's fields and the
- * headland planner instead of a camera, a line spacing and drones. */
-const groundVehicle = () => $('vehicle').selectedOptions[0]?.dataset.kind === 'ground';
+/** The planners as `GET /api/v1/planners` describes them, by id. */
+let catalogue = new Map();
+const chosenPlanner = () => catalogue.get($('planner').value);
+/** Whether the chosen planner reads request member `name`. */
+const reads = (name) => Boolean(chosenPlanner()?.parameters.some((q) => q.name === name));
+const vehicleKind = () => $('vehicle').selectedOptions[0]?.dataset.kind;
 
-/** Planner `inspection` flies to viewpoints around the mission's structures: no lines, no
- * sweep direction, no fleet. */
-const inspecting = () => $('planner').value === 'inspection';
+/** True when the chosen vehicle works the ground: it gets its implement's fields and a ground
+ * planner instead of a camera, a line spacing and drones. */
+const groundVehicle = () => vehicleKind() === 'ground';
+
+/** An inspection flies to viewpoints around the mission's structures: no lines, no sweep
+ * direction, no fleet. */
+const inspecting = () => chosenPlanner()?.method === 'inspection';
+
+/** Keeps the chosen planner one that plans the chosen vehicle: the vehicle's default otherwise. */
+function fitPlannerToVehicle() {
+  const kind = vehicleKind();
+  if (!kind || chosenPlanner()?.vehicle_kinds.includes(kind)) return;
+  const fallback = [...catalogue.values()].find((p) => p.default_for.includes(kind));
+  if (fallback) $('planner').value = fallback.id;
+}
 
 function syncForm() {
+  fitPlannerToVehicle();
   const ground = groundVehicle();
   const inspection = !ground && inspecting();
   $('ground-box').hidden = !ground;
@@ -35,19 +50,17 @@ function syncForm() {
   $('camera').options[0].textContent = inspection ? 'default: DJI Mavic 3 Enterprise (wide)' : 'none: give the line spacing';
   $('drones').closest('.row').hidden = ground || inspection;
   for (const id of ['altitude-box', 'direction-box', 'overlap-box']) $(id).hidden = inspection;
-  if (ground) $('planner').value = 'headland';
-  else if ($('planner').value === 'headland') $('planner').value = 'boustrophedon';
   const camera = !ground && $('camera').value !== '';
   $('spacing-box').hidden = camera || ground || inspection;
   $('line-ends-box').hidden = !aircraftLineEnds();
   $('fixed-heading-box').hidden = inspection || $('direction').value !== 'fixed';
-  $('objective-box').hidden = $('planner').value !== 'auto';
+  $('objective-box').hidden = !reads('objective');
   $('layers-box').hidden = ground || inspection || !(num('drones') > 1);
 }
 ['camera', 'direction', 'planner', 'drones', 'vehicle'].forEach((id) => $(id).addEventListener('change', syncForm));
 
 /** An aircraft's plan by a planner that lays parallel lines: the line-end rule applies. */
-const aircraftLineEnds = () => !groundVehicle() && !inspecting() && $('planner').selectedOptions[0]?.dataset.lineEnds === 'true';
+const aircraftLineEnds = () => !groundVehicle() && !inspecting() && reads('swath_ends');
 
 const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
 
@@ -90,7 +103,7 @@ export function planParams() {
   if (num('altitude') !== undefined && p.gsd_cm === undefined) p.altitude_m = num('altitude');
   if ($('direction').value === 'fixed') p.heading_deg = num('fixed-heading');
   if ($('direction').value === 'optimal') p.sweep_direction = 'optimal';
-  if (p.planner === 'auto') p.objective = $('objective').value;
+  if (reads('objective')) p.objective = $('objective').value;
   if (num('drones') > 1 && !groundVehicle()) {
     p.vehicles = num('drones');
     if (num('altitude-separation') !== undefined) p.altitude_separation_m = num('altitude-separation');

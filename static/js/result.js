@@ -1,6 +1,6 @@
 // The result: the trajectory on the map, the figures table and the speed and energy chart.
 
-import { $, api, authorisedFetch, hasApiKey, status } from './api.js';
+import { $, api, authorisedFetch, escapeHtml, hasApiKey, status } from './api.js';
 import { map, notForDrawing, state } from './map.js';
 import { hide3d, show3d } from './view3d.js';
 
@@ -204,10 +204,19 @@ export function drawChart() {
   ctx.fillText(`${(d / 1000).toFixed(2)} km`, w - pad - 40, h - 4);
 }
 
+/** The download menu, from the server's formats (`GET /api/v1/formats`), in its order. */
+export async function fillFormats() {
+  const formats = await api('GET', '/api/v1/formats');
+  $('download-format').innerHTML = formats
+    .map((f) => `<option value="${f.id}" data-firmware="${f.firmware_commands}" title="${escapeHtml(f.media_type)}">${escapeHtml(f.label)}</option>`)
+    .join('');
+  updateDownload();
+}
+
 /** The download link for the chosen format; the server names the file after the mission. */
 function updateDownload() {
   const format = $('download-format').value;
-  $('firmware-box').hidden = !['plan', 'waypoints'].includes(format);
+  $('firmware-box').hidden = $('download-format').selectedOptions[0]?.dataset.firmware !== 'true';
   if (!state.result) return;
   const firmware = $('firmware-box').hidden ? '' : `&firmware=${$('download-firmware').value}`;
   $('download').href = `/api/v1/plans/${state.result.planId}/trajectory?format=${format}${firmware}`;

@@ -93,11 +93,15 @@ try {
   const download = await page.getAttribute('#download', 'href');
   assert.ok((await fetch(base + download)).ok, 'the download link serves the trajectory');
   // every format of the menu downloads; flight files of several sorties come as a zip
+  // the menu is the server's list of formats, in its order, by their labels
   const formats = await page.$$eval('#download-format option', (o) => o.map((x) => x.value));
-  assert.deepEqual(formats.sort(), ['geojson', 'isoxml', 'kml', 'kmz', 'plan', 'waypoints', 'wpml']);
+  const served = await (await fetch(`${base}/api/v1/formats`)).json();
+  assert.deepEqual(formats, served.map((f) => f.id));
+  assert.deepEqual(formats.slice().sort(), ['geojson', 'isoxml', 'kml', 'kmz', 'plan', 'waypoints', 'wpml']);
   for (const format of formats) {
     await page.selectOption('#download-format', format);
-    assert.equal(await page.isVisible('#firmware-box'), ['plan', 'waypoints'].includes(format), `autopilot choice for ${format}`);
+    const commands = served.find((f) => f.id === format).firmware_commands;
+    assert.equal(await page.isVisible('#firmware-box'), commands, `autopilot choice for ${format}`);
     const href = await page.getAttribute('#download', 'href');
     assert.match(href, new RegExp(`format=${format}`));
     const r = await fetch(base + href);

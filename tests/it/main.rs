@@ -13,6 +13,7 @@ mod observability;
 mod openapi;
 mod patrols;
 mod process;
+mod registries;
 mod replicas;
 mod repository;
 mod tenancy;

@@ -1,6 +1,7 @@
 //! The flown path as exporters read it: the trajectory's pieces in WGS84, sortie by sortie.
 
 use geojson::{FeatureCollection, GeometryValue};
+use serde::Deserialize;
 use serde_json::Value;
 
 use crate::error::InputError;
@@ -49,13 +50,8 @@ impl Flight {
                 views.push(ViewAction { position: [p[0], p[1], p.as_slice().get(2).copied().unwrap_or(altitude_m)], yaw_deg, gimbal_pitch_deg });
                 continue;
             }
-            let kind = match property("kind").and_then(Value::as_str) {
-                Some("sweep") => PieceKind::Sweep,
-                Some("headland") => PieceKind::Headland,
-                Some("turn") => PieceKind::Turn,
-                Some("transit") => PieceKind::Transit,
-                _ => continue,
-            };
+            // the flown pieces; photos and marks are not flown
+            let Some(kind) = property("kind").and_then(|k| PieceKind::deserialize(k).ok()) else { continue };
             let Some(GeometryValue::LineString { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) else {
                 return Err(InputError::new("invalid_trajectory", format!("/features/{i}/geometry"), "a flown piece must be a LineString"));
             };

@@ -5,7 +5,7 @@ use geo::{Area, Coord, MultiPolygon};
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, Position};
 use serde_json::json;
 
-use super::{ExportJob, Exporter, Format};
+use super::{ALL_METHODS, ExportJob, Exporter, Format};
 use crate::energy::PathEstimate;
 use crate::error::InputError;
 use crate::frame::LocalFrame;
@@ -176,7 +176,16 @@ pub struct GeoJsonFile;
 
 impl Exporter for GeoJsonFile {
     fn format(&self) -> &'static Format {
-        &Format { id: "geojson", media_type: "application/geo+json", extension: ".geojson", one_flight_per_file: false }
+        &Format {
+            id: "geojson",
+            label: "GeoJSON",
+            media_type: "application/geo+json",
+            extension: ".geojson",
+            one_flight_per_file: false,
+            firmware_commands: false,
+            plans: ALL_METHODS,
+            verbatim: true,
+        }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
         Ok(serde_json::to_vec(job.trajectory).expect("JSON"))

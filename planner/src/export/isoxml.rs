@@ -9,7 +9,7 @@
 use geo::{Centroid, Contains, GeodesicArea, LineString, Point};
 
 use super::xml::Xml;
-use super::{ExportJob, Exporter, Format, number};
+use super::{COVERAGE_ONLY, ExportJob, Exporter, Format, number};
 use crate::archive;
 use crate::error::InputError;
 use crate::path::PieceKind;
@@ -36,7 +36,16 @@ const PROPAGATE_BOTH: &str = "1";
 
 impl Exporter for TaskData {
     fn format(&self) -> &'static Format {
-        &Format { id: "isoxml", media_type: "application/zip", extension: "-taskdata.zip", one_flight_per_file: false }
+        &Format {
+            id: "isoxml",
+            label: "Tractor terminal (ISOXML TaskData)",
+            media_type: "application/zip",
+            extension: "-taskdata.zip",
+            one_flight_per_file: false,
+            firmware_commands: false,
+            plans: COVERAGE_ONLY,
+            verbatim: false,
+        }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
         Ok(archive::zip(&[("TASKDATA/TASKDATA.XML".to_owned(), task_data(job))]))

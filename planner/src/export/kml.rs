@@ -8,29 +8,45 @@ use geojson::GeometryValue;
 use serde_json::Value;
 
 use super::xml::Xml;
-use super::{ExportJob, Exporter, Format, number};
+use super::{ALL_METHODS, ExportJob, Exporter, Format, number};
 use crate::archive;
 use crate::error::InputError;
+use crate::path::PieceKind;
 
 pub struct Kml;
 pub struct Kmz;
 
-/// Style ids and their line colours (`aabbggrr`), fill colours and widths.
-const STYLES: &[(&str, &str, &str, &str)] = &[
-    ("field", "ff00d7ff", "4000d7ff", "2"),
-    ("nfz", "ff0000ff", "600000ff", "2"),
-    ("sweep", "ff00b000", "00000000", "3"),
-    ("headland", "ff008000", "00000000", "3"),
-    ("turn", "ff0090ff", "00000000", "2"),
-    ("transit", "ffff7000", "00000000", "2"),
+/// The outlines' style ids and their line colours (`aabbggrr`), fill colours and widths.
+const OUTLINE_STYLES: &[(&str, &str, &str, &str)] = &[("field", "ff00d7ff", "4000d7ff", "2"), ("nfz", "ff0000ff", "600000ff", "2")];
+
+/// The flown pieces' styles (their ids are the kinds' names).
+const PIECE_STYLES: &[(PieceKind, &str, &str, &str)] = &[
+    (PieceKind::Sweep, "ff00b000", "00000000", "3"),
+    (PieceKind::Headland, "ff008000", "00000000", "3"),
+    (PieceKind::Turn, "ff0090ff", "00000000", "2"),
+    (PieceKind::Transit, "ffff7000", "00000000", "2"),
 ];
+
+/// A piece kind's name, as the trajectory's `kind` says it.
+fn kind_name(kind: PieceKind) -> String {
+    serde_json::to_value(kind).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default()
+}
 
 /// `kind` values that mark a placemark as a no-fly zone, on import too.
 pub const NO_FLY_KIND: &str = "nfz";
 
 impl Exporter for Kml {
     fn format(&self) -> &'static Format {
-        &Format { id: "kml", media_type: "application/vnd.google-earth.kml+xml", extension: ".kml", one_flight_per_file: false }
+        &Format {
+            id: "kml",
+            label: "Google Earth (.kml)",
+            media_type: "application/vnd.google-earth.kml+xml",
+            extension: ".kml",
+            one_flight_per_file: false,
+            firmware_commands: false,
+            plans: ALL_METHODS,
+            verbatim: false,
+        }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
         Ok(document(job))
@@ -39,7 +55,16 @@ impl Exporter for Kml {
 
 impl Exporter for Kmz {
     fn format(&self) -> &'static Format {
-        &Format { id: "kmz", media_type: "application/vnd.google-earth.kmz", extension: ".kmz", one_flight_per_file: false }
+        &Format {
+            id: "kmz",
+            label: "Google Earth (.kmz)",
+            media_type: "application/vnd.google-earth.kmz",
+            extension: ".kmz",
+            one_flight_per_file: false,
+            firmware_commands: false,
+            plans: ALL_METHODS,
+            verbatim: false,
+        }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
         Ok(archive::zip(&[("doc.kml".to_owned(), document(job))]))
@@ -49,8 +74,9 @@ impl Exporter for Kmz {
 fn document(job: &ExportJob<'_>) -> Vec<u8> {
     let mut x = Xml::new();
     x.open("kml", &[("xmlns", "http://www.opengis.net/kml/2.2")]).open("Document", &[]).leaf("name", job.name);
-    for (id, line, fill, width) in STYLES {
-        x.open("Style", &[("id", id)]).open("LineStyle", &[]).leaf("color", line).leaf("width", width).close("LineStyle");
+    let pieces = PIECE_STYLES.iter().map(|&(kind, line, fill, width)| (kind_name(kind), line, fill, width));
+    for (id, line, fill, width) in OUTLINE_STYLES.iter().map(|&(id, line, fill, width)| (id.to_owned(), line, fill, width)).chain(pieces) {
+        x.open("Style", &[("id", &id)]).open("LineStyle", &[]).leaf("color", line).leaf("width", width).close("LineStyle");
         x.open("PolyStyle", &[]).leaf("color", fill).close("PolyStyle").close("Style");
     }
     x.open("Folder", &[]).leaf("name", "Fields");
@@ -97,7 +123,7 @@ fn flight_folders(x: &mut Xml, job: &ExportJob<'_>) {
         let properties = feature.properties.clone().unwrap_or_default();
         let kind = properties.get("kind").and_then(Value::as_str).unwrap_or_default();
         let Some(GeometryValue::LineString { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) else { continue };
-        if !matches!(kind, "sweep" | "headland" | "turn" | "transit") {
+        if !PIECE_STYLES.iter().any(|&(k, ..)| kind_name(k) == kind) {
             continue;
         }
         let this = properties.get("sortie").and_then(Value::as_u64).unwrap_or(1);

@@ -16,12 +16,13 @@ mod wpml;
 mod xml;
 
 use geo::{MapCoords, MultiPolygon};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::archive;
 use super::error::{InputError, check_range};
 use super::field::{Field, FieldLimits, MissionGeometry};
 use super::params::{FleetVehicle, PlanParams, inspection};
+use super::planners::MethodKind;
 use super::vehicle::{Vehicle, VehicleKind};
 pub use flight::{Flight, FlownPiece};
 
@@ -100,17 +101,34 @@ pub struct ExportJob<'a> {
     pub trajectory: &'a ::geojson::FeatureCollection,
 }
 
-/// What names a file format and its files.
+/// What names a file format and its files, and which plans it can say.
+#[derive(Debug, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Format {
     /// The `format` query value.
     pub id: &'static str,
+    /// What a user picks it by: the tool that loads it, and its file type.
+    pub label: &'static str,
     pub media_type: &'static str,
     /// File name ending.
     pub extension: &'static str,
     /// A format that describes one flight: a plan of several sorties becomes a zip of one file
     /// per sortie.
     pub one_flight_per_file: bool,
+    /// Autopilot commands, written for the `firmware` asked (`ardupilot` or `px4`).
+    pub firmware_commands: bool,
+    /// The kinds of plan it can say.
+    #[cfg_attr(feature = "schema", schema(value_type = Vec<MethodKind>))]
+    pub plans: &'static [MethodKind],
+    /// The trajectory as the planner stored it: served without reading it.
+    pub verbatim: bool,
 }
+
+/// The plans every format can say.
+const ALL_METHODS: &[MethodKind] = &[MethodKind::Coverage, MethodKind::Inspection];
+/// Coverage plans only (an inspection's viewpoints have no swaths, and its gimbal and yaw
+/// cannot be said).
+const COVERAGE_ONLY: &[MethodKind] = &[MethodKind::Coverage];
 
 /// One file format.
 pub trait Exporter: Sync {
@@ -119,8 +137,18 @@ pub trait Exporter: Sync {
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError>;
 }
 
-/// Every export format, in the order the page's menu lists them.
-pub static EXPORTERS: &[&dyn Exporter] = &[&geojson::GeoJsonFile, &qgc_plan::QgcPlan, &wpl::WaypointList, &kml::Kml, &kml::Kmz, &wpml::Wpml, &isoxml::TaskData];
+/// Every export format, in the order menus list them; the first is the default.
+pub static EXPORTERS: &[&dyn Exporter] = &[&geojson::GeoJsonFile, &qgc_plan::QgcPlan, &wpl::WaypointList, &wpml::Wpml, &kml::Kml, &kml::Kmz, &isoxml::TaskData];
+
+/// The format a trajectory is given in when none is asked for.
+pub fn default_format() -> &'static Format {
+    EXPORTERS[0].format()
+}
+
+/// Every format, for `GET /api/v1/formats`.
+pub fn formats() -> Vec<&'static Format> {
+    EXPORTERS.iter().map(|e| e.format()).collect()
+}
 
 pub fn find(id: &str) -> Option<&'static dyn Exporter> {
     EXPORTERS.iter().copied().find(|e| e.format().id == id)
@@ -145,13 +173,10 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
     let exporter = find(format).ok_or_else(|| InputError::new("unknown_format", "/format", format!("no export format `{format}`; known: {}", format_ids().join(", "))))?;
     let planned = FileParams::of(request.params, request.profiles)?;
     let stem = file_stem(request.name);
-    let Format { id, media_type, extension, one_flight_per_file } = *exporter.format();
-    if planned.hold_s.is_some() && matches!(id, "wpml" | "isoxml") {
-        return Err(InputError::new(
-            "format_not_applicable",
-            "format",
-            "an inspection is exported as plan or waypoints (MAVLink, with yaw, gimbal and a picture per viewpoint), kml, kmz or geojson",
-        ));
+    let Format { id, media_type, extension, one_flight_per_file, verbatim, .. } = *exporter.format();
+    if !exporter.format().plans.contains(&planned.method) {
+        let able: Vec<&str> = EXPORTERS.iter().map(|e| e.format()).filter(|f| f.plans.contains(&planned.method)).map(|f| f.id).collect();
+        return Err(InputError::new("format_not_applicable", "/format", format!("this {:?} plan is exported as {}", planned.method, able.join(", ")).to_lowercase()));
     }
     let write_all = |job: &ExportJob<'_>, stem: &str| -> Result<Vec<(String, Vec<u8>)>, InputError> {
         let sorties = job.flight.sorties.len();
@@ -161,7 +186,7 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{extension}", k + 1), exporter.write(job, k)?))).collect()
     };
     let (outlines, altitude_m) = outlines_and_altitude(request, &planned)?;
-    if planned.fleet.is_empty() || id == geojson::GeoJsonFile.format().id {
+    if planned.fleet.is_empty() || verbatim {
         let job = prepare(request, &planned, &planned.vehicle, outlines, altitude_m, request.trajectory)?;
         let mut files = write_all(&job, &stem)?;
         if files.len() == 1 {
@@ -188,6 +213,7 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
 /// What the parameters say about the files: the vehicles, the altitude, the spacing, the
 /// camera's trigger and, for an inspection, the hold at each viewpoint.
 struct FileParams {
+    method: MethodKind,
     vehicle: Vehicle,
     fleet: Vec<FleetVehicle>,
     altitude_m: Option<f64>,
@@ -200,11 +226,27 @@ impl FileParams {
     fn of(params: &PlanParams, profiles: &[Vehicle]) -> Result<FileParams, InputError> {
         if params.planner.as_deref() == Some(inspection::PLANNER_ID) {
             let (vehicle, spec) = params.resolve_inspection(profiles)?;
-            return Ok(FileParams { vehicle, fleet: Vec::new(), altitude_m: None, line_spacing_m: 0.0, trigger_distance_m: None, hold_s: Some(spec.capture_s) });
+            return Ok(FileParams {
+                method: MethodKind::Inspection,
+                vehicle,
+                fleet: Vec::new(),
+                altitude_m: None,
+                line_spacing_m: 0.0,
+                trigger_distance_m: None,
+                hold_s: Some(spec.capture_s),
+            });
         }
         let r = params.resolve(profiles)?;
         let trigger_distance_m = r.camera.map(|c| c.photo_spacing_m);
-        Ok(FileParams { vehicle: r.vehicle, fleet: r.fleet, altitude_m: r.altitude_m, line_spacing_m: r.line_spacing_m, trigger_distance_m, hold_s: None })
+        Ok(FileParams {
+            method: MethodKind::Coverage,
+            vehicle: r.vehicle,
+            fleet: r.fleet,
+            altitude_m: r.altitude_m,
+            line_spacing_m: r.line_spacing_m,
+            trigger_distance_m,
+            hold_s: None,
+        })
     }
 }
 

@@ -6,7 +6,7 @@ use geo::{LineString, Winding};
 use serde_json::{Value, json};
 
 use super::mission_items::{self, FRAME_MISSION, MissionItem, launch, mav_autopilot, mav_type};
-use super::{ExportJob, Exporter, Format};
+use super::{ALL_METHODS, ExportJob, Exporter, Format};
 use crate::error::InputError;
 
 pub struct QgcPlan;
@@ -16,7 +16,16 @@ const ALTITUDE_RELATIVE: u8 = 1;
 
 impl Exporter for QgcPlan {
     fn format(&self) -> &'static Format {
-        &Format { id: "plan", media_type: "application/json", extension: ".plan", one_flight_per_file: true }
+        &Format {
+            id: "plan",
+            label: "QGroundControl (.plan)",
+            media_type: "application/json",
+            extension: ".plan",
+            one_flight_per_file: true,
+            firmware_commands: true,
+            plans: ALL_METHODS,
+            verbatim: false,
+        }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {

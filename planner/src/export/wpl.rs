@@ -5,14 +5,23 @@
 use std::fmt::Write;
 
 use super::mission_items::{self, launch};
-use super::{ExportJob, Exporter, Format, number};
+use super::{ALL_METHODS, ExportJob, Exporter, Format, number};
 use crate::error::InputError;
 
 pub struct WaypointList;
 
 impl Exporter for WaypointList {
     fn format(&self) -> &'static Format {
-        &Format { id: "waypoints", media_type: "text/plain; charset=utf-8", extension: ".waypoints", one_flight_per_file: true }
+        &Format {
+            id: "waypoints",
+            label: "Mission Planner / ArduPilot (.waypoints)",
+            media_type: "text/plain; charset=utf-8",
+            extension: ".waypoints",
+            one_flight_per_file: true,
+            firmware_commands: true,
+            plans: ALL_METHODS,
+            verbatim: false,
+        }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {

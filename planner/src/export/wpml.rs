@@ -5,7 +5,7 @@
 
 use super::flight::waypoints;
 use super::xml::Xml;
-use super::{ExportJob, Exporter, Format, number};
+use super::{COVERAGE_ONLY, ExportJob, Exporter, Format, number};
 use crate::archive;
 use crate::error::InputError;
 use crate::path::PieceKind;
@@ -22,7 +22,16 @@ const SPEED_RANGE: (f64, f64) = (1.0, 15.0);
 
 impl Exporter for Wpml {
     fn format(&self) -> &'static Format {
-        &Format { id: "wpml", media_type: "application/vnd.google-earth.kmz", extension: ".kmz", one_flight_per_file: true }
+        &Format {
+            id: "wpml",
+            label: "DJI Pilot 2 (WPML .kmz)",
+            media_type: "application/vnd.google-earth.kmz",
+            extension: ".kmz",
+            one_flight_per_file: true,
+            firmware_commands: false,
+            plans: COVERAGE_ONLY,
+            verbatim: false,
+        }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {

@@ -7,7 +7,7 @@ use geo::{Polygon, Validation};
 use geojson::{GeoJson, GeometryValue, JsonObject};
 use serde_json::Value;
 
-use super::{Collected, Importer, Kind, kind_of_label, ring};
+use super::{Collected, Glimpse, Importer, Kind, kind_of_label, ring};
 use crate::error::InputError;
 
 pub struct GeoJsonFile;
@@ -15,6 +15,9 @@ pub struct GeoJsonFile;
 impl Importer for GeoJsonFile {
     fn id(&self) -> &'static str {
         "geojson"
+    }
+    fn recognises(&self, glimpse: &Glimpse<'_>) -> bool {
+        matches!(glimpse, Glimpse::Json(_))
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Collected, InputError> {

@@ -7,7 +7,7 @@ use geo::{Contains, LineString, Polygon};
 use quick_xml::Reader;
 use quick_xml::events::{BytesStart, Event};
 
-use super::{Collected, Importer, Kind, ring};
+use super::{Collected, Glimpse, Importer, Kind, ring};
 use crate::archive;
 use crate::error::InputError;
 
@@ -16,6 +16,9 @@ pub struct TaskData;
 impl Importer for TaskData {
     fn id(&self) -> &'static str {
         "isoxml"
+    }
+    fn recognises(&self, glimpse: &Glimpse<'_>) -> bool {
+        glimpse.zip_holds("taskdata.xml") || matches!(glimpse, Glimpse::Xml(head) if head.contains("ISO11783_TaskData"))
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Collected, InputError> {

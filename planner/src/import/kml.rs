@@ -6,7 +6,7 @@ use geo::{Contains, LineString, Polygon};
 use kml::types::{Element, Geometry, LinearRing, Placemark};
 use kml::{Kml as Doc, KmlReader};
 
-use super::{Collected, Importer, Kind, kind_of_label, ring};
+use super::{Collected, Glimpse, Importer, Kind, kind_of_label, ring};
 use crate::archive;
 use crate::error::InputError;
 
@@ -17,6 +17,9 @@ impl Importer for Kml {
     fn id(&self) -> &'static str {
         "kml"
     }
+    fn recognises(&self, glimpse: &Glimpse<'_>) -> bool {
+        matches!(glimpse, Glimpse::Xml(_))
+    }
     fn read(&self, bytes: &[u8]) -> Result<Collected, InputError> {
         read_kml(bytes, "/doc.kml")
     }
@@ -25,6 +28,9 @@ impl Importer for Kml {
 impl Importer for Kmz {
     fn id(&self) -> &'static str {
         "kmz"
+    }
+    fn recognises(&self, glimpse: &Glimpse<'_>) -> bool {
+        glimpse.zip_holds(".kml")
     }
     fn read(&self, bytes: &[u8]) -> Result<Collected, InputError> {
         if !archive::is_zip(bytes) {

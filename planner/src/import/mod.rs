@@ -45,47 +45,55 @@ pub struct ImportedMission {
     pub warnings: Vec<String>,
 }
 
+/// What [`sniff`] sees of a file: the names in a zip (lower case), the start of an XML text, or
+/// a JSON document.
+pub enum Glimpse<'a> {
+    Zip(Vec<String>),
+    Xml(&'a str),
+    Json(Value),
+}
+
+impl Glimpse<'_> {
+    /// A zip holding a file whose name ends with `end` (lower case).
+    fn zip_holds(&self, end: &str) -> bool {
+        matches!(self, Glimpse::Zip(names) if names.iter().any(|n| n.ends_with(end)))
+    }
+}
+
 /// One file format.
 pub trait Importer: Sync {
     /// The `format` query value.
     fn id(&self) -> &'static str;
+    /// Whether a file that looks like this is in this format ([`IMPORTERS`] are asked in order).
+    fn recognises(&self, glimpse: &Glimpse<'_>) -> bool;
     /// Reads the file; refusals name the part of the file that is wrong.
     fn read(&self, bytes: &[u8]) -> Result<Collected, InputError>;
 }
 
-/// Every import format.
-pub static IMPORTERS: &[&dyn Importer] = &[&geojson::GeoJsonFile, &kml::Kml, &kml::Kmz, &shapefile::ShapefileZip, &isoxml::TaskData, &qgc_plan::QgcPlan];
+/// Every import format, in the order [`sniff`] asks them (the more particular first).
+pub static IMPORTERS: &[&dyn Importer] = &[&shapefile::ShapefileZip, &isoxml::TaskData, &kml::Kmz, &kml::Kml, &qgc_plan::QgcPlan, &geojson::GeoJsonFile];
 
 pub fn format_ids() -> Vec<&'static str> {
     IMPORTERS.iter().map(|i| i.id()).collect()
 }
 
 /// The format of a file, from its content: zips by the files they hold, XML by its root, JSON
-/// by its `fileType`.
+/// by its members.
 pub fn sniff(bytes: &[u8]) -> Option<&'static str> {
-    if archive::is_zip(bytes) {
-        let files = archive::unzip(bytes).ok()?;
-        let has = |end: &str| files.iter().any(|(name, _)| name.to_ascii_lowercase().ends_with(end));
-        return if has(".shp") {
-            Some("shapefile")
-        } else if has("taskdata.xml") {
-            Some("isoxml")
-        } else if has(".kml") {
-            Some("kmz")
-        } else {
-            None
-        };
-    }
-    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]);
-    let head = head.trim_start_matches('\u{feff}').trim_start();
-    if head.starts_with('<') {
-        return Some(if head.contains("ISO11783_TaskData") { "isoxml" } else { "kml" });
-    }
-    if head.starts_with('{') {
-        let is_plan = serde_json::from_slice::<Value>(bytes).ok().is_some_and(|v| v.get("fileType").and_then(Value::as_str) == Some("Plan"));
-        return Some(if is_plan { "plan" } else { "geojson" });
-    }
-    None
+    let glimpse = if archive::is_zip(bytes) {
+        Glimpse::Zip(archive::unzip(bytes).ok()?.into_iter().map(|(name, _)| name.to_ascii_lowercase()).collect())
+    } else {
+        let head = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]);
+        let head = head.trim_start_matches('\u{feff}').trim_start();
+        if head.starts_with('<') {
+            return IMPORTERS.iter().find(|i| i.recognises(&Glimpse::Xml(head))).map(|i| i.id());
+        }
+        if !head.starts_with('{') {
+            return None;
+        }
+        Glimpse::Json(serde_json::from_slice::<Value>(bytes).unwrap_or(Value::Null))
+    };
+    IMPORTERS.iter().find(|i| i.recognises(&glimpse)).map(|i| i.id())
 }
 
 /// Reads `bytes` as `format` (or the format [`sniff`] finds, when `None`).

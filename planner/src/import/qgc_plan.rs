@@ -5,7 +5,7 @@
 use geo::Polygon;
 use serde_json::Value;
 
-use super::{Collected, Importer, Kind, ring};
+use super::{Collected, Glimpse, Importer, Kind, ring};
 use crate::error::InputError;
 
 pub struct QgcPlan;
@@ -26,6 +26,9 @@ fn lat_lon_ring(value: &Value, pointer: &str) -> Result<Polygon, InputError> {
 impl Importer for QgcPlan {
     fn id(&self) -> &'static str {
         "plan"
+    }
+    fn recognises(&self, glimpse: &Glimpse<'_>) -> bool {
+        matches!(glimpse, Glimpse::Json(v) if v.get("fileType").and_then(Value::as_str) == Some("Plan"))
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Collected, InputError> {

@@ -10,7 +10,7 @@ use geo::{Contains, LineString, Polygon};
 use shapefile::dbase::{self, FieldValue};
 use shapefile::{PolygonRing, Shape, ShapeReader};
 
-use super::{Collected, Importer, Kind, kind_of_label, ring};
+use super::{Collected, Glimpse, Importer, Kind, kind_of_label, ring};
 use crate::archive;
 use crate::error::InputError;
 
@@ -19,6 +19,9 @@ pub struct ShapefileZip;
 impl Importer for ShapefileZip {
     fn id(&self) -> &'static str {
         "shapefile"
+    }
+    fn recognises(&self, glimpse: &Glimpse<'_>) -> bool {
+        glimpse.zip_holds(".shp")
     }
 
     fn read(&self, bytes: &[u8]) -> Result<Collected, InputError> {

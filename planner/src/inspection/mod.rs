@@ -27,7 +27,7 @@ use geo::{BoundingRect, Coord, MultiPolygon, Polygon};
 use crate::error::{InputError, PlanError};
 use crate::field::Structure;
 use crate::metrics::{InspectionStats, Stats, TargetCoverage};
-use crate::params::inspection::{BudgetLimit, Extension, Face, InspectionSpec, Target};
+use crate::params::inspection::{BudgetLimit, Extension, Face, InspectionSpec, PLANNER_ID, Target};
 use crate::planners::ParameterInfo;
 use crate::stop::Stop;
 use crate::vehicle::Vehicle;
@@ -174,7 +174,7 @@ impl InspectionPlan {
             sorties: 1,
             batteries_needed: 1,
             warnings: self.warnings.clone(),
-            planner: "inspection".into(),
+            planner: PLANNER_ID.into(),
             photos: self.viewpoints.len(),
             inspection_coverage: Some(self.coverage()),
             inspection: Some(InspectionStats {
@@ -256,7 +256,7 @@ fn target_groups(structures: &[Structure], targets: &[Target]) -> Result<Vec<Tar
 pub fn parameters() -> Vec<ParameterInfo> {
     let p = |name, kind, description| ParameterInfo { name, kind, description };
     vec![
-        p("planner", "string", "inspection"),
+        p("planner", "string", PLANNER_ID),
         p("budget", "object", "one of {max_length_m} (10 to 100 000), {max_time_s} (10 to 86 400) or {max_energy_j} (1 000 to 10⁹): the flight's limit"),
         p("targets", "array", "\"walls\", \"roof\", a structure's name, or {name, faces: [walls|roof], priority 0.01 to 100}; default: every structure's walls and roof"),
         p("camera", "object", "as for coverage plans (default: the dji_mavic3_enterprise preset); with gsd_cm, the farthest a point may be"),

@@ -444,15 +444,6 @@ impl PlanParams {
         Ok((vehicle, spec))
     }
 
-    /// The planner asked for, or the default for the vehicle.
-    pub fn planner_id(&self, vehicle: &Vehicle) -> &str {
-        match &self.planner {
-            Some(id) => id,
-            None if vehicle.kind == VehicleKind::Ground => "headland",
-            None => "boustrophedon",
-        }
-    }
-
     /// A ground vehicle's headland; the headland parameters are refused for an aircraft.
     fn headland(&self, vehicle: &Vehicle) -> Result<Option<HeadlandSpec>, InputError> {
         let Some(ground) = vehicle.ground.filter(|_| vehicle.kind == VehicleKind::Ground) else {

@@ -6,7 +6,7 @@
 use geo::Area;
 use rayon::prelude::*;
 
-use super::{PlannedPath, Planner, Problem, Progress, registry};
+use super::{ParameterInfo, PlannedPath, Planner, Problem, Progress, common_parameters, registry};
 use crate::error::PlanError;
 use crate::metrics::{Alternative, best_covering, covered_area};
 use crate::params::Objective;
@@ -25,6 +25,14 @@ impl Planner for Auto {
 
     fn direction_rule(&self) -> &'static str {
         "each planner's own"
+    }
+
+    fn orders_lines_one_by_one(&self) -> bool {
+        true
+    }
+
+    fn parameters(&self) -> Vec<ParameterInfo> {
+        common_parameters()
     }
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {

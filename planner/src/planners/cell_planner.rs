@@ -8,6 +8,7 @@ use crate::path::{FlightPath, PieceKind};
 use crate::route::line_tour::Line;
 use crate::route::{CellOrder, CellVisit, RouteContext, cell_tour::CellTour, nearest_cell::NearestCell};
 use crate::turn::TurnModel;
+use crate::vehicle::VehicleKind;
 
 pub struct CellPlanner {
     pub id: &'static str,
@@ -18,6 +19,8 @@ pub struct CellPlanner {
     /// Why a fixed-wing aircraft is refused, for a planner whose method is a multirotor's
     /// (a fixed wing's lines are ordered on Dubins costs, which would make it another's twin).
     pub multirotor_only: Option<&'static str>,
+    /// The vehicle kinds it is the default planner for.
+    pub default_for: &'static [VehicleKind],
 }
 
 pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
@@ -29,6 +32,7 @@ pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
     decomposition: &Boustrophedon,
     order: &CellTour,
     multirotor_only: None,
+    default_for: &[VehicleKind::Multirotor, VehicleKind::FixedWing],
 };
 
 pub static NAIVE: CellPlanner = CellPlanner {
@@ -39,6 +43,7 @@ pub static NAIVE: CellPlanner = CellPlanner {
     decomposition: &Naive,
     order: &NearestCell,
     multirotor_only: None,
+    default_for: &[],
 };
 
 pub static EECD: CellPlanner = CellPlanner {
@@ -50,6 +55,7 @@ pub static EECD: CellPlanner = CellPlanner {
     decomposition: &Eecd,
     order: &CellTour,
     multirotor_only: None,
+    default_for: &[],
 };
 
 pub static ENERGY_AWARE: CellPlanner = CellPlanner {
@@ -60,6 +66,7 @@ pub static ENERGY_AWARE: CellPlanner = CellPlanner {
     decomposition: &EnergyAware,
     order: &CellTour,
     multirotor_only: None,
+    default_for: &[],
 };
 
 pub static E_BF: CellPlanner = CellPlanner {
@@ -73,6 +80,7 @@ pub static E_BF: CellPlanner = CellPlanner {
     multirotor_only: Some(
         "e_bf is seed 002's multirotor method (a fixed nearest-first order); for a fixed-wing aircraft use energy_aware: the same lines, ordered on Dubins turns",
     ),
+    default_for: &[],
 };
 
 impl Planner for CellPlanner {
@@ -86,6 +94,14 @@ impl Planner for CellPlanner {
 
     fn direction_rule(&self) -> &'static str {
         self.direction_rule
+    }
+
+    fn vehicle_kinds(&self) -> &'static [VehicleKind] {
+        if self.multirotor_only.is_some() { &[VehicleKind::Multirotor] } else { &[VehicleKind::Multirotor, VehicleKind::FixedWing] }
+    }
+
+    fn default_for(&self) -> &'static [VehicleKind] {
+        self.default_for
     }
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {

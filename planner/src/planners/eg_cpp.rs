@@ -391,6 +391,15 @@ impl Planner for EgCpp {
     fn lays_parallel_lines(&self) -> bool {
         false
     }
+    /// A grid over a fleet's band often falls apart into cells no clear move joins.
+    fn plans_fleet_parts(&self) -> bool {
+        false
+    }
+    /// Its runs join photo positions at cell centres: by the swath metric each run loses half a
+    /// cell at both ends, and a one-cell grid sweeps nothing.
+    fn coverage_target(&self) -> Option<f64> {
+        None
+    }
     fn id(&self) -> &'static str {
         "eg_cpp"
     }

@@ -17,6 +17,7 @@ use crate::route::line_tour::{Line, entry, exit};
 use crate::sweep::ends::SwathEnds;
 use crate::sweep::{fewest_lines_direction, from_sweep_frame, sweep};
 use crate::turn::dubins::Pose;
+use crate::vehicle::VehicleKind;
 
 /// A ground plan's headland, computed and checked when the request is.
 pub struct GroundSetup {
@@ -43,6 +44,10 @@ impl Planner for HeadlandPlanner {
 
     fn for_ground_vehicles(&self) -> bool {
         true
+    }
+
+    fn default_for(&self) -> &'static [VehicleKind] {
+        &[VehicleKind::Ground]
     }
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {

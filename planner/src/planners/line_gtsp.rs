@@ -94,6 +94,10 @@ impl Planner for LineGtsp {
          come back. Built for fixed-wing survey of one to a few fields."
     }
 
+    fn orders_lines_one_by_one(&self) -> bool {
+        true
+    }
+
     fn direction_rule(&self) -> &'static str {
         "per field, every heading on a 2° grid with a line count near the fewest, combinations searched for the shortest route, refined to 0.5°"
     }

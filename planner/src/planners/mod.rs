@@ -20,7 +20,7 @@ use super::route::line_tour::{Line, LineProblem, Terminal};
 use super::route::visibility::TransitPlanner;
 use super::sweep::LineLayout;
 use super::turn::climb::Obstacles;
-use super::vehicle::Vehicle;
+use super::vehicle::{Vehicle, VehicleKind};
 use auto::Auto;
 use cell_planner::{BOUSTROPHEDON, E_BF, EECD, ENERGY_AWARE, NAIVE};
 use e_spiral::ESpiral;
@@ -128,6 +128,29 @@ pub trait Planner: Send + Sync {
     fn for_ground_vehicles(&self) -> bool {
         false
     }
+    /// The kinds of vehicle this planner plans.
+    fn vehicle_kinds(&self) -> &'static [VehicleKind] {
+        if self.for_ground_vehicles() { &[VehicleKind::Ground] } else { &[VehicleKind::Multirotor, VehicleKind::FixedWing] }
+    }
+    /// The kinds of vehicle this planner is the default for, when a request names none.
+    fn default_for(&self) -> &'static [VehicleKind] {
+        &[]
+    }
+    /// Whether a fleet's parts (bands of the field, one per drone) may be planned with it.
+    fn plans_fleet_parts(&self) -> bool {
+        !self.for_ground_vehicles()
+    }
+    /// The share of the area its plans cover, at least, by the swath metric (a sweep's
+    /// rectangle), on fields without no-fly zones; `None` for a method the swath metric does not
+    /// measure.
+    fn coverage_target(&self) -> Option<f64> {
+        Some(0.99)
+    }
+    /// Whether it orders sweep lines one by one (its route tables grow with their square, so
+    /// the request is held to [`crate::MAX_ROUTED_LINES`]-style limits before planning).
+    fn orders_lines_one_by_one(&self) -> bool {
+        false
+    }
     /// False for a planner that flies no parallel lines, so has no line ends to place
     /// (`swath_ends`).
     fn lays_parallel_lines(&self) -> bool {
@@ -135,7 +158,7 @@ pub trait Planner: Send + Sync {
     }
     /// The request members this planner reads.
     fn parameters(&self) -> Vec<ParameterInfo> {
-        common_parameters().into_iter().filter(|p| p.name != "swath_ends" || self.lays_parallel_lines()).collect()
+        common_parameters().into_iter().filter(|p| (p.name != "swath_ends" || self.lays_parallel_lines()) && p.name != OBJECTIVE).collect()
     }
 }
 
@@ -151,6 +174,56 @@ pub fn find(id: &str) -> Option<&'static dyn Planner> {
     registry().iter().copied().find(|p| p.id() == id)
 }
 
+/// The planner a request that names none gets for a vehicle of this kind.
+pub fn default_for(kind: VehicleKind) -> Option<&'static dyn Planner> {
+    registry().iter().copied().find(|p| p.default_for().contains(&kind))
+}
+
+/// What kind of method a planner is: what it plans, from which request members.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum MethodKind {
+    /// Covers the mission's fields with sweeps (or a grid's runs, or a spiral).
+    Coverage,
+    /// Sees the mission's structures from viewpoints within a budget.
+    Inspection,
+}
+
+/// One planner as `GET /api/v1/planners` lists it: everything a client needs to offer it.
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct PlannerInfo {
+    pub id: &'static str,
+    pub method: MethodKind,
+    pub description: &'static str,
+    /// How the planner chooses the sweep direction when `heading_deg` does not fix it.
+    pub direction_rule: &'static str,
+    /// The kinds of vehicle it plans.
+    pub vehicle_kinds: Vec<VehicleKind>,
+    /// The kinds of vehicle it is the default for, when a request names no planner.
+    pub default_for: Vec<VehicleKind>,
+    /// Whether a fleet's parts may be planned with it.
+    pub fleets: bool,
+    pub parameters: Vec<ParameterInfo>,
+}
+
+impl PlannerInfo {
+    /// A coverage planner's entry.
+    pub fn of(p: &dyn Planner) -> Self {
+        PlannerInfo {
+            id: p.id(),
+            method: MethodKind::Coverage,
+            description: p.description(),
+            direction_rule: p.direction_rule(),
+            vehicle_kinds: p.vehicle_kinds().to_vec(),
+            default_for: p.default_for().to_vec(),
+            fleets: p.plans_fleet_parts(),
+            parameters: p.parameters(),
+        }
+    }
+}
+
 /// A parameter that planners accept, for `GET /api/v1/planners`.
 #[derive(Debug, Clone, Serialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
@@ -160,6 +233,9 @@ pub struct ParameterInfo {
     pub kind: &'static str,
     pub description: &'static str,
 }
+
+/// The parameter of the planners that choose among plans (`auto`): what to minimise.
+pub const OBJECTIVE: &str = "objective";
 
 /// The parameters shared by every planner.
 pub fn common_parameters() -> Vec<ParameterInfo> {
@@ -182,7 +258,7 @@ pub fn common_parameters() -> Vec<ParameterInfo> {
             "object",
             "{profile} from GET /api/v1/vehicles, or {kind: multirotor|fixed_wing|ground}, with overrides cruise_speed_mps, turn_radius_m (min_turn_radius_m), battery_wh, battery_reserve; ground: working_width_m, reverse_allowed, max_curvature_rate, headland_speed_mps; fixed wing flies Dubins turns",
         ),
-        p("objective", "string", "auto only: energy (default), time or length"),
+        p(OBJECTIVE, "string", "what to minimise: energy (default), time or length"),
         p("max_sorties", "integer", "most sorties when one battery is not enough, 1 to 100 (default 20); needs the mission's home"),
         p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts and its compass heading (default: home, heading free)"),
         p("end", "object", "{position: [lon, lat], heading_deg}: where the flight ends (default: home)"),

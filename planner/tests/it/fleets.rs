@@ -6,6 +6,7 @@
 use crate::planner_properties::{check_covering, coverage_floor, params, star_field, unlimited_battery};
 
 use coverplan_planner::frame::LocalFrame;
+use coverplan_planner::planners::registry;
 use coverplan_planner::{self as planner, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
 use geo::Coord;
 use proptest::prelude::*;
@@ -123,6 +124,11 @@ fn check_case(c: Case) {
     check_fleet(&fleet, &single, c.drones, spacing, &name);
 }
 
+/// The planners a fleet's parts may be planned with.
+fn fleet_planners() -> Vec<&'static str> {
+    registry().iter().filter(|p| p.plans_fleet_parts()).map(|p| p.id()).collect()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
@@ -136,7 +142,7 @@ proptest! {
         lines in 8.0..30.0f64,
         heading in prop::option::of(0.0..180.0f64),
         drones in 2usize..6,
-        planner in prop::sample::select(planner::FLEET_PLANNERS.to_vec()),
+        planner in prop::sample::select(fleet_planners()),
         home_side in 0usize..4,
     ) {
         own_pool().install(|| check_case(Case { lon, lat, radius, shape, holes, lines, heading, drones, planner, home_side }));
@@ -231,7 +237,8 @@ fn fleets_refuse_what_they_cannot_split() {
         other => panic!("not refused: {:?}", other.map(|o| o.stats.planner)),
     };
     let fleet = || PlanParams { line_spacing_m: Some(20.0), vehicles: Some(2), ..PlanParams::default() };
-    assert_eq!(refused(PlanParams { planner: Some("eg_cpp".into()), ..fleet() }), ("planner_not_for_fleets", "/planner".into()));
+    let not_for_fleets = registry().iter().find(|p| !p.plans_fleet_parts() && !p.for_ground_vehicles()).expect("a planner that plans no fleet's parts");
+    assert_eq!(refused(PlanParams { planner: Some(not_for_fleets.id().into()), ..fleet() }), ("planner_not_for_fleets", "/planner".into()));
     let optimal = serde_json::from_value(json!("optimal")).unwrap();
     assert_eq!(refused(PlanParams { sweep_direction: Some(optimal), ..fleet() }), ("direction_for_fleet", "/sweep_direction".into()));
     // a drone's home inside a no-fly zone

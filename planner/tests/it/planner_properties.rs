@@ -6,7 +6,7 @@
 use crate::fixtures::fixture;
 
 use coverplan_planner::frame::LocalFrame;
-use coverplan_planner::planners::registry;
+use coverplan_planner::planners::{self, registry};
 use coverplan_planner::{self as planner, FieldLimits, MissionGeometry, PlanError, PlanOutput, PlanParams, Stop};
 use geo::{Area, BooleanOps, Buffer, Contains, Coord, LineString, MultiPolygon, Point, Polygon};
 use proptest::prelude::*;
@@ -33,19 +33,11 @@ fn planners() -> Vec<&'static str> {
     registry().iter().filter(|p| !p.for_ground_vehicles()).map(|p| p.id()).collect()
 }
 
-/// The share of the area a planner's plans must cover. Sweep-line planners cover all of it but
-/// the corners their swaths cannot reach; a new planner gets that floor. Two methods fall short
-/// by the swath metric (a sweep's rectangle) for reasons stated here; every other property is
-/// checked for them as for the rest.
+/// The share of the area a planner's plans must cover: its own target, a point less with no-fly
+/// zones (the corners at their edges); 0 for a planner whose coverage swaths do not measure.
 pub(crate) fn coverage_floor(planner: &str, with_zones: bool) -> f64 {
-    match planner {
-        // not judged: its runs join photo positions at cell centres, so by the swath metric each
-        // run loses half a cell at both ends and a one-cell grid sweeps nothing (measured down
-        // to 0.18 and 0); its other properties are checked like everyone's
-        "eg_cpp" => 0.0,
-        _ if with_zones => 0.98,
-        _ => 0.99,
-    }
+    let target = planners::find(planner).unwrap_or_else(|| panic!("{planner} is not registered")).coverage_target();
+    target.map_or(0.0, |t| if with_zones { t - 0.01 } else { t })
 }
 
 pub(crate) fn params(planner: &str, spacing: f64, heading: Option<f64>) -> PlanParams {

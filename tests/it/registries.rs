@@ -1,0 +1,119 @@
+//! Each planner and each file format is named in one place: its own file, where the registry
+//! finds it. Everywhere else (the service, the page, the other stages) asks the registries, so
+//! adding a planner or a format is one file and one registry line. Tests and docs may name ids.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use coverplan::planner::{self, export, import};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The production sources: Rust of the service and the planner, and the page's own scripts and
+/// markup (not the vendored libraries).
+fn production_files() -> Vec<PathBuf> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        for entry in fs::read_dir(dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                if path.file_name().is_some_and(|n| n != "vendor" && n != "bench") {
+                    walk(&path, out);
+                }
+            } else if path.extension().is_some_and(|e| e == "rs" || e == "js" || e == "html") {
+                out.push(path);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for dir in ["src", "planner/src", "static"] {
+        walk(&root().join(dir), &mut out);
+    }
+    out
+}
+
+/// A file's code without its inline test module (the last item of a file) and without line
+/// comments.
+fn code_of(path: &Path) -> String {
+    let text = fs::read_to_string(path).unwrap();
+    let inline_tests = text.match_indices("#[cfg(test)]").find(|(at, m)| text[at + m.len()..].trim_start().starts_with("mod tests {"));
+    let code = inline_tests.map_or(text.as_str(), |(at, _)| &text[..at]);
+    code.lines().map(|l| if l.trim_start().starts_with("//") || l.trim_start().starts_with("*") { "" } else { l }).collect::<Vec<_>>().join("\n")
+}
+
+/// Where an id is defined: `fn id(&self) -> &'static str { "id" }`, or `id: "id"` in a registry
+/// value (the decomposition planners, the export formats).
+fn defines(code: &str, id: &str) -> bool {
+    let literal = format!("\"{id}\"");
+    let compact: String = code.split_whitespace().collect();
+    compact.contains(&format!("fnid(&self)->&'staticstr{{{literal}")) || compact.contains(&format!("id:{literal}")) || compact.contains(&format!("PLANNER_ID:&str={literal}"))
+}
+
+/// Words that are an id and also something else in a file: (word, file, what it is there).
+const OTHER_MEANINGS: &[(&str, &str, &str)] = &[
+    ("plan", "src/http/plans.rs", "the resource a 404 names"),
+    ("plan", "static/js/plan.js", "the Plan button's element id"),
+    ("plan", "static/index.html", "the Plan button's element id"),
+    ("inspection", "static/js/plan.js", "a planner's `method` (the kind), not its id"),
+    ("kml", "planner/src/export/wpml.rs", "the XML root element of a WPML file"),
+    ("waypoints", "src/http/openapi.rs", "the estimate request's member in its example"),
+    ("inspection", "planner/src/inspection/mod.rs", "the request member holding the inspection's options"),
+];
+
+/// Every production file that writes `id` as a string literal, and the files that define it.
+fn uses_and_definitions(files: &[(PathBuf, String)], id: &str) -> (BTreeSet<String>, BTreeSet<String>) {
+    let (double, single) = (format!("\"{id}\""), format!("'{id}'"));
+    let mut uses = BTreeSet::new();
+    let mut definitions = BTreeSet::new();
+    for (path, code) in files {
+        let rel = path.strip_prefix(root()).unwrap().display().to_string();
+        let other_meaning = OTHER_MEANINGS.iter().any(|(word, file, _)| *word == id && *file == rel);
+        if (code.contains(&double) || code.contains(&single)) && !other_meaning {
+            uses.insert(rel.clone());
+        }
+        if defines(code, id) {
+            definitions.insert(rel);
+        }
+    }
+    (uses, definitions)
+}
+
+#[test]
+fn planner_and_format_ids_are_named_only_in_their_own_files() {
+    let files: Vec<(PathBuf, String)> = production_files().into_iter().map(|p| (p.clone(), code_of(&p))).collect();
+    assert!(files.len() > 100, "the sources were not found: {} files", files.len());
+    let mut ids: BTreeMap<&str, &str> = BTreeMap::new();
+    for p in planner::catalogue() {
+        ids.insert(p.id, "planner");
+    }
+    for id in export::format_ids() {
+        ids.insert(id, "export format");
+    }
+    for id in import::format_ids() {
+        ids.insert(id, "import format");
+    }
+    let mut leaks = Vec::new();
+    for (id, what) in &ids {
+        let (uses, definitions) = uses_and_definitions(&files, id);
+        assert!(!definitions.is_empty(), "the {what} `{id}` is defined nowhere the check can see");
+        let outside: Vec<&String> = uses.difference(&definitions).collect();
+        if !outside.is_empty() {
+            leaks.push(format!("{what} `{id}` (defined in {definitions:?}) is named in {outside:?}"));
+        }
+    }
+    assert!(leaks.is_empty(), "ids matched outside their own files and the registries:\n{}", leaks.join("\n"));
+}
+
+/// The check sees a leak: an id written into another file is found.
+#[test]
+fn the_check_finds_an_id_named_elsewhere() {
+    let files = vec![
+        (root().join("planner/src/planners/a.rs"), "fn id(&self) -> &'static str {\n        \"a_planner\"\n    }".to_string()),
+        (root().join("static/js/plan.js"), "if (planner === 'a_planner') {}".to_string()),
+    ];
+    let (uses, definitions) = uses_and_definitions(&files, "a_planner");
+    assert_eq!(definitions.into_iter().collect::<Vec<_>>(), ["planner/src/planners/a.rs"]);
+    assert_eq!(uses.len(), 2);
+}

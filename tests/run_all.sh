@@ -39,11 +39,11 @@ done
 cargo fmt --all --check
 cargo clippy --workspace --all-targets --all-features --locked -- -D warnings
 cargo test --workspace --all-targets --all-features --locked --no-fail-fast
-# the store, queue and API tests again on a throwaway PostgreSQL server (with the test of two
-# replicas sharing it, one killed mid-plan)
+# every test that starts the application (tests/it/db/) again on a throwaway PostgreSQL server
+# (with the test of two replicas sharing it, one killed mid-plan)
 eval "$(bash tests/postgres.sh start)"
 trap 'bash tests/postgres.sh stop "$COVERPLAN_TEST_PGDATA"' EXIT
-cargo test -p coverplan --test it --locked --no-fail-fast -- api:: jobs:: tenancy:: vehicles:: process:: replicas:: observability:: patrols::
+cargo test -p coverplan --test it --all-features --locked --no-fail-fast -- db::
 unset COVERPLAN_TEST_POSTGRES
 # --all-targets leaves out the documentation examples
 cargo test --workspace --doc --locked

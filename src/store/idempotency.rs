@@ -3,8 +3,8 @@
 
 use sqlx::FromRow;
 
-use super::{Db, WritePool};
-use crate::{on_db, sql_now};
+use super::{Db, Statement, WritePool};
+use crate::on_db;
 
 /// Where a request with a key stands.
 pub enum Begin {
@@ -31,9 +31,9 @@ struct Kept {
 pub async fn begin(db: &Db, tenant: &str, key: &str, fingerprint: &str) -> Result<Begin, sqlx::Error> {
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        sqlx::query(sql("DELETE FROM idempotency WHERE created_at < strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-1 day')")).execute(&mut *tx).await?;
-        sqlx::query(sql("DELETE FROM idempotency WHERE status IS NULL AND created_at < strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-5 minutes')")).execute(&mut *tx).await?;
-        let kept: Option<Kept> = sqlx::query_as(sql("SELECT fingerprint, status, content_type, body FROM idempotency WHERE tenant = ? AND key = ?"))
+        sqlx::query(sql(Statement { sqlite: "DELETE FROM idempotency WHERE created_at < strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-1 day')", postgres: "DELETE FROM idempotency WHERE created_at < to_char((now() - interval '1 day') AT TIME ZONE 'UTC', 'YYYY-MM-DD"T"HH24:MI:SS.MS"Z"')" })).execute(&mut *tx).await?;
+        sqlx::query(sql(Statement { sqlite: "DELETE FROM idempotency WHERE status IS NULL AND created_at < strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-5 minutes')", postgres: "DELETE FROM idempotency WHERE status IS NULL AND created_at < to_char((now() - interval '5 minutes') AT TIME ZONE 'UTC', 'YYYY-MM-DD"T"HH24:MI:SS.MS"Z"')" })).execute(&mut *tx).await?;
+        let kept: Option<Kept> = sqlx::query_as(sql(Statement { sqlite: "SELECT fingerprint, status, content_type, body FROM idempotency WHERE tenant = ? AND key = ?", postgres: "SELECT fingerprint, status, content_type, body FROM idempotency WHERE tenant = $1 AND key = $2" }))
             .bind(tenant)
             .bind(key)
             .fetch_optional(&mut *tx)
@@ -45,7 +45,7 @@ pub async fn begin(db: &Db, tenant: &str, key: &str, fingerprint: &str) -> Resul
             None => {
                 // a concurrent first request with the same key inserts nothing here and is told so
                 let inserted =
-                    sqlx::query(sql(concat!("INSERT INTO idempotency (tenant, key, fingerprint, created_at) VALUES (?, ?, ?, ", sql_now!(), ") ON CONFLICT DO NOTHING")))
+                    sqlx::query(sql(Statement { sqlite: concat!("INSERT INTO idempotency (tenant, key, fingerprint, created_at) VALUES (?, ?, ?, ", crate::sqlite_now!(), ") ON CONFLICT DO NOTHING"), postgres: concat!("INSERT INTO idempotency (tenant, key, fingerprint, created_at) VALUES ($1, $2, $3, ", crate::postgres_now!(), ") ON CONFLICT DO NOTHING") }))
                         .bind(tenant)
                         .bind(key)
                         .bind(fingerprint)
@@ -63,7 +63,7 @@ pub async fn begin(db: &Db, tenant: &str, key: &str, fingerprint: &str) -> Resul
 pub async fn finish(db: &Db, tenant: &str, key: &str, status: u16, content_type: Option<&str>, body: &[u8]) -> Result<(), sqlx::Error> {
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        sqlx::query(sql("UPDATE idempotency SET status = ?, content_type = ?, body = ? WHERE tenant = ? AND key = ?"))
+        sqlx::query(sql(Statement { sqlite: "UPDATE idempotency SET status = ?, content_type = ?, body = ? WHERE tenant = ? AND key = ?", postgres: "UPDATE idempotency SET status = $1, content_type = $2, body = $3 WHERE tenant = $4 AND key = $5" }))
             .bind(i64::from(status))
             .bind(content_type)
             .bind(body)
@@ -79,7 +79,7 @@ pub async fn finish(db: &Db, tenant: &str, key: &str, status: u16, content_type:
 pub async fn forget(db: &Db, tenant: &str, key: &str) -> Result<(), sqlx::Error> {
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        sqlx::query(sql("DELETE FROM idempotency WHERE tenant = ? AND key = ?")).bind(tenant).bind(key).execute(&mut *tx).await?;
+        sqlx::query(sql(Statement { sqlite: "DELETE FROM idempotency WHERE tenant = ? AND key = ?", postgres: "DELETE FROM idempotency WHERE tenant = $1 AND key = $2" })).bind(tenant).bind(key).execute(&mut *tx).await?;
         tx.commit().await
     })
 }

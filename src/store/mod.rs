@@ -7,10 +7,10 @@
 //! - **PostgreSQL** (`postgres://…`, several replicas sharing one database): JSON in `jsonb`,
 //!   jobs claimed with `FOR UPDATE SKIP LOCKED`, queued jobs announced with `NOTIFY`.
 //!
-//! Each backend has its own migrations (`migrations/sqlite`, `migrations/postgres`). Queries are
-//! written once in SQLite's dialect and translated for PostgreSQL by [`postgres_sql`] (bind
-//! markers, the clock, the insertion order); the few that differ in substance (claiming a job)
-//! are written twice. Every function runs on either pool through [`on_db!`].
+//! Each backend has its own migrations (`migrations/sqlite`, `migrations/postgres`) and its own
+//! text of every statement ([`Statement`]: bind markers, the clock and the insertion order
+//! differ, and claiming a job locks rows on PostgreSQL); nothing is rewritten at run time. Every
+//! function runs on either pool through [`on_db!`], which picks the backend's text.
 
 pub mod idempotency;
 pub mod keys;
@@ -18,9 +18,7 @@ pub mod missions;
 pub mod plans;
 pub mod vehicles;
 
-use std::collections::HashMap;
 use std::str::FromStr;
-use std::sync::{LazyLock, Mutex};
 use std::time::Duration;
 
 use sqlx::migrate::Migrator;
@@ -35,74 +33,63 @@ pub enum Db {
     Postgres(PgPool),
 }
 
+/// One statement written out in each backend's dialect: bind markers (`?` and `$1, $2, …`),
+/// the clock, and the insertion order (SQLite's `rowid`, PostgreSQL's `seq` column) differ.
+#[derive(Debug, Clone, Copy)]
+pub struct Statement {
+    pub sqlite: &'static str,
+    pub postgres: &'static str,
+}
+
 /// Runs `$body` once for whichever backend `$db` is, with `$pool` bound to its pool and `$sql`
-/// to the function that turns a query written for SQLite into that backend's dialect.
+/// to the function that picks a [`Statement`]'s text for that backend.
 #[macro_export]
 macro_rules! on_db {
     ($db:expr, |$pool:ident, $sql:ident| $body:expr) => {
         match $db {
             $crate::store::Db::Sqlite($pool) => {
-                let $sql = |s: &'static str| s;
+                let $sql = |s: $crate::store::Statement| s.sqlite;
                 $body
             }
             $crate::store::Db::Postgres($pool) => {
-                let $sql = $crate::store::postgres_sql;
+                let $sql = |s: $crate::store::Statement| s.postgres;
                 $body
             }
         }
     };
 }
 
-/// SQL for "now" as RFC 3339 UTC with milliseconds (a macro, so that queries stay literals).
+/// SQLite's "now" as RFC 3339 UTC with milliseconds (a macro, so that statements stay literals).
 #[macro_export]
-macro_rules! sql_now {
+macro_rules! sqlite_now {
     () => {
         "strftime('%Y-%m-%dT%H:%M:%fZ', 'now')"
     };
 }
 
-/// SQL for "now" in seconds since 1970, for leases (compared as numbers on both backends).
+/// PostgreSQL's "now" in the same form as [`sqlite_now!`].
 #[macro_export]
-macro_rules! sql_epoch {
+macro_rules! postgres_now {
+    () => {
+        r#"to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD"T"HH24:MI:SS.MS"Z"')"#
+    };
+}
+
+/// SQLite's "now" in seconds since 1970, for leases (compared as numbers on both backends).
+#[macro_export]
+macro_rules! sqlite_epoch {
     () => {
         "((julianday('now') - 2440587.5) * 86400.0)"
     };
 }
 
-/// What [`postgres_sql`] replaces, besides the bind markers.
-const TO_POSTGRES: [(&str, &str); 5] = [
-    (sql_now!(), r#"to_char(now() AT TIME ZONE 'UTC', 'YYYY-MM-DD"T"HH24:MI:SS.MS"Z"')"#),
-    ("strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-1 day')", r#"to_char((now() - interval '1 day') AT TIME ZONE 'UTC', 'YYYY-MM-DD"T"HH24:MI:SS.MS"Z"')"#),
-    ("strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-5 minutes')", r#"to_char((now() - interval '5 minutes') AT TIME ZONE 'UTC', 'YYYY-MM-DD"T"HH24:MI:SS.MS"Z"')"#),
-    // the wall clock, not the transaction's start: a lease is measured from when it is written
-    (sql_epoch!(), "extract(epoch FROM clock_timestamp())::double precision"),
-    // PostgreSQL tables have no rowid; theirs number rows in insertion order in `seq`
-    ("rowid", "seq"),
-];
-
-/// A query written for SQLite, in PostgreSQL's dialect: `$1, $2, …` for `?`, and the
-/// replacements of [`TO_POSTGRES`]. Translations are made once and kept (there are a few dozen
-/// queries, all literals).
-pub fn postgres_sql(sqlite: &'static str) -> &'static str {
-    static MADE: LazyLock<Mutex<HashMap<&'static str, &'static str>>> = LazyLock::new(Default::default);
-    let mut made = MADE.lock().expect("lock");
-    made.entry(sqlite).or_insert_with(|| {
-        let mut text = sqlite.to_owned();
-        for (from, to) in TO_POSTGRES {
-            text = text.replace(from, to);
-        }
-        let mut out = String::with_capacity(text.len() + 16);
-        let mut n = 0;
-        for c in text.chars() {
-            if c == '?' {
-                n += 1;
-                out.push_str(&format!("${n}"));
-            } else {
-                out.push(c);
-            }
-        }
-        Box::leak(out.into_boxed_str())
-    })
+/// PostgreSQL's "now" in seconds since 1970: the wall clock, not the transaction's start, as a
+/// lease is measured from when it is written.
+#[macro_export]
+macro_rules! postgres_epoch {
+    () => {
+        "extract(epoch FROM clock_timestamp())::double precision"
+    };
 }
 
 /// The schema migrations of each backend, embedded in the binary at build time.

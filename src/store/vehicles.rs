@@ -8,9 +8,9 @@ use sqlx::FromRow;
 use sqlx::types::Json;
 use utoipa::ToSchema;
 
-use super::{Db, WritePool};
+use super::{Db, Statement, WritePool};
 use crate::planner::vehicle::{Vehicle, builtin_profiles};
-use crate::{on_db, sql_now};
+use crate::on_db;
 
 /// A stored profile.
 #[derive(Debug, Clone, Serialize, ToSchema)]
@@ -51,13 +51,7 @@ pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
         for v in builtin_profiles() {
-            sqlx::query(sql(concat!(
-                "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', ?, TRUE, ?, ",
-                sql_now!(),
-                ", ",
-                sql_now!(),
-                ") ON CONFLICT DO NOTHING"
-            )))
+            sqlx::query(sql(Statement { sqlite: concat!("INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', ?, TRUE, ?, ", crate::sqlite_now!(), ", ", crate::sqlite_now!(), ") ON CONFLICT DO NOTHING"), postgres: concat!("INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', $1, TRUE, $2, ", crate::postgres_now!(), ", ", crate::postgres_now!(), ") ON CONFLICT DO NOTHING") }))
             .bind(&v.profile)
             .bind(Json(&v))
             .execute(&mut *tx)
@@ -69,7 +63,7 @@ pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
 
 /// The built-ins and `tenant`'s own profiles.
 pub async fn list(db: &Db, tenant: &str) -> Result<Vec<StoredVehicle>, sqlx::Error> {
-    let rows: Vec<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', ?) ORDER BY builtin DESC, id")))
+    let rows: Vec<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', ?) ORDER BY builtin DESC, id"), postgres: concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', $1) ORDER BY builtin DESC, id") }))
         .bind(tenant)
         .fetch_all(pool)
         .await?);
@@ -83,7 +77,7 @@ pub async fn profiles(db: &Db, tenant: &str) -> Result<Vec<Vehicle>, sqlx::Error
 
 /// A built-in or one of `tenant`'s profiles.
 pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<StoredVehicle>, sqlx::Error> {
-    let row: Option<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ? AND tenant IN ('', ?)")))
+    let row: Option<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ? AND tenant IN ('', ?)"), postgres: concat!("SELECT ", columns!(), " FROM vehicles WHERE id = $1 AND tenant IN ('', $2)") }))
         .bind(id)
         .bind(tenant)
         .fetch_optional(pool)
@@ -97,19 +91,12 @@ pub async fn create(db: &Db, tenant: &str, v: &Vehicle) -> Result<Option<StoredV
     let row: Option<VehicleRow> = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
         let taken: bool =
-            sqlx::query_scalar(sql("SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = ? AND tenant IN ('', ?))")).bind(&v.profile).bind(tenant).fetch_one(&mut *tx).await?;
+            sqlx::query_scalar(sql(Statement { sqlite: "SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = ? AND tenant IN ('', ?))", postgres: "SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = $1 AND tenant IN ('', $2))" })).bind(&v.profile).bind(tenant).fetch_one(&mut *tx).await?;
         if taken {
             return Ok(None);
         }
         // a concurrent insert of the same id inserts nothing here
-        let row = sqlx::query_as(sql(concat!(
-            "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES (?, ?, FALSE, ?, ",
-            sql_now!(),
-            ", ",
-            sql_now!(),
-            ") ON CONFLICT DO NOTHING RETURNING ",
-            columns!()
-        )))
+        let row = sqlx::query_as(sql(Statement { sqlite: concat!("INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES (?, ?, FALSE, ?, ", crate::sqlite_now!(), ", ", crate::sqlite_now!(), ") ON CONFLICT DO NOTHING RETURNING ", columns!()), postgres: concat!("INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ($1, $2, FALSE, $3, ", crate::postgres_now!(), ", ", crate::postgres_now!(), ") ON CONFLICT DO NOTHING RETURNING ", columns!()) }))
         .bind(tenant)
         .bind(&v.profile)
         .bind(Json(v))
@@ -126,7 +113,7 @@ pub async fn create(db: &Db, tenant: &str, v: &Vehicle) -> Result<Option<StoredV
 pub async fn update(db: &Db, tenant: Option<&str>, id: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
     let row: Option<VehicleRow> = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let row = sqlx::query_as(sql(concat!("UPDATE vehicles SET body = ?, updated_at = ", sql_now!(), " WHERE id = ? AND tenant = ? RETURNING ", columns!())))
+        let row = sqlx::query_as(sql(Statement { sqlite: concat!("UPDATE vehicles SET body = ?, updated_at = ", crate::sqlite_now!(), " WHERE id = ? AND tenant = ? RETURNING ", columns!()), postgres: concat!("UPDATE vehicles SET body = $1, updated_at = ", crate::postgres_now!(), " WHERE id = $2 AND tenant = $3 RETURNING ", columns!()) }))
             .bind(Json(v))
             .bind(id)
             .bind(tenant.unwrap_or(SHARED))
@@ -149,12 +136,12 @@ pub async fn delete(db: &Db, tenant: &str, id: &str) -> Result<Deleted, sqlx::Er
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
         let builtin: Option<bool> =
-            sqlx::query_scalar(sql("SELECT builtin FROM vehicles WHERE id = ? AND tenant IN ('', ?)")).bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
+            sqlx::query_scalar(sql(Statement { sqlite: "SELECT builtin FROM vehicles WHERE id = ? AND tenant IN ('', ?)", postgres: "SELECT builtin FROM vehicles WHERE id = $1 AND tenant IN ('', $2)" })).bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
         let outcome = match builtin {
             None => Deleted::NotFound,
             Some(true) => Deleted::Builtin,
             Some(false) => {
-                sqlx::query(sql("DELETE FROM vehicles WHERE id = ? AND tenant = ?")).bind(id).bind(tenant).execute(&mut *tx).await?;
+                sqlx::query(sql(Statement { sqlite: "DELETE FROM vehicles WHERE id = ? AND tenant = ?", postgres: "DELETE FROM vehicles WHERE id = $1 AND tenant = $2" })).bind(id).bind(tenant).execute(&mut *tx).await?;
                 Deleted::Yes
             }
         };

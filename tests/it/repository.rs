@@ -1,5 +1,6 @@
 //! The repository keeps its promises to readers and tools: the fixtures' README names files
-//! that exist, and every SQL file of `migrations/` is a migration the binary runs.
+//! that exist, every SQL file of `migrations/` is a migration the binary runs, and every test
+//! that starts the application runs on both database backends.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -44,4 +45,28 @@ fn every_sql_file_is_a_migration_the_binary_runs() {
         let embedded: BTreeSet<String> = migrator.iter().map(|m| format!("{:04}_{}.sql", m.version, m.description.replace(' ', "_"))).collect();
         assert_eq!(files, embedded, "{folder}");
     }
+}
+
+/// `tests/run_all.sh` runs the tests under `tests/it/db/` a second time on PostgreSQL: a test
+/// elsewhere that starts the application (or the server binary) would silently skip it.
+#[test]
+fn every_test_that_starts_the_app_runs_on_both_backends() {
+    let it = root().join("tests/it");
+    let mut outside = Vec::new();
+    for file in files_under(&it, "rs") {
+        let rel = file.strip_prefix(&it).unwrap();
+        if rel.starts_with("db") || rel == Path::new("common.rs") || rel == Path::new("repository.rs") {
+            continue;
+        }
+        let code = fs::read_to_string(&file).unwrap();
+        // the app in process, a fresh database, or the binary pointed at a database
+        if ["TestApp", "fresh_db", ".env(\"COVERPLAN_DATABASE_URL\""].iter().any(|marker| code.contains(marker)) {
+            outside.push(rel.display().to_string());
+        }
+    }
+    assert!(outside.is_empty(), "these start the application outside tests/it/db/, so PostgreSQL never sees them: {outside:?}");
+    let db_tests = files_under(&it.join("db"), "rs").len();
+    assert!(db_tests >= 10, "{db_tests} files under tests/it/db");
+    let run_all = fs::read_to_string(root().join("tests/run_all.sh")).unwrap();
+    assert!(run_all.contains("-- db::"), "the PostgreSQL pass selects the db module");
 }

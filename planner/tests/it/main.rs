@@ -1,13 +1,11 @@
-//! The planner's integration tests, in one binary: they use the crate as the service does.
+//! The planner's integration tests, in one binary: they use the crate as the service does. The
+//! long property sweeps over every planner are `tests/sweeps/` (feature `sweeps`).
 
 mod architecture;
 mod energy_planners;
 mod fixtures;
-mod fleets;
-mod ground_plans;
 mod inspection;
 mod obstacles;
 mod patrolling;
-mod planner_properties;
 mod seed004;
 mod several_fields;

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Regenerates docs/benchmarks.md: every table is printed by `coverplan bench … --markdown`, which
+# heads it with the command that regenerates it. Run from the repository's root:
+#   bash docs/benchmarks.sh
+# (a release build with the benchmarks: `cargo build --release --features bench`; a few minutes).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+# COVERPLAN_BIN: a release binary built with the benchmarks already (skips the build)
+bin="${COVERPLAN_BIN:-}"
+if [ -z "$bin" ]; then
+  cargo build --release --locked --features bench
+  bin=target/release/coverplan
+fi
+out=docs/benchmarks.md
+{
+  cat <<'HEAD'
+# Benchmarks
+
+Planning time and plan quality, written by `bash docs/benchmarks.sh`: each table below is printed
+by the command above it (`coverplan bench … --markdown`), in a release build, on the machine named
+at the end. Times are wall-clock planning times without the process start; lengths, coverage and
+efficiency do not depend on the machine. The fields are `tests/fixtures/random-fields` (generated,
+0 to 15 holes, four per hole count) and `tests/fixtures/real-fields`.
+
+HEAD
+  section() {
+    local title="$1"; shift
+    printf '## %s\n\n' "$title"
+    "$bin" bench "$@" --markdown
+    printf '\n'
+  }
+  section "Every planner, multirotor (holes as no-fly zones)" --repeats 1
+  section "Fixed wing, 20 m spacing, turning on 10 m" --planner line_gtsp --vehicle fixed_wing --spacing 20 --repeats 1
+  section "Beside Fields2Cover, fixed wing, holes flown over" --fields2cover --overfly-holes --repeats 1
+  section "Beside Fields2Cover, fixed wing, holes as no-fly zones" --fields2cover --repeats 1
+  section "Line-level routing" --routing
+  section "Ground vehicles" --ground --repeats 3
+  section "Fleets" --fleet
+  printf 'Measured on: %s, %s cores, %s.\n' "$(uname -m)" "$(nproc)" "$(date -u +%Y-%m-%d)"
+} >"$out.new"
+mv "$out.new" "$out"
+echo "wrote $out"

@@ -60,7 +60,18 @@ pub async fn create(db: &Db, tenant: &str, admin: bool) -> Result<(KeyInfo, Stri
     let secret = format!("{}{}", uuid::Uuid::new_v4().simple(), uuid::Uuid::new_v4().simple());
     let info: KeyInfo = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let info = sqlx::query_as(sql(Statement { sqlite: concat!("INSERT INTO api_keys (id, tenant, admin, secret_hash, created_at) VALUES (?, ?, ?, ?, ", crate::sqlite_now!(), ") RETURNING id, tenant, admin, created_at, revoked_at"), postgres: concat!("INSERT INTO api_keys (id, tenant, admin, secret_hash, created_at) VALUES ($1, $2, $3, $4, ", crate::postgres_now!(), ") RETURNING id, tenant, admin, created_at, revoked_at") }))
+        let info = sqlx::query_as(sql(Statement {
+            sqlite: concat!(
+                "INSERT INTO api_keys (id, tenant, admin, secret_hash, created_at) VALUES (?, ?, ?, ?, ",
+                crate::sqlite_now!(),
+                ") RETURNING id, tenant, admin, created_at, revoked_at"
+            ),
+            postgres: concat!(
+                "INSERT INTO api_keys (id, tenant, admin, secret_hash, created_at) VALUES ($1, $2, $3, $4, ",
+                crate::postgres_now!(),
+                ") RETURNING id, tenant, admin, created_at, revoked_at"
+            ),
+        }))
         .bind(&id)
         .bind(tenant)
         .bind(admin)
@@ -81,7 +92,13 @@ pub async fn list(db: &Db) -> Result<Vec<KeyInfo>, sqlx::Error> {
 pub async fn revoke(db: &Db, id: &str) -> Result<bool, sqlx::Error> {
     let revoked = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let done = sqlx::query(sql(Statement { sqlite: concat!("UPDATE api_keys SET revoked_at = ", crate::sqlite_now!(), " WHERE id = ? AND revoked_at IS NULL"), postgres: concat!("UPDATE api_keys SET revoked_at = ", crate::postgres_now!(), " WHERE id = $1 AND revoked_at IS NULL") })).bind(id).execute(&mut *tx).await?;
+        let done = sqlx::query(sql(Statement {
+            sqlite: concat!("UPDATE api_keys SET revoked_at = ", crate::sqlite_now!(), " WHERE id = ? AND revoked_at IS NULL"),
+            postgres: concat!("UPDATE api_keys SET revoked_at = ", crate::postgres_now!(), " WHERE id = $1 AND revoked_at IS NULL"),
+        }))
+        .bind(id)
+        .execute(&mut *tx)
+        .await?;
         tx.commit().await?;
         done.rows_affected()
     });
@@ -104,7 +121,12 @@ struct StoredKey {
 /// The caller a presented key stands for; `None` for a malformed, unknown or revoked key.
 pub async fn authenticate(db: &Db, presented: &str) -> Result<Option<Caller>, sqlx::Error> {
     let Some((id, secret)) = presented.strip_prefix(PREFIX).and_then(|rest| rest.split_once('_')) else { return Ok(None) };
-    let stored: Option<StoredKey> =
-        on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: "SELECT tenant, admin, secret_hash FROM api_keys WHERE id = ? AND revoked_at IS NULL", postgres: "SELECT tenant, admin, secret_hash FROM api_keys WHERE id = $1 AND revoked_at IS NULL" })).bind(id).fetch_optional(pool).await?);
+    let stored: Option<StoredKey> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
+        sqlite: "SELECT tenant, admin, secret_hash FROM api_keys WHERE id = ? AND revoked_at IS NULL",
+        postgres: "SELECT tenant, admin, secret_hash FROM api_keys WHERE id = $1 AND revoked_at IS NULL"
+    }))
+    .bind(id)
+    .fetch_optional(pool)
+    .await?);
     Ok(stored.filter(|k| bool::from(k.secret_hash.as_bytes().ct_eq(hash(secret).as_bytes()))).map(|k| Caller { tenant: k.tenant, admin: k.admin, key_id: Some(id.to_owned()) }))
 }

@@ -107,9 +107,26 @@ pub async fn create(db: &Db, tenant: &str, m: &NewMission) -> Result<Mission, sq
     let id = new_id();
     let row: MissionRow = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let query = sqlx::query_as(sql(Statement { sqlite: concat!("INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, structures, home_lon, home_lat, created_at, updated_at)
-         VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ", crate::sqlite_now!(), ", ", crate::sqlite_now!(), ") RETURNING ", columns!()), postgres: concat!("INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, structures, home_lon, home_lat, created_at, updated_at)
-         VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, ", crate::postgres_now!(), ", ", crate::postgres_now!(), ") RETURNING ", columns!()) }));
+        let query = sqlx::query_as(sql(Statement {
+            sqlite: concat!(
+                "INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, structures, home_lon, home_lat, created_at, updated_at)
+         VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ",
+                crate::sqlite_now!(),
+                ", ",
+                crate::sqlite_now!(),
+                ") RETURNING ",
+                columns!()
+            ),
+            postgres: concat!(
+                "INSERT INTO missions (id, tenant, name, area, no_fly_zones, obstacles, structures, home_lon, home_lat, created_at, updated_at)
+         VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, ",
+                crate::postgres_now!(),
+                ", ",
+                crate::postgres_now!(),
+                ") RETURNING ",
+                columns!()
+            ),
+        }));
         let row = bind_content!(query.bind(&id).bind(tenant), m).fetch_one(&mut *tx).await?;
         tx.commit().await?;
         row
@@ -119,17 +136,26 @@ pub async fn create(db: &Db, tenant: &str, m: &NewMission) -> Result<Mission, sq
 
 /// A mission of `tenant`'s; another tenant's is `None`, as one that does not exist.
 pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<Mission>, sqlx::Error> {
-    let row: Option<MissionRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: concat!("SELECT ", columns!(), " FROM missions WHERE id = ? AND tenant = ?"), postgres: concat!("SELECT ", columns!(), " FROM missions WHERE id = $1 AND tenant = $2") }))
-        .bind(id)
-        .bind(tenant)
-        .fetch_optional(pool)
-        .await?);
+    let row: Option<MissionRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
+        sqlite: concat!("SELECT ", columns!(), " FROM missions WHERE id = ? AND tenant = ?"),
+        postgres: concat!("SELECT ", columns!(), " FROM missions WHERE id = $1 AND tenant = $2")
+    }))
+    .bind(id)
+    .bind(tenant)
+    .fetch_optional(pool)
+    .await?);
     Ok(row.map(Into::into))
 }
 
 /// How many missions a tenant has, for the pages' totals.
 async fn count(db: &Db, tenant: &str) -> Result<i64, sqlx::Error> {
-    on_db!(db, |pool, sql| sqlx::query_scalar(sql(Statement { sqlite: "SELECT COUNT(*) FROM missions WHERE tenant = ?", postgres: "SELECT COUNT(*) FROM missions WHERE tenant = $1" })).bind(tenant).fetch_one(pool).await)
+    on_db!(db, |pool, sql| sqlx::query_scalar(sql(Statement {
+        sqlite: "SELECT COUNT(*) FROM missions WHERE tenant = ?",
+        postgres: "SELECT COUNT(*) FROM missions WHERE tenant = $1"
+    }))
+    .bind(tenant)
+    .fetch_one(pool)
+    .await)
 }
 
 /// A page of a tenant's rows read by `select` (which ends `WHERE tenant = ? … LIMIT ? OFFSET ?`),
@@ -143,21 +169,46 @@ macro_rules! page {
 
 /// A page of a tenant's missions, newest first, and the total count.
 pub async fn list(db: &Db, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<Mission>, i64), sqlx::Error> {
-    let select = Statement { sqlite: concat!("SELECT ", columns!(), " FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?"), postgres: concat!("SELECT ", columns!(), " FROM missions WHERE tenant = $1 ORDER BY created_at DESC, seq DESC LIMIT $2 OFFSET $3") };
+    let select = Statement {
+        sqlite: concat!("SELECT ", columns!(), " FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?"),
+        postgres: concat!("SELECT ", columns!(), " FROM missions WHERE tenant = $1 ORDER BY created_at DESC, seq DESC LIMIT $2 OFFSET $3"),
+    };
     let (rows, total): (Vec<MissionRow>, i64) = page!(db, select, tenant, limit, offset);
     Ok((rows.into_iter().map(Into::into).collect(), total))
 }
 
 /// A page of a tenant's mission summaries, newest first, and the total count.
 pub async fn list_summaries(db: &Db, tenant: &str, limit: i64, offset: i64) -> Result<(Vec<MissionSummary>, i64), sqlx::Error> {
-    Ok(page!(db, Statement { sqlite: "SELECT id, name, created_at, updated_at FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?", postgres: "SELECT id, name, created_at, updated_at FROM missions WHERE tenant = $1 ORDER BY created_at DESC, seq DESC LIMIT $2 OFFSET $3" }, tenant, limit, offset))
+    Ok(page!(
+        db,
+        Statement {
+            sqlite: "SELECT id, name, created_at, updated_at FROM missions WHERE tenant = ? ORDER BY created_at DESC, rowid DESC LIMIT ? OFFSET ?",
+            postgres: "SELECT id, name, created_at, updated_at FROM missions WHERE tenant = $1 ORDER BY created_at DESC, seq DESC LIMIT $2 OFFSET $3"
+        },
+        tenant,
+        limit,
+        offset
+    ))
 }
 
 /// Replaces a mission's content; `None` when the tenant has no such mission.
 pub async fn update(db: &Db, tenant: &str, id: &str, m: &NewMission) -> Result<Option<Mission>, sqlx::Error> {
     let row: Option<MissionRow> = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let query = sqlx::query_as(sql(Statement { sqlite: concat!("UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, structures = ?, home_lon = ?, home_lat = ?, updated_at = ", crate::sqlite_now!(), " WHERE id = ? AND tenant = ? RETURNING ", columns!()), postgres: concat!("UPDATE missions SET name = $1, area = $2, no_fly_zones = $3, obstacles = $4, structures = $5, home_lon = $6, home_lat = $7, updated_at = ", crate::postgres_now!(), " WHERE id = $8 AND tenant = $9 RETURNING ", columns!()) }));
+        let query = sqlx::query_as(sql(Statement {
+            sqlite: concat!(
+                "UPDATE missions SET name = ?, area = ?, no_fly_zones = ?, obstacles = ?, structures = ?, home_lon = ?, home_lat = ?, updated_at = ",
+                crate::sqlite_now!(),
+                " WHERE id = ? AND tenant = ? RETURNING ",
+                columns!()
+            ),
+            postgres: concat!(
+                "UPDATE missions SET name = $1, area = $2, no_fly_zones = $3, obstacles = $4, structures = $5, home_lon = $6, home_lat = $7, updated_at = ",
+                crate::postgres_now!(),
+                " WHERE id = $8 AND tenant = $9 RETURNING ",
+                columns!()
+            ),
+        }));
         let row = bind_content!(query, m).bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
         tx.commit().await?;
         row
@@ -169,7 +220,11 @@ pub async fn update(db: &Db, tenant: &str, id: &str, m: &NewMission) -> Result<O
 pub async fn delete(db: &Db, tenant: &str, id: &str) -> Result<bool, sqlx::Error> {
     let deleted = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let done = sqlx::query(sql(Statement { sqlite: "DELETE FROM missions WHERE id = ? AND tenant = ?", postgres: "DELETE FROM missions WHERE id = $1 AND tenant = $2" })).bind(id).bind(tenant).execute(&mut *tx).await?;
+        let done = sqlx::query(sql(Statement { sqlite: "DELETE FROM missions WHERE id = ? AND tenant = ?", postgres: "DELETE FROM missions WHERE id = $1 AND tenant = $2" }))
+            .bind(id)
+            .bind(tenant)
+            .execute(&mut *tx)
+            .await?;
         tx.commit().await?;
         done.rows_affected()
     });

@@ -122,11 +122,30 @@ pub async fn create(db: &Db, tenant: &str, mission_id: &str, params: &Value, mis
         if db.is_postgres() {
             sqlx::query("SELECT pg_advisory_xact_lock(hashtext($1))").bind(tenant).execute(&mut *tx).await?;
         }
-        let active: i64 = sqlx::query_scalar(sql(Statement { sqlite: "SELECT COUNT(*) FROM plans WHERE tenant = ? AND status IN ('queued', 'running')", postgres: "SELECT COUNT(*) FROM plans WHERE tenant = $1 AND status IN ('queued', 'running')" })).bind(tenant).fetch_one(&mut *tx).await?;
+        let active: i64 = sqlx::query_scalar(sql(Statement {
+            sqlite: "SELECT COUNT(*) FROM plans WHERE tenant = ? AND status IN ('queued', 'running')",
+            postgres: "SELECT COUNT(*) FROM plans WHERE tenant = $1 AND status IN ('queued', 'running')",
+        }))
+        .bind(tenant)
+        .fetch_one(&mut *tx)
+        .await?;
         if active >= most_active {
             return Ok(None);
         }
-        let row = sqlx::query_as(sql(Statement { sqlite: concat!("INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, ?, 'queued', ", crate::sqlite_now!(), ") RETURNING ", columns!()), postgres: concat!("INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES ($1, $2, $3, $4, $5, 'queued', ", crate::postgres_now!(), ") RETURNING ", columns!()) }))
+        let row = sqlx::query_as(sql(Statement {
+            sqlite: concat!(
+                "INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, ?, 'queued', ",
+                crate::sqlite_now!(),
+                ") RETURNING ",
+                columns!()
+            ),
+            postgres: concat!(
+                "INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES ($1, $2, $3, $4, $5, 'queued', ",
+                crate::postgres_now!(),
+                ") RETURNING ",
+                columns!()
+            ),
+        }))
         .bind(&id)
         .bind(tenant)
         .bind(mission_id)
@@ -146,18 +165,26 @@ pub async fn create(db: &Db, tenant: &str, mission_id: &str, params: &Value, mis
 
 /// A plan of `tenant`'s; another tenant's is `None`, as one that does not exist.
 pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<Plan>, sqlx::Error> {
-    let row: Option<PlanRow> =
-        on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: concat!("SELECT ", columns!(), " FROM plans WHERE id = ? AND tenant = ?"), postgres: concat!("SELECT ", columns!(), " FROM plans WHERE id = $1 AND tenant = $2") })).bind(id).bind(tenant).fetch_optional(pool).await?);
+    let row: Option<PlanRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
+        sqlite: concat!("SELECT ", columns!(), " FROM plans WHERE id = ? AND tenant = ?"),
+        postgres: concat!("SELECT ", columns!(), " FROM plans WHERE id = $1 AND tenant = $2")
+    }))
+    .bind(id)
+    .bind(tenant)
+    .fetch_optional(pool)
+    .await?);
     Ok(row.map(Into::into))
 }
 
 pub async fn list_for_mission(db: &Db, tenant: &str, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
-    let rows: Vec<PlanRow> =
-        on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? AND tenant = ? ORDER BY created_at DESC, rowid DESC"), postgres: concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = $1 AND tenant = $2 ORDER BY created_at DESC, seq DESC") }))
-            .bind(mission_id)
-            .bind(tenant)
-            .fetch_all(pool)
-            .await?);
+    let rows: Vec<PlanRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
+        sqlite: concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? AND tenant = ? ORDER BY created_at DESC, rowid DESC"),
+        postgres: concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = $1 AND tenant = $2 ORDER BY created_at DESC, seq DESC")
+    }))
+    .bind(mission_id)
+    .bind(tenant)
+    .fetch_all(pool)
+    .await?);
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
@@ -175,7 +202,10 @@ pub struct ExportSource {
 }
 
 pub async fn export_source(db: &Db, tenant: &str, id: &str) -> Result<Option<ExportSource>, sqlx::Error> {
-    on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ?", postgres: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = $1 AND p.tenant = $2" }))
+    on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
+        sqlite: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ?",
+        postgres: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = $1 AND p.tenant = $2"
+    }))
     .bind(id)
     .bind(tenant)
     .fetch_optional(pool)
@@ -202,23 +232,44 @@ pub struct Claim<'a> {
 }
 
 /// Records the end of a claim, in the transaction that ends it.
-const CLOSE_CLAIM: Statement = Statement { sqlite: concat!("UPDATE plan_claims SET ended_at = ", crate::sqlite_epoch!(), ", outcome = ? WHERE plan_id = ? AND replica = ? AND ended_at IS NULL"), postgres: concat!("UPDATE plan_claims SET ended_at = ", crate::postgres_epoch!(), ", outcome = $1 WHERE plan_id = $2 AND replica = $3 AND ended_at IS NULL") };
+const CLOSE_CLAIM: Statement = Statement {
+    sqlite: concat!("UPDATE plan_claims SET ended_at = ", crate::sqlite_epoch!(), ", outcome = ? WHERE plan_id = ? AND replica = ? AND ended_at IS NULL"),
+    postgres: concat!("UPDATE plan_claims SET ended_at = ", crate::postgres_epoch!(), ", outcome = $1 WHERE plan_id = $2 AND replica = $3 AND ended_at IS NULL"),
+};
 
 /// Atomically takes the oldest queued plan for `replica`, marks it running under a lease of
 /// `lease_s` seconds and records the claim. On PostgreSQL the row is locked with `SKIP LOCKED`,
 /// so replicas claiming at once take different plans without waiting for each other.
 pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<Job>, sqlx::Error> {
     // the same claim on both; PostgreSQL locks the row it takes and skips those others hold
-    const CLAIM: Statement = Statement { sqlite: concat!("UPDATE plans SET status = 'running', progress = 0, started_at = ", crate::sqlite_now!(), ", attempts = attempts + 1, claimed_by = ?, lease_until = ", crate::sqlite_epoch!(), " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1) RETURNING id, tenant, params, mission"), postgres: concat!("UPDATE plans SET status = 'running', progress = 0, started_at = ", crate::postgres_now!(), ", attempts = attempts + 1, claimed_by = $1, lease_until = ", crate::postgres_epoch!(), " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, params, mission") };
+    const CLAIM: Statement = Statement {
+        sqlite: concat!(
+            "UPDATE plans SET status = 'running', progress = 0, started_at = ",
+            crate::sqlite_now!(),
+            ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
+            crate::sqlite_epoch!(),
+            " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1) RETURNING id, tenant, params, mission"
+        ),
+        postgres: concat!(
+            "UPDATE plans SET status = 'running', progress = 0, started_at = ",
+            crate::postgres_now!(),
+            ", attempts = attempts + 1, claimed_by = $1, lease_until = ",
+            crate::postgres_epoch!(),
+            " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, params, mission"
+        ),
+    };
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
         let job: Option<Job> = sqlx::query_as(sql(CLAIM)).bind(replica).bind(lease_s).fetch_optional(&mut *tx).await?;
         if let Some(job) = &job {
-            sqlx::query(sql(Statement { sqlite: concat!("INSERT INTO plan_claims (plan_id, replica, claimed_at) VALUES (?, ?, ", crate::sqlite_epoch!(), ")"), postgres: concat!("INSERT INTO plan_claims (plan_id, replica, claimed_at) VALUES ($1, $2, ", crate::postgres_epoch!(), ")") }))
-                .bind(&job.id)
-                .bind(replica)
-                .execute(&mut *tx)
-                .await?;
+            sqlx::query(sql(Statement {
+                sqlite: concat!("INSERT INTO plan_claims (plan_id, replica, claimed_at) VALUES (?, ?, ", crate::sqlite_epoch!(), ")"),
+                postgres: concat!("INSERT INTO plan_claims (plan_id, replica, claimed_at) VALUES ($1, $2, ", crate::postgres_epoch!(), ")"),
+            }))
+            .bind(&job.id)
+            .bind(replica)
+            .execute(&mut *tx)
+            .await?;
         }
         tx.commit().await?;
         Ok(job)
@@ -231,13 +282,16 @@ pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<J
 pub async fn heartbeat(db: &Db, claim: Claim<'_>, progress: f64, lease_s: f64) -> Result<bool, sqlx::Error> {
     let renewed = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let done = sqlx::query(sql(Statement { sqlite: concat!("UPDATE plans SET progress = ?, lease_until = ", crate::sqlite_epoch!(), " + ? WHERE id = ? AND claimed_by = ? AND status = 'running'"), postgres: concat!("UPDATE plans SET progress = $1, lease_until = ", crate::postgres_epoch!(), " + $2 WHERE id = $3 AND claimed_by = $4 AND status = 'running'") }))
-            .bind(progress)
-            .bind(lease_s)
-            .bind(claim.plan)
-            .bind(claim.replica)
-            .execute(&mut *tx)
-            .await?;
+        let done = sqlx::query(sql(Statement {
+            sqlite: concat!("UPDATE plans SET progress = ?, lease_until = ", crate::sqlite_epoch!(), " + ? WHERE id = ? AND claimed_by = ? AND status = 'running'"),
+            postgres: concat!("UPDATE plans SET progress = $1, lease_until = ", crate::postgres_epoch!(), " + $2 WHERE id = $3 AND claimed_by = $4 AND status = 'running'"),
+        }))
+        .bind(progress)
+        .bind(lease_s)
+        .bind(claim.plan)
+        .bind(claim.replica)
+        .execute(&mut *tx)
+        .await?;
         tx.commit().await?;
         done.rows_affected()
     });
@@ -269,7 +323,19 @@ pub async fn succeed(db: &Db, claim: Claim<'_>, stats: &Value, trajectory: &str)
     end_claim!(
         db,
         claim,
-        "succeeded", Statement { sqlite: concat!("UPDATE plans SET status = 'succeeded', progress = 1, stats = ?, trajectory = ?, claimed_by = NULL, lease_until = NULL, finished_at = ", crate::sqlite_now!(), " WHERE id = ? AND claimed_by = ? AND status = 'running'"), postgres: concat!("UPDATE plans SET status = 'succeeded', progress = 1, stats = $1, trajectory = $2, claimed_by = NULL, lease_until = NULL, finished_at = ", crate::postgres_now!(), " WHERE id = $3 AND claimed_by = $4 AND status = 'running'") },
+        "succeeded",
+        Statement {
+            sqlite: concat!(
+                "UPDATE plans SET status = 'succeeded', progress = 1, stats = ?, trajectory = ?, claimed_by = NULL, lease_until = NULL, finished_at = ",
+                crate::sqlite_now!(),
+                " WHERE id = ? AND claimed_by = ? AND status = 'running'"
+            ),
+            postgres: concat!(
+                "UPDATE plans SET status = 'succeeded', progress = 1, stats = $1, trajectory = $2, claimed_by = NULL, lease_until = NULL, finished_at = ",
+                crate::postgres_now!(),
+                " WHERE id = $3 AND claimed_by = $4 AND status = 'running'"
+            )
+        },
         |q| q.bind(Json(stats)).bind(trajectory)
     )
 }
@@ -279,7 +345,19 @@ pub async fn fail(db: &Db, claim: Claim<'_>, code: &str, error: &str) -> Result<
     end_claim!(
         db,
         claim,
-        "failed", Statement { sqlite: concat!("UPDATE plans SET status = 'failed', error_code = ?, error = ?, claimed_by = NULL, lease_until = NULL, finished_at = ", crate::sqlite_now!(), " WHERE id = ? AND claimed_by = ? AND status = 'running'"), postgres: concat!("UPDATE plans SET status = 'failed', error_code = $1, error = $2, claimed_by = NULL, lease_until = NULL, finished_at = ", crate::postgres_now!(), " WHERE id = $3 AND claimed_by = $4 AND status = 'running'") },
+        "failed",
+        Statement {
+            sqlite: concat!(
+                "UPDATE plans SET status = 'failed', error_code = ?, error = ?, claimed_by = NULL, lease_until = NULL, finished_at = ",
+                crate::sqlite_now!(),
+                " WHERE id = ? AND claimed_by = ? AND status = 'running'"
+            ),
+            postgres: concat!(
+                "UPDATE plans SET status = 'failed', error_code = $1, error = $2, claimed_by = NULL, lease_until = NULL, finished_at = ",
+                crate::postgres_now!(),
+                " WHERE id = $3 AND claimed_by = $4 AND status = 'running'"
+            )
+        },
         |q| q.bind(code).bind(error)
     )
 }
@@ -290,7 +368,11 @@ pub async fn requeue(db: &Db, claim: Claim<'_>) -> Result<(), sqlx::Error> {
     end_claim!(
         db,
         claim,
-        "handed_back", Statement { sqlite: "UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE id = ? AND claimed_by = ? AND status = 'running'", postgres: "UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE id = $1 AND claimed_by = $2 AND status = 'running'" },
+        "handed_back",
+        Statement {
+            sqlite: "UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE id = ? AND claimed_by = ? AND status = 'running'",
+            postgres: "UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE id = $1 AND claimed_by = $2 AND status = 'running'"
+        },
         |q| q
     )
 }
@@ -306,12 +388,26 @@ pub async fn release(db: &Db, claim: Claim<'_>, outcome: &str) -> Result<(), sql
 pub async fn cancel(db: &Db, tenant: &str, id: &str) -> Result<Option<PlanStatus>, sqlx::Error> {
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        sqlx::query(sql(Statement { sqlite: concat!("UPDATE plans SET status = 'cancelled', finished_at = ", crate::sqlite_now!(), " WHERE id = ? AND tenant = ? AND status IN ('queued', 'running')"), postgres: concat!("UPDATE plans SET status = 'cancelled', finished_at = ", crate::postgres_now!(), " WHERE id = $1 AND tenant = $2 AND status IN ('queued', 'running')") }))
-            .bind(id)
-            .bind(tenant)
-            .execute(&mut *tx)
-            .await?;
-        let status = sqlx::query_scalar(sql(Statement { sqlite: "SELECT status FROM plans WHERE id = ? AND tenant = ?", postgres: "SELECT status FROM plans WHERE id = $1 AND tenant = $2" })).bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
+        sqlx::query(sql(Statement {
+            sqlite: concat!("UPDATE plans SET status = 'cancelled', finished_at = ", crate::sqlite_now!(), " WHERE id = ? AND tenant = ? AND status IN ('queued', 'running')"),
+            postgres: concat!(
+                "UPDATE plans SET status = 'cancelled', finished_at = ",
+                crate::postgres_now!(),
+                " WHERE id = $1 AND tenant = $2 AND status IN ('queued', 'running')"
+            ),
+        }))
+        .bind(id)
+        .bind(tenant)
+        .execute(&mut *tx)
+        .await?;
+        let status = sqlx::query_scalar(sql(Statement {
+            sqlite: "SELECT status FROM plans WHERE id = ? AND tenant = ?",
+            postgres: "SELECT status FROM plans WHERE id = $1 AND tenant = $2",
+        }))
+        .bind(id)
+        .bind(tenant)
+        .fetch_optional(&mut *tx)
+        .await?;
         tx.commit().await?;
         Ok(status)
     })
@@ -326,25 +422,74 @@ pub async fn requeue_abandoned(db: &Db, every_running: bool) -> Result<(u64, u64
     // `every_running`, any running plan)
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        sqlx::query(sql(Statement { sqlite: concat!("UPDATE plan_claims SET ended_at = ", crate::sqlite_epoch!(), ", outcome = 'abandoned' WHERE ended_at IS NULL AND plan_id IN (SELECT id FROM plans WHERE ", "status = 'running' AND (? OR lease_until IS NULL OR lease_until < ", crate::sqlite_epoch!(), ")", ")"), postgres: concat!("UPDATE plan_claims SET ended_at = ", crate::postgres_epoch!(), ", outcome = 'abandoned' WHERE ended_at IS NULL AND plan_id IN (SELECT id FROM plans WHERE ", "status = 'running' AND ($1 OR lease_until IS NULL OR lease_until < ", crate::postgres_epoch!(), ")", ")") }))
+        sqlx::query(sql(Statement {
+            sqlite: concat!(
+                "UPDATE plan_claims SET ended_at = ",
+                crate::sqlite_epoch!(),
+                ", outcome = 'abandoned' WHERE ended_at IS NULL AND plan_id IN (SELECT id FROM plans WHERE ",
+                "status = 'running' AND (? OR lease_until IS NULL OR lease_until < ",
+                crate::sqlite_epoch!(),
+                ")",
+                ")"
+            ),
+            postgres: concat!(
+                "UPDATE plan_claims SET ended_at = ",
+                crate::postgres_epoch!(),
+                ", outcome = 'abandoned' WHERE ended_at IS NULL AND plan_id IN (SELECT id FROM plans WHERE ",
+                "status = 'running' AND ($1 OR lease_until IS NULL OR lease_until < ",
+                crate::postgres_epoch!(),
+                ")",
+                ")"
+            ),
+        }))
         .bind(every_running)
         .execute(&mut *tx)
         .await?;
-        let failed = sqlx::query(sql(Statement { sqlite: concat!("UPDATE plans SET status = 'failed', error_code = 'interrupted', claimed_by = NULL, lease_until = NULL, finished_at = ", crate::sqlite_now!(), ",
+        let failed = sqlx::query(sql(Statement {
+            sqlite: concat!(
+                "UPDATE plans SET status = 'failed', error_code = 'interrupted', claimed_by = NULL, lease_until = NULL, finished_at = ",
+                crate::sqlite_now!(),
+                ",
                 error = 'the server stopped during this plan ' || attempts || ' times; it was not retried again'
-             WHERE attempts >= ? AND ", "status = 'running' AND (? OR lease_until IS NULL OR lease_until < ", crate::sqlite_epoch!(), ")"), postgres: concat!("UPDATE plans SET status = 'failed', error_code = 'interrupted', claimed_by = NULL, lease_until = NULL, finished_at = ", crate::postgres_now!(), ",
+             WHERE attempts >= ? AND ",
+                "status = 'running' AND (? OR lease_until IS NULL OR lease_until < ",
+                crate::sqlite_epoch!(),
+                ")"
+            ),
+            postgres: concat!(
+                "UPDATE plans SET status = 'failed', error_code = 'interrupted', claimed_by = NULL, lease_until = NULL, finished_at = ",
+                crate::postgres_now!(),
+                ",
                 error = 'the server stopped during this plan ' || attempts || ' times; it was not retried again'
-             WHERE attempts >= $1 AND ", "status = 'running' AND ($2 OR lease_until IS NULL OR lease_until < ", crate::postgres_epoch!(), ")") }))
+             WHERE attempts >= $1 AND ",
+                "status = 'running' AND ($2 OR lease_until IS NULL OR lease_until < ",
+                crate::postgres_epoch!(),
+                ")"
+            ),
+        }))
         .bind(MAX_ATTEMPTS)
         .bind(every_running)
         .execute(&mut *tx)
         .await?
         .rows_affected();
-        let requeued = sqlx::query(sql(Statement { sqlite: concat!("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE ", "status = 'running' AND (? OR lease_until IS NULL OR lease_until < ", crate::sqlite_epoch!(), ")"), postgres: concat!("UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE ", "status = 'running' AND ($1 OR lease_until IS NULL OR lease_until < ", crate::postgres_epoch!(), ")") }))
-            .bind(every_running)
-            .execute(&mut *tx)
-            .await?
-            .rows_affected();
+        let requeued = sqlx::query(sql(Statement {
+            sqlite: concat!(
+                "UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE ",
+                "status = 'running' AND (? OR lease_until IS NULL OR lease_until < ",
+                crate::sqlite_epoch!(),
+                ")"
+            ),
+            postgres: concat!(
+                "UPDATE plans SET status = 'queued', progress = 0, started_at = NULL, claimed_by = NULL, lease_until = NULL WHERE ",
+                "status = 'running' AND ($1 OR lease_until IS NULL OR lease_until < ",
+                crate::postgres_epoch!(),
+                ")"
+            ),
+        }))
+        .bind(every_running)
+        .execute(&mut *tx)
+        .await?
+        .rows_affected();
         tx.commit().await?;
         Ok((requeued, failed))
     })

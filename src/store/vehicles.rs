@@ -9,8 +9,8 @@ use sqlx::types::Json;
 use utoipa::ToSchema;
 
 use super::{Db, Statement, WritePool};
-use crate::planner::vehicle::{Vehicle, builtin_profiles};
 use crate::on_db;
+use crate::planner::vehicle::{Vehicle, builtin_profiles};
 
 /// A stored profile.
 #[derive(Debug, Clone, Serialize, ToSchema)]
@@ -51,7 +51,22 @@ pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
         for v in builtin_profiles() {
-            sqlx::query(sql(Statement { sqlite: concat!("INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', ?, TRUE, ?, ", crate::sqlite_now!(), ", ", crate::sqlite_now!(), ") ON CONFLICT DO NOTHING"), postgres: concat!("INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', $1, TRUE, $2, ", crate::postgres_now!(), ", ", crate::postgres_now!(), ") ON CONFLICT DO NOTHING") }))
+            sqlx::query(sql(Statement {
+                sqlite: concat!(
+                    "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', ?, TRUE, ?, ",
+                    crate::sqlite_now!(),
+                    ", ",
+                    crate::sqlite_now!(),
+                    ") ON CONFLICT DO NOTHING"
+                ),
+                postgres: concat!(
+                    "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ('', $1, TRUE, $2, ",
+                    crate::postgres_now!(),
+                    ", ",
+                    crate::postgres_now!(),
+                    ") ON CONFLICT DO NOTHING"
+                ),
+            }))
             .bind(&v.profile)
             .bind(Json(&v))
             .execute(&mut *tx)
@@ -63,10 +78,13 @@ pub async fn insert_builtins(db: &Db) -> Result<(), sqlx::Error> {
 
 /// The built-ins and `tenant`'s own profiles.
 pub async fn list(db: &Db, tenant: &str) -> Result<Vec<StoredVehicle>, sqlx::Error> {
-    let rows: Vec<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', ?) ORDER BY builtin DESC, id"), postgres: concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', $1) ORDER BY builtin DESC, id") }))
-        .bind(tenant)
-        .fetch_all(pool)
-        .await?);
+    let rows: Vec<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
+        sqlite: concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', ?) ORDER BY builtin DESC, id"),
+        postgres: concat!("SELECT ", columns!(), " FROM vehicles WHERE tenant IN ('', $1) ORDER BY builtin DESC, id")
+    }))
+    .bind(tenant)
+    .fetch_all(pool)
+    .await?);
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
@@ -77,11 +95,14 @@ pub async fn profiles(db: &Db, tenant: &str) -> Result<Vec<Vehicle>, sqlx::Error
 
 /// A built-in or one of `tenant`'s profiles.
 pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<StoredVehicle>, sqlx::Error> {
-    let row: Option<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement { sqlite: concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ? AND tenant IN ('', ?)"), postgres: concat!("SELECT ", columns!(), " FROM vehicles WHERE id = $1 AND tenant IN ('', $2)") }))
-        .bind(id)
-        .bind(tenant)
-        .fetch_optional(pool)
-        .await?);
+    let row: Option<VehicleRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
+        sqlite: concat!("SELECT ", columns!(), " FROM vehicles WHERE id = ? AND tenant IN ('', ?)"),
+        postgres: concat!("SELECT ", columns!(), " FROM vehicles WHERE id = $1 AND tenant IN ('', $2)")
+    }))
+    .bind(id)
+    .bind(tenant)
+    .fetch_optional(pool)
+    .await?);
     Ok(row.map(Into::into))
 }
 
@@ -90,13 +111,36 @@ pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<StoredVehicle
 pub async fn create(db: &Db, tenant: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
     let row: Option<VehicleRow> = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let taken: bool =
-            sqlx::query_scalar(sql(Statement { sqlite: "SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = ? AND tenant IN ('', ?))", postgres: "SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = $1 AND tenant IN ('', $2))" })).bind(&v.profile).bind(tenant).fetch_one(&mut *tx).await?;
+        let taken: bool = sqlx::query_scalar(sql(Statement {
+            sqlite: "SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = ? AND tenant IN ('', ?))",
+            postgres: "SELECT EXISTS (SELECT 1 FROM vehicles WHERE id = $1 AND tenant IN ('', $2))",
+        }))
+        .bind(&v.profile)
+        .bind(tenant)
+        .fetch_one(&mut *tx)
+        .await?;
         if taken {
             return Ok(None);
         }
         // a concurrent insert of the same id inserts nothing here
-        let row = sqlx::query_as(sql(Statement { sqlite: concat!("INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES (?, ?, FALSE, ?, ", crate::sqlite_now!(), ", ", crate::sqlite_now!(), ") ON CONFLICT DO NOTHING RETURNING ", columns!()), postgres: concat!("INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ($1, $2, FALSE, $3, ", crate::postgres_now!(), ", ", crate::postgres_now!(), ") ON CONFLICT DO NOTHING RETURNING ", columns!()) }))
+        let row = sqlx::query_as(sql(Statement {
+            sqlite: concat!(
+                "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES (?, ?, FALSE, ?, ",
+                crate::sqlite_now!(),
+                ", ",
+                crate::sqlite_now!(),
+                ") ON CONFLICT DO NOTHING RETURNING ",
+                columns!()
+            ),
+            postgres: concat!(
+                "INSERT INTO vehicles (tenant, id, builtin, body, created_at, updated_at) VALUES ($1, $2, FALSE, $3, ",
+                crate::postgres_now!(),
+                ", ",
+                crate::postgres_now!(),
+                ") ON CONFLICT DO NOTHING RETURNING ",
+                columns!()
+            ),
+        }))
         .bind(tenant)
         .bind(&v.profile)
         .bind(Json(v))
@@ -113,12 +157,15 @@ pub async fn create(db: &Db, tenant: &str, v: &Vehicle) -> Result<Option<StoredV
 pub async fn update(db: &Db, tenant: Option<&str>, id: &str, v: &Vehicle) -> Result<Option<StoredVehicle>, sqlx::Error> {
     let row: Option<VehicleRow> = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let row = sqlx::query_as(sql(Statement { sqlite: concat!("UPDATE vehicles SET body = ?, updated_at = ", crate::sqlite_now!(), " WHERE id = ? AND tenant = ? RETURNING ", columns!()), postgres: concat!("UPDATE vehicles SET body = $1, updated_at = ", crate::postgres_now!(), " WHERE id = $2 AND tenant = $3 RETURNING ", columns!()) }))
-            .bind(Json(v))
-            .bind(id)
-            .bind(tenant.unwrap_or(SHARED))
-            .fetch_optional(&mut *tx)
-            .await?;
+        let row = sqlx::query_as(sql(Statement {
+            sqlite: concat!("UPDATE vehicles SET body = ?, updated_at = ", crate::sqlite_now!(), " WHERE id = ? AND tenant = ? RETURNING ", columns!()),
+            postgres: concat!("UPDATE vehicles SET body = $1, updated_at = ", crate::postgres_now!(), " WHERE id = $2 AND tenant = $3 RETURNING ", columns!()),
+        }))
+        .bind(Json(v))
+        .bind(id)
+        .bind(tenant.unwrap_or(SHARED))
+        .fetch_optional(&mut *tx)
+        .await?;
         tx.commit().await?;
         row
     });
@@ -135,13 +182,23 @@ pub enum Deleted {
 pub async fn delete(db: &Db, tenant: &str, id: &str) -> Result<Deleted, sqlx::Error> {
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let builtin: Option<bool> =
-            sqlx::query_scalar(sql(Statement { sqlite: "SELECT builtin FROM vehicles WHERE id = ? AND tenant IN ('', ?)", postgres: "SELECT builtin FROM vehicles WHERE id = $1 AND tenant IN ('', $2)" })).bind(id).bind(tenant).fetch_optional(&mut *tx).await?;
+        let builtin: Option<bool> = sqlx::query_scalar(sql(Statement {
+            sqlite: "SELECT builtin FROM vehicles WHERE id = ? AND tenant IN ('', ?)",
+            postgres: "SELECT builtin FROM vehicles WHERE id = $1 AND tenant IN ('', $2)",
+        }))
+        .bind(id)
+        .bind(tenant)
+        .fetch_optional(&mut *tx)
+        .await?;
         let outcome = match builtin {
             None => Deleted::NotFound,
             Some(true) => Deleted::Builtin,
             Some(false) => {
-                sqlx::query(sql(Statement { sqlite: "DELETE FROM vehicles WHERE id = ? AND tenant = ?", postgres: "DELETE FROM vehicles WHERE id = $1 AND tenant = $2" })).bind(id).bind(tenant).execute(&mut *tx).await?;
+                sqlx::query(sql(Statement { sqlite: "DELETE FROM vehicles WHERE id = ? AND tenant = ?", postgres: "DELETE FROM vehicles WHERE id = $1 AND tenant = $2" }))
+                    .bind(id)
+                    .bind(tenant)
+                    .execute(&mut *tx)
+                    .await?;
                 Deleted::Yes
             }
         };

@@ -70,3 +70,28 @@ fn every_test_that_starts_the_app_runs_on_both_backends() {
     let run_all = fs::read_to_string(root().join("tests/run_all.sh")).unwrap();
     assert!(run_all.contains("-- db::"), "the PostgreSQL pass selects the db module");
 }
+
+/// Each backend's statements are written out for it (`store::Statement`): no SQL is rewritten
+/// at run time, and each text uses its own backend's bind markers and insertion order.
+#[test]
+fn every_statement_is_written_in_each_backends_dialect() {
+    let mut statements = 0;
+    for file in files_under(&root().join("src/store"), "rs") {
+        let code = fs::read_to_string(&file).unwrap();
+        assert!(!code.contains(".replace("), "{} rewrites text", file.display());
+        let code = code.split_whitespace().collect::<Vec<_>>().join(" ");
+        for (at, _) in code.match_indices("Statement { sqlite: ") {
+            let rest = &code[at..];
+            let (sqlite, postgres) = rest.split_once(", postgres: ").unwrap_or_else(|| panic!("{}: a statement without its PostgreSQL text", file.display()));
+            let postgres = postgres.split(" }").next().unwrap();
+            assert!(!sqlite.contains('$'), "{}: PostgreSQL's bind markers in SQLite's text: {sqlite}", file.display());
+            assert!(
+                !postgres.contains('?') && !postgres.contains("rowid") && !postgres.contains("strftime"),
+                "{}: SQLite's dialect in PostgreSQL's text: {postgres}",
+                file.display()
+            );
+            statements += 1;
+        }
+    }
+    assert!(statements >= 35, "{statements} statements found");
+}

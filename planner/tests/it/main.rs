@@ -3,7 +3,6 @@
 
 mod architecture;
 mod energy_planners;
-mod fixtures;
 mod inspection;
 mod obstacles;
 mod patrolling;

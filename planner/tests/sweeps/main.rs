@@ -2,7 +2,6 @@
 //! fields, fleets, and ground vehicles over generated fields with ponds. Built with feature
 //! `sweeps` (`tests/run_all.sh` turns it on), so that a plain `cargo test` stays quick.
 
-#[path = "../it/fixtures.rs"]
 mod fixtures;
 mod fleets;
 mod ground_plans;

@@ -12,6 +12,7 @@ use super::auth::Caller;
 use super::error::{ApiError, ApiJson, ApiQuery, Problem, off_the_async_threads};
 use crate::planner::{self, MissionGeometry, import};
 use crate::store::missions::{self, Mission, MissionSummary, NewMission};
+use crate::store::plans::{self, JobKind};
 
 #[derive(Debug, Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
@@ -195,8 +196,10 @@ pub async fn update(State(state): State<AppState>, caller: Caller, Path(id): Pat
 #[utoipa::path(delete, operation_id = "delete_mission", path = "/api/v1/missions/{id}", tag = "missions", params(("id" = String, Path)),
     responses((status = 204, description = "deleted, with its plans"), (status = 404, body = Problem)))]
 pub async fn delete(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<StatusCode, ApiError> {
-    for plan in crate::store::plans::list_for_mission(&state.db, &caller.tenant, &id).await? {
-        state.jobs.cancel(&plan.id);
+    for kind in [JobKind::Plan, JobKind::Patrol] {
+        for job in plans::list_for_mission(&state.db, &caller.tenant, kind, &id).await? {
+            state.jobs.cancel(&job.id);
+        }
     }
     if missions::delete(&state.db, &caller.tenant, &id).await? { Ok(StatusCode::NO_CONTENT) } else { Err(ApiError::not_found("mission", &id)) }
 }

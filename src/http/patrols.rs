@@ -7,14 +7,14 @@ use axum::extract::{Path, State};
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
-use serde_json::{Value, json};
+use serde_json::Value;
 use utoipa::ToSchema;
 
 use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiJson, Problem};
 use crate::planner::patrol::{self, CellGrid, Evaporation, PatrolParams, PatrolState, StrategyName, TieRule};
-use crate::store::plans::{self, Plan, PlanStatus};
+use crate::store::plans::{self, JobKind, Plan, PlanStatus};
 use crate::store::{missions, vehicles};
 
 /// A patrol and, once it has run, its figures.
@@ -42,7 +42,7 @@ impl From<Plan> for Patrol {
             id: p.id,
             mission_id: p.mission_id,
             status: p.status,
-            params: plans::without_kind(&p.params),
+            params: p.params,
             stats: p.stats,
             error: p.error,
             error_code: p.error_code,
@@ -55,7 +55,7 @@ impl From<Plan> for Patrol {
 
 /// A patrol of the caller's.
 async fn find(state: &AppState, caller: &Caller, id: &str) -> Result<Plan, ApiError> {
-    plans::get(&state.db, &caller.tenant, id).await?.filter(|p| plans::is_patrol(&p.params)).ok_or_else(|| ApiError::not_found("patrol", id))
+    plans::get(&state.db, &caller.tenant, JobKind::Patrol, id).await?.ok_or_else(|| ApiError::not_found("patrol", id))
 }
 
 #[utoipa::path(post, operation_id = "create_patrol", path = "/api/v1/missions/{id}/patrols", tag = "patrols", params(("id" = String, Path)), request_body = PatrolParams,
@@ -71,9 +71,8 @@ pub async fn create(
     let profiles = vehicles::profiles(&state.db, &caller.tenant).await?;
     let (_, vehicle) = params.resolve(&profiles)?;
     let snapshot = super::plans::snapshot(&mission, &profiles, &[&vehicle]);
-    let mut stored = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
-    stored["kind"] = json!("patrol");
-    let patrol = super::plans::enqueue(&state, &caller, &mission_id, &stored, &snapshot).await?;
+    let stored = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
+    let patrol = super::plans::enqueue(&state, &caller, JobKind::Patrol, &mission_id, &stored, &snapshot).await?;
     Ok((StatusCode::ACCEPTED, Json(patrol.into())))
 }
 
@@ -98,7 +97,7 @@ pub async fn cancel(State(state): State<AppState>, caller: Caller, Path(id): Pat
         (status = 404, body = Problem), (status = 409, body = Problem, description = "the patrol has not finished")))]
 pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<Response, ApiError> {
     find(&state, &caller, &id).await?;
-    let source = plans::export_source(&state.db, &caller.tenant, &id).await?.ok_or_else(|| ApiError::not_found("patrol", &id))?;
+    let source = plans::export_source(&state.db, &caller.tenant, JobKind::Patrol, &id).await?.ok_or_else(|| ApiError::not_found("patrol", &id))?;
     let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory) else {
         return Err(ApiError::conflict("trajectory_not_available", "a patrol's paths exist once it has succeeded"));
     };

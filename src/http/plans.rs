@@ -16,7 +16,7 @@ use crate::planner::export::{self, ExportFile, ExportOptions, ExportRequest, Fir
 use crate::planner::geojson::FeatureCollection;
 use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, MissionGeometry, PlanParams};
-use crate::store::plans::{self, Plan, PlanStatus};
+use crate::store::plans::{self, JobKind, Plan, PlanStatus};
 use crate::store::{missions, vehicles};
 
 #[utoipa::path(post, operation_id = "create_plan", path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)), request_body = PlanParams,
@@ -50,7 +50,7 @@ pub async fn create(
     let flown = planner::vehicles_flown(&params, &profiles)?;
     let snapshot = snapshot(&mission, &profiles, &flown.iter().collect::<Vec<_>>());
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
-    Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &mission_id, &params, &snapshot).await?)))
+    Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, JobKind::Plan, &mission_id, &params, &snapshot).await?)))
 }
 
 /// What a job runs on: the mission's geometry and the stored profiles of its vehicles as they
@@ -61,9 +61,16 @@ pub(super) fn snapshot(mission: &missions::Mission, profiles: &[Vehicle], flown:
 }
 
 /// Queues a job (a plan or a patrol) of the caller's, within the tenant's cap, and wakes a worker.
-pub(super) async fn enqueue(state: &AppState, caller: &Caller, mission_id: &str, params: &serde_json::Value, snapshot: &serde_json::Value) -> Result<Plan, ApiError> {
+pub(super) async fn enqueue(
+    state: &AppState,
+    caller: &Caller,
+    kind: JobKind,
+    mission_id: &str,
+    params: &serde_json::Value,
+    snapshot: &serde_json::Value,
+) -> Result<Plan, ApiError> {
     let most = state.config.max_queued;
-    let plan = plans::create(&state.db, &caller.tenant, mission_id, params, snapshot, most).await?.ok_or_else(|| ApiError::TooMany {
+    let plan = plans::create(&state.db, &caller.tenant, kind, mission_id, params, snapshot, most).await?.ok_or_else(|| ApiError::TooMany {
         code: "too_many_plans",
         detail: format!("{most} plans and patrols of yours are queued or running, the most this server takes at once: wait for one to finish or cancel one"),
         retry_after_s: 10,
@@ -76,7 +83,7 @@ pub(super) async fn enqueue(state: &AppState, caller: &Caller, mission_id: &str,
     responses((status = 200, body = Vec<Plan>, description = "newest first"), (status = 404, body = Problem)))]
 pub async fn list(State(state): State<AppState>, caller: Caller, Path(mission_id): Path<String>) -> Result<Json<Vec<Plan>>, ApiError> {
     missions::get(&state.db, &caller.tenant, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
-    Ok(Json(plans::list_for_mission(&state.db, &caller.tenant, &mission_id).await?.into_iter().filter(|p| !plans::is_patrol(&p.params)).collect()))
+    Ok(Json(plans::list_for_mission(&state.db, &caller.tenant, JobKind::Plan, &mission_id).await?))
 }
 
 #[utoipa::path(get, operation_id = "get_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),
@@ -87,7 +94,7 @@ pub async fn get(State(state): State<AppState>, caller: Caller, Path(id): Path<S
 
 /// A plan of the caller's (patrols share the queue, not these routes).
 async fn find(state: &AppState, caller: &Caller, id: &str) -> Result<Plan, ApiError> {
-    plans::get(&state.db, &caller.tenant, id).await?.filter(|p| !plans::is_patrol(&p.params)).ok_or_else(|| ApiError::not_found("plan", id))
+    plans::get(&state.db, &caller.tenant, JobKind::Plan, id).await?.ok_or_else(|| ApiError::not_found("plan", id))
 }
 
 /// `GET /api/v1/plans/{id}/trajectory` options.
@@ -124,7 +131,7 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
         Some("px4") => Firmware::Px4,
         Some(other) => return Err(ApiError::bad_request("unknown_firmware", "/firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
     };
-    let mut source = plans::export_source(&state.db, &caller.tenant, &id).await?.filter(|s| !plans::is_patrol(&s.params)).ok_or_else(|| ApiError::not_found("plan", &id))?;
+    let mut source = plans::export_source(&state.db, &caller.tenant, JobKind::Plan, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
     let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
         let status = json!(source.status);
         return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", status.as_str().unwrap_or("?"))));

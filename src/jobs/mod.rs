@@ -77,8 +77,8 @@ pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::
     let unreadable = |e: serde_json::Error| PlanError::Infeasible(format!("stored parameters are unreadable: {e}"));
     let profiles = snapshot_profiles(&job.mission).map_err(PlanError::Infeasible)?;
     let geometry = snapshot_geometry(&job.mission);
-    let (stats, trajectory) = if plans::is_patrol(&job.params) {
-        let params: PatrolParams = serde_json::from_value(plans::without_kind(&job.params)).map_err(unreadable)?;
+    let (stats, trajectory) = if job.kind == plans::JobKind::Patrol {
+        let params: PatrolParams = serde_json::from_value(job.params.clone()).map_err(unreadable)?;
         let out = planner::patrol::patrol(&geometry, &params, &profiles, limits, stop)?;
         (json!(out.stats), out.trajectory.to_string())
     } else {
@@ -234,7 +234,7 @@ impl JobQueue {
 
     async fn run_in_span(&self, job: plans::Job) {
         let limit = self.time_limit(&job);
-        let planner = if plans::is_patrol(&job.params) { "patrol" } else { request_label(&job) };
+        let planner = if job.kind == plans::JobKind::Patrol { "patrol" } else { request_label(&job) };
         let started = tokio::time::Instant::now();
         let stop = Stop::until(started.into_std() + self.settings.start_delay + limit);
         let requeue = Arc::new(AtomicBool::new(false));

@@ -94,18 +94,13 @@ macro_rules! columns {
     };
 }
 
-/// True for the parameters of a patrol (`kind: "patrol"`), which runs in the same queue.
-pub fn is_patrol(params: &Value) -> bool {
-    params.get("kind").and_then(Value::as_str) == Some("patrol")
-}
-
-/// A patrol's parameters as it was asked for, without the `kind` the queue keeps beside them.
-pub fn without_kind(params: &Value) -> Value {
-    let mut params = params.clone();
-    if let Some(o) = params.as_object_mut() {
-        o.remove("kind");
-    }
-    params
+/// What a job of the queue plans: a plan (coverage or inspection) or a patrol. Each answers
+/// only under its own routes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, sqlx::Type)]
+#[sqlx(type_name = "TEXT", rename_all = "snake_case")]
+pub enum JobKind {
+    Plan,
+    Patrol,
 }
 
 /// The channel on which PostgreSQL announces newly queued plans to every replica.
@@ -115,7 +110,7 @@ pub const QUEUED_CHANNEL: &str = "coverplan_queued";
 /// the tenant has `most_active` plans queued or running already (counted in the same write
 /// transaction, so concurrent requests cannot pass the cap together: SQLite's write lock, or on
 /// PostgreSQL a lock on the tenant held to the commit).
-pub async fn create(db: &Db, tenant: &str, mission_id: &str, params: &Value, mission: &Value, most_active: i64) -> Result<Option<Plan>, sqlx::Error> {
+pub async fn create(db: &Db, tenant: &str, kind: JobKind, mission_id: &str, params: &Value, mission: &Value, most_active: i64) -> Result<Option<Plan>, sqlx::Error> {
     let id = new_id();
     let row: Option<PlanRow> = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
@@ -134,13 +129,13 @@ pub async fn create(db: &Db, tenant: &str, mission_id: &str, params: &Value, mis
         }
         let row = sqlx::query_as(sql(Statement {
             sqlite: concat!(
-                "INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES (?, ?, ?, ?, ?, 'queued', ",
+                "INSERT INTO plans (id, tenant, mission_id, params, mission, kind, status, created_at) VALUES (?, ?, ?, ?, ?, ?, 'queued', ",
                 crate::sqlite_now!(),
                 ") RETURNING ",
                 columns!()
             ),
             postgres: concat!(
-                "INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES ($1, $2, $3, $4, $5, 'queued', ",
+                "INSERT INTO plans (id, tenant, mission_id, params, mission, kind, status, created_at) VALUES ($1, $2, $3, $4, $5, $6, 'queued', ",
                 crate::postgres_now!(),
                 ") RETURNING ",
                 columns!()
@@ -151,6 +146,7 @@ pub async fn create(db: &Db, tenant: &str, mission_id: &str, params: &Value, mis
         .bind(mission_id)
         .bind(Json(params))
         .bind(Json(mission))
+        .bind(kind)
         .fetch_one(&mut *tx)
         .await?;
         if db.is_postgres() {
@@ -163,26 +159,30 @@ pub async fn create(db: &Db, tenant: &str, mission_id: &str, params: &Value, mis
     Ok(row.map(Into::into))
 }
 
-/// A plan of `tenant`'s; another tenant's is `None`, as one that does not exist.
-pub async fn get(db: &Db, tenant: &str, id: &str) -> Result<Option<Plan>, sqlx::Error> {
+/// A job of `tenant`'s of this kind; another tenant's, or one of the other kind, is `None`, as
+/// one that does not exist.
+pub async fn get(db: &Db, tenant: &str, kind: JobKind, id: &str) -> Result<Option<Plan>, sqlx::Error> {
     let row: Option<PlanRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
-        sqlite: concat!("SELECT ", columns!(), " FROM plans WHERE id = ? AND tenant = ?"),
-        postgres: concat!("SELECT ", columns!(), " FROM plans WHERE id = $1 AND tenant = $2")
+        sqlite: concat!("SELECT ", columns!(), " FROM plans WHERE id = ? AND tenant = ? AND kind = ?"),
+        postgres: concat!("SELECT ", columns!(), " FROM plans WHERE id = $1 AND tenant = $2 AND kind = $3")
     }))
     .bind(id)
     .bind(tenant)
+    .bind(kind)
     .fetch_optional(pool)
     .await?);
     Ok(row.map(Into::into))
 }
 
-pub async fn list_for_mission(db: &Db, tenant: &str, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
+/// The jobs of this kind of one of `tenant`'s missions, newest first.
+pub async fn list_for_mission(db: &Db, tenant: &str, kind: JobKind, mission_id: &str) -> Result<Vec<Plan>, sqlx::Error> {
     let rows: Vec<PlanRow> = on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
-        sqlite: concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? AND tenant = ? ORDER BY created_at DESC, rowid DESC"),
-        postgres: concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = $1 AND tenant = $2 ORDER BY created_at DESC, seq DESC")
+        sqlite: concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = ? AND tenant = ? AND kind = ? ORDER BY created_at DESC, rowid DESC"),
+        postgres: concat!("SELECT ", columns!(), " FROM plans WHERE mission_id = $1 AND tenant = $2 AND kind = $3 ORDER BY created_at DESC, seq DESC")
     }))
     .bind(mission_id)
     .bind(tenant)
+    .bind(kind)
     .fetch_all(pool)
     .await?);
     Ok(rows.into_iter().map(Into::into).collect())
@@ -201,13 +201,14 @@ pub struct ExportSource {
     pub name: String,
 }
 
-pub async fn export_source(db: &Db, tenant: &str, id: &str) -> Result<Option<ExportSource>, sqlx::Error> {
+pub async fn export_source(db: &Db, tenant: &str, kind: JobKind, id: &str) -> Result<Option<ExportSource>, sqlx::Error> {
     on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
-        sqlite: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ?",
-        postgres: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = $1 AND p.tenant = $2"
+        sqlite: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ? AND p.kind = ?",
+        postgres: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = $1 AND p.tenant = $2 AND p.kind = $3"
     }))
     .bind(id)
     .bind(tenant)
+    .bind(kind)
     .fetch_optional(pool)
     .await)
 }
@@ -217,6 +218,7 @@ pub async fn export_source(db: &Db, tenant: &str, id: &str) -> Result<Option<Exp
 pub struct Job {
     pub id: String,
     pub tenant: String,
+    pub kind: JobKind,
     #[sqlx(json)]
     pub params: Value,
     #[sqlx(json)]
@@ -248,14 +250,14 @@ pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<J
             crate::sqlite_now!(),
             ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
             crate::sqlite_epoch!(),
-            " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1) RETURNING id, tenant, params, mission"
+            " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1) RETURNING id, tenant, kind, params, mission"
         ),
         postgres: concat!(
             "UPDATE plans SET status = 'running', progress = 0, started_at = ",
             crate::postgres_now!(),
             ", attempts = attempts + 1, claimed_by = $1, lease_until = ",
             crate::postgres_epoch!(),
-            " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, params, mission"
+            " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, kind, params, mission"
         ),
     };
     on_db!(db, |pool, sql| {

@@ -38,19 +38,19 @@ async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
         jobs::plan_job(job, &FieldLimits::default(), progress, stop)
     });
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
-    let bad = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 13.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
-    let good = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let bad = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 13.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let good = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
     queue.notify();
     let mut finished = None;
     for _ in 0..600 {
-        let g = plans::get(&db, OPEN_TENANT, &good.id).await.unwrap().unwrap();
+        let g = plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &good.id).await.unwrap().unwrap();
         if g.status.is_final() {
             finished = Some(g);
             break;
         }
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
-    let bad = plans::get(&db, OPEN_TENANT, &bad.id).await.unwrap().unwrap();
+    let bad = plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &bad.id).await.unwrap().unwrap();
     assert_eq!(bad.status, plans::PlanStatus::Failed);
     assert!(bad.error.unwrap().contains("deliberate failure"));
     assert!(bad.stats.is_none());
@@ -67,7 +67,8 @@ async fn queued_plans_are_claimed_in_the_order_they_were_created() {
     let (db, mission, snapshot) = fresh_mission().await;
     let mut created = Vec::new();
     for k in 0..40 {
-        created.push(plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot, i64::MAX).await.unwrap().unwrap().id);
+        created
+            .push(plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot, i64::MAX).await.unwrap().unwrap().id);
     }
     let mut claimed = Vec::new();
     while let Some(job) = plans::claim_next(&db, "test-replica", 30.0).await.unwrap() {
@@ -79,7 +80,7 @@ async fn queued_plans_are_claimed_in_the_order_they_were_created() {
 /// Polls a plan until it is final; returns it and when it became so.
 async fn wait_final(db: &store::Db, id: &str) -> (plans::Plan, Instant) {
     for _ in 0..1000 {
-        let p = plans::get(db, OPEN_TENANT, id).await.unwrap().unwrap();
+        let p = plans::get(db, OPEN_TENANT, plans::JobKind::Plan, id).await.unwrap().unwrap();
         if p.status.is_final() {
             return (p, Instant::now());
         }
@@ -113,9 +114,10 @@ async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
     };
     let limit = Duration::from_secs(1);
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings { time_limit: limit, ..QueueSettings::default() });
-    let polite = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 1.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
-    let deaf = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 2.0, "time_limit_s": 0.5}), &snapshot, i64::MAX).await.unwrap().unwrap();
-    let good = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let polite = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 1.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let deaf =
+        plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 2.0, "time_limit_s": 0.5}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let good = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
     let started = Instant::now();
     queue.notify();
     let (polite, polite_done) = wait_final(&db, &polite.id).await;
@@ -146,16 +148,16 @@ async fn cancelling_a_running_plan_frees_its_worker_at_once() {
     let runner: Runner = Arc::new(|job, progress, stop| jobs::plan_job(job, &FieldLimits::default(), progress, stop));
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
     let fixed_wing = json!({"planner": "line_gtsp", "line_spacing_m": 20, "sweep_direction": "optimal", "vehicle": {"kind": "fixed_wing", "turn_radius_m": 10}});
-    let long = plans::create(&db, OPEN_TENANT, &mission.id, &fixed_wing, &snapshot, i64::MAX).await.unwrap().unwrap();
-    let next = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 40}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let long = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &fixed_wing, &snapshot, i64::MAX).await.unwrap().unwrap();
+    let next = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 40}), &snapshot, i64::MAX).await.unwrap().unwrap();
     queue.notify();
     tokio::time::sleep(Duration::from_secs(2)).await;
-    assert_eq!(plans::get(&db, OPEN_TENANT, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Running);
+    assert_eq!(plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Running);
     plans::cancel(&db, OPEN_TENANT, &long.id).await.unwrap();
     queue.cancel(&long.id);
     let cancelled = Instant::now();
     let freed = loop {
-        if plans::get(&db, OPEN_TENANT, &next.id).await.unwrap().unwrap().status != plans::PlanStatus::Queued {
+        if plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &next.id).await.unwrap().unwrap().status != plans::PlanStatus::Queued {
             break cancelled.elapsed();
         }
         assert!(cancelled.elapsed() < Duration::from_secs(10), "the worker is still busy with the cancelled plan");
@@ -164,6 +166,6 @@ async fn cancelling_a_running_plan_frees_its_worker_at_once() {
     assert!(freed < Duration::from_secs(1), "the next plan started {freed:?} after the cancellation");
     let (next, _) = wait_final(&db, &next.id).await;
     assert_eq!(next.status, plans::PlanStatus::Succeeded);
-    assert_eq!(plans::get(&db, OPEN_TENANT, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Cancelled);
+    assert_eq!(plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Cancelled);
     queue.shutdown(handles, Duration::from_secs(1)).await;
 }

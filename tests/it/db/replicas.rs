@@ -22,7 +22,7 @@ async fn db_with_a_plan() -> (store::Db, String) {
     )
     .await
     .unwrap();
-    let plan = plans::create(&db, OPEN_TENANT, &mission.id, &json!({"line_spacing_m": 20}), &json!({"area": mission.area}), 100).await.unwrap().unwrap();
+    let plan = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20}), &json!({"area": mission.area}), 100).await.unwrap().unwrap();
     (db, plan.id)
 }
 
@@ -43,9 +43,9 @@ async fn a_plan_whose_replica_went_silent_is_taken_again_and_its_old_holder_writ
     // the old holder comes back: its heartbeat is refused and its outcome is not stored
     assert!(!plans::heartbeat(&db, Claim { plan: &id, replica: "a" }, 0.9, 30.0).await.unwrap());
     plans::fail(&db, Claim { plan: &id, replica: "a" }, "internal", "stale").await.unwrap();
-    assert_eq!(plans::get(&db, OPEN_TENANT, &id).await.unwrap().unwrap().status, PlanStatus::Running);
+    assert_eq!(plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &id).await.unwrap().unwrap().status, PlanStatus::Running);
     plans::succeed(&db, Claim { plan: &id, replica: "b" }, &json!({"length_m": 1.0}), "{}").await.unwrap();
-    assert_eq!(plans::get(&db, OPEN_TENANT, &id).await.unwrap().unwrap().status, PlanStatus::Succeeded);
+    assert_eq!(plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &id).await.unwrap().unwrap().status, PlanStatus::Succeeded);
     let claims = plans::claims(&db).await.unwrap();
     let summary: Vec<(&str, Option<&str>)> = claims.iter().map(|c| (c.replica.as_str(), c.outcome.as_deref())).collect();
     assert_eq!(summary, [("a", Some("abandoned")), ("b", Some("succeeded"))]);
@@ -63,7 +63,7 @@ async fn a_plan_that_keeps_losing_its_replica_fails_after_three_attempts() {
         let (requeued, failed) = plans::requeue_abandoned(&db, false).await.unwrap();
         assert_eq!((requeued, failed), if attempt < plans::MAX_ATTEMPTS { (1, 0) } else { (0, 1) }, "attempt {attempt}");
     }
-    let plan = plans::get(&db, OPEN_TENANT, &id).await.unwrap().unwrap();
+    let plan = plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &id).await.unwrap().unwrap();
     assert_eq!((plan.status, plan.error_code.as_deref()), (PlanStatus::Failed, Some("interrupted")), "{plan:?}");
     assert!(plans::claim_next(&db, "r4", 30.0).await.unwrap().is_none());
 }
@@ -107,7 +107,7 @@ async fn cancelling_on_one_replica_stops_the_plan_running_on_another() {
 }
 
 /// A SQLite database made by the previous release (migrations 0001–0006), with a mission, a
-/// finished plan, a plan left running and a key, opens with this release: the new migrations
+/// finished plan, a plan left running, a patrol and a key, opens with this release: the new migrations
 /// apply, nothing is lost, and the interrupted plan is queued again.
 #[tokio::test]
 async fn a_database_of_the_previous_release_upgrades_cleanly() {
@@ -136,11 +136,22 @@ async fn a_database_of_the_previous_release_upgrades_cleanly() {
                 .await
                 .unwrap();
         }
+        // a patrol, told apart then by a `kind` member in its parameters
+        sqlx::query("INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES ('p-patrol', 'farm', 'm1', '{\"kind\": \"patrol\", \"uavs\": 2}', ?, 'queued', '2026-01-01T00:00:02.000Z')")
+            .bind(format!("{{\"area\": {area}}}"))
+            .execute(&pool)
+            .await
+            .unwrap();
         pool.close().await;
     }
     let db = store::connect(&url).await.unwrap();
+    let patrol = plans::get(&db, "farm", plans::JobKind::Patrol, "p-patrol").await.unwrap().expect("the patrol, by its kind column");
+    assert_eq!(patrol.params, json!({"uavs": 2}), "the kind moved out of the parameters");
+    assert!(plans::get(&db, "farm", plans::JobKind::Plan, "p-patrol").await.unwrap().is_none(), "a patrol is no plan");
+    assert!(plans::get(&db, "farm", plans::JobKind::Patrol, "p-done").await.unwrap().is_none(), "a plan is no patrol");
+    assert!(plans::cancel(&db, "farm", "p-patrol").await.unwrap().is_some());
     assert_eq!(missions::get(&db, "farm", "m1").await.unwrap().unwrap().name, "old field");
-    let done = plans::get(&db, "farm", "p-done").await.unwrap().unwrap();
+    let done = plans::get(&db, "farm", plans::JobKind::Plan, "p-done").await.unwrap().unwrap();
     assert_eq!((done.status, done.stats), (PlanStatus::Succeeded, Some(json!({"length_m": 5.0}))));
     assert_eq!(plans::requeue_abandoned(&db, true).await.unwrap(), (1, 0));
     let job = plans::claim_next(&db, "new", 30.0).await.unwrap().expect("the interrupted plan is queued again");

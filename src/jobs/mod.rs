@@ -303,7 +303,7 @@ impl JobQueue {
             tracing::error!(error = %e, "the outcome of a plan could not be stored");
         }
         self.running.lock().expect("lock").remove(&id);
-        self.telemetry.job(&planner, ended, started.elapsed());
+        self.telemetry.job(planner, ended, started.elapsed());
         tracing::info!(outcome = ended, seconds = started.elapsed().as_secs_f64(), "plan ended");
     }
 }

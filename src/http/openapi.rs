@@ -146,6 +146,12 @@ pub fn complete(doc: utoipa::openapi::OpenApi) -> utoipa::openapi::OpenApi {
     {
         items.insert("anyOf".into(), forms);
     }
+    // every code a client can receive, as one enumeration
+    schemas["ErrorCode"] = json!({"type": "string", "enum": super::error::ERROR_CODES, "description": "What went wrong, for programs: the last part of a problem's `type`, or why a plan or patrol failed."});
+    schemas["Problem"]["properties"]["code"] = json!({"$ref": "#/components/schemas/ErrorCode"});
+    for failed in ["Plan", "Patrol"] {
+        schemas[failed]["properties"]["error_code"] = json!({"anyOf": [{"$ref": "#/components/schemas/ErrorCode"}, {"type": "null"}]});
+    }
     let mut stored = schemas["Vehicle"].clone();
     for (name, schema) in schemas["StoredVehicle"]["allOf"][1]["properties"].as_object().cloned().unwrap_or_default() {
         stored["properties"][&name] = schema;

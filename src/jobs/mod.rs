@@ -26,7 +26,21 @@ use crate::telemetry::Telemetry;
 /// The function a worker runs for a job: `planner::plan` in production. It should return soon
 /// after its [`Stop`] is raised or times out; a worker that waited [`ABANDON_AFTER`] past the
 /// time limit gives up on it and takes the next job.
-pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress, &Stop) -> Result<JobOutput, PlanError> + Send + Sync>;
+pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress, &Stop) -> Result<JobOutput, JobError> + Send + Sync>;
+
+/// Why a job made no plan: the planner's answer to the request, or a stored record this server
+/// cannot read (its own fault, reported as `internal`, never as the user's).
+#[derive(Debug)]
+pub enum JobError {
+    Plan(PlanError),
+    UnreadableRecord(String),
+}
+
+impl From<PlanError> for JobError {
+    fn from(e: PlanError) -> Self {
+        JobError::Plan(e)
+    }
+}
 
 /// What a finished job stores: its figures and its GeoJSON.
 #[derive(Debug, Clone)]
@@ -73,9 +87,9 @@ fn request_label(job: &plans::Job) -> &'static str {
 }
 
 /// Runs a stored job with the real planner.
-pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, PlanError> {
-    let unreadable = |e: serde_json::Error| PlanError::Infeasible(format!("stored parameters are unreadable: {e}"));
-    let profiles = snapshot_profiles(&job.mission).map_err(PlanError::Infeasible)?;
+pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, JobError> {
+    let unreadable = |e: serde_json::Error| JobError::UnreadableRecord(format!("stored parameters are unreadable: {e}"));
+    let profiles = snapshot_profiles(&job.mission).map_err(JobError::UnreadableRecord)?;
     let geometry = snapshot_geometry(&job.mission);
     let (stats, trajectory) = if job.kind == plans::JobKind::Patrol {
         let params: PatrolParams = serde_json::from_value(job.params.clone()).map_err(unreadable)?;
@@ -286,12 +300,16 @@ impl JobQueue {
                 ("time_limit", timed_out().await)
             }
             Some(Ok(Ok(Ok(output)))) => ("succeeded", plans::succeed(&self.db, claim, &output.stats, &output.trajectory).await),
-            Some(Ok(Ok(Err(PlanError::Cancelled)))) if requeue.load(Ordering::SeqCst) => ("requeued", plans::requeue(&self.db, claim).await),
+            Some(Ok(Ok(Err(JobError::Plan(PlanError::Cancelled))))) if requeue.load(Ordering::SeqCst) => ("requeued", plans::requeue(&self.db, claim).await),
             // a plan cancelled by its owner is marked so already; one that ran out of time is not
-            Some(Ok(Ok(Err(PlanError::Cancelled)))) if stop.timed_out() => ("time_limit", timed_out().await),
-            Some(Ok(Ok(Err(PlanError::Cancelled)))) => ("cancelled", plans::release(&self.db, claim, "cancelled").await),
-            Some(Ok(Ok(Err(PlanError::Input(e))))) => ("failed", plans::fail(&self.db, claim, e.code, &e.to_string()).await),
-            Some(Ok(Ok(Err(e)))) => ("failed", plans::fail(&self.db, claim, "infeasible", &e.to_string()).await),
+            Some(Ok(Ok(Err(JobError::Plan(PlanError::Cancelled))))) if stop.timed_out() => ("time_limit", timed_out().await),
+            Some(Ok(Ok(Err(JobError::Plan(PlanError::Cancelled))))) => ("cancelled", plans::release(&self.db, claim, "cancelled").await),
+            Some(Ok(Ok(Err(JobError::Plan(PlanError::Input(e)))))) => ("failed", plans::fail(&self.db, claim, e.code, &e.to_string()).await),
+            Some(Ok(Ok(Err(JobError::Plan(e))))) => ("failed", plans::fail(&self.db, claim, "infeasible", &e.to_string()).await),
+            Some(Ok(Ok(Err(JobError::UnreadableRecord(why))))) => {
+                tracing::error!(%why, "a stored plan request cannot be read");
+                ("failed", plans::fail(&self.db, claim, "internal", &format!("this server could not read the stored request ({why}); the plan was not made")).await)
+            }
             Some(Ok(Err(panic))) => {
                 let what = crate::panic_message(&*panic);
                 tracing::error!(panic = %what, "planner panicked");

@@ -117,3 +117,58 @@ fn the_check_finds_an_id_named_elsewhere() {
     assert_eq!(definitions.into_iter().collect::<Vec<_>>(), ["planner/src/planners/a.rs"]);
     assert_eq!(uses.len(), 2);
 }
+
+/// The string literal after `marker` once `skip` commas are passed, if the argument there is one.
+fn literal_after<'a>(code: &'a str, marker: &str, skip: usize) -> Vec<&'a str> {
+    let mut found = Vec::new();
+    for (at, _) in code.match_indices(marker) {
+        let mut rest = &code[at + marker.len()..];
+        for _ in 0..skip {
+            let Some(comma) = rest.find(',') else { break };
+            rest = &rest[comma + 1..];
+        }
+        let rest = rest.trim_start();
+        if let Some(quoted) = rest.strip_prefix('"').or_else(|| rest.strip_prefix('\'')) {
+            let end = quoted.find(['"', '\'']).unwrap_or(0);
+            found.push(&quoted[..end]);
+        }
+    }
+    found
+}
+
+/// Every error code the sources write (a refusal's, a problem's, a failed plan's) is in the
+/// list the OpenAPI document enumerates, and the list holds nothing else.
+#[test]
+fn every_error_code_is_in_the_documented_list() {
+    let markers: &[(&str, usize)] = &[
+        ("InputError::new(", 0),
+        ("code: ", 0),
+        ("ApiError::conflict(", 0),
+        ("ApiError::bad_request(", 0),
+        ("ApiError::invalid(", 0),
+        ("problem_response(", 1),
+        ("refuse(", 1),
+        ("plans::fail(", 2),
+        ("error_code = ", 0),
+    ];
+    let mut written = BTreeSet::new();
+    for (path, code) in production_files().iter().filter(|p| p.extension().is_some_and(|e| e == "rs")).map(|p| (p, code_of(p))) {
+        if path.ends_with("http/error.rs") {
+            // the list itself, and the helpers that take a code as a parameter
+            written.extend(
+                ["not_found", "internal", "unsupported_media_type", "body_too_large", "unreadable_body", "malformed_json", "invalid_body", "invalid_query"].map(String::from),
+            );
+        }
+        for (marker, skip) in markers {
+            written.extend(literal_after(&code, marker, *skip).into_iter().filter(|c| !c.is_empty() && c.chars().all(|ch| ch.is_ascii_lowercase() || ch == '_')).map(String::from));
+        }
+    }
+    let listed: BTreeSet<String> = coverplan::http::error::ERROR_CODES.iter().map(|c| c.to_string()).collect();
+    assert!(written.len() >= 100, "{} codes found", written.len());
+    let missing: Vec<&String> = written.difference(&listed).collect();
+    let unused: Vec<&String> = listed.difference(&written).collect();
+    assert!(missing.is_empty() && unused.is_empty(), "codes written but not listed: {missing:?}; listed but never written: {unused:?}");
+    let doc: serde_json::Value = serde_json::from_str(&coverplan::http::openapi::document()).unwrap();
+    assert_eq!(doc["components"]["schemas"]["ErrorCode"]["enum"].as_array().map(Vec::len), Some(listed.len()));
+    assert_eq!(doc["components"]["schemas"]["Problem"]["properties"]["code"]["$ref"], "#/components/schemas/ErrorCode");
+}

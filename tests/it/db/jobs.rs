@@ -27,6 +27,29 @@ async fn fresh_mission() -> (store::Db, missions::Mission, serde_json::Value) {
     (db, mission, snapshot)
 }
 
+/// A stored request this server cannot read (written by another version, or damaged) fails as
+/// the server's fault, `internal`, not as the user's `infeasible`.
+#[tokio::test]
+async fn a_stored_request_that_cannot_be_read_fails_as_internal() {
+    let (db, mission, snapshot) = fresh_mission().await;
+    let runner: Runner = Arc::new(|job, progress, stop| jobs::plan_job(job, &FieldLimits::default(), progress, stop));
+    let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
+    let damaged = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": "twenty"}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    queue.notify();
+    let mut done = None;
+    for _ in 0..600 {
+        let p = plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &damaged.id).await.unwrap().unwrap();
+        if p.status.is_final() {
+            done = Some(p);
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let done = done.expect("the job ended");
+    assert_eq!((done.status, done.error_code.as_deref()), (plans::PlanStatus::Failed, Some("internal")), "{:?}", done.error);
+    queue.shutdown(handles, Duration::from_secs(1)).await;
+}
+
 #[tokio::test]
 async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
     let (db, mission, snapshot) = fresh_mission().await;
@@ -103,11 +126,11 @@ async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
                     std::thread::sleep(Duration::from_millis(5));
                 }
                 stopped_when_asked.store(true, Ordering::SeqCst);
-                Err(PlanError::Cancelled)
+                Err(PlanError::Cancelled.into())
             }
             Some(2.0) => {
                 std::thread::sleep(Duration::from_secs(6));
-                Err(PlanError::Cancelled)
+                Err(PlanError::Cancelled.into())
             }
             _ => jobs::plan_job(job, &FieldLimits::default(), progress, stop),
         })

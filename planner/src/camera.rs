@@ -20,30 +20,22 @@ pub enum Orientation {
 }
 
 /// A camera: a preset, or its figures (which override the preset's).
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
     /// A camera from `GET /api/v1/cameras`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<String>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensor_width_mm: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensor_height_mm: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focal_length_mm: Option<f64>,
     /// Horizontal field of view (across the image width), instead of sensor and lens.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hfov_deg: Option<f64>,
     /// Diagonal field of view, as data sheets usually quote it.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dfov_deg: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub image_width_px: Option<u32>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub image_height_px: Option<u32>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orientation: Option<Orientation>,
 }
 

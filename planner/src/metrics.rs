@@ -10,6 +10,7 @@ use super::geom::distance;
 use super::path::{FlightPath, PieceKind};
 use super::sortie::SortieTotals;
 
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Stats {
@@ -44,7 +45,6 @@ pub struct Stats {
     /// Share of the area to cover (field − holes − no-fly zones with their margin) under the swaths.
     pub coverage_ratio: f64,
     /// Share of the area to cover inside at least one photo's footprint (with a camera).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub photo_coverage_ratio: Option<f64>,
     /// Swath area flown more than once, as a share of the area swept: the summed swath areas
     /// over the area of their union, minus 1 (0 = no overlap between lines).
@@ -69,27 +69,21 @@ pub struct Stats {
     #[serde(default)]
     pub lost_coverage_m: f64,
     /// From planners whose search can prove its result (`eg_cpp`): whether it did.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub optimality: Option<Optimality>,
     /// Fleet: from the first take-off to the last landing (battery changes not counted). The
     /// totals above add up every drone's.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub makespan_s: Option<f64>,
     /// Fleet: each drone's figures, in the request's order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub vehicles: Vec<VehicleTotals>,
     /// Fleet: every time two drones come within 10 m horizontally and 5 m vertically of each
     /// other (empty: none do).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub conflicts: Option<Vec<Conflict>>,
     /// Ground vehicle: the headland and the turns.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ground: Option<GroundStats>,
     /// Inspection: the weighted share of the points of interest seen.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inspection_coverage: Option<f64>,
     /// Inspection: what each target shows, the budget and the search.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inspection: Option<InspectionStats>,
 }
 
@@ -208,6 +202,7 @@ pub fn ground_stats(
 }
 
 /// One drone's part of a fleet plan.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct VehicleTotals {
@@ -226,7 +221,6 @@ pub struct VehicleTotals {
     /// Seconds after the fleet's start it lands for the last time.
     pub landing_s: f64,
     /// Altitude of its transits, with `altitude_separation_m`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transit_altitude_m: Option<f64>,
 }
 
@@ -277,21 +271,17 @@ impl OptimalityStatus {
 }
 
 /// How another planner did on the same problem.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Alternative {
     pub planner: String,
     /// Figures of its plan (without take-off and landing, the same for every planner).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub duration_s: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub energy_j: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coverage_ratio: Option<f64>,
     /// Why it made no plan.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
 }
 

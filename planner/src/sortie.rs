@@ -19,13 +19,13 @@ use super::path::{FlightPath, PieceKind};
 use super::turn::dubins::Pose;
 
 /// The figures of one sortie.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct SortieTotals {
     /// 1-based, in flight order (a fleet's: each drone's in turn).
     pub sortie: usize,
     /// Fleet: the drone that flies it.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vehicle: Option<usize>,
     pub sweep_lines: usize,
     pub length_m: f64,

@@ -23,6 +23,7 @@ pub enum VehicleKind {
 }
 
 /// What only a ground vehicle has: its implement and how it may turn.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
@@ -36,7 +37,6 @@ pub struct GroundFigures {
     pub reverse_allowed: bool,
     /// Steering limit for continuous-curvature turns, 1/m²: how fast the curvature may change
     /// along the path. Absent: the curvature may jump (Dubins turns).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(minimum = 0.0001, maximum = 10.0))]
     pub max_curvature_rate: Option<f64>,
     /// Speed of turns and transits (the working speed is `cruise_speed_mps`).
@@ -65,6 +65,7 @@ impl Battery {
 }
 
 /// A vehicle profile with every figure the planner needs.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
@@ -88,7 +89,6 @@ pub struct Vehicle {
     /// For a ground vehicle, its tank: the fuel's energy.
     pub battery: Battery,
     /// Ground vehicles only.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ground: Option<GroundFigures>,
 }
 
@@ -170,37 +170,29 @@ fn default_profile(kind: Option<VehicleKind>) -> &'static str {
 }
 
 /// The vehicle part of a plan request: a profile, a kind, or both, with optional overrides.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct VehicleParams {
     /// Name of a profile, as listed by `GET /api/v1/vehicles`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub profile: Option<String>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kind: Option<VehicleKind>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cruise_speed_mps: Option<f64>,
     /// Minimum turning radius (also accepted as `min_turn_radius_m`).
     #[serde(default, skip_serializing_if = "Option::is_none", alias = "min_turn_radius_m")]
     pub turn_radius_m: Option<f64>,
     /// Battery (or, ground vehicle, tank) energy, Wh.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub battery_wh: Option<f64>,
     /// Share of the battery kept at landing, 0 to 0.9.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub battery_reserve: Option<f64>,
     /// Ground vehicle: width of the implement.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub working_width_m: Option<f64>,
     /// Ground vehicle: may reverse (Reeds–Shepp turns with cusps, three-point turns).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reverse_allowed: Option<bool>,
     /// Ground vehicle: continuous-curvature turns with this steering limit, 1/m².
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_curvature_rate: Option<f64>,
     /// Ground vehicle: speed of turns and transits.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headland_speed_mps: Option<f64>,
 }
 

@@ -27,6 +27,7 @@ pub enum Target {
     Detailed(DetailedTarget),
 }
 
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
@@ -34,26 +35,22 @@ pub struct DetailedTarget {
     /// A structure's `name`.
     pub name: String,
     /// Default: walls and roof.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub faces: Option<Vec<Face>>,
     /// Weight of each of its points, 0.01 to 100 (default 1).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub priority: Option<f64>,
 }
 
 /// The flight's limit: exactly one of the three.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Budget {
     /// Path length in metres (climbs included), 10 to 100 000.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_length_m: Option<f64>,
     /// Flight time in seconds (legs, yaw and captures), 10 to 86 400.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_time_s: Option<f64>,
     /// Energy in joules from the vehicle's model, 1 000 to 10⁹.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_energy_j: Option<f64>,
 }
 
@@ -72,50 +69,39 @@ pub enum Extension {
 }
 
 /// The inspection's geometry and effort; every member is optional.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct InspectionOptions {
     /// Spacing of the points of interest on the faces, 0.1 to 10 m (default 0.5).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub poi_spacing_m: Option<f64>,
     /// Nearest and farthest a point may be from the camera to count as seen, metres (default
     /// [1, 12], or the farthest from `gsd_cm`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub range_m: Option<[f64; 2]>,
     /// Steepest angle between a face's normal and the line of sight, 10 to 89° (default 75).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_incidence_deg: Option<f64>,
     /// Lowest and highest gimbal pitch, degrees (negative: down; default [-90, 30]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub gimbal_pitch_deg: Option<[f64; 2]>,
     /// The drone's radius, 0.05 to 10 m (default 0.5).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body_radius_m: Option<f64>,
     /// Clearance kept beyond the body from every structure and obstacle, 0 to 50 m (default 2).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub safety_margin_m: Option<f64>,
     /// Lowest and highest altitude of a viewpoint above ground, metres (default: 2 to the
     /// tallest target's top plus the farthest range).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub altitude_range_m: Option<[f64; 2]>,
     /// Viewpoints sampled before the search, 10 to 3 000 (default 300).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub viewpoints: Option<u32>,
     /// Default `sphere`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub extension: Option<Extension>,
     /// Viewpoints added per iteration with an extension, 1 to 50 (default 5).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub extension_per_iteration: Option<u32>,
     /// Hover at each viewpoint to take the picture, 0 to 60 s (default 1).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub capture_s: Option<f64>,
     /// Add the points of interest to the trajectory, seen and unseen (default false).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub show_unseen: Option<bool>,
 }
 

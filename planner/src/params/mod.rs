@@ -12,6 +12,7 @@ use super::vehicle::{Vehicle, VehicleKind, VehicleParams};
 use inspection::{Budget, InspectionOptions, InspectionRequest, InspectionSpec, Target};
 
 /// A position with a heading, as a compass bearing (degrees clockwise from north).
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
@@ -19,107 +20,81 @@ pub struct PoseParam {
     /// [longitude, latitude]
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub position: [f64; 2],
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading_deg: Option<f64>,
     /// Inspection: height above ground, 0 to 1 000 m (default 0: on the ground).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub altitude_m: Option<f64>,
 }
 
 /// Parameters of a plan.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PlanParams {
     /// Planner id, as listed by `GET /api/v1/planners`; default `boustrophedon`, or `headland`
     /// for a ground vehicle.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub planner: Option<String>,
     /// Distance between sweep lines; required unless a camera is given.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub line_spacing_m: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<Camera>,
     /// Flight altitude above ground; with a camera, or instead `gsd_cm`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub altitude_m: Option<f64>,
     /// Wanted ground sample distance, in cm per pixel (camera only).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gsd_cm: Option<f64>,
     /// Overlap of neighbouring lines' images, 0 to 0.95 (default 0.7).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub side_overlap: Option<f64>,
     /// Overlap of consecutive images along a line, 0 to 0.95 (default 0.8).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub front_overlap: Option<f64>,
     /// Compass bearing of the sweep lines; absent: the planner chooses.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading_deg: Option<f64>,
     /// Without `heading_deg`: `planner` (default) lets the planner apply its own rule;
     /// `optimal` plans every direction (2° apart, refined to 0.5°) and keeps the shortest per
     /// covered area among those that cover 99 % (or, when none does, within 1 % of the best).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep_direction: Option<SweepDirection>,
     #[serde(default)]
     pub vehicle: VehicleParams,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub start: Option<PoseParam>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub end: Option<PoseParam>,
     /// Line-level routing may leave a field and come back to it (default true); false flies
     /// each field in one block.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub allow_reentry: Option<bool>,
     /// With obstacles: clearance kept above and around them, 0 to 200 m (default 10).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub obstacle_clearance_m: Option<f64>,
     /// With obstacles: steepest climb and descent, 1 to 60° (default 30).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_climb_deg: Option<f64>,
     /// Metres of path that one metre of sweep lost costs when choosing the order and the
     /// direction, 0 to 1000 (default 10): sweep flown too high to image over an obstacle, or
     /// (`line_gtsp`, fixed wing) cut short to leave room to turn before a no-fly zone.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coverage_penalty: Option<f64>,
     /// Clearance kept from no-fly zones, 1 to 500 m (default 10).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nfz_margin_m: Option<f64>,
     /// What planner `auto` minimises (default `energy`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub objective: Option<Objective>,
     /// Most sorties a plan may be split into when one battery is not enough, 1 to 100
     /// (default 20); splitting needs the mission's home.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_sorties: Option<u32>,
     /// Seconds the plan may take, 0.1 to 86 400; past them it fails with `time_limit`. The
     /// service caps it at its own limit (`COVERPLAN_JOB_TIMEOUT_S`, also the default).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_limit_s: Option<f64>,
     /// Several drones fly the field together, 2 to 16 of them: each entry is a vehicle (as
     /// `vehicle`) with an optional `home` of its own. The field is split so that the last drone
     /// lands as early as possible. Instead of `vehicle` and `vehicles`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 16))]
     pub fleet: Option<Vec<FleetMember>>,
     /// A fleet of this many copies of `vehicle`, 2 to 16, all taking off from the mission's home.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vehicles: Option<u32>,
     /// Fleet: each drone's transits fly in a layer of its own, this many metres above the
     /// previous drone's (the first one this far above the survey altitude), 1 to 200 m.
     /// Without it every drone flies at the survey altitude and the plan reports where two
     /// drones come close at the same time (`stats.conflicts`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub altitude_separation_m: Option<f64>,
     /// Ground vehicle: working passes round the field's edge and every hole, 1 to 20 (default
     /// 2, or as many as cover `headland_width_m`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headland_passes: Option<u32>,
     /// Ground vehicle: width of the headland, 1 to 500 m (default: the passes times the
     /// working width).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headland_width_m: Option<f64>,
     /// Ground vehicle: work the headland passes after the swaths (`last`, default) or before.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub headland_order: Option<HeadlandOrder>,
     /// Where swaths (or sweep lines) end at a slanted edge of the area they work: `balanced`
     /// runs each on while a quarter of its width still has area to work; `full_width` until its
@@ -130,27 +105,20 @@ pub struct PlanParams {
     /// would leave more than 0.5 % of the area. Default: `balanced` for a ground vehicle (at its
     /// headland), `full_width` for an aircraft (at the field's edge and its holes; not for
     /// `e_spiral` and `eg_cpp`, which fly no parallel lines).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub swath_ends: Option<SwathEnds>,
     /// Ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5
     /// (default 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub overlap: Option<f64>,
     /// Inspection: what to look at (default: the walls and roof of every structure).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub targets: Option<Vec<Target>>,
     /// Inspection: the flight's limit, in metres, seconds or joules.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub budget: Option<Budget>,
     /// Inspection: the camera's reach, the gimbal, clearances and the search's effort.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub inspection: Option<InspectionOptions>,
     /// Inspection: the random seed; the same seed gives the same plan (default 0).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
     /// Inspection: milliseconds the search may take before it returns its best path, 100 to
     /// 600 000 (default 20 000).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_limit_ms: Option<u64>,
 }
 
@@ -175,6 +143,7 @@ pub struct HeadlandSpec {
 }
 
 /// One drone of a fleet: the fields of `vehicle`, and `home`.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 // read through a map: serde's `flatten` would let unknown fields pass unnoticed
@@ -183,7 +152,6 @@ pub struct FleetMember {
     #[serde(flatten)]
     pub vehicle: VehicleParams,
     /// [longitude, latitude] this drone takes off from and lands at; default: the mission's home.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub home: Option<[f64; 2]>,
 }

@@ -36,66 +36,49 @@ pub enum StrategyName {
 }
 
 /// What a patrol is asked for.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct PatrolParams {
     /// Side of a grid cell, metres, 1 to 1 000 (default 20, or the camera's footprint).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cell_size_m: Option<f64>,
     /// The UAVs' camera, looking straight down: a cell is the square its footprint covers at
     /// `altitude_m` (or at the altitude that gives `gsd_cm`), instead of `cell_size_m`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub camera: Option<Camera>,
     /// Patrol altitude above ground, with `camera`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub altitude_m: Option<f64>,
     /// Wanted ground sample distance, cm per pixel, with `camera` (instead of `altitude_m`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gsd_cm: Option<f64>,
     /// How many UAVs, 1 to 64 (default 4), all starting on the free cell nearest the area's
     /// south-west corner as in the source; or give `starts`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uavs: Option<usize>,
     /// Start positions, [longitude, latitude] each: one UAV per position.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "schema", schema(value_type = Option<Vec<Vec<f64>>>))]
     pub starts: Option<Vec<[f64; 2]>>,
     /// Default `nc_drone`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strategy: Option<StrategyName>,
     /// Default `centralised`; `max`, `avg` and `multi` share between UAVs within
     /// `comm_radius_cells`; `periodic` merges every `sync_interval` cycles (CFS).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sharing: Option<Sharing>,
     /// Chebyshev range of the UAVs' radios, cells (default 3).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub comm_radius_cells: Option<usize>,
     /// Cycles between synchronisations with `periodic` sharing (default 100).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sync_interval: Option<u32>,
     /// Watershed (`visits`) or WSTS (`last_visit`); none by default.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub watershed: Option<Valleys>,
     /// Cycles between Watershed decisions with a central matrix (default 100).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ws_period: Option<u32>,
     /// TS: ties go to the least recently visited cell first.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time_ties: Option<bool>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub evaporation: Option<Evaporation>,
     /// Overrides the strategy's tie rule.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tie_rule: Option<TieRule>,
     /// Cycles to simulate, 1 to 1 000 000 (default 10 000), and at most 2 000 000 UAV moves in all.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cycles: Option<u32>,
     /// Seed of the random choices (default 0): the same seed gives the same patrol.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
     /// Clearance around no-fly zones, metres (default 10): cells whose centre is nearer are blocked.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nfz_margin_m: Option<f64>,
     /// The vehicle whose model prices each path (default: the multirotor default).
     #[serde(default, skip_serializing_if = "is_default")]

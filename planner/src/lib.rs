@@ -283,7 +283,7 @@ pub fn catalogue() -> Vec<planners::PlannerInfo> {
         vehicle_kinds: vec![vehicle::VehicleKind::Multirotor],
         default_for: Vec::new(),
         fleets: false,
-        parameters: inspection::parameters(),
+        parameters: inspection::PARAMETERS.to_vec(),
     };
     planners::registry().iter().map(|p| planners::PlannerInfo::of(*p)).chain([inspection]).collect()
 }

@@ -172,3 +172,20 @@ fn every_error_code_is_in_the_documented_list() {
     assert_eq!(doc["components"]["schemas"]["ErrorCode"]["enum"].as_array().map(Vec::len), Some(listed.len()));
     assert_eq!(doc["components"]["schemas"]["Problem"]["properties"]["code"]["$ref"], "#/components/schemas/ErrorCode");
 }
+
+/// Every parameter a planner lists is a member of the request's schema with a type and a
+/// description there: the planners name their parameters, the schema documents them once.
+#[test]
+fn every_listed_parameter_is_documented_by_the_request_schema() {
+    let mut described = 0;
+    for p in planner::catalogue() {
+        assert!(!p.parameters.is_empty(), "{} reads no parameter", p.id);
+        for name in p.parameters {
+            let info = coverplan::http::planners::describe(name);
+            assert!(["number", "integer", "string", "boolean", "array", "object"].contains(&info.kind.as_str()), "{}: `{name}` has type {}", p.id, info.kind);
+            assert!(info.description.len() > 15, "{}: `{name}` has no description in PlanParams' schema ({:?})", p.id, info.description);
+            described += 1;
+        }
+    }
+    assert!(described > 100, "{described}");
+}

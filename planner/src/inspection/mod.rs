@@ -28,7 +28,6 @@ use crate::error::{InputError, PlanError};
 use crate::field::Structure;
 use crate::metrics::{InspectionStats, Stats, TargetCoverage};
 use crate::params::inspection::{BudgetLimit, Extension, Face, InspectionSpec, PLANNER_ID, Target};
-use crate::planners::ParameterInfo;
 use crate::stop::Stop;
 use crate::vehicle::Vehicle;
 use legs::{Leg, LegPlanner, Stationary};
@@ -252,28 +251,8 @@ fn target_groups(structures: &[Structure], targets: &[Target]) -> Result<Vec<Tar
     Ok(groups)
 }
 
-/// The parameters planner `inspection` reads, for `GET /api/v1/planners`.
-pub fn parameters() -> Vec<ParameterInfo> {
-    let p = |name, kind, description| ParameterInfo { name, kind, description };
-    vec![
-        p("planner", "string", PLANNER_ID),
-        p("budget", "object", "one of {max_length_m} (10 to 100 000), {max_time_s} (10 to 86 400) or {max_energy_j} (1 000 to 10⁹): the flight's limit"),
-        p("targets", "array", "\"walls\", \"roof\", a structure's name, or {name, faces: [walls|roof], priority 0.01 to 100}; default: every structure's walls and roof"),
-        p("camera", "object", "as for coverage plans (default: the dji_mavic3_enterprise preset); with gsd_cm, the farthest a point may be"),
-        p("gsd_cm", "number", "finest ground sample distance wanted on the faces: limits the range"),
-        p("vehicle", "object", "a multirotor: it stops, turns and takes a picture at each viewpoint"),
-        p("start", "object", "{position: [lon, lat], altitude_m}: where the flight starts (default: the mission's home, on the ground)"),
-        p("end", "object", "{position: [lon, lat], altitude_m}: where it ends (default: the start)"),
-        p("seed", "integer", "random seed: the same seed gives the same plan (default 0)"),
-        p("time_limit_ms", "integer", "the search returns its best path after this, 100 to 600 000 (default 20 000)"),
-        p(
-            "inspection",
-            "object",
-            "poi_spacing_m (0.5), range_m ([1, 12]), max_incidence_deg (75), gimbal_pitch_deg ([-90, 30]), body_radius_m (0.5), safety_margin_m (2), \
-             altitude_range_m, viewpoints (300), extension none|sphere|ellipse (sphere), extension_per_iteration (5), capture_s (1), show_unseen (false)",
-        ),
-    ]
-}
+/// The request members (of `PlanParams`) an inspection reads, for `GET /api/v1/planners`.
+pub const PARAMETERS: &[&str] = &["planner", "budget", "targets", "camera", "gsd_cm", "vehicle", "start", "end", "seed", "time_limit_ms", "inspection"];
 
 /// What the search starts from: the targets' points, the scene, the camera's reach, the ends.
 struct Setup {

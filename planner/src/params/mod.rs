@@ -36,6 +36,9 @@ pub struct PlanParams {
     pub planner: Option<String>,
     /// Distance between sweep lines; required unless a camera is given.
     pub line_spacing_m: Option<f64>,
+    /// The camera, by `preset` (`GET /api/v1/cameras`) or by its figures: sets the line spacing
+    /// from the side overlap and the photo positions from the front overlap (an inspection's
+    /// default: the `dji_mavic3_enterprise` preset).
     pub camera: Option<Camera>,
     /// Flight altitude above ground; with a camera, or instead `gsd_cm`.
     pub altitude_m: Option<f64>,
@@ -51,9 +54,14 @@ pub struct PlanParams {
     /// `optimal` plans every direction (2° apart, refined to 0.5°) and keeps the shortest per
     /// covered area among those that cover 99 % (or, when none does, within 1 % of the best).
     pub sweep_direction: Option<SweepDirection>,
+    /// The vehicle: a `profile` (`GET /api/v1/vehicles`), a `kind` (multirotor, fixed_wing or
+    /// ground), or both, with overrides of its figures.
     #[serde(default)]
     pub vehicle: VehicleParams,
+    /// Where the flight starts, `{position: [lon, lat], heading_deg}` (default: the mission's
+    /// home, heading free).
     pub start: Option<PoseParam>,
+    /// Where the flight ends, `{position: [lon, lat], heading_deg}` (default: the mission's home).
     pub end: Option<PoseParam>,
     /// Line-level routing may leave a field and come back to it (default true); false flies
     /// each field in one block.

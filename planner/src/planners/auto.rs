@@ -6,7 +6,7 @@
 use geo::Area;
 use rayon::prelude::*;
 
-use super::{ParameterInfo, PlannedPath, Planner, Problem, Progress, common_parameters, registry};
+use super::{COMMON_PARAMETERS, PlannedPath, Planner, Problem, Progress, registry};
 use crate::error::PlanError;
 use crate::metrics::{Alternative, best_covering, covered_area};
 use crate::params::Objective;
@@ -31,8 +31,8 @@ impl Planner for Auto {
         true
     }
 
-    fn parameters(&self) -> Vec<ParameterInfo> {
-        common_parameters()
+    fn parameters(&self) -> Vec<&'static str> {
+        COMMON_PARAMETERS.to_vec()
     }
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {

@@ -156,9 +156,9 @@ pub trait Planner: Send + Sync {
     fn lays_parallel_lines(&self) -> bool {
         true
     }
-    /// The request members this planner reads.
-    fn parameters(&self) -> Vec<ParameterInfo> {
-        common_parameters().into_iter().filter(|p| (p.name != "swath_ends" || self.lays_parallel_lines()) && p.name != OBJECTIVE).collect()
+    /// The request members (of `PlanParams`) this planner reads.
+    fn parameters(&self) -> Vec<&'static str> {
+        COMMON_PARAMETERS.iter().copied().filter(|&name| (name != "swath_ends" || self.lays_parallel_lines()) && name != OBJECTIVE).collect()
     }
 }
 
@@ -205,7 +205,8 @@ pub struct PlannerInfo {
     pub default_for: Vec<VehicleKind>,
     /// Whether a fleet's parts may be planned with it.
     pub fleets: bool,
-    pub parameters: Vec<ParameterInfo>,
+    /// The request members it reads (`PlanParams`' members, described by its schema).
+    pub parameters: Vec<&'static str>,
 }
 
 impl PlannerInfo {
@@ -224,57 +225,33 @@ impl PlannerInfo {
     }
 }
 
-/// A parameter that planners accept, for `GET /api/v1/planners`.
-#[derive(Debug, Clone, Serialize)]
-#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
-pub struct ParameterInfo {
-    pub name: &'static str,
-    #[serde(rename = "type")]
-    pub kind: &'static str,
-    pub description: &'static str,
-}
-
 /// The parameter of the planners that choose among plans (`auto`): what to minimise.
 pub const OBJECTIVE: &str = "objective";
 
-/// The parameters shared by every planner.
-pub fn common_parameters() -> Vec<ParameterInfo> {
-    let p = |name, kind, description| ParameterInfo { name, kind, description };
-    vec![
-        p("line_spacing_m", "number", "distance between sweep lines, 0.5 to 2000 m (or give a camera)"),
-        p(
-            "camera",
-            "object",
-            "{preset} from GET /api/v1/cameras, or sensor_width_mm + focal_length_mm (or hfov_deg or dfov_deg), image_width_px, image_height_px; orientation landscape|portrait",
-        ),
-        p("altitude_m", "number", "flight altitude above ground (with a camera: or gsd_cm)"),
-        p("gsd_cm", "number", "wanted ground sample distance in cm/px; sets the altitude"),
-        p("side_overlap", "number", "overlap of neighbouring lines' images, 0 to 0.95 (default 0.7)"),
-        p("front_overlap", "number", "overlap of images along a line, 0 to 0.95 (default 0.8)"),
-        p("heading_deg", "number", "compass bearing of the sweep lines; absent: the planner chooses"),
-        p("sweep_direction", "string", "planner (default): the planner's own rule; optimal: every direction tried, the shortest plan kept"),
-        p(
-            "vehicle",
-            "object",
-            "{profile} from GET /api/v1/vehicles, or {kind: multirotor|fixed_wing|ground}, with overrides cruise_speed_mps, turn_radius_m (min_turn_radius_m), battery_wh, battery_reserve; ground: working_width_m, reverse_allowed, max_curvature_rate, headland_speed_mps; fixed wing flies Dubins turns",
-        ),
-        p(OBJECTIVE, "string", "what to minimise: energy (default), time or length"),
-        p("max_sorties", "integer", "most sorties when one battery is not enough, 1 to 100 (default 20); needs the mission's home"),
-        p("start", "object", "{position: [lon, lat], heading_deg}: where the flight starts and its compass heading (default: home, heading free)"),
-        p("end", "object", "{position: [lon, lat], heading_deg}: where the flight ends (default: home)"),
-        p("allow_reentry", "boolean", "line-level routing (line_gtsp, fixed wing) may leave a field and come back (default true)"),
-        p("nfz_margin_m", "number", "clearance kept from no-fly zones, 1 to 500 m (default 10; 1 for a ground vehicle)"),
-        p("headland_passes", "integer", "ground vehicle: working passes round the field's edge and every hole, 1 to 20 (default 2)"),
-        p("headland_width_m", "number", "ground vehicle: headland width, 1 to 500 m (default: passes × working width)"),
-        p("headland_order", "string", "ground vehicle: first or last (default): when the headland passes are worked"),
-        p(
-            "swath_ends",
-            "string",
-            "where lines end at a slanted edge: balanced (each runs on while a quarter of its width still has area to work), full_width (until its whole width has worked the area) or centre_line (stops where its centre line meets the edge: shortest, leaves a triangle at slanted ends); default balanced for a ground vehicle, full_width for an aircraft",
-        ),
-        p("overlap", "number", "ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5 (default 0)"),
-    ]
-}
+/// The request members (of `PlanParams`) every coverage planner reads; the service describes
+/// each from the request's schema, so they are named here and documented once, on the member.
+pub const COMMON_PARAMETERS: &[&str] = &[
+    "line_spacing_m",
+    "camera",
+    "altitude_m",
+    "gsd_cm",
+    "side_overlap",
+    "front_overlap",
+    "heading_deg",
+    "sweep_direction",
+    "vehicle",
+    OBJECTIVE,
+    "max_sorties",
+    "start",
+    "end",
+    "allow_reentry",
+    "nfz_margin_m",
+    "headland_passes",
+    "headland_width_m",
+    "headland_order",
+    "swath_ends",
+    "overlap",
+];
 
 /// Appends a connection from the end of `path` to `to`, around no-fly zones when needed.
 pub fn connect(path: &mut FlightPath, kind: PieceKind, from: Coord, to: Coord, transit: &TransitPlanner) -> Result<(), PlanError> {

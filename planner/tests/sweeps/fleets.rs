@@ -3,6 +3,7 @@
 //! the field, deterministic), each drone's features are its own numbered flight, the parts do
 //! not overlap, and the last landing comes no later than one drone's flight.
 
+use crate::fixtures::fixture;
 use crate::planner_properties::{check_covering, coverage_floor, params, star_field, unlimited_battery};
 
 use coverplan_planner::frame::LocalFrame;
@@ -150,7 +151,7 @@ proptest! {
 }
 
 fn fixture_field(name: &str) -> (Value, Option<Value>, [f64; 2]) {
-    let m: Value = serde_json::from_str(&std::fs::read_to_string(format!("tests/fixtures/{name}")).unwrap()).unwrap();
+    let m = fixture(name);
     let home: [f64; 2] = serde_json::from_value(m["area"]["coordinates"][0][0].clone()).unwrap();
     (m["area"].clone(), m.get("no_fly_zones").filter(|v| !v.is_null()).cloned(), home)
 }

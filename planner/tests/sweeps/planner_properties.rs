@@ -3,7 +3,7 @@
 //! the same output for the same input. Every planner of the registry is checked, so a new
 //! planner is checked as soon as it is registered.
 
-use crate::fixtures::fixture;
+use crate::fixtures::{fixture, fixtures_dir};
 
 use coverplan_planner::frame::LocalFrame;
 use coverplan_planner::planners::{self, registry};
@@ -155,10 +155,10 @@ fn spacing_for(area_m2: f64) -> f64 {
 
 #[test]
 fn every_fixture_field_is_planned_correctly() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures");
+    let dir = fixtures_dir();
     let mut files: Vec<String> = Vec::new();
     for sub in ["random-fields", "real-fields"] {
-        for e in std::fs::read_dir(format!("{dir}/{sub}")).unwrap() {
+        for e in std::fs::read_dir(dir.join(sub)).unwrap() {
             let name = e.unwrap().file_name().into_string().unwrap();
             if name.ends_with(".json") && name != "index.json" {
                 files.push(format!("{sub}/{name}"));
@@ -324,7 +324,7 @@ fn circumradius(a: Coord, b: Coord, c: Coord) -> f64 {
 /// path. The planners take the fields in turn.
 #[test]
 fn fixed_wing_plans_respect_zones_and_turning_radius() {
-    let index: Value = serde_json::from_str(&std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/random-fields/index.json")).unwrap()).unwrap();
+    let index = fixture("random-fields/index.json");
     let fixed_wing = |planner: &str, spacing: f64, radius: f64| -> PlanParams {
         serde_json::from_value(json!({"planner": planner, "line_spacing_m": spacing, "vehicle": {"kind": "fixed_wing", "turn_radius_m": radius}})).unwrap()
     };

@@ -271,6 +271,7 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
         structures: mission.get("structures").filter(|v| !v.is_null()),
         home,
+        terrain: None,
     };
     let profiles = planner::vehicle::builtin_profiles();
     let bar = std::io::stderr().is_terminal().then(|| {

@@ -15,6 +15,7 @@ use super::planners::{self, Problem, Progress};
 use super::route::connect::Connector;
 use super::route::visibility::TransitPlanner;
 use super::stop::Stop;
+use super::terrain::profile::{self, Ground};
 use super::turn::climb::Obstacles;
 use super::turn::{self, TurnModel};
 use super::{fleet, params, sortie, sweep, vehicle};
@@ -63,6 +64,11 @@ pub(crate) struct Flight {
     /// Energy of the whole route in one flight.
     pub needed_j: f64,
     pub lost_coverage_m: f64,
+    /// Over terrain: each sortie's pieces' least and greatest height above ground.
+    pub above_ground: Vec<Vec<[f64; 2]>>,
+    /// Over terrain: metres of sweep outside the height tolerance (ground steeper than the
+    /// vehicle climbs).
+    pub sweep_off_band_m: f64,
 }
 
 impl Flight {
@@ -90,11 +96,18 @@ impl Flight {
     }
 }
 
+/// The ground a plan over terrain follows, and how.
+pub(crate) struct Terrain<'a> {
+    pub ground: Ground<'a>,
+    pub settings: profile::Settings,
+}
+
 /// What every vehicle's flight shares.
 pub(crate) struct Stages<'a> {
     pub prepared: &'a Prepared,
     pub transit: &'a TransitPlanner,
     pub obstacles: Option<&'a Obstacles>,
+    pub terrain: Option<&'a Terrain<'a>>,
     pub stop: &'a Stop,
 }
 
@@ -140,23 +153,47 @@ impl Stages<'_> {
             }
             (path, lost)
         };
+        // over terrain every sortie flies its climbs and descents: priced when splitting too
+        let laid = |p: &FlightPath| self.terrain.map(|t| profile::lay(p, &t.ground, &t.settings)).transpose();
+        if self.terrain.is_some() {
+            laid(&flown(&planned.path).0)?;
+        }
         let model = vehicle.energy_model();
-        let energy_of = |p: &FlightPath| model.estimate(&flown(p).0, resolved.altitude_m).energy_j();
+        let energy_of = |p: &FlightPath| {
+            let path = flown(p).0;
+            let path = laid(&path).ok().flatten().map_or(path, |l| l.0);
+            model.estimate(&path, resolved.altitude_m).energy_j()
+        };
         let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
         let budget = sortie::Budget { home: ends.home, usable_j: vehicle.battery.usable_j(), max_sorties: resolved.max_sorties, connect: &connect, energy: &energy_of };
         let split = budget.split(&planned.path)?;
         let mut lost_coverage_m = 0.0;
-        let sorties: Vec<FlightPath> = split
-            .sorties
-            .iter()
-            .map(|s| {
-                let (path, lost) = flown(s);
-                lost_coverage_m += lost;
-                path
-            })
-            .collect();
+        let (mut above_ground, mut sweep_off_band_m) = (Vec::new(), 0.0);
+        let mut sorties: Vec<FlightPath> = Vec::with_capacity(split.sorties.len());
+        for s in &split.sorties {
+            let (path, lost) = flown(s);
+            lost_coverage_m += lost;
+            match laid(&path)? {
+                Some((path, report)) => {
+                    above_ground.push(report.piece_heights);
+                    sweep_off_band_m += report.sweep_off_band_m;
+                    sorties.push(path);
+                }
+                None => sorties.push(path),
+            }
+        }
         let estimates = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
-        Ok(Flight { vehicle: vehicle.clone(), planned, sorties, estimates, battery_swaps: split.battery_swaps, needed_j: split.needed_j, lost_coverage_m })
+        Ok(Flight {
+            vehicle: vehicle.clone(),
+            planned,
+            sorties,
+            estimates,
+            battery_swaps: split.battery_swaps,
+            needed_j: split.needed_j,
+            lost_coverage_m,
+            above_ground,
+            sweep_off_band_m,
+        })
     }
 
     /// Plans the fleet: the area split among the drones (docs/methods.md, fleets), each part
@@ -246,6 +283,49 @@ fn with_vertex_at(points: &[(Coord, f64)], at: f64) -> Vec<(Coord, f64)> {
         out.push((c, z));
     }
     out
+}
+
+/// What a plan over terrain adds to the statistics: heights above ground, climbs, waypoints.
+pub(crate) fn report_terrain(flights: &[&Flight], stats: &mut Stats) {
+    let mut t = crate::terrain::TerrainStats {
+        altitude_reference: "terrain".into(),
+        height_above_ground_m: [f64::INFINITY, f64::NEG_INFINITY],
+        sweep_height_above_ground_m: [f64::INFINITY, f64::NEG_INFINITY],
+        ..Default::default()
+    };
+    let (mut points, mut sweep_m, mut off_band_m) = (0usize, 0.0, 0.0);
+    for f in flights {
+        off_band_m += f.sweep_off_band_m;
+        for (sortie, heights) in f.sorties.iter().zip(&f.above_ground) {
+            points += 1;
+            for (piece, &[lo, hi]) in sortie.pieces.iter().zip(heights) {
+                let widen = |r: &mut [f64; 2]| *r = [r[0].min(lo), r[1].max(hi)];
+                widen(&mut t.height_above_ground_m);
+                if piece.kind == PieceKind::Sweep {
+                    widen(&mut t.sweep_height_above_ground_m);
+                    sweep_m += polyline_length(&piece.points);
+                }
+                points += piece.points.len() - 1;
+                for z in piece.z.windows(2) {
+                    t.climb_m += (z[1] - z[0]).max(0.0);
+                    t.descent_m += (z[0] - z[1]).max(0.0);
+                }
+            }
+        }
+    }
+    let round = |v: f64| (v * 100.0).round() / 100.0;
+    t.height_above_ground_m = t.height_above_ground_m.map(round);
+    t.sweep_height_above_ground_m = t.sweep_height_above_ground_m.map(|v| if v.is_finite() { round(v) } else { 0.0 });
+    t.sweep_outside_tolerance_m = round(off_band_m);
+    (t.climb_m, t.descent_m) = (round(t.climb_m), round(t.descent_m));
+    t.waypoints_per_sweep_km = if sweep_m > 0.0 { round(points as f64 / (sweep_m / 1000.0)) } else { 0.0 };
+    if off_band_m > 0.0 {
+        stats.warnings.push(format!(
+            "over {off_band_m:.0} m of sweep the ground rises or falls faster than the vehicle may climb or descend (max_climb_mps, max_descent_mps; a fixed wing's max_climb_deg): \
+             there the height above ground leaves the tolerance (it never drops below its floor); the images there are at another scale"
+        ));
+    }
+    stats.terrain = Some(t);
 }
 
 /// What a fleet plan adds to the statistics.

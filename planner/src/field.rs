@@ -36,6 +36,8 @@ pub struct MissionGeometry<'a> {
     /// `name`: structures to inspect, extruded from `base_m` to `base_m + height_m`.
     pub structures: Option<&'a Value>,
     pub home: Option<[f64; 2]>,
+    /// The ground's heights, for plans flown at a height above it.
+    pub terrain: Option<&'a crate::terrain::ElevationModel>,
 }
 
 /// A validated field in its local frame: polygons with holes, no-fly zones, home.
@@ -599,7 +601,7 @@ mod tests {
     use serde_json::json;
 
     fn parse(area: Value) -> Result<Field, InputError> {
-        Field::parse(&MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None }, &FieldLimits::default())
+        Field::parse(&MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None }, &FieldLimits::default())
     }
 
     fn square(lon: f64, lat: f64, d: f64) -> Value {

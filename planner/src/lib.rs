@@ -8,6 +8,8 @@
 //!   (WGS84 ⇄ local metres), [`path`] (the flight path), [`stop`] (cancellation and time
 //!   limits, asked by every long loop): the vocabulary every stage shares;
 //! - [`mesh`]: Wavefront OBJ models of structures, read with limits;
+//! - [`terrain`]: the user's elevation model (GeoTIFF, SRTM), and the altitude profile that
+//!   keeps a path at its height above that ground;
 //! - `field`: parse, validate and normalise the mission;
 //! - `sweep`: parallel sweep lines over an area, and the width of a shape across a direction;
 //! - `decompose`: cells, each swept by `sweep`'s lines in its own direction;
@@ -61,6 +63,7 @@ pub mod routing_study;
 mod sortie;
 pub mod stop;
 mod sweep;
+pub mod terrain;
 mod turn;
 pub mod vehicle;
 
@@ -185,11 +188,54 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
         ));
     }
     let ground = ground?;
+    check_terrain(mission, &resolved, &field)?;
     let start = resolved.start.map(|p| local(p, "/start/position")).transpose()?.or(field.home);
     let end = resolved.end.map(|p| local(p, "/end/position")).transpose()?.or(field.home);
     let fleet_homes =
         resolved.fleet.iter().enumerate().map(|(k, d)| d.home.map(|p| local(p, &format!("/fleet/{k}/home"))).transpose().map(|h| h.or(field.home))).collect::<Result<_, _>>()?;
     Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end, fleet_homes, ground })
+}
+
+/// Over terrain: the mission has an elevation model, and it covers the fields, home, start and
+/// end (and the drones' homes) with a margin.
+fn check_terrain(mission: &MissionGeometry<'_>, resolved: &params::Resolved, field: &Field) -> Result<(), InputError> {
+    if resolved.terrain.is_none() {
+        return Ok(());
+    }
+    let model = mission.terrain.ok_or_else(|| {
+        InputError::new(
+            "terrain_missing",
+            "/altitude_reference",
+            "the mission has no elevation model to follow: upload one (PUT /api/v1/missions/{id}/terrain, or coverplan plan --terrain FILE.tif), or plan with altitude_reference \"home\"",
+        )
+    })?;
+    let mut places: Vec<(String, String, [f64; 2])> = Vec::new();
+    for (k, polygon) in field.area.0.iter().enumerate() {
+        places.extend(polygon.exterior().coords().map(|&c| (format!("field {}", k + 1), "/area".to_string(), field.frame.to_wgs84(c))));
+    }
+    places.extend(mission.home.map(|h| ("home".to_string(), "/home".to_string(), h)));
+    places.extend(resolved.start.map(|p| ("the start".to_string(), "/start/position".to_string(), p)));
+    places.extend(resolved.end.map(|p| ("the end".to_string(), "/end/position".to_string(), p)));
+    for (k, d) in resolved.fleet.iter().enumerate() {
+        places.extend(d.home.map(|h| (format!("drone {k}'s home"), format!("/fleet/{k}/home"), h)));
+    }
+    model.check_covers(&places)
+}
+
+/// The ground a plan over terrain follows: the lookup spans the fields, home, start and end
+/// and a kilometre around them (a path beyond is sampled exactly).
+fn terrain_stage<'a>(mission: &MissionGeometry<'a>, prepared: &Prepared) -> Option<compose::Terrain<'a>> {
+    let (model, spec, height_m) = (mission.terrain?, prepared.resolved.terrain?, prepared.resolved.altitude_m?);
+    let rect = geo::BoundingRect::bounding_rect(&prepared.field.area)?;
+    let (mut lo, mut hi) = (rect.min(), rect.max());
+    for c in [prepared.start, prepared.end, prepared.field.home].into_iter().flatten().chain(prepared.fleet_homes.iter().flatten().copied()) {
+        lo = Coord { x: lo.x.min(c.x), y: lo.y.min(c.y) };
+        hi = Coord { x: hi.x.max(c.x), y: hi.y.max(c.y) };
+    }
+    let margin = Coord { x: 1000.0, y: 1000.0 };
+    let ground = terrain::profile::Ground::new(model, prepared.field.frame, [lo - margin, hi + margin]);
+    let settings = terrain::profile::Settings { height_m, tolerance_m: spec.tolerance_m, climb: spec.climb, descent: spec.descent };
+    Some(compose::Terrain { ground, settings })
 }
 
 /// A ground vehicle's headland, refused where it leaves no room: no mainland, or a headland
@@ -383,7 +429,8 @@ fn plan_until(
         .altitude_m
         .filter(|_| !field.obstacles.is_empty())
         .map(|altitude| Obstacles::new(&field.obstacles, altitude, resolved.obstacle_clearance_m, resolved.max_climb_deg, resolved.coverage_penalty));
-    let stages = Stages { prepared: &prepared, transit: &transit, obstacles: obstacles.as_ref(), stop };
+    let terrain = terrain_stage(mission, &prepared);
+    let stages = Stages { prepared: &prepared, transit: &transit, obstacles: obstacles.as_ref(), terrain: terrain.as_ref(), stop };
     let (flights, fleet) = if resolved.fleet.is_empty() {
         let flight = stages.fly(&resolved.vehicle, Ends { start: prepared.start, end: prepared.end, home: field.home }, region, None, progress)?;
         (vec![Some(flight)], None)
@@ -429,6 +476,9 @@ fn plan_until(
     let ((mut stats, uncovered), ground_stats) =
         rayon::join(|| rayon::join(|| metrics::measure(&input), || metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones))), ground_stats);
     stats.ground = ground_stats;
+    if terrain.is_some() {
+        compose::report_terrain(&flown, &mut stats);
+    }
     let photo_points = photos.as_deref().map(metrics::photo_points);
     let vehicle_flights: Vec<export::geojson::VehicleFlight<'_>> = flights
         .iter()
@@ -440,6 +490,7 @@ fn plan_until(
             usable_j: f.vehicle.battery.usable_j(),
             battery_swaps: &f.battery_swaps,
             vehicle: fleet.is_some().then_some(k),
+            above_ground: &f.above_ground,
         })
         .collect();
     let marks = export::geojson::Marks { photos: photo_points.as_deref(), uncovered: &uncovered };
@@ -551,11 +602,11 @@ mod tests {
                     "start": {"position": at(corner.0, corner.1)},
                 }))
                 .unwrap();
-                let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None };
+                let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None };
                 let prepared = prepare(&mission, &params, &profiles, &FieldLimits::default()).unwrap();
                 let transit = TransitPlanner::new(&prepared.keep_out, &prepared.walls);
                 let stop = Stop::never();
-                let stages = Stages { prepared: &prepared, transit: &transit, obstacles: None, stop: &stop };
+                let stages = Stages { prepared: &prepared, transit: &transit, obstacles: None, terrain: None, stop: &stop };
                 let ends = Ends { start: prepared.start, end: prepared.end, home: None };
                 let flight = stages.fly(&prepared.resolved.vehicle, ends, &prepared.region, None, &|_| true).unwrap();
                 let planned = &flight.planned;

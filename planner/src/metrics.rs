@@ -85,6 +85,8 @@ pub struct Stats {
     pub inspection_coverage: Option<f64>,
     /// Inspection: what each target shows, the budget and the search.
     pub inspection: Option<InspectionStats>,
+    /// With `altitude_reference` `terrain`: the height above ground flown, the climbs.
+    pub terrain: Option<crate::terrain::TerrainStats>,
 }
 
 /// An inspection's figures.
@@ -691,6 +693,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         ground: None,
         inspection_coverage: None,
         inspection: None,
+        terrain: None,
     }
 }
 

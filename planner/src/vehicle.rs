@@ -57,6 +57,17 @@ pub struct Battery {
     pub reserve: f64,
 }
 
+impl Vehicle {
+    /// A multirotor's climb and descent rates: its energy model's, or 3 and 2 m/s.
+    pub fn vertical_rates_mps(&self) -> (f64, f64) {
+        match &self.energy {
+            EnergyParams::MultirotorIem(c) => (c.climb_rate_mps, c.descent_rate_mps),
+            EnergyParams::ConstantPower(p) => (p.vertical_speed_mps, p.vertical_speed_mps),
+            _ => (3.0, 2.0),
+        }
+    }
+}
+
 impl Battery {
     /// Energy a sortie may use, in joules.
     pub fn usable_j(&self) -> f64 {

@@ -71,6 +71,7 @@ fn row(out: &mut String, r: &Row<'_>, seeds: u64) {
         obstacles: None,
         structures: Some(&r.mission["structures"]),
         home: serde_json::from_value(r.mission["home"].clone()).ok(),
+        terrain: None,
     };
     let profiles = planner::vehicle::builtin_profiles();
     let (mut shares, mut times, mut flown, mut sampled, mut lengths, mut iterations) = (Vec::new(), Vec::new(), 0, 0, 0.0, 0);

@@ -185,6 +185,7 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
                 obstacles: None,
                 structures: None,
                 home: None,
+                terrain: None,
             };
             for _ in 0..repeats {
                 reset_peak();

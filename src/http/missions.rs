@@ -60,6 +60,7 @@ impl MissionRequest {
                 obstacles: self.obstacles.as_ref(),
                 structures: self.structures.as_ref(),
                 home: self.home,
+                terrain: None,
             };
             planner::validate_mission(&geometry, &limits)?;
             Ok::<_, ApiError>(NewMission {

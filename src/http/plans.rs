@@ -38,6 +38,7 @@ pub async fn create(
             obstacles: mission.obstacles.as_ref(),
             structures: mission.structures.as_ref(),
             home: mission.home,
+            terrain: None,
         };
         planner::check_plan(&geometry, &params, &profiles, &limits)?;
         Ok::<_, ApiError>((mission, params, profiles))

@@ -67,6 +67,7 @@ pub fn snapshot_geometry(mission: &Value) -> MissionGeometry<'_> {
         obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
         structures: mission.get("structures").filter(|v| !v.is_null()),
         home: mission.get("home").and_then(|h| serde_json::from_value::<[f64; 2]>(h.clone()).ok()),
+        terrain: None,
     }
 }
 

@@ -34,6 +34,10 @@ fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
     Feature { geometry: Some(Geometry::new(value)), properties: Some(properties), ..Default::default() }
 }
 
+/// The `altitude_reference` of a flown piece whose heights are above mean sea level, laid
+/// over the ground (without it: above home).
+pub const TERRAIN_REFERENCE: &str = "terrain";
+
 /// One vehicle's flight, as the trajectory shows it.
 pub struct VehicleFlight<'a> {
     pub sorties: &'a [FlightPath],
@@ -45,6 +49,9 @@ pub struct VehicleFlight<'a> {
     pub battery_swaps: &'a [Coord],
     /// Fleet: the drone's index, written on each of its features.
     pub vehicle: Option<usize>,
+    /// Over terrain: each sortie's pieces' least and greatest height above ground (empty:
+    /// flown at one altitude above home).
+    pub above_ground: &'a [Vec<[f64; 2]>],
 }
 
 /// What the trajectory shows besides the flown pieces.
@@ -137,7 +144,7 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
     for (k, (sortie, estimate)) in flight.sorties.iter().zip(flight.estimates).enumerate() {
         // take-off is spent before the first piece
         let mut used = estimate.takeoff_landing_j / 2.0;
-        for (piece, e) in sortie.pieces.iter().zip(&estimate.pieces) {
+        for (j, (piece, e)) in sortie.pieces.iter().zip(&estimate.pieces).enumerate() {
             used += e.energy_j;
             let coords = piece.points.iter().enumerate().map(|(i, &c)| position(frame, c, piece.z.get(i).copied().or(altitude_m))).collect();
             let mut props = json!({
@@ -157,6 +164,11 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
             }
             if let Some(shape) = piece.shape {
                 props["turn_type"] = json!(shape);
+            }
+            if let Some(&[lo, hi]) = flight.above_ground.get(k).and_then(|s| s.get(j)) {
+                props["altitude_reference"] = json!(TERRAIN_REFERENCE);
+                props["min_height_above_ground_m"] = json!(round(lo, 2));
+                props["max_height_above_ground_m"] = json!(round(hi, 2));
             }
             push(&mut features, GeometryValue::LineString { coordinates: coords }, props);
             if swaps.peek().is_some_and(|&&c| c == piece.end()) {

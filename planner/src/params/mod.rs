@@ -70,6 +70,20 @@ pub struct PlanParams {
     pub obstacle_clearance_m: Option<f64>,
     /// With obstacles: steepest climb and descent, 1 to 60° (default 30).
     pub max_climb_deg: Option<f64>,
+    /// What `altitude_m` is measured from: `home` (default: one altitude above the take-off
+    /// point) or `terrain` (the height above the ground of the mission's elevation model,
+    /// `PUT /api/v1/missions/{id}/terrain`; the trajectory's heights are then above mean sea
+    /// level).
+    pub altitude_reference: Option<AltitudeReference>,
+    /// With `altitude_reference` `terrain`: how far the height above ground may stray on
+    /// sweeps, and below it anywhere, 0.5 to 100 m (default 5).
+    pub terrain_tolerance_m: Option<f64>,
+    /// With `altitude_reference` `terrain`, a multirotor: fastest climb, 0.1 to 20 m/s
+    /// (default: its energy model's climb rate, or 3). A fixed wing climbs at `max_climb_deg`.
+    pub max_climb_mps: Option<f64>,
+    /// With `altitude_reference` `terrain`, a multirotor: fastest descent, 0.1 to 20 m/s
+    /// (default: its energy model's descent rate, or 2). A fixed wing descends at `max_climb_deg`.
+    pub max_descent_mps: Option<f64>,
     /// Metres of path that one metre of sweep lost costs when choosing the order and the
     /// direction, 0 to 1000 (default 10): sweep flown too high to image over an obstacle, or
     /// (`line_gtsp`, fixed wing) cut short to leave room to turn before a no-fly zone.
@@ -128,6 +142,26 @@ pub struct PlanParams {
     /// Inspection: milliseconds the search may take before it returns its best path, 100 to
     /// 600 000 (default 20 000).
     pub time_limit_ms: Option<u64>,
+}
+
+/// What a plan's altitude is measured from.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum AltitudeReference {
+    /// One altitude above the take-off point.
+    #[default]
+    Home,
+    /// A height above the ground of the mission's elevation model.
+    Terrain,
+}
+
+/// Terrain following, validated: slopes in metres of height per metre flown.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TerrainSpec {
+    pub tolerance_m: f64,
+    pub climb: f64,
+    pub descent: f64,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -239,6 +273,8 @@ pub struct Resolved {
     pub altitude_separation_m: Option<f64>,
     /// A ground vehicle's headland; `None` for an aircraft.
     pub headland: Option<HeadlandSpec>,
+    /// `altitude_reference` `terrain`.
+    pub terrain: Option<TerrainSpec>,
 }
 
 /// A start or end's position, checked; `name` is its member.
@@ -357,6 +393,7 @@ impl PlanParams {
         if !(1..=100).contains(&max_sorties) {
             return Err(InputError::new("parameter_out_of_range", "/max_sorties", format!("{max_sorties} is outside the accepted range [1, 100]")));
         }
+        let terrain = self.terrain(&vehicle, altitude_m, max_climb_deg)?;
         Ok(Resolved {
             line_spacing_m,
             camera,
@@ -379,7 +416,44 @@ impl PlanParams {
             fleet,
             altitude_separation_m,
             headland,
+            terrain,
         })
+    }
+
+    fn terrain(&self, vehicle: &Vehicle, altitude_m: Option<f64>, max_climb_deg: f64) -> Result<Option<TerrainSpec>, InputError> {
+        let members =
+            [("/terrain_tolerance_m", self.terrain_tolerance_m.is_some()), ("/max_climb_mps", self.max_climb_mps.is_some()), ("/max_descent_mps", self.max_descent_mps.is_some())];
+        if self.altitude_reference != Some(AltitudeReference::Terrain) {
+            return match members.iter().find(|m| m.1) {
+                Some((pointer, _)) => Err(InputError::new("not_over_terrain", *pointer, "this member is for plans over terrain: give altitude_reference \"terrain\"")),
+                None => Ok(None),
+            };
+        }
+        if vehicle.kind == VehicleKind::Ground {
+            return Err(InputError::new("not_for_ground_vehicles", "/altitude_reference", "a ground vehicle drives on the ground: leave out altitude_reference"));
+        }
+        if altitude_m.is_none() {
+            return Err(InputError::new("altitude_missing", "/altitude_m", "over terrain, give the height above ground to fly at (altitude_m, or a camera with gsd_cm)"));
+        }
+        let tolerance_m = self.terrain_tolerance_m.unwrap_or(5.0);
+        check_range(tolerance_m, 0.5, 100.0, "/terrain_tolerance_m", "m")?;
+        let (climb, descent) = if vehicle.kind == VehicleKind::FixedWing {
+            if let Some((pointer, _)) = members[1..].iter().find(|m| m.1) {
+                return Err(InputError::new("not_for_fixed_wing", *pointer, "a fixed wing climbs and descends at max_climb_deg"));
+            }
+            let slope = max_climb_deg.to_radians().tan();
+            (slope, slope)
+        } else {
+            let (climb_default, descent_default) = vehicle.vertical_rates_mps();
+            let climb = self.max_climb_mps.unwrap_or(climb_default);
+            let descent = self.max_descent_mps.unwrap_or(descent_default);
+            check_range(climb, 0.1, 20.0, "/max_climb_mps", "m/s")?;
+            check_range(descent, 0.1, 20.0, "/max_descent_mps", "m/s")?;
+            // at cruise speed: slower legs climb more steeply at the same rate, so this is the
+            // shallowest slope the vehicle flies
+            (climb / vehicle.cruise_speed_mps, descent / vehicle.cruise_speed_mps)
+        };
+        Ok(Some(TerrainSpec { tolerance_m, climb, descent }))
     }
 
     /// The inspection's vehicle and parameters (planner `inspection`): a multirotor, which

@@ -16,6 +16,7 @@ const LAYERS: &[&str] = &[
     "path",
     "stop",
     "mesh",
+    "terrain",
     "field",
     "sweep",
     "decompose",

@@ -8,3 +8,4 @@ mod obstacles;
 mod patrolling;
 mod seed004;
 mod several_fields;
+mod terrain;

@@ -19,7 +19,7 @@ fn ground(width: f64, radius: f64, extra: Value) -> PlanParams {
 }
 
 fn run(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Result<PlanOutput, PlanError> {
-    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, structures: None, home: None };
+    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, structures: None, home: None, terrain: None };
     planner::plan(&mission, params, &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never())
 }
 

@@ -13,7 +13,7 @@ use serde_json::Value;
 use coverplan::config::{Config, database_url};
 use coverplan::http::auth::RateLimit;
 use coverplan::jobs::QueueSettings;
-use coverplan::planner::export::{self, ExportOptions, ExportRequest, Firmware};
+use coverplan::planner::export::{self, AltitudeFrame, ExportOptions, ExportRequest, Firmware};
 use coverplan::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanParams, Stop, import};
 use coverplan::store;
 
@@ -46,6 +46,14 @@ enum Command {
         /// Autopilot of plan and waypoints files: ardupilot or px4
         #[arg(long, default_value = "ardupilot", value_parser = ["ardupilot", "px4"])]
         firmware: String,
+        /// Elevation model (GeoTIFF, or SRTM .hgt plain or zipped): the plan flies at
+        /// altitude_m above this ground (altitude_reference terrain, unless the parameters say home)
+        #[arg(long)]
+        terrain: Option<PathBuf>,
+        /// Over terrain, the flight files' altitudes: amsl (as planned) or terrain (above the
+        /// ground under each waypoint, for vehicles with a rangefinder)
+        #[arg(long, default_value = "amsl", value_parser = ["amsl", "terrain"])]
+        altitude_frame: String,
     },
     /// Time the planners on the generated fields and print a table (built with `--features bench`).
     #[cfg(feature = "bench")]
@@ -161,9 +169,13 @@ fn main() -> ExitCode {
     }
     let result = match Cli::parse().command {
         Command::Serve(args) => serve(args),
-        Command::Plan { mission, params, out, format, firmware } => {
-            let firmware = if firmware == "px4" { Firmware::Px4 } else { Firmware::Ardupilot };
-            plan(&mission, params.as_deref(), out.as_deref(), &format, firmware)
+        Command::Plan { mission, params, out, format, firmware, terrain, altitude_frame } => {
+            let options = ExportOptions {
+                firmware: if firmware == "px4" { Firmware::Px4 } else { Firmware::Ardupilot },
+                altitude_frame: if altitude_frame == "terrain" { AltitudeFrame::Terrain } else { AltitudeFrame::Amsl },
+                altitude_m: None,
+            };
+            plan(&mission, params.as_deref(), terrain.as_deref(), out.as_deref(), &format, options)
         }
         #[cfg(feature = "bench")]
         Command::Bench(args) => coverplan::bench::run_command(args),
@@ -257,12 +269,28 @@ fn read_mission(path: &std::path::Path) -> anyhow::Result<Value> {
     Ok(serde_json::json!({"name": name, "area": imported.area, "no_fly_zones": imported.no_fly_zones, "obstacles": imported.obstacles, "home": imported.home}))
 }
 
-fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, out: Option<&std::path::Path>, format: &str, firmware: Firmware) -> anyhow::Result<()> {
+fn plan(
+    mission_path: &std::path::Path,
+    params_path: Option<&std::path::Path>,
+    terrain_path: Option<&std::path::Path>,
+    out: Option<&std::path::Path>,
+    format: &str,
+    options: ExportOptions,
+) -> anyhow::Result<()> {
     anyhow::ensure!(export::find(format).is_some(), "no export format `{format}`; known: {}", export::format_ids().join(", "));
     let mission = read_mission(mission_path)?;
-    let params: PlanParams = match params_path {
+    let mut params: PlanParams = match params_path {
         Some(p) => serde_json::from_value(read_json(p)?).with_context(|| format!("{}: not valid plan parameters", p.display()))?,
         None => PlanParams { line_spacing_m: Some(20.0), ..PlanParams::default() },
+    };
+    let model = match terrain_path {
+        Some(path) => {
+            let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read the elevation model", path.display()))?;
+            let name = path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            params.altitude_reference.get_or_insert(planner::params::AltitudeReference::Terrain);
+            Some(planner::terrain::ElevationModel::read(&bytes, &name).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?)
+        }
+        None => None,
     };
     let home = mission.get("home").filter(|h| !h.is_null()).map(|h| serde_json::from_value::<[f64; 2]>(h.clone())).transpose().context("home must be [lon, lat]")?;
     let geometry = MissionGeometry {
@@ -271,7 +299,7 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
         structures: mission.get("structures").filter(|v| !v.is_null()),
         home,
-        terrain: None,
+        terrain: model.as_ref(),
     };
     let profiles = planner::vehicle::builtin_profiles();
     let bar = std::io::stderr().is_terminal().then(|| {
@@ -301,14 +329,7 @@ fn plan(mission_path: &std::path::Path, params_path: Option<&std::path::Path>, o
         (serde_json::to_string_pretty(&collection)? + "\n").into_bytes()
     } else {
         let name = mission.get("name").and_then(Value::as_str).unwrap_or("mission");
-        let request = ExportRequest {
-            name,
-            mission: geometry.clone(),
-            params: &params,
-            profiles: &profiles,
-            trajectory: &output.trajectory,
-            options: ExportOptions { firmware, altitude_m: None },
-        };
+        let request = ExportRequest { name, mission: geometry.clone(), params: &params, profiles: &profiles, trajectory: &output.trajectory, options };
         export::export(format, &request).map_err(|e| anyhow::anyhow!("{e}"))?.bytes
     };
     match out {

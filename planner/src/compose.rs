@@ -64,11 +64,8 @@ pub(crate) struct Flight {
     /// Energy of the whole route in one flight.
     pub needed_j: f64,
     pub lost_coverage_m: f64,
-    /// Over terrain: each sortie's pieces' least and greatest height above ground.
-    pub above_ground: Vec<Vec<[f64; 2]>>,
-    /// Over terrain: metres of sweep outside the height tolerance (ground steeper than the
-    /// vehicle climbs).
-    pub sweep_off_band_m: f64,
+    /// Over terrain: how each sortie lies over the ground (empty: flown above home).
+    pub laid: Vec<profile::Laid>,
 }
 
 impl Flight {
@@ -168,32 +165,21 @@ impl Stages<'_> {
         let budget = sortie::Budget { home: ends.home, usable_j: vehicle.battery.usable_j(), max_sorties: resolved.max_sorties, connect: &connect, energy: &energy_of };
         let split = budget.split(&planned.path)?;
         let mut lost_coverage_m = 0.0;
-        let (mut above_ground, mut sweep_off_band_m) = (Vec::new(), 0.0);
+        let mut laid_sorties = Vec::new();
         let mut sorties: Vec<FlightPath> = Vec::with_capacity(split.sorties.len());
         for s in &split.sorties {
             let (path, lost) = flown(s);
             lost_coverage_m += lost;
             match laid(&path)? {
                 Some((path, report)) => {
-                    above_ground.push(report.piece_heights);
-                    sweep_off_band_m += report.sweep_off_band_m;
+                    laid_sorties.push(report);
                     sorties.push(path);
                 }
                 None => sorties.push(path),
             }
         }
         let estimates = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
-        Ok(Flight {
-            vehicle: vehicle.clone(),
-            planned,
-            sorties,
-            estimates,
-            battery_swaps: split.battery_swaps,
-            needed_j: split.needed_j,
-            lost_coverage_m,
-            above_ground,
-            sweep_off_band_m,
-        })
+        Ok(Flight { vehicle: vehicle.clone(), planned, sorties, estimates, battery_swaps: split.battery_swaps, needed_j: split.needed_j, lost_coverage_m, laid: laid_sorties })
     }
 
     /// Plans the fleet: the area split among the drones (docs/methods.md, fleets), each part
@@ -295,10 +281,10 @@ pub(crate) fn report_terrain(flights: &[&Flight], stats: &mut Stats) {
     };
     let (mut points, mut sweep_m, mut off_band_m) = (0usize, 0.0, 0.0);
     for f in flights {
-        off_band_m += f.sweep_off_band_m;
-        for (sortie, heights) in f.sorties.iter().zip(&f.above_ground) {
+        for (sortie, laid) in f.sorties.iter().zip(&f.laid) {
+            off_band_m += laid.sweep_off_band_m;
             points += 1;
-            for (piece, &[lo, hi]) in sortie.pieces.iter().zip(heights) {
+            for (piece, &[lo, hi]) in sortie.pieces.iter().zip(&laid.piece_heights) {
                 let widen = |r: &mut [f64; 2]| *r = [r[0].min(lo), r[1].max(hi)];
                 widen(&mut t.height_above_ground_m);
                 if piece.kind == PieceKind::Sweep {

@@ -209,17 +209,30 @@ fn check_terrain(mission: &MissionGeometry<'_>, resolved: &params::Resolved, fie
             "the mission has no elevation model to follow: upload one (PUT /api/v1/missions/{id}/terrain, or coverplan plan --terrain FILE.tif), or plan with altitude_reference \"home\"",
         )
     })?;
-    let mut places: Vec<(String, String, [f64; 2])> = Vec::new();
-    for (k, polygon) in field.area.0.iter().enumerate() {
-        places.extend(polygon.exterior().coords().map(|&c| (format!("field {}", k + 1), "/area".to_string(), field.frame.to_wgs84(c))));
-    }
-    places.extend(mission.home.map(|h| ("home".to_string(), "/home".to_string(), h)));
+    let mut places = terrain_places(field, mission.home);
     places.extend(resolved.start.map(|p| ("the start".to_string(), "/start/position".to_string(), p)));
     places.extend(resolved.end.map(|p| ("the end".to_string(), "/end/position".to_string(), p)));
     for (k, d) in resolved.fleet.iter().enumerate() {
         places.extend(d.home.map(|h| (format!("drone {k}'s home"), format!("/fleet/{k}/home"), h)));
     }
     model.check_covers(&places)
+}
+
+/// The places an elevation model must cover: every field's outline and home.
+fn terrain_places(field: &Field, home: Option<[f64; 2]>) -> Vec<(String, String, [f64; 2])> {
+    let mut places: Vec<(String, String, [f64; 2])> = Vec::new();
+    for (k, polygon) in field.area.0.iter().enumerate() {
+        places.extend(polygon.exterior().coords().map(|&c| (format!("field {}", k + 1), "/area".to_string(), field.frame.to_wgs84(c))));
+    }
+    places.extend(home.map(|h| ("home".to_string(), "/home".to_string(), h)));
+    places
+}
+
+/// Checks that `model` covers the mission's fields and home with a margin (an elevation model
+/// uploaded for it); a plan's start and end are checked when it is planned.
+pub fn check_terrain_covers(mission: &MissionGeometry<'_>, model: &terrain::ElevationModel, limits: &FieldLimits) -> Result<(), InputError> {
+    let field = Field::parse(mission, limits)?;
+    model.check_covers(&terrain_places(&field, mission.home))
 }
 
 /// The ground a plan over terrain follows: the lookup spans the fields, home, start and end
@@ -490,7 +503,7 @@ fn plan_until(
             usable_j: f.vehicle.battery.usable_j(),
             battery_swaps: &f.battery_swaps,
             vehicle: fleet.is_some().then_some(k),
-            above_ground: &f.above_ground,
+            laid: &f.laid,
         })
         .collect();
     let marks = export::geojson::Marks { photos: photo_points.as_deref(), uncovered: &uncovered };

@@ -14,6 +14,7 @@ pub mod openapi;
 pub mod patrols;
 pub mod planners;
 pub mod plans;
+pub mod terrain;
 pub mod ui;
 pub mod vehicles;
 
@@ -53,6 +54,7 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(missions::list, missions::create))
         .routes(routes!(missions::import_file))
         .routes(routes!(missions::get, missions::update, missions::delete))
+        .routes(routes!(terrain::put, terrain::get, terrain::delete))
         .routes(routes!(plans::list, plans::create))
         .routes(routes!(plans::get, plans::cancel))
         .routes(routes!(plans::trajectory))

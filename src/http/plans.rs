@@ -12,12 +12,14 @@ use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiJson, ApiQuery, Problem, off_the_async_threads};
 use crate::jobs;
-use crate::planner::export::{self, ExportFile, ExportOptions, ExportRequest, Firmware};
+use crate::planner::export::{self, AltitudeFrame, ExportFile, ExportOptions, ExportRequest, Firmware};
 use crate::planner::geojson::FeatureCollection;
+use crate::planner::params::AltitudeReference;
+use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, MissionGeometry, PlanParams};
 use crate::store::plans::{self, JobKind, Plan, PlanStatus};
-use crate::store::{missions, vehicles};
+use crate::store::{missions, terrain, vehicles};
 
 #[utoipa::path(post, operation_id = "create_plan", path = "/api/v1/missions/{id}/plans", tag = "plans", params(("id" = String, Path)), request_body = PlanParams,
     responses((status = 202, body = Plan, description = "queued"), (status = 404, body = Problem), (status = 422, body = Problem),
@@ -31,14 +33,20 @@ pub async fn create(
     let mission = missions::get(&state.db, &caller.tenant, &mission_id).await?.ok_or_else(|| ApiError::not_found("mission", &mission_id))?;
     let profiles = vehicles::profiles(&state.db, &caller.tenant).await?;
     let limits = state.config.limits;
+    // over terrain the model must cover the plan's start and end too
+    let model = match params.altitude_reference {
+        Some(AltitudeReference::Terrain) => terrain::model(&state.db, &caller.tenant, &mission_id).await?,
+        _ => None,
+    };
     let (mission, params, profiles) = off_the_async_threads(move || {
+        let model = model.map(|(name, bytes)| ElevationModel::read(&bytes, &name)).transpose()?;
         let geometry = MissionGeometry {
             area: &mission.area,
             no_fly_zones: mission.no_fly_zones.as_ref(),
             obstacles: mission.obstacles.as_ref(),
             structures: mission.structures.as_ref(),
             home: mission.home,
-            terrain: None,
+            terrain: model.as_ref(),
         };
         planner::check_plan(&geometry, &params, &profiles, &limits)?;
         Ok::<_, ApiError>((mission, params, profiles))
@@ -112,6 +120,11 @@ pub struct TrajectoryQuery {
     /// the plan's, else 50 m).
     #[param(minimum = 1, maximum = 10000)]
     pub altitude_m: Option<f64>,
+    /// Plans over terrain: `amsl` (default) writes each waypoint's altitude above mean sea
+    /// level as planned; `terrain` writes its height above the ground under it, in the terrain
+    /// frame, for vehicles with a rangefinder or terrain data.
+    #[param(inline)]
+    pub altitude_frame: Option<AltitudeFrame>,
 }
 
 #[utoipa::path(get, operation_id = "get_trajectory", path = "/api/v1/plans/{id}/trajectory", tag = "plans", params(("id" = String, Path), TrajectoryQuery),
@@ -144,7 +157,10 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
     } else {
         // reading and writing a large trajectory takes a while: off the async runtime
         let format = format.to_owned();
-        off_the_async_threads(move || export_file(&id, &format, &source, &geojson, ExportOptions { firmware, altitude_m: query.altitude_m })).await?
+        off_the_async_threads(move || {
+            export_file(&id, &format, &source, &geojson, ExportOptions { firmware, altitude_m: query.altitude_m, altitude_frame: query.altitude_frame.unwrap_or_default() })
+        })
+        .await?
     };
     let disposition = format!("attachment; filename=\"{}\"", file.file_name);
     Ok(([(header::CONTENT_TYPE, file.media_type.to_owned()), (header::CONTENT_DISPOSITION, disposition)], file.bytes).into_response())

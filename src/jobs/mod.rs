@@ -18,9 +18,10 @@ use tokio::task::JoinHandle;
 use tracing::Instrument;
 
 use crate::planner::patrol::PatrolParams;
+use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, FieldLimits, MissionGeometry, PlanError, PlanParams, Stop};
-use crate::store::{Db, plans};
+use crate::store::{Db, plans, terrain};
 use crate::telemetry::Telemetry;
 
 /// The function a worker runs for a job: `planner::plan` in production. It should return soon
@@ -87,6 +88,11 @@ fn request_label(job: &plans::Job) -> &'static str {
     params.zip(profiles).and_then(|(params, profiles)| planner::method_id(&params, &profiles)).unwrap_or("unreadable request")
 }
 
+/// A plan request flown at a height above the mission's elevation model.
+fn flies_over_terrain(job: &plans::Job) -> bool {
+    job.kind == plans::JobKind::Plan && job.params.get("altitude_reference").and_then(|v| v.as_str()) == Some("terrain")
+}
+
 /// Runs a stored job with the real planner.
 pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, JobError> {
     let unreadable = |e: serde_json::Error| JobError::UnreadableRecord(format!("stored parameters are unreadable: {e}"));
@@ -98,6 +104,8 @@ pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::
         (json!(out.stats), out.trajectory.to_string())
     } else {
         let params: PlanParams = serde_json::from_value(job.params.clone()).map_err(unreadable)?;
+        let model = job.terrain.as_ref().map(|(name, bytes)| ElevationModel::read(bytes, name)).transpose().map_err(|e| JobError::Plan(e.into()))?;
+        let geometry = MissionGeometry { terrain: model.as_ref(), ..geometry };
         let out = planner::plan(&geometry, &params, &profiles, limits, progress, stop)?;
         (json!(out.stats), serde_json::to_string(&out.trajectory).unwrap_or_default())
     };
@@ -247,7 +255,14 @@ impl JobQueue {
         self.run_in_span(job).instrument(span).await
     }
 
-    async fn run_in_span(&self, job: plans::Job) {
+    async fn run_in_span(&self, mut job: plans::Job) {
+        if flies_over_terrain(&job) {
+            match terrain::model(&self.db, &job.tenant, &job.mission_id).await {
+                Ok(model) => job.terrain = model,
+                // the planner then says the mission has no model to follow
+                Err(e) => tracing::error!(error = %e, "the mission's elevation model could not be read"),
+            }
+        }
         let limit = self.time_limit(&job);
         let planner = if job.kind == plans::JobKind::Patrol { "patrol" } else { request_label(&job) };
         let started = tokio::time::Instant::now();

@@ -16,6 +16,7 @@ pub mod idempotency;
 pub mod keys;
 pub mod missions;
 pub mod plans;
+pub mod terrain;
 pub mod vehicles;
 
 use std::str::FromStr;

@@ -223,6 +223,11 @@ pub struct Job {
     pub params: Value,
     #[sqlx(json)]
     pub mission: Value,
+    pub mission_id: String,
+    /// The mission's elevation model (file name, bytes), read when the request flies over
+    /// terrain; not a column of the claim.
+    #[sqlx(skip)]
+    pub terrain: Option<(String, Vec<u8>)>,
 }
 
 /// The claim a replica holds on a running plan: only its holder may write the outcome, and only
@@ -250,14 +255,14 @@ pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<J
             crate::sqlite_now!(),
             ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
             crate::sqlite_epoch!(),
-            " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1) RETURNING id, tenant, kind, params, mission"
+            " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1) RETURNING id, tenant, kind, params, mission, mission_id"
         ),
         postgres: concat!(
             "UPDATE plans SET status = 'running', progress = 0, started_at = ",
             crate::postgres_now!(),
             ", attempts = attempts + 1, claimed_by = $1, lease_until = ",
             crate::postgres_epoch!(),
-            " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, kind, params, mission"
+            " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, kind, params, mission, mission_id"
         ),
     };
     on_db!(db, |pool, sql| {

@@ -7,12 +7,15 @@ use serde_json::Value;
 use crate::error::InputError;
 use crate::path::PieceKind;
 
-/// One flown piece: its kind, its points `[lon, lat, altitude above home]` and its speed.
+/// One flown piece: its kind, its points `[lon, lat, altitude]` and its speed. The altitude
+/// is above home, or above mean sea level where `ground_m` (a plan over terrain) gives the
+/// ground's height under each point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FlownPiece {
     pub kind: PieceKind,
     pub points: Vec<[f64; 3]>,
     pub speed_mps: f64,
+    pub ground_m: Option<Vec<f64>>,
 }
 
 /// What the camera does at an inspection's viewpoint.
@@ -61,13 +64,34 @@ impl Flight {
                 sorties.resize(sortie, Vec::new());
             }
             let speed_mps = property("speed_mps").and_then(Value::as_f64).unwrap_or(0.0);
-            sorties[sortie - 1].push(FlownPiece { kind, points, speed_mps });
+            let ground_m = match property("altitude_reference").and_then(Value::as_str) {
+                Some(super::geojson::TERRAIN_REFERENCE) => {
+                    let ground: Option<Vec<f64>> = property("ground_m").and_then(Value::as_array).map(|a| a.iter().filter_map(Value::as_f64).collect());
+                    match ground {
+                        Some(g) if g.len() == coordinates.len() => Some(g),
+                        _ => {
+                            return Err(InputError::new(
+                                "invalid_trajectory",
+                                format!("/features/{i}/properties/ground_m"),
+                                "a piece over terrain gives the ground under each point",
+                            ));
+                        }
+                    }
+                }
+                _ => None,
+            };
+            sorties[sortie - 1].push(FlownPiece { kind, points, speed_mps, ground_m });
         }
         sorties.retain(|s| !s.is_empty());
         if sorties.is_empty() {
             return Err(InputError::new("invalid_trajectory", "/features", "the trajectory has no flown piece"));
         }
         Ok(Flight { sorties, views })
+    }
+
+    /// Over terrain: the ground's height, above mean sea level, where `sortie` takes off.
+    pub fn launch_ground_m(&self, sortie: usize) -> Option<f64> {
+        self.sorties.get(sortie)?.first()?.ground_m.as_ref()?.first().copied()
     }
 }
 
@@ -87,7 +111,8 @@ pub fn waypoints(pieces: &[FlownPiece], arc_step_deg: Option<f64>) -> Vec<Waypoi
                 continue;
             }
             let on_arc = piece.kind == PieceKind::Turn && arc_step_deg.is_some() && k > 0 && k + 1 < piece.points.len();
-            out.push(Waypoint { position: *p, piece: index, index: k, on_arc });
+            let ground_m = piece.ground_m.as_ref().map(|g| g[k]);
+            out.push(Waypoint { position: *p, piece: index, index: k, on_arc, ground_m });
         }
     }
     out
@@ -95,13 +120,15 @@ pub fn waypoints(pieces: &[FlownPiece], arc_step_deg: Option<f64>) -> Vec<Waypoi
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Waypoint {
-    /// `[lon, lat, altitude above home]`
+    /// `[lon, lat, altitude]`: above home, or (`ground_m` given) above mean sea level.
     pub position: [f64; 3],
     /// Index of the piece this point belongs to (the first one that has it), and of the point
     /// in that piece.
     pub piece: usize,
     pub index: usize,
     pub on_arc: bool,
+    /// Over terrain: the ground's height under it, above mean sea level.
+    pub ground_m: Option<f64>,
 }
 
 /// Which points of a densified turn to keep: both ends, every point where one part of the
@@ -170,8 +197,8 @@ mod tests {
 
     #[test]
     fn shared_ends_appear_once() {
-        let a = FlownPiece { kind: PieceKind::Sweep, points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]], speed_mps: 5.0 };
-        let b = FlownPiece { kind: PieceKind::Turn, points: vec![[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]], speed_mps: 5.0 };
+        let a = FlownPiece { kind: PieceKind::Sweep, points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]], speed_mps: 5.0, ground_m: None };
+        let b = FlownPiece { kind: PieceKind::Turn, points: vec![[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]], speed_mps: 5.0, ground_m: None };
         let w = waypoints(&[a, b], None);
         assert_eq!(w.iter().map(|w| w.piece).collect::<Vec<_>>(), vec![0, 0, 1]);
     }

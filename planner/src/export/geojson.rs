@@ -35,7 +35,8 @@ fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
 }
 
 /// The `altitude_reference` of a flown piece whose heights are above mean sea level, laid
-/// over the ground (without it: above home).
+/// over the ground (without it: above home); such a piece's `ground_m` gives the ground's
+/// height under each of its points.
 pub const TERRAIN_REFERENCE: &str = "terrain";
 
 /// One vehicle's flight, as the trajectory shows it.
@@ -49,9 +50,9 @@ pub struct VehicleFlight<'a> {
     pub battery_swaps: &'a [Coord],
     /// Fleet: the drone's index, written on each of its features.
     pub vehicle: Option<usize>,
-    /// Over terrain: each sortie's pieces' least and greatest height above ground (empty:
-    /// flown at one altitude above home).
-    pub above_ground: &'a [Vec<[f64; 2]>],
+    /// Over terrain: how each sortie lies over the ground (empty: flown at one altitude above
+    /// home).
+    pub laid: &'a [crate::terrain::profile::Laid],
 }
 
 /// What the trajectory shows besides the flown pieces.
@@ -165,10 +166,12 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
             if let Some(shape) = piece.shape {
                 props["turn_type"] = json!(shape);
             }
-            if let Some(&[lo, hi]) = flight.above_ground.get(k).and_then(|s| s.get(j)) {
+            if let Some(laid) = flight.laid.get(k) {
+                let [lo, hi] = laid.piece_heights[j];
                 props["altitude_reference"] = json!(TERRAIN_REFERENCE);
                 props["min_height_above_ground_m"] = json!(round(lo, 2));
                 props["max_height_above_ground_m"] = json!(round(hi, 2));
+                props["ground_m"] = json!(laid.point_ground[j].iter().map(|&g| round(g, 2)).collect::<Vec<_>>());
             }
             push(&mut features, GeometryValue::LineString { coordinates: coords }, props);
             if swaps.peek().is_some_and(|&&c| c == piece.end()) {

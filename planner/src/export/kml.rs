@@ -7,6 +7,7 @@ use geo::{LineString, Polygon};
 use geojson::GeometryValue;
 use serde_json::Value;
 
+use super::geojson::TERRAIN_REFERENCE;
 use super::xml::Xml;
 use super::{ALL_METHODS, ExportJob, Exporter, Format, number};
 use crate::archive;
@@ -144,7 +145,9 @@ fn flight_folders(x: &mut Xml, job: &ExportJob<'_>) {
         x.close("ExtendedData");
         let points: Vec<String> =
             coordinates.iter().map(|p| format!("{},{},{}", number(p[0], 7), number(p[1], 7), number(p.as_slice().get(2).copied().unwrap_or(altitude), 2))).collect();
-        x.open("LineString", &[]).leaf("altitudeMode", "relativeToGround").leaf("coordinates", &points.join(" ")).close("LineString");
+        // over terrain the heights are above mean sea level
+        let mode = if properties.get("altitude_reference").and_then(Value::as_str) == Some(TERRAIN_REFERENCE) { "absolute" } else { "relativeToGround" };
+        x.open("LineString", &[]).leaf("altitudeMode", mode).leaf("coordinates", &points.join(" ")).close("LineString");
         x.close("Placemark");
     }
     if sortie != 0 {

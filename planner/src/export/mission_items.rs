@@ -5,8 +5,8 @@
 //! inspection's viewpoint the vehicle holds, turns to the viewpoint's yaw, points the gimbal
 //! and takes one picture.
 
-use super::flight::{FlownPiece, ViewAction, waypoints};
-use super::{Firmware, FlightSettings};
+use super::flight::{FlownPiece, ViewAction, Waypoint, waypoints};
+use super::{AltitudeFrame, Firmware, FlightSettings};
 use crate::path::PieceKind;
 use crate::vehicle::VehicleKind;
 
@@ -27,6 +27,10 @@ const GROUND_M: f64 = 0.5;
 pub const FRAME_MISSION: u8 = 2;
 /// `MAV_FRAME_GLOBAL_RELATIVE_ALT`: altitude above home.
 pub const FRAME_RELATIVE: u8 = 3;
+/// `MAV_FRAME_GLOBAL`: altitude above mean sea level.
+pub const FRAME_GLOBAL: u8 = 0;
+/// `MAV_FRAME_GLOBAL_TERRAIN_ALT`: altitude above the ground under the waypoint.
+pub const FRAME_TERRAIN: u8 = 10;
 
 /// Heading change between two waypoints kept on a fixed-wing turn.
 pub const ARC_STEP_DEG: f64 = 15.0;
@@ -39,7 +43,7 @@ pub struct MissionItem {
     pub frame: u8,
     /// p1 to p4; `None` is "no change" (NaN).
     pub params: [Option<f64>; 4],
-    /// `[lat, lon, altitude above home]` for commands that have a position.
+    /// `[lat, lon, altitude]` for commands that have a position, in `frame`.
     pub position: Option<[f64; 3]>,
 }
 
@@ -49,7 +53,11 @@ impl MissionItem {
     }
 
     fn at(command: u16, params: [Option<f64>; 4], lon_lat_alt: [f64; 3]) -> Self {
-        MissionItem { command, frame: FRAME_RELATIVE, params, position: Some([lon_lat_alt[1], lon_lat_alt[0], lon_lat_alt[2]]) }
+        Self::in_frame(FRAME_RELATIVE, command, params, lon_lat_alt)
+    }
+
+    fn in_frame(frame: u8, command: u16, params: [Option<f64>; 4], lon_lat_alt: [f64; 3]) -> Self {
+        MissionItem { command, frame, params, position: Some([lon_lat_alt[1], lon_lat_alt[0], lon_lat_alt[2]]) }
     }
 }
 
@@ -90,11 +98,23 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], settings: &Fli
     };
     let [lon, lat] = launch(pieces, home);
     let pitch = if fixed_wing { TAKEOFF_PITCH_DEG } else { 0.0 };
-    let mut items = vec![MissionItem::at(NAV_TAKEOFF, [Some(pitch), Some(0.0), Some(0.0), keep_yaw], [lon, lat, settings.altitude_m])];
+    let points = waypoints(pieces, fixed_wing.then_some(ARC_STEP_DEG));
+    // over terrain: each waypoint in the frame asked; the take-off climbs to the first one
+    let over_terrain = pieces.first().is_some_and(|p| p.ground_m.is_some());
+    let (frame, height_of): (u8, &dyn Fn(&Waypoint) -> f64) = match (over_terrain, settings.altitude_frame) {
+        (false, _) => (FRAME_RELATIVE, &|w| w.position[2]),
+        (true, AltitudeFrame::Amsl) => (FRAME_GLOBAL, &|w| w.position[2]),
+        (true, AltitudeFrame::Terrain) => (FRAME_TERRAIN, &|w| w.position[2] - w.ground_m.unwrap_or(0.0)),
+    };
+    let place = |command, params, w: &Waypoint| MissionItem::in_frame(frame, command, params, [w.position[0], w.position[1], height_of(w)]);
+    let takeoff_params = [Some(pitch), Some(0.0), Some(0.0), keep_yaw];
+    let mut items = match points.first() {
+        Some(first) if over_terrain => vec![place(NAV_TAKEOFF, takeoff_params, &Waypoint { position: [lon, lat, first.position[2]], ..*first })],
+        _ => vec![MissionItem::at(NAV_TAKEOFF, takeoff_params, [lon, lat, settings.altitude_m])],
+    };
     // airspeed for fixed wings, ground speed for multirotors
     let speed_type = if fixed_wing { 0.0 } else { 1.0 };
     let arc_radius = (settings.turn_radius_m / 4.0).min(10.0);
-    let points = waypoints(pieces, fixed_wing.then_some(ARC_STEP_DEG));
     let mut speed: Option<f64> = None;
     for w in &points {
         let piece = &pieces[w.piece];
@@ -108,13 +128,13 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], settings: &Fli
             // the vehicle is at the line's start: trigger now and every `distance` metres
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [distance, 0.0, 1.0, 0.0]));
         }
-        if w.position[2] < GROUND_M {
+        if w.position[2] - w.ground_m.unwrap_or(0.0) < GROUND_M {
             continue;
         }
         let acceptance = if w.on_arc { arc_radius } else { 0.0 };
         match views.iter().find(|v| v.position == w.position) {
             Some(view) => items.extend(view_items(view, w.position, settings)),
-            None => items.push(MissionItem::at(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w.position)),
+            None => items.push(place(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w)),
         }
         if settings.trigger_distance_m.is_some() && sweep_end {
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
@@ -159,7 +179,7 @@ mod tests {
     }
 
     fn piece(kind: PieceKind, points: &[[f64; 2]], speed: f64) -> FlownPiece {
-        FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed }
+        FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed, ground_m: None }
     }
 
     fn settings(trigger: Option<f64>) -> FlightSettings {
@@ -172,6 +192,7 @@ mod tests {
             line_spacing_m: 20.0,
             trigger_distance_m: trigger,
             hold_s: 0.0,
+            altitude_frame: AltitudeFrame::Amsl,
         }
     }
 
@@ -203,8 +224,8 @@ mod tests {
     fn a_viewpoint_holds_turns_points_the_gimbal_and_takes_a_picture() {
         let view = ViewAction { position: [1.0, 0.0, 12.0], yaw_deg: 135.0, gimbal_pitch_deg: -30.0 };
         let pieces = [
-            FlownPiece { kind: PieceKind::Transit, points: vec![[0.0, 0.0, 0.0], [0.5, 0.0, 6.0], [1.0, 0.0, 12.0]], speed_mps: 0.0 },
-            FlownPiece { kind: PieceKind::Transit, points: vec![[1.0, 0.0, 12.0], [1.0, 1.0, 0.0]], speed_mps: 0.0 },
+            FlownPiece { kind: PieceKind::Transit, points: vec![[0.0, 0.0, 0.0], [0.5, 0.0, 6.0], [1.0, 0.0, 12.0]], speed_mps: 0.0, ground_m: None },
+            FlownPiece { kind: PieceKind::Transit, points: vec![[1.0, 0.0, 12.0], [1.0, 1.0, 0.0]], speed_mps: 0.0, ground_m: None },
         ];
         let mut s = FlightSettings { hold_s: 2.0, ..settings(None) };
         let px4 = mission_items(&pieces, &[view], &s, None);

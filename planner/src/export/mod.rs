@@ -37,10 +37,26 @@ pub enum Firmware {
     Px4,
 }
 
+/// How a flight file over terrain says its altitudes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum AltitudeFrame {
+    /// Above mean sea level as planned (`MAV_FRAME_GLOBAL`; DJI: relative to the take-off
+    /// point, from the same heights).
+    #[default]
+    Amsl,
+    /// Above the ground under each waypoint (`MAV_FRAME_GLOBAL_TERRAIN_ALT`), for vehicles with
+    /// a rangefinder or terrain data: the autopilot holds the height itself.
+    Terrain,
+}
+
 /// Choices of the caller that are not part of the plan.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ExportOptions {
     pub firmware: Firmware,
+    /// Plans over terrain: the frame of the flight files' altitudes.
+    pub altitude_frame: AltitudeFrame,
     /// Flight altitude above home for formats that need one, when the plan has none.
     pub altitude_m: Option<f64>,
 }
@@ -90,6 +106,8 @@ pub struct FlightSettings {
     pub trigger_distance_m: Option<f64>,
     /// Seconds held at an inspection's viewpoint for its picture.
     pub hold_s: f64,
+    /// Plans over terrain: how altitudes are said.
+    pub altitude_frame: AltitudeFrame,
 }
 
 /// Everything an exporter writes from.
@@ -202,7 +220,7 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         if features.is_empty() {
             continue;
         }
-        let trajectory = ::geojson::FeatureCollection { bbox: None, features, foreign_members: None };
+        let trajectory = ::geojson::FeatureCollection { bbox: None, features, foreign_members: request.trajectory.foreign_members.clone() };
         let own_home = Outlines { home: drone.home.or(request.mission.home), ..outlines.clone() };
         let job = prepare(request, &planned, &drone.vehicle, own_home, altitude_m, &trajectory)?;
         files.extend(write_all(&job, &format!("{stem}-drone-{}", k + 1))?);
@@ -290,6 +308,7 @@ fn prepare<'a>(
         line_spacing_m: planned.line_spacing_m,
         trigger_distance_m: planned.trigger_distance_m,
         hold_s: planned.hold_s.unwrap_or(0.0),
+        altitude_frame: request.options.altitude_frame,
     };
     let flight = Flight::from_trajectory(trajectory, altitude_m)?;
     Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory })

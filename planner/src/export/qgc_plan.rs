@@ -5,14 +5,25 @@
 use geo::{LineString, Winding};
 use serde_json::{Value, json};
 
-use super::mission_items::{self, FRAME_MISSION, MissionItem, launch, mav_autopilot, mav_type};
+use super::mission_items::{self, FRAME_GLOBAL, FRAME_MISSION, FRAME_TERRAIN, MissionItem, launch, mav_autopilot, mav_type};
 use super::{ALL_METHODS, ExportJob, Exporter, Format};
 use crate::error::InputError;
 
 pub struct QgcPlan;
 
-/// `AltitudeMode` 1: relative to home.
+/// QGroundControl's `AltitudeMode`s: relative to home, above mean sea level, above the ground
+/// under the waypoint (the vehicle's terrain frame).
 const ALTITUDE_RELATIVE: u8 = 1;
+const ALTITUDE_AMSL: u8 = 2;
+const ALTITUDE_TERRAIN_FRAME: u8 = 4;
+
+fn altitude_mode(frame: u8) -> u8 {
+    match frame {
+        FRAME_GLOBAL => ALTITUDE_AMSL,
+        FRAME_TERRAIN => ALTITUDE_TERRAIN_FRAME,
+        _ => ALTITUDE_RELATIVE,
+    }
+}
 
 impl Exporter for QgcPlan {
     fn format(&self) -> &'static Format {
@@ -33,6 +44,9 @@ impl Exporter for QgcPlan {
         let s = &job.settings;
         let items = mission_items::mission_items(pieces, &job.flight.views, s, job.outlines.home);
         let [lon, lat] = launch(pieces, job.outlines.home);
+        let plan_mode = items.iter().find(|i| i.frame != FRAME_MISSION).map_or(ALTITUDE_RELATIVE, |i| altitude_mode(i.frame));
+        // over terrain, home is where the ground is; otherwise the altitudes are relative to it
+        let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
         let items: Vec<Value> = items.iter().enumerate().map(|(k, item)| simple_item(item, k + 1)).collect();
         let mut fences: Vec<Value> = job.outlines.fields.0.iter().map(|p| fence(p.exterior(), true)).collect();
         fences.extend(job.outlines.no_fly_zones.0.iter().map(|p| fence(p.exterior(), false)));
@@ -46,8 +60,8 @@ impl Exporter for QgcPlan {
                 "vehicleType": mav_type(s.kind),
                 "cruiseSpeed": s.cruise_speed_mps,
                 "hoverSpeed": s.cruise_speed_mps,
-                "globalPlanAltitudeMode": ALTITUDE_RELATIVE,
-                "plannedHomePosition": [lat, lon, 0.0],
+                "globalPlanAltitudeMode": plan_mode,
+                "plannedHomePosition": [lat, lon, home_altitude],
                 "items": items,
             },
             "geoFence": {"version": 2, "circles": [], "polygons": fences},
@@ -70,7 +84,7 @@ fn simple_item(item: &MissionItem, jump_id: usize) -> Value {
     });
     if item.frame != FRAME_MISSION {
         value["Altitude"] = json!(alt);
-        value["AltitudeMode"] = json!(ALTITUDE_RELATIVE);
+        value["AltitudeMode"] = json!(altitude_mode(item.frame));
         value["AMSLAltAboveTerrain"] = Value::Null;
     }
     value

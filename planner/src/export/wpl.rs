@@ -29,8 +29,9 @@ impl Exporter for WaypointList {
         let items = mission_items::mission_items(pieces, &job.flight.views, &job.settings, job.outlines.home);
         let [lon, lat] = launch(pieces, job.outlines.home);
         let mut text = String::from("QGC WPL 110\n");
-        // item 0: home, absolute frame, current
-        writeln!(text, "0\t1\t0\t16\t0\t0\t0\t0\t{}\t{}\t0\t1", number(lat, 8), number(lon, 8)).expect("write to String");
+        // item 0: home, absolute frame (over terrain at the ground's height), current
+        let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
+        writeln!(text, "0\t1\t0\t16\t0\t0\t0\t0\t{}\t{}\t{}\t1", number(lat, 8), number(lon, 8), number(home_altitude, 2)).expect("write to String");
         for (k, item) in items.iter().enumerate() {
             let [lat, lon, alt] = item.position.unwrap_or([0.0; 3]);
             let params: Vec<String> = item.params.iter().map(|p| p.map_or("nan".to_owned(), |v| number(v, 6))).collect();

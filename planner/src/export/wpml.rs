@@ -50,6 +50,9 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
     let s = &job.settings;
     let pieces = &job.flight.sorties[sortie];
     let points = waypoints(pieces, None);
+    // over terrain the heights are above mean sea level: DJI's are relative to the take-off
+    // point (its WGS84 mode is ellipsoidal, not sea level), so the launch ground comes off
+    let launch_ground = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
     let speed = |k: usize| pieces[points[k].piece].speed_mps.clamp(SPEED_RANGE.0, SPEED_RANGE.1);
     let cruise = number(s.cruise_speed_mps.clamp(SPEED_RANGE.0, SPEED_RANGE.1), 2);
     let mut x = Xml::new();
@@ -80,6 +83,7 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
     let mut group = 0;
     for (k, w) in points.iter().enumerate() {
         let [lon, lat, altitude] = w.position;
+        let altitude = altitude - launch_ground;
         x.open("Placemark", &[]).open("Point", &[]).leaf("coordinates", &format!("{},{}", number(lon, 8), number(lat, 8))).close("Point");
         x.leaf("wpml:index", &k.to_string());
         if executable {

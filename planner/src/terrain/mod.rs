@@ -54,7 +54,7 @@ impl Crs {
     }
 
     /// `[lon, lat]` in degrees to this system's coordinates.
-    fn from_wgs84(&self, lon: f64, lat: f64) -> Option<[f64; 2]> {
+    fn project(&self, lon: f64, lat: f64) -> Option<[f64; 2]> {
         match self {
             Crs::LonLat => Some([lon, lat]),
             Crs::Utm { proj, wgs84, .. } => {
@@ -127,7 +127,7 @@ pub struct TerrainStats {
 }
 
 /// What a stored model is, as `GET …/terrain` shows it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct TerrainSummary {
     /// `EPSG:4326`, or `EPSG:326zz` / `EPSG:327zz`.
@@ -208,7 +208,7 @@ impl ElevationModel {
 
     /// `[lon, lat]` as fractional (column, row) of the cell centres.
     pub(crate) fn pixel_of(&self, lon: f64, lat: f64) -> Option<[f64; 2]> {
-        let [x, y] = self.crs.from_wgs84(lon, lat)?;
+        let [x, y] = self.crs.project(lon, lat)?;
         Some([(x - self.origin[0]) / self.step[0], (y - self.origin[1]) / self.step[1]])
     }
 
@@ -229,7 +229,7 @@ impl ElevationModel {
 
     /// Why there is no height at `[lon, lat]`: outside the model, or nodata.
     fn missing(&self, lon: f64, lat: f64) -> &'static str {
-        match self.crs.from_wgs84(lon, lat) {
+        match self.crs.project(lon, lat) {
             Some([x, y]) => {
                 let fc = (x - self.origin[0]) / self.step[0];
                 let fr = (y - self.origin[1]) / self.step[1];

@@ -97,6 +97,8 @@ pub struct Laid {
     /// Metres of sweep where the ground rises or falls faster than the vehicle can climb or
     /// descend, so that the height above ground leaves the tolerance (kept above its floor).
     pub sweep_off_band_m: f64,
+    /// The ground's height under each point of each piece of the laid path.
+    pub point_ground: Vec<Vec<f64>>,
 }
 
 struct Sample {
@@ -140,8 +142,8 @@ pub fn lay(path: &FlightPath, ground: &Ground<'_>, settings: &Settings) -> Resul
         hi[i] = hi[i].max(lo[i] + 0.05);
     }
     let vertices = simplify(&samples, &lo, &hi, &target, settings);
-    let laid_path = rebuild(path, &samples, &vertices);
-    let mut laid = Laid { piece_heights: vec![[f64::INFINITY, f64::NEG_INFINITY]; path.pieces.len()], sweep_off_band_m: 0.0 };
+    let (laid_path, point_ground) = rebuild(path, &samples, &vertices);
+    let mut laid = Laid { piece_heights: vec![[f64::INFINITY, f64::NEG_INFINITY]; path.pieces.len()], sweep_off_band_m: 0.0, point_ground };
     let profile = Profile { s: vertices.iter().map(|v| samples[v.0].s).collect(), z: vertices.iter().map(|v| v.1).collect() };
     for (i, p) in samples.iter().enumerate() {
         let z = profile.at(p.s);
@@ -260,15 +262,19 @@ fn simplify(samples: &[Sample], lo: &[f64], hi: &[f64], target: &[f64], settings
 }
 
 /// `path` with an altitude at every point, from the profile through `vertices`, and a point
-/// added wherever a vertex falls inside a segment.
-fn rebuild(path: &FlightPath, samples: &[Sample], vertices: &[(usize, f64)]) -> FlightPath {
+/// added wherever a vertex falls inside a segment; with the ground under each point.
+fn rebuild(path: &FlightPath, samples: &[Sample], vertices: &[(usize, f64)]) -> (FlightPath, Vec<Vec<f64>>) {
     let profile = Profile { s: vertices.iter().map(|v| samples[v.0].s).collect(), z: vertices.iter().map(|v| v.1).collect() };
+    // every vertex of the path is a sample: its ground is the sample's at its distance
+    let ground_at = |s: f64| samples[samples.partition_point(|p| p.s < s - 1e-6).min(samples.len() - 1)].ground;
     let mut out = path.clone();
+    let mut grounds = Vec::with_capacity(out.pieces.len());
     let mut v = 0;
     let mut s = 0.0;
     for piece in &mut out.pieces {
         let mut points = Vec::with_capacity(piece.points.len());
         let mut z = Vec::with_capacity(piece.points.len());
+        let mut ground = Vec::with_capacity(piece.points.len());
         for k in 0..piece.points.len() {
             let b = piece.points[k];
             if k > 0 {
@@ -278,6 +284,7 @@ fn rebuild(path: &FlightPath, samples: &[Sample], vertices: &[(usize, f64)]) -> 
                     if profile.s[v] > s + 1e-6 {
                         points.push(samples[vertices[v].0].at);
                         z.push(profile.z[v]);
+                        ground.push(samples[vertices[v].0].ground);
                     }
                     v += 1;
                 }
@@ -285,11 +292,13 @@ fn rebuild(path: &FlightPath, samples: &[Sample], vertices: &[(usize, f64)]) -> 
             }
             points.push(b);
             z.push(profile.at(s));
+            ground.push(ground_at(s));
         }
         piece.points = points;
         piece.z = z;
+        grounds.push(ground);
     }
-    out
+    (out, grounds)
 }
 
 #[cfg(test)]

@@ -486,7 +486,7 @@ fn check_every_format(file: &str, fixed_wing: bool, camera: bool) -> Result<(), 
         params: &params,
         profiles: &profiles,
         trajectory: &out.trajectory,
-        options: ExportOptions { firmware: Firmware::Px4, altitude_m: None },
+        options: ExportOptions { firmware: Firmware::Px4, altitude_m: None, ..ExportOptions::default() },
     };
     let points = flown_points(&out.trajectory);
     let ends: Vec<[f64; 2]> = out

@@ -14,4 +14,5 @@ mod patrols;
 mod process;
 mod replicas;
 mod tenancy;
+mod terrain;
 mod vehicles;

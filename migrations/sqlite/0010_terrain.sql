@@ -1,0 +1,8 @@
+-- a mission's elevation model (GeoTIFF or SRTM bytes as uploaded) and what was read from it
+CREATE TABLE mission_terrain (
+    mission_id  TEXT PRIMARY KEY NOT NULL REFERENCES missions (id) ON DELETE CASCADE,
+    file_name   TEXT NOT NULL,
+    model       BLOB NOT NULL,
+    summary     TEXT NOT NULL,            -- JSON: CRS, cells, bounds, heights
+    created_at  TEXT NOT NULL
+);

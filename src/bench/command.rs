@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use super::{Options, energy, fleet, ground, inspection, patrol, queue, routing, run};
+use super::{Options, energy, fleet, ground, inspection, patrol, queue, routing, run, terrain};
 
 /// Time the planners on the generated fields and print a table.
 #[derive(clap::Args)]
@@ -52,6 +52,11 @@ pub struct BenchArgs {
     /// Instead: inspection (seed 001's first scene rebuilt, and a barn): budget × share seen × time.
     #[arg(long)]
     pub inspection: bool,
+    /// Instead: plans at 60 m above the ground of the public terrains (`tests/fixtures/terrain`)
+    /// and of generated ones, beside the flat plan: vertices per km, the time the profile adds,
+    /// energy.
+    #[arg(long)]
+    pub terrain: bool,
     /// Instead: the shared job queue on the PostgreSQL server at this admin URL
     /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
     /// the time of one claim at 10 000 queued plans.
@@ -86,6 +91,7 @@ fn table(args: BenchArgs) -> anyhow::Result<String> {
         BenchArgs { ground: true, data, repeats, fields, .. } => ground::run(&data, repeats, &fields)?,
         BenchArgs { fleet: true, data, fields, .. } => fleet::run(&data, &fields)?,
         BenchArgs { routing: true, .. } => routing(),
+        BenchArgs { terrain: true, repeats, .. } => terrain::run(std::path::Path::new("tests/fixtures/terrain"), repeats)?,
         BenchArgs { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, overfly_holes, .. } => {
             let options = Options {
                 planner: planner.as_deref(),

@@ -11,6 +11,7 @@ pub mod ground;
 pub mod inspection;
 pub mod patrol;
 pub mod queue;
+pub mod terrain;
 
 pub use command::{BenchArgs, run_command};
 

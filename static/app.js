@@ -1,5 +1,6 @@
 // coverplan's map page: draw a mission, plan it, look at the result. ES modules, no build step:
-// api.js (the server), map.js (the map and its state), mission.js, plan.js, result.js, patrol.js.
+// api.js (the server), map.js (the map and its state), mission.js, terrain.js, plan.js, result.js,
+// patrol.js.
 
 import { $, api, status } from './js/api.js';
 import { map } from './js/map.js';

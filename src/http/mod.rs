@@ -55,6 +55,7 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(missions::import_file))
         .routes(routes!(missions::get, missions::update, missions::delete))
         .routes(routes!(terrain::put, terrain::get, terrain::delete))
+        .routes(routes!(terrain::grid))
         .routes(routes!(plans::list, plans::create))
         .routes(routes!(plans::get, plans::cancel))
         .routes(routes!(plans::trajectory))

@@ -11,7 +11,7 @@ use utoipa::{IntoParams, ToSchema};
 use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiQuery, Problem, off_the_async_threads};
-use crate::planner::terrain::{ElevationModel, MAX_MODEL_BYTES, TerrainSummary};
+use crate::planner::terrain::{ElevationModel, MAX_MODEL_BYTES, TerrainGrid, TerrainSummary};
 use crate::planner::{self, MissionGeometry};
 use crate::store::{missions, terrain};
 
@@ -101,6 +101,28 @@ pub async fn get(State(state): State<AppState>, caller: Caller, Path(id): Path<S
     responses((status = 204, description = "deleted"), (status = 404, body = Problem, description = "no such mission, or it has no elevation model")))]
 pub async fn delete(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<StatusCode, ApiError> {
     if terrain::delete(&state.db, &caller.tenant, &id).await? { Ok(StatusCode::NO_CONTENT) } else { Err(missing(&id)) }
+}
+
+/// `GET /api/v1/missions/{id}/terrain/grid` options.
+#[derive(Debug, Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct GridQuery {
+    /// Samples along the longer side, 2 to 512 (default 256).
+    #[param(minimum = 2, maximum = 512)]
+    pub size: Option<usize>,
+}
+
+#[utoipa::path(get, operation_id = "get_terrain_grid", path = "/api/v1/missions/{id}/terrain/grid", tag = "missions", params(("id" = String, Path), GridQuery),
+    responses((status = 200, body = TerrainGrid, description = "the model's heights on a regular longitude/latitude grid, for drawing it"),
+        (status = 404, body = Problem, description = "no such mission, or it has no elevation model"), (status = 400, body = Problem), (status = 422, body = Problem)))]
+pub async fn grid(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiQuery(query): ApiQuery<GridQuery>) -> Result<Json<TerrainGrid>, ApiError> {
+    let size = query.size.unwrap_or(256);
+    if !(2..=512).contains(&size) {
+        return Err(ApiError::invalid("parameter_out_of_range", "/size", format!("{size} is outside the accepted range [2, 512] samples")));
+    }
+    let (name, bytes) = terrain::model(&state.db, &caller.tenant, &id).await?.ok_or_else(|| missing(&id))?;
+    let grid = off_the_async_threads(move || Ok::<_, ApiError>(ElevationModel::read(&bytes, &name)?.grid(size))).await?;
+    Ok(Json(grid))
 }
 
 fn missing(id: &str) -> ApiError {

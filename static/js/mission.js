@@ -3,6 +3,7 @@
 
 import { $, api, authorisedFetch, escapeHtml, status } from './api.js';
 import { map, state } from './map.js';
+import { isTerrainFile, loadTerrain, uploadTerrain } from './terrain.js';
 
 const styles = {
   field: { color: '#2e7d32', weight: 2, fillOpacity: 0.1 },
@@ -100,6 +101,7 @@ export function clearMission() {
     state.poses[k] = null;
   }
   state.missionId = null;
+  loadTerrain().catch(() => {});
 }
 
 // ---- mission ⇄ GeoJSON ----
@@ -179,6 +181,7 @@ export function drawMission(m) {
   }
   if (m.home) setPose('home', L.latLng(m.home[1], m.home[0]), null);
   if (state.fields.getLayers().length) map.fitBounds(state.fields.getBounds(), { padding: [20, 20] });
+  loadTerrain().catch((e) => status(e.message, true));
 }
 
 export async function saveMission() {
@@ -198,6 +201,21 @@ export async function listMissions() {
   if (state.missionId) sel.value = state.missionId;
 }
 
+/** Stores the mission (the model belongs to it) and `file` as its elevation model. */
+async function terrainOf(file) {
+  try {
+    const m = await saveMission();
+    await uploadTerrain(file, m.id);
+  } catch (err) {
+    status(`${file.name}: ${err.message}`, true);
+  }
+}
+$('terrain-file').onchange = (e) => {
+  const file = e.target.files[0];
+  e.target.value = '';
+  if (file) terrainOf(file);
+};
+
 // ---- files dropped on the map: the server reads them (GeoJSON, KML, KMZ, shapefile zip,
 // ISOXML TaskData, QGroundControl .plan) and stores the mission ----
 const mapEl = $('map');
@@ -206,6 +224,7 @@ mapEl.addEventListener('drop', async (e) => {
   e.preventDefault();
   const file = e.dataTransfer.files[0];
   if (!file) return;
+  if (isTerrainFile(file.name)) return terrainOf(file);
   try {
     const r = await authorisedFetch('/api/v1/missions/import', { method: 'POST', body: file });
     const m = await r.json();

@@ -56,8 +56,10 @@ function syncForm() {
   $('fixed-heading-box').hidden = inspection || $('direction').value !== 'fixed';
   $('objective-box').hidden = !reads('objective');
   $('layers-box').hidden = ground || inspection || !(num('drones') > 1);
+  $('reference-box').hidden = ground || inspection;
+  $('tolerance-box').hidden = $('altitude-reference').value !== 'terrain';
 }
-['camera', 'direction', 'planner', 'drones', 'vehicle'].forEach((id) => $(id).addEventListener('change', syncForm));
+['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference'].forEach((id) => $(id).addEventListener('change', syncForm));
 
 /** An aircraft's plan by a planner that lays parallel lines: the line-end rule applies. */
 const aircraftLineEnds = () => !groundVehicle() && !inspecting() && reads('swath_ends');
@@ -101,6 +103,10 @@ export function planParams() {
   // full width is an aircraft's default: sent only when another rule is chosen
   if (aircraftLineEnds() && $('line-ends').value !== 'full_width') p.swath_ends = $('line-ends').value;
   if (num('altitude') !== undefined && p.gsd_cm === undefined) p.altitude_m = num('altitude');
+  if (!groundVehicle() && $('altitude-reference').value === 'terrain') {
+    p.altitude_reference = 'terrain';
+    p.terrain_tolerance_m = num('terrain-tolerance');
+  }
   if ($('direction').value === 'fixed') p.heading_deg = num('fixed-heading');
   if ($('direction').value === 'optimal') p.sweep_direction = 'optimal';
   if (reads('objective')) p.objective = $('objective').value;
@@ -136,6 +142,9 @@ export function restoreParams(p) {
   $('camera').value = (p.camera && p.camera.preset) || '';
   set('spacing', p.line_spacing_m);
   set('altitude', p.altitude_m);
+  $('altitude-reference').value = p.altitude_reference === 'terrain' && state.terrain ? 'terrain' : 'home';
+  set('terrain-tolerance', p.terrain_tolerance_m);
+  $('altitude-reference').dispatchEvent(new Event('change'));
   set('gsd', p.gsd_cm);
   set('side-overlap', p.side_overlap);
   set('front-overlap', p.front_overlap);

@@ -3,6 +3,7 @@
 import { $, api, authorisedFetch, escapeHtml, hasApiKey, status } from './api.js';
 import { map, notForDrawing, state } from './map.js';
 import { hide3d, show3d } from './view3d.js';
+import { drawProfile } from './terrain.js';
 
 // ---- the result ----
 const kindStyle = {
@@ -91,6 +92,7 @@ export function clearResult() {
   $('download-box').hidden = true;
   renderFigures();
   drawChart();
+  drawProfile();
 }
 
 export function keepForComparison() {
@@ -111,6 +113,7 @@ export async function showPlan(plan) {
   togglePhotos();
   renderFigures();
   drawChart();
+  drawProfile();
   if (plan.stats.inspection) show3d(fc);
   else hide3d();
 }

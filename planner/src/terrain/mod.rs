@@ -126,6 +126,18 @@ pub struct TerrainStats {
     pub waypoints_per_sweep_km: f64,
 }
 
+/// Heights on a regular longitude/latitude grid over a model, for drawing it (relief shading).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct TerrainGrid {
+    /// `[west, south, east, north]` in degrees: the first sample is the north-west corner.
+    pub bounds: [f64; 4],
+    pub columns: usize,
+    pub rows: usize,
+    /// Row by row from the north, metres above mean sea level; null where the model has none.
+    pub heights: Vec<Option<f32>>,
+}
+
 /// What a stored model is, as `GET …/terrain` shows it.
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
@@ -265,6 +277,25 @@ impl ElevationModel {
             max_m,
             nodata_cells: self.heights.iter().filter(|h| h.is_nan()).count(),
         }
+    }
+
+    /// The model's heights on a grid of at most `size` × `size` samples over its extent,
+    /// spaced alike in metres on the ground.
+    pub fn grid(&self, size: usize) -> TerrainGrid {
+        let bounds = self.summary().bounds;
+        let lat = (bounds[1] + bounds[3]) / 2.0;
+        let (w, h) = ((bounds[2] - bounds[0]) * lat.to_radians().cos(), bounds[3] - bounds[1]);
+        let size = size.max(2);
+        let (columns, rows) = if w >= h { (size, ((size as f64 * h / w).round() as usize).max(2)) } else { (((size as f64 * w / h).round() as usize).max(2), size) };
+        let heights = (0..rows)
+            .flat_map(|r| (0..columns).map(move |c| (c, r)))
+            .map(|(c, r)| {
+                let lon = bounds[0] + (bounds[2] - bounds[0]) * c as f64 / (columns - 1) as f64;
+                let lat = bounds[3] - (bounds[3] - bounds[1]) * r as f64 / (rows - 1) as f64;
+                self.height_at(lon, lat).map(|h| h as f32)
+            })
+            .collect();
+        TerrainGrid { bounds, columns, rows, heights }
     }
 
     /// Checks that the model has a height everywhere within [`COVER_MARGIN_M`] of `places`

@@ -53,6 +53,15 @@ async fn a_mission_is_planned_over_its_elevation_model_and_flown_as_planned() {
     assert_eq!((stored["crs"].as_str(), stored["columns"].as_u64(), stored["file_name"].as_str()), (Some("EPSG:32632"), Some(260), Some("hills.tif")));
     let (s, read) = app.get(&path).await;
     assert_eq!((s, read["max_m"].as_f64()), (200, stored["max_m"].as_f64()));
+    // the grid the page shades: row by row from the north, within the model's heights
+    let (s, grid) = app.get(&format!("{path}/grid?size=64")).await;
+    assert_eq!(s, 200, "{grid}");
+    let (columns, rows) = (grid["columns"].as_u64().unwrap(), grid["rows"].as_u64().unwrap());
+    assert!(columns.max(rows) == 64 && columns.min(rows) >= 2, "{columns} × {rows}");
+    let heights: Vec<f64> = grid["heights"].as_array().unwrap().iter().filter_map(Value::as_f64).collect();
+    assert!(heights.len() as u64 > columns * rows / 2, "most samples have a height");
+    assert!(heights.iter().all(|h| *h >= read["min_m"].as_f64().unwrap() - 0.01 && *h <= read["max_m"].as_f64().unwrap() + 0.01));
+    assert_eq!(app.get(&format!("{path}/grid?size=1000")).await.0, 422);
 
     // a plan over it keeps 60 m ± 5 m above the ground on its sweeps as it reports
     let params = json!({"altitude_m": 60, "line_spacing_m": 60, "altitude_reference": "terrain", "vehicle": {"profile": "generic_multirotor"}});

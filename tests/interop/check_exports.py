@@ -2,9 +2,12 @@
 
 usage: check_exports.py DIR
 
-DIR/manifest.json (written by tests/it/interop.rs) lists the files and what each must hold:
+DIR/manifest.json (written by tests/it/db/interop.rs) lists the files and what each must hold:
   {"files": [{"file", "format", "waypoints": [[lat, lon], ...], "pieces", "fields", "holes",
               "zones", "photo_lines"}]}
+A plan over terrain adds "frame" (the MAVLink frame of positions: 0 above mean sea level, 10 above
+the ground), "heights" (each waypoint's altitude in that frame) and "home_alt" (the ground at home,
+above mean sea level).
 Readers: pymavlink's waypoint loader (QGC WPL 110), jsonschema with qgc-plan.schema.json (the
 .plan format as QGroundControl documents it), fastkml (KML, KMZ), the standard library's XML
 parser (GeoJSON, DJI WPML). ISOXML is read by check_isoxml.mjs with the isoxml library.
@@ -23,6 +26,9 @@ from pymavlink import mavutil, mavwp
 
 HERE = Path(__file__).parent
 TOLERANCE_DEG = 1e-7  # about 1 cm
+TOLERANCE_M = 0.011  # the files' centimetres
+# QGroundControl's AltitudeMode of each MAVLink frame
+ALTITUDE_MODES = {3: 1, 0: 2, 10: 4}
 NAV_WAYPOINT = mavutil.mavlink.MAV_CMD_NAV_WAYPOINT
 NAV_TAKEOFF = mavutil.mavlink.MAV_CMD_NAV_TAKEOFF
 ENDS = {mavutil.mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, mavutil.mavlink.MAV_CMD_NAV_LAND}
@@ -37,6 +43,16 @@ def same_points(found, expected, what):
         assert abs(f[0] - e[0]) <= TOLERANCE_DEG and abs(f[1] - e[1]) <= TOLERANCE_DEG, f"{what}: waypoint {k} at {f}, expected {e}"
 
 
+def same_heights(found, spec, what, offset=0.0):
+    """Each waypoint's altitude against the planned one (less `offset`), when the plan says them."""
+    if "heights" not in spec:
+        return
+    expected = [h - offset for h in spec["heights"]]
+    assert len(found) == len(expected), f"{what}: {len(found)} heights, expected {len(expected)}"
+    for k, (f, e) in enumerate(zip(found, expected)):
+        assert abs(f - e) <= TOLERANCE_M, f"{what}: waypoint {k} at {f} m, planned {e} m"
+
+
 def check_waypoints(path, spec):
     loader = mavwp.MAVWPLoader()
     count = loader.load(str(path))
@@ -45,9 +61,12 @@ def check_waypoints(path, spec):
     assert items[-1].command in ENDS, f"last item is {items[-1].command}, not a return or landing"
     without_position = {mavutil.mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH}
     for i in items:
-        expected_frame = 2 if i.command >= 100 or i.command in without_position else 3
+        expected_frame = 2 if i.command >= 100 or i.command in without_position else spec.get("frame", 3)
         assert i.frame == expected_frame, f"item {i.seq}: frame {i.frame}"
+    if "home_alt" in spec:
+        assert abs(loader.wp(0).z - spec["home_alt"]) <= TOLERANCE_M, f"home at {loader.wp(0).z} m, the ground at {spec['home_alt']} m"
     same_points([(i.x, i.y) for i in items if i.command == NAV_WAYPOINT], spec["waypoints"], path.name)
+    same_heights([i.z for i in items if i.command == NAV_WAYPOINT], spec, path.name)
     first_waypoint = next(k for k, i in enumerate(items) if i.command == NAV_WAYPOINT)
     speeds = [i.param2 for i in items[:first_waypoint] if i.command == mavutil.mavlink.MAV_CMD_DO_CHANGE_SPEED]
     assert speeds and speeds[0] > 0, "the speed is set before the first waypoint"
@@ -65,7 +84,14 @@ def check_plan(path, spec):
     jsonschema.validate(plan, json.loads((HERE / "qgc-plan.schema.json").read_text()))
     items = plan["mission"]["items"]
     assert [i["doJumpId"] for i in items] == list(range(1, len(items) + 1)), "doJumpId must count from 1"
-    same_points([(i["params"][4], i["params"][5]) for i in items if i["command"] == NAV_WAYPOINT], spec["waypoints"], path.name)
+    waypoints = [i for i in items if i["command"] == NAV_WAYPOINT]
+    same_points([(i["params"][4], i["params"][5]) for i in waypoints], spec["waypoints"], path.name)
+    frame = spec.get("frame", 3)
+    assert plan["mission"]["globalPlanAltitudeMode"] == ALTITUDE_MODES[frame]
+    assert all(i["frame"] == frame and i["AltitudeMode"] == ALTITUDE_MODES[frame] for i in waypoints), f"{path.name}: every waypoint in frame {frame}"
+    same_heights([i["Altitude"] for i in waypoints], spec, path.name)
+    if "home_alt" in spec:
+        assert abs(plan["mission"]["plannedHomePosition"][2] - spec["home_alt"]) <= TOLERANCE_M, "home on the ground"
     fences = plan["geoFence"]["polygons"]
     assert sum(1 for f in fences if f["inclusion"]) == spec["fields"], "one inclusion fence per field"
     assert sum(1 for f in fences if not f["inclusion"]) == spec["zones"], "one exclusion fence per no-fly zone"
@@ -93,6 +119,14 @@ def check_kml(text, spec, name):
     for p in polygons:
         lon, lat = list(p.geometry.exterior.coords)[0][:2]
         assert -180 <= lon <= 180 and -90 <= lat <= 90
+    if spec.get("frame") == 0:
+        # heights above mean sea level: absolute, and every flown point's height is a planned one
+        modes = {e.text for e in ET.fromstring(text).iter(f"{KML}altitudeMode")} - {"clampToGround"}
+        assert modes == {"absolute"}, f"{name}: altitude modes {modes}"
+        planned = spec["heights"]
+        for line in lines:
+            for point in line.geometry.coords:
+                assert any(abs(point[2] - h) <= TOLERANCE_M for h in planned), f"{name}: a point at {point[2]} m was not planned"
 
 
 def check_geojson(path, spec):
@@ -112,13 +146,16 @@ def check_wpml(path, spec):
         template = ET.fromstring(z.read("wpmz/template.kml"))
     marks = waylines.findall(f".//{KML}Placemark")
     assert [int(m.find(f"{WPML}index").text) for m in marks] == list(range(len(marks))), "indices count from 0"
+    assert waylines.find(f".//{WPML}executeHeightMode").text == "relativeToStartPoint"
     points = []
     for m in marks:
         lon, lat = map(float, m.find(f"{KML}Point/{KML}coordinates").text.split(","))
         points.append((lat, lon))
-        assert float(m.find(f"{WPML}executeHeight").text) > 0
+        # over terrain a waypoint may lie below the take-off point
+        assert "heights" in spec or float(m.find(f"{WPML}executeHeight").text) > 0
         assert 0 < float(m.find(f"{WPML}waypointSpeed").text) <= 15
     same_points(points, spec["waypoints"], path.name)
+    same_heights([float(m.find(f"{WPML}executeHeight").text) for m in marks], spec, path.name, spec.get("home_alt", 0.0))
     groups = waylines.findall(f".//{WPML}actionGroup")
     assert len(groups) == spec["photo_lines"], f"{len(groups)} photo groups, expected {spec['photo_lines']}"
     assert len(template.findall(f".//{KML}Placemark")) == len(marks)

@@ -104,6 +104,27 @@ fn flown_points(trajectory: &FeatureCollection) -> Vec<[f64; 2]> {
     out
 }
 
+/// Over terrain: each flown point's altitude above mean sea level and the ground's height under
+/// it, in the order (and with the repeats left out) of [`flown_points`].
+fn flown_heights(trajectory: &FeatureCollection) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    let mut last: Option<[f64; 2]> = None;
+    for f in &trajectory.features {
+        let props = f.properties.as_ref();
+        let kind = props.and_then(|p| p.get("kind")).and_then(Value::as_str).unwrap_or_default();
+        if let (true, Some(GeometryValue::LineString { coordinates })) = (FLOWN.contains(&kind), f.geometry.as_ref().map(|g| &g.value)) {
+            let ground = props.and_then(|p| p.get("ground_m")).and_then(Value::as_array).expect("a piece over terrain gives its ground");
+            for (p, g) in coordinates.iter().zip(ground) {
+                if last != Some([p[1], p[0]]) {
+                    out.push((p[2], g.as_f64().unwrap()));
+                    last = Some([p[1], p[0]]);
+                }
+            }
+        }
+    }
+    out
+}
+
 fn sweeps(trajectory: &FeatureCollection) -> usize {
     trajectory.features.iter().filter(|f| f.properties.as_ref().and_then(|p| p.get("kind")).and_then(Value::as_str) == Some("sweep")).count()
 }
@@ -203,6 +224,53 @@ async fn every_format_downloads_reads_back_and_passes_independent_readers() {
     std::fs::write(dir.join("manifest.json"), json!({"files": manifest}).to_string()).unwrap();
     run(Command::new(python()).arg(interop_dir().join("check_exports.py")).arg(&dir));
     run(Command::new("node").arg(interop_dir().join("check_isoxml.mjs")).arg(&dir));
+    app.stop().await;
+}
+
+/// A plan over the hills' elevation model, written in the AMSL frame and in the terrain frame, and
+/// read by the same independent readers: every waypoint at its planned height, home on the ground.
+#[tokio::test]
+async fn a_plan_over_terrain_passes_the_independent_readers_in_both_frames() {
+    let app = TestApp::spawn().await;
+    let f = common::fixture("terrain/hills-11.json");
+    let mission = app.create_mission(&json!({"name": "Hills", "area": f["area"], "home": f["home"]})).await;
+    let model = std::fs::read(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/terrain/hills-11.tif")).unwrap();
+    let r = app.client.put(app.url(&format!("/api/v1/missions/{mission}/terrain"))).header("content-type", "image/tiff").body(model).send().await.unwrap();
+    assert_eq!(r.status(), 200);
+    let params = json!({"planner": "boustrophedon", "camera": {"preset": "dji_mavic3_enterprise"}, "altitude_m": 80, "altitude_reference": "terrain", "vehicle": {"profile": "generic_multirotor"}});
+    let (status, plan) = app.post(&format!("/api/v1/missions/{mission}/plans"), &params).await;
+    assert_eq!(status, 202, "{plan}");
+    let plan = app.wait_finished(plan["id"].as_str().unwrap()).await;
+    assert_eq!(plan["status"], "succeeded", "{plan}");
+    let id = plan["id"].as_str().unwrap();
+    let (_, _, _, bytes) = download(&app, id, "format=geojson").await;
+    let trajectory: FeatureCollection = serde_json::from_slice(&bytes).unwrap();
+    let heights = flown_heights(&trajectory);
+    let home_alt = heights[0].1;
+    let amsl: Vec<f64> = heights.iter().map(|h| h.0).collect();
+    let above_ground: Vec<f64> = heights.iter().map(|h| h.0 - h.1).collect();
+    let dir = temp_dir();
+    let mut manifest = Vec::new();
+    for (format, query, frame, expected) in [
+        ("plan", "format=plan", 0, &amsl),
+        ("plan", "format=plan&altitude_frame=terrain", 10, &above_ground),
+        ("waypoints", "format=waypoints", 0, &amsl),
+        ("waypoints", "format=waypoints&altitude_frame=terrain", 10, &above_ground),
+        ("kml", "format=kml", 0, &amsl),
+        ("wpml", "format=wpml", 0, &amsl),
+    ] {
+        let (status, _, _, bytes) = download(&app, id, query).await;
+        assert_eq!(status, 200, "{query}: {}", String::from_utf8_lossy(&bytes));
+        let file = format!("terrain-{frame}-{format}");
+        std::fs::write(dir.join(&file), &bytes).unwrap();
+        manifest.push(json!({
+            "file": file, "format": format, "waypoints": flown_points(&trajectory), "pieces": flown_pieces(&trajectory),
+            "fields": 1, "holes": 0, "zones": 0, "photo_lines": sweeps(&trajectory),
+            "frame": frame, "heights": expected, "home_alt": home_alt,
+        }));
+    }
+    std::fs::write(dir.join("manifest.json"), json!({"files": manifest}).to_string()).unwrap();
+    run(Command::new(python()).arg(interop_dir().join("check_exports.py")).arg(&dir));
     app.stop().await;
 }
 

@@ -75,7 +75,9 @@ pub fn feature_collection(frame: &LocalFrame, flights: &[VehicleFlight<'_>], alt
     }
     let Marks { photos, uncovered } = *marks;
     if let Some(photos) = photos {
-        let coords = photos.iter().map(|&c| position(frame, c, altitude_m)).collect();
+        // over terrain the photos' heights differ from point to point: they are given in 2D
+        let photo_altitude = if flights.iter().any(|f| !f.laid.is_empty()) { None } else { altitude_m };
+        let coords = photos.iter().map(|&c| position(frame, c, photo_altitude)).collect();
         features.push(feature(GeometryValue::MultiPoint { coordinates: coords }, json!({"kind": "photos", "count": photos.len()})));
     }
     if !uncovered.0.is_empty() {

@@ -247,3 +247,43 @@ proptest! {
         prop_assert!(f.waypoints as f64 / f.sweep_km <= WAYPOINTS_PER_SWEEP_KM, "{} waypoints for {:.2} km", f.waypoints, f.sweep_km);
     }
 }
+
+/// Obstacles stand on the ground: over terrain the path crosses a mast's footprint at least its
+/// height plus the clearance above the ground under it.
+#[test]
+fn obstacles_over_terrain_are_cleared_from_the_ground_up() {
+    let mission: Value = serde_json::from_slice(&fixture("hills-11.json")).unwrap();
+    let model = ElevationModel::read(&fixture("hills-11.tif"), "m.tif").unwrap();
+    // an 80 m block of 120 m × 120 m in the middle of the field
+    let (lon, lat, dlon, dlat) = (9.0205, 46.9640, 60.0 / 76_000.0, 60.0 / 111_200.0);
+    let block = [[lon - dlon, lat - dlat], [lon + dlon, lat - dlat], [lon + dlon, lat + dlat], [lon - dlon, lat + dlat], [lon - dlon, lat - dlat]];
+    let obstacles = json!({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"height_m": 80}, "geometry": {"type": "Polygon", "coordinates": [block]}}]});
+    let geometry = MissionGeometry {
+        area: &mission["area"],
+        no_fly_zones: None,
+        obstacles: Some(&obstacles),
+        structures: None,
+        home: serde_json::from_value(mission["home"].clone()).ok(),
+        terrain: Some(&model),
+    };
+    let params: PlanParams =
+        serde_json::from_value(json!({"altitude_m": 60, "line_spacing_m": 40, "altitude_reference": "terrain", "vehicle": {"profile": "generic_multirotor"}, "obstacle_clearance_m": 10})).unwrap();
+    let out = plan(&geometry, &params, &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).unwrap();
+    let inside = |p: [f64; 2]| p[0] > lon - dlon && p[0] < lon + dlon && p[1] > lat - dlat && p[1] < lat + dlat;
+    let mut crossed = 0;
+    for feature in &out.trajectory.features {
+        let Some(GeometryValue::LineString { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) else { continue };
+        for w in coordinates.windows(2) {
+            for k in 0..=20 {
+                let t = k as f64 / 20.0;
+                let p = [w[0][0] + (w[1][0] - w[0][0]) * t, w[0][1] + (w[1][1] - w[0][1]) * t];
+                if inside(p) {
+                    let above = w[0][2] + (w[1][2] - w[0][2]) * t - model.height_at(p[0], p[1]).unwrap();
+                    assert!(above >= 90.0 - 0.05, "{above:.2} m above the ground over the block");
+                    crossed += 1;
+                }
+            }
+        }
+    }
+    assert!(crossed > 20, "the path crosses the block ({crossed} samples)");
+}

@@ -385,6 +385,23 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn a_model_must_cover_the_places_and_their_margin_with_data() {
+        // 2 km × 2 km; nodata in a 100 m square from (1 300, 1 300) m
+        let m = synthetic(201, 201, 10.0, |x, y| if (1300.0..1400.0).contains(&x) && (1300.0..1400.0).contains(&y) { f64::NAN } else { 250.0 });
+        let crs = m.crs().clone();
+        let place = |x: f64, y: f64| ("the field".to_string(), "/area".to_string(), crs.to_wgs84(500_000.0 + x, 5_200_000.0 + y).unwrap());
+        assert_eq!(m.check_covers(&[place(400.0, 400.0), place(900.0, 900.0)]), Ok(()));
+        // the nodata square lies in the box between two places
+        let e = m.check_covers(&[place(1100.0, 1100.0), place(1600.0, 1600.0)]).unwrap_err();
+        assert!(e.code == "terrain_not_covering" && e.detail.contains("has no data"), "{e:?}");
+        // within 100 m of the model's edge: the margin is missing, and where is said
+        let e = m.check_covers(&[place(1000.0, 1950.0)]).unwrap_err();
+        assert!(e.detail.contains("margin") && e.detail.contains("north"), "{}", e.detail);
+        let e = m.check_covers(&[place(2500.0, 1000.0)]).unwrap_err();
+        assert_eq!(e.pointer, "/area");
+    }
+
+    #[test]
     fn refuses_what_is_not_a_model() {
         assert_eq!(ElevationModel::read(b"hello", "x.txt").err().unwrap().code, "invalid_terrain");
         assert_eq!(Crs::from_epsg(27700, "/").err().unwrap().code, "unsupported_crs");

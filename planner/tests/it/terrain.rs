@@ -2,7 +2,9 @@
 //! (WGS84, heights above mean sea level), against the elevation model read independently of
 //! the planner's own sampling, every metre along every flown piece.
 
+use coverplan_planner::planners::registry;
 use coverplan_planner::terrain::ElevationModel;
+use coverplan_planner::vehicle::VehicleKind;
 use coverplan_planner::vehicle::builtin_profiles;
 use coverplan_planner::{FieldLimits, MissionGeometry, PlanParams, Stop, plan};
 use geojson::GeometryValue;
@@ -212,7 +214,7 @@ fn generated_mission(model: &ElevationModel, turn_deg: f64) -> Value {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 10, ..ProptestConfig::default() })]
     /// Generated terrains (relief up to 300 m, slopes up to 35°, cliffs steeper than any climb
     /// limit), both kinds of aircraft: never below the floor; on sweeps within the band except
     /// the metres the plan reports; climbs within the limits; waypoints per km bounded.
@@ -224,6 +226,7 @@ proptest! {
         turn in 0.0f64..90.0,
         fixed_wing in any::<bool>(),
         height in 40.0f64..120.0,
+        pick in any::<prop::sample::Index>(),
     ) {
         // a hill's steepest slope is 0.86 height / width: at most about 35°
         let hills: Vec<(f64, f64, f64, f64)> = hills.iter().map(|&(x, y, h, ratio)| (x, y, h, (h / ratio).max(60.0))).collect();
@@ -231,11 +234,15 @@ proptest! {
         let mission = generated_mission(&model, turn);
         prop_assume!(model.height_at(mission["home"][0].as_f64().unwrap(), mission["home"][1].as_f64().unwrap()).is_some());
         let vehicle = if fixed_wing { json!({"kind": "fixed_wing"}) } else { json!({"profile": "generic_multirotor"}) };
-        let params = json!({"altitude_m": height, "line_spacing_m": 80, "altitude_reference": "terrain", "vehicle": vehicle, "terrain_tolerance_m": 4});
+        // every planner that lays parallel lines for this kind of aircraft
+        let kind = if fixed_wing { VehicleKind::FixedWing } else { VehicleKind::Multirotor };
+        let planners: Vec<&str> = registry().iter().filter(|p| p.lays_parallel_lines() && p.vehicle_kinds().contains(&kind)).map(|p| p.id()).collect();
+        let planner = planners[pick.index(planners.len())];
+        let params = json!({"planner": planner, "altitude_m": height, "line_spacing_m": 80, "altitude_reference": "terrain", "vehicle": vehicle, "terrain_tolerance_m": 4});
         let out = plan_over(&mission, &model, params);
         let stats = out.stats.terrain.clone().unwrap();
         let f = fly(&out.trajectory, &model, height, 4.0);
-        prop_assert!(f.lowest >= height - 4.0 - 0.05, "{:.2} above ground at {height:.1} m", f.lowest);
+        prop_assert!(f.lowest >= height - 4.0 - 0.05, "{planner}: {:.2} above ground at {height:.1} m", f.lowest);
         prop_assert!((f.sweep_off_band_m - stats.sweep_outside_tolerance_m).abs() <= 2.0 + 0.02 * stats.sweep_outside_tolerance_m, "{:.1} against {:.1}", f.sweep_off_band_m, stats.sweep_outside_tolerance_m);
         let steepest = tilt.abs() + hills.iter().map(|h| 0.86 * h.2 / h.3).sum::<f64>();
         if cliff == 0.0 && !fixed_wing && steepest < 0.24 {
@@ -257,7 +264,8 @@ fn obstacles_over_terrain_are_cleared_from_the_ground_up() {
     // an 80 m block of 120 m × 120 m in the middle of the field
     let (lon, lat, dlon, dlat) = (9.0205, 46.9640, 60.0 / 76_000.0, 60.0 / 111_200.0);
     let block = [[lon - dlon, lat - dlat], [lon + dlon, lat - dlat], [lon + dlon, lat + dlat], [lon - dlon, lat + dlat], [lon - dlon, lat - dlat]];
-    let obstacles = json!({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"height_m": 80}, "geometry": {"type": "Polygon", "coordinates": [block]}}]});
+    let obstacles =
+        json!({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"height_m": 80}, "geometry": {"type": "Polygon", "coordinates": [block]}}]});
     let geometry = MissionGeometry {
         area: &mission["area"],
         no_fly_zones: None,
@@ -266,8 +274,10 @@ fn obstacles_over_terrain_are_cleared_from_the_ground_up() {
         home: serde_json::from_value(mission["home"].clone()).ok(),
         terrain: Some(&model),
     };
-    let params: PlanParams =
-        serde_json::from_value(json!({"altitude_m": 60, "line_spacing_m": 40, "altitude_reference": "terrain", "vehicle": {"profile": "generic_multirotor"}, "obstacle_clearance_m": 10})).unwrap();
+    let params: PlanParams = serde_json::from_value(
+        json!({"altitude_m": 60, "line_spacing_m": 40, "altitude_reference": "terrain", "vehicle": {"profile": "generic_multirotor"}, "obstacle_clearance_m": 10}),
+    )
+    .unwrap();
     let out = plan(&geometry, &params, &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).unwrap();
     let inside = |p: [f64; 2]| p[0] > lon - dlon && p[0] < lon + dlon && p[1] > lat - dlat && p[1] < lat + dlat;
     let mut crossed = 0;

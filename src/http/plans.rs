@@ -17,7 +17,7 @@ use crate::planner::geojson::FeatureCollection;
 use crate::planner::params::AltitudeReference;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
-use crate::planner::{self, MissionGeometry, PlanParams};
+use crate::planner::{self, PlanParams};
 use crate::store::plans::{self, JobKind, Plan, PlanStatus};
 use crate::store::{missions, terrain, vehicles};
 
@@ -40,14 +40,7 @@ pub async fn create(
     };
     let (mission, params, profiles) = off_the_async_threads(move || {
         let model = model.map(|(name, bytes)| ElevationModel::read(&bytes, &name)).transpose()?;
-        let geometry = MissionGeometry {
-            area: &mission.area,
-            no_fly_zones: mission.no_fly_zones.as_ref(),
-            obstacles: mission.obstacles.as_ref(),
-            structures: mission.structures.as_ref(),
-            home: mission.home,
-            terrain: model.as_ref(),
-        };
+        let geometry = mission.geometry(model.as_ref());
         planner::check_plan(&geometry, &params, &profiles, &limits)?;
         Ok::<_, ApiError>((mission, params, profiles))
     })

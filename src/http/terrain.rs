@@ -11,8 +11,8 @@ use utoipa::{IntoParams, ToSchema};
 use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiQuery, Problem, off_the_async_threads};
+use crate::planner;
 use crate::planner::terrain::{ElevationModel, MAX_MODEL_BYTES, TerrainGrid, TerrainSummary};
-use crate::planner::{self, MissionGeometry};
 use crate::store::{missions, terrain};
 
 /// `PUT /api/v1/missions/{id}/terrain` options.
@@ -37,8 +37,8 @@ pub struct Terrain {
 const MEDIA_TYPES: &[&str] = &["image/tiff", "application/octet-stream", "application/zip", "application/x-zip-compressed"];
 
 #[utoipa::path(put, operation_id = "put_terrain", path = "/api/v1/missions/{id}/terrain", tag = "missions", params(("id" = String, Path), TerrainQuery),
-    request_body(content = String, content_type = "image/tiff", description = "a GeoTIFF (EPSG:4326 or a WGS84 UTM zone; integer or float heights in metres above mean sea level), \
-        or an SRTM .hgt tile, plain or zipped (application/octet-stream, application/zip); at most 64 MB"),
+    request_body(content = String, content_type = "application/octet-stream", description = "the file as it is: a GeoTIFF (EPSG:4326 or a WGS84 UTM zone; integer or float \
+        heights in metres above mean sea level), or an SRTM .hgt tile, plain or zipped; at most 64 MB. Also accepted as image/tiff, application/zip or application/x-zip-compressed"),
     responses((status = 200, body = Terrain, description = "stored, replacing any model the mission had"), (status = 404, body = Problem),
         (status = 413, body = Problem, description = "the file is over the size limit"), (status = 415, body = Problem, description = "another media type"),
         (status = 422, body = Problem, description = "not an elevation model, an unsupported coordinate system, or a model that does not cover the fields and home with a 100 m margin")))]
@@ -72,15 +72,7 @@ pub async fn put(
     let limits = state.config.limits;
     let (summary, bytes, file_name) = off_the_async_threads(move || {
         let model = ElevationModel::read(&bytes, &file_name)?;
-        let geometry = MissionGeometry {
-            area: &mission.area,
-            no_fly_zones: mission.no_fly_zones.as_ref(),
-            obstacles: mission.obstacles.as_ref(),
-            structures: mission.structures.as_ref(),
-            home: mission.home,
-            terrain: None,
-        };
-        planner::check_terrain_covers(&geometry, &model, &limits)?;
+        planner::check_terrain_covers(&mission.geometry(None), &model, &limits)?;
         Ok::<_, ApiError>((model.summary(), bytes, file_name))
     })
     .await?;

@@ -9,6 +9,8 @@ use utoipa::ToSchema;
 
 use super::{Db, Statement, WritePool, new_id};
 use crate::on_db;
+use crate::planner::MissionGeometry;
+use crate::planner::terrain::ElevationModel;
 
 #[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct Mission {
@@ -30,6 +32,20 @@ pub struct Mission {
     pub home: Option<[f64; 2]>,
     pub created_at: String,
     pub updated_at: String,
+}
+
+impl Mission {
+    /// The planner's view of the mission, over `terrain` when given.
+    pub fn geometry<'a>(&'a self, terrain: Option<&'a ElevationModel>) -> MissionGeometry<'a> {
+        MissionGeometry {
+            area: &self.area,
+            no_fly_zones: self.no_fly_zones.as_ref(),
+            obstacles: self.obstacles.as_ref(),
+            structures: self.structures.as_ref(),
+            home: self.home,
+            terrain,
+        }
+    }
 }
 
 /// A mission without its geometry, for lists that show names.

@@ -67,10 +67,17 @@ $('draw').onclick = () => {
   }
 };
 
+// Escape ends whatever is being drawn
+document.addEventListener('keydown', (e) => {
+  if (e.key === 'Escape' && map.pm.globalDrawModeEnabled()) map.pm.disableDraw();
+});
+
 map.on('pm:create', (e) => {
   const kind = $('draw-kind').value;
   map.removeLayer(e.layer);
   if (e.shape === 'Marker') {
+    // one click places the point; the mode ends there
+    map.pm.disableDraw();
     const h = $('pose-heading').value;
     setPose(kind, e.layer.getLatLng(), kind === 'home' || h === '' ? null : Number(h));
   } else if (kind === 'hole') {

@@ -71,6 +71,14 @@ try {
   await page.click('#draw');
   await page.mouse.click(...at(-160, 120));
   await waitFor(() => page.evaluate(() => !!window.coverplan.state.poses.home), 'the home marker');
+  assert.equal(await page.evaluate(() => window.coverplan.map.pm.globalDrawModeEnabled()), false, 'placing home ends the mode');
+  // Escape ends a drawing left half done, and nothing is added
+  await page.selectOption('#draw-kind', 'nfz');
+  await page.click('#draw');
+  await page.mouse.click(...at(-60, -40));
+  await page.keyboard.press('Escape');
+  assert.equal(await page.evaluate(() => window.coverplan.map.pm.globalDrawModeEnabled()), false, 'Escape ends the mode');
+  assert.equal(await page.evaluate(() => window.coverplan.state.zones.getLayers().length), 0, 'no zone from a drawing left half done');
 
   // plan it
   await page.selectOption('#planner', 'boustrophedon');

@@ -224,12 +224,16 @@ impl ElevationModel {
         Some([(x - self.origin[0]) / self.step[0], (y - self.origin[1]) / self.step[1]])
     }
 
+    /// Whether fractional (column, row) lies among the cell centres (with `slack` cells).
+    fn spans_pixel(&self, [fc, fr]: [f64; 2], slack: f64) -> bool {
+        fc >= -slack && fr >= -slack && fc <= (self.cols - 1) as f64 + slack && fr <= (self.rows - 1) as f64 + slack
+    }
+
     pub(crate) fn height_at_pixel(&self, [fc, fr]: [f64; 2]) -> Option<f64> {
-        let (max_c, max_r) = ((self.cols - 1) as f64, (self.rows - 1) as f64);
-        const SLACK: f64 = 1e-9;
-        if !(fc >= -SLACK && fr >= -SLACK && fc <= max_c + SLACK && fr <= max_r + SLACK) {
+        if !self.spans_pixel([fc, fr], 1e-9) {
             return None;
         }
+        let (max_c, max_r) = ((self.cols - 1) as f64, (self.rows - 1) as f64);
         let (fc, fr) = (fc.clamp(0.0, max_c), fr.clamp(0.0, max_r));
         let (c0, r0) = ((fc.floor() as usize).min(self.cols - 2), (fr.floor() as usize).min(self.rows - 2));
         let (tx, ty) = (fc - c0 as f64, fr - r0 as f64);
@@ -241,31 +245,38 @@ impl ElevationModel {
 
     /// Why there is no height at `[lon, lat]`: outside the model, or nodata.
     fn missing(&self, lon: f64, lat: f64) -> &'static str {
-        match self.crs.project(lon, lat) {
-            Some([x, y]) => {
-                let fc = (x - self.origin[0]) / self.step[0];
-                let fr = (y - self.origin[1]) / self.step[1];
-                if fc >= 0.0 && fr >= 0.0 && fc <= (self.cols - 1) as f64 && fr <= (self.rows - 1) as f64 { "has no data (nodata cells) at" } else { "does not reach" }
-            }
+        match self.pixel_of(lon, lat) {
+            Some(p) if self.spans_pixel(p, 0.0) => "has no data (nodata cells) at",
+            Some(_) => "does not reach",
             None => "cannot be projected to",
         }
     }
 
-    pub fn summary(&self) -> TerrainSummary {
-        let finite = self.heights.iter().filter(|h| h.is_finite());
-        let (min_m, max_m) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| (lo.min(f64::from(h)), hi.max(f64::from(h))));
+    /// `[west, south, east, north]` in degrees: the extent of the cell centres.
+    fn bounds(&self) -> [f64; 4] {
         let last = [self.origin[0] + self.step[0] * (self.cols - 1) as f64, self.origin[1] + self.step[1] * (self.rows - 1) as f64];
         let corners: Vec<[f64; 2]> =
             [[self.origin[0], self.origin[1]], [last[0], self.origin[1]], [self.origin[0], last[1]], last].iter().filter_map(|&[x, y]| self.crs.to_wgs84(x, y)).collect();
-        let bounds =
-            corners.iter().fold([f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY], |b, c| [b[0].min(c[0]), b[1].min(c[1]), b[2].max(c[0]), b[3].max(c[1])]);
-        let cell_size_m = match self.crs {
+        corners.iter().fold([f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY], |b, c| [b[0].min(c[0]), b[1].min(c[1]), b[2].max(c[0]), b[3].max(c[1])])
+    }
+
+    /// Cell size on the ground, metres, x then y (a geographic model's at its middle latitude).
+    fn cell_size_m(&self, bounds: [f64; 4]) -> [f64; 2] {
+        match self.crs {
             Crs::LonLat => {
                 let lat = (bounds[1] + bounds[3]) / 2.0;
                 [self.step[0] * 111_320.0 * lat.to_radians().cos(), self.step[1].abs() * 110_574.0]
             }
             Crs::Utm { .. } => [self.step[0], self.step[1].abs()],
-        };
+        }
+    }
+
+    /// What the model is; reads every cell (for the heights' range).
+    pub fn summary(&self) -> TerrainSummary {
+        let finite = self.heights.iter().filter(|h| h.is_finite());
+        let (min_m, max_m) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| (lo.min(f64::from(h)), hi.max(f64::from(h))));
+        let bounds = self.bounds();
+        let cell_size_m = self.cell_size_m(bounds);
         TerrainSummary {
             crs: format!("EPSG:{}", self.crs.epsg()),
             columns: self.cols,
@@ -282,7 +293,7 @@ impl ElevationModel {
     /// The model's heights on a grid of at most `size` × `size` samples over its extent,
     /// spaced alike in metres on the ground.
     pub fn grid(&self, size: usize) -> TerrainGrid {
-        let bounds = self.summary().bounds;
+        let bounds = self.bounds();
         let lat = (bounds[1] + bounds[3]) / 2.0;
         let (w, h) = ((bounds[2] - bounds[0]) * lat.to_radians().cos(), bounds[3] - bounds[1]);
         let size = size.max(2);
@@ -304,8 +315,8 @@ impl ElevationModel {
     pub fn check_covers(&self, places: &[(String, String, [f64; 2])]) -> Result<(), InputError> {
         let Some((_, _, [_, lat0])) = places.first() else { return Ok(()) };
         let per_deg = [111_320.0 * lat0.to_radians().cos().max(0.01), 110_574.0];
+        let model_bounds = self.bounds();
         let refuse = |what: &str, pointer: &str, p: [f64; 2]| {
-            let s = self.summary();
             InputError::new(
                 "terrain_not_covering",
                 pointer,
@@ -314,10 +325,10 @@ impl ElevationModel {
                     self.missing(p[0], p[1]),
                     p[0],
                     p[1],
-                    s.bounds[0],
-                    s.bounds[2],
-                    s.bounds[1],
-                    s.bounds[3]
+                    model_bounds[0],
+                    model_bounds[2],
+                    model_bounds[1],
+                    model_bounds[3]
                 ),
             )
         };
@@ -332,7 +343,7 @@ impl ElevationModel {
             bounds = [bounds[0].min(lon - dx), bounds[1].min(lat - dy), bounds[2].max(lon + dx), bounds[3].max(lat + dy)];
         }
         // a grid over the box at about the model's cell size (at most 400 × 400 points)
-        let cell = self.summary().cell_size_m;
+        let cell = self.cell_size_m(model_bounds);
         let steps = |span_m: f64, cell_m: f64| ((span_m / cell_m.max(1.0)).ceil() as usize).clamp(1, 400);
         let (nx, ny) = (steps((bounds[2] - bounds[0]) * per_deg[0], cell[0]), steps((bounds[3] - bounds[1]) * per_deg[1], cell[1]));
         for j in 0..=ny {

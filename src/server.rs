@@ -34,7 +34,7 @@ pub async fn serve(listener: TcpListener, config: Config, shutdown: impl Future<
         tracing::warn!(requeued, failed, "plans interrupted by the last stop");
     }
     let limits = config.limits;
-    let runner: Runner = Arc::new(move |job, progress, stop| jobs::plan_job(job, &limits, progress, stop));
+    let runner: Runner = Arc::new(move |job, request, progress, stop| jobs::plan_job(job, request, &limits, progress, stop));
     let (queue, workers) = JobQueue::start(db.clone(), config.workers, runner, config.queue.clone());
     // replicas hand their running plans back at once: another replica takes them now
     let grace = if db.is_postgres() { std::time::Duration::ZERO } else { config.shutdown_grace };

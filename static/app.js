@@ -14,15 +14,18 @@ api('GET', '/api/v1/ui-config').then((c) => {
   if (c && c.tile_url) L.tileLayer(c.tile_url, { maxZoom: 20, attribution: c.tile_attribution || '' }).addTo(map);
 }).catch(() => {});
 
-$('clear').onclick = () => { clearMission(); clearResult(); clearPatrol(); history.replaceState(null, '', '/'); };
+$('clear').onclick = () => { clearMission(); history.replaceState(null, '', '/'); };
+
+// one mission at a time: a result belongs to the mission as it was planned, so any change to the
+// mission (an edit, an undo, Clear, an import, opening another) takes its result, comparison and
+// download away
+document.addEventListener('mission-changed', () => { clearResult(); clearPatrol(); });
 
 /** Opens a saved mission with its latest plan and that plan's parameters (a shared link). */
 async function openMission(id) {
   const m = await api('GET', `/api/v1/missions/${id}`);
   drawMission(m);
   history.replaceState(null, '', `/?mission=${id}`);
-  clearResult();
-  clearPatrol();
   const plans = await api('GET', `/api/v1/missions/${id}/plans`);
   const latest = plans.find((p) => p.status === 'succeeded');
   if (latest) {

@@ -332,10 +332,11 @@ impl InspectionSetup {
 }
 
 /// Every method a plan request may name, as `GET /api/v1/planners` lists them: the coverage
-/// planners of [`planners::registry`], then the inspection of structures.
+/// planners of [`planners::registry`], then the inspection of structures, then patrols.
 pub fn catalogue() -> Vec<planners::PlannerInfo> {
     let inspection = planners::PlannerInfo {
         id: INSPECTION,
+        name: "Inspection of structures",
         method: planners::MethodKind::Inspection,
         description: INSPECTION_DESCRIPTION,
         direction_rule: "none: viewpoints, not sweep lines",
@@ -344,7 +345,18 @@ pub fn catalogue() -> Vec<planners::PlannerInfo> {
         fleets: false,
         parameters: inspection::PARAMETERS.to_vec(),
     };
-    planners::registry().iter().map(|p| planners::PlannerInfo::of(*p)).chain([inspection]).collect()
+    let patrol = planners::PlannerInfo {
+        id: patrol::PLANNER_ID,
+        name: "Patrol with several UAVs",
+        method: planners::MethodKind::Patrol,
+        description: patrol::DESCRIPTION,
+        direction_rule: "none: a grid's cells, revisited",
+        vehicle_kinds: vec![vehicle::VehicleKind::Multirotor],
+        default_for: Vec::new(),
+        fleets: false,
+        parameters: patrol::PARAMETERS.to_vec(),
+    };
+    planners::registry().iter().map(|p| planners::PlannerInfo::of(*p)).chain([inspection, patrol]).collect()
 }
 
 /// The preset an inspection's camera defaults to.

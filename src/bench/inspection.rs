@@ -86,7 +86,7 @@ fn row(out: &mut String, r: &Row<'_>, seeds: u64) {
             "budget": {"max_length_m": r.budget_m},
             "inspection": options,
             "seed": seed,
-            "time_limit_ms": 300_000,
+            "time_limit_s": 300,
         })) {
             Ok(p) => p,
             Err(e) => {

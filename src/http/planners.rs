@@ -12,23 +12,15 @@ use crate::planner;
 use crate::planner::camera::{CameraPreset, PRESETS};
 use crate::planner::export::{self, Format};
 use crate::planner::planners::{MethodKind, PlannerInfo};
-use crate::planner::vehicle::VehicleKind;
 
-/// A planner as clients choose it: what it plans, and the request members it reads with their
-/// types and descriptions.
+/// A planner as clients choose it: what it plans, where to ask for it, and the request members
+/// it reads with their types and descriptions.
 #[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct PlannerListing {
-    pub id: &'static str,
-    pub method: MethodKind,
-    pub description: &'static str,
-    /// How the planner chooses the sweep direction when `heading_deg` does not fix it.
-    pub direction_rule: &'static str,
-    /// The kinds of vehicle it plans.
-    pub vehicle_kinds: Vec<VehicleKind>,
-    /// The kinds of vehicle it is the default for, when a request names no planner.
-    pub default_for: Vec<VehicleKind>,
-    /// Whether a fleet's parts may be planned with it.
-    pub fleets: bool,
+    #[serde(flatten)]
+    pub planner: PlannerInfo,
+    /// Where a request for it is sent (`{id}`: the mission's).
+    pub request_path: &'static str,
     pub parameters: Vec<ParameterInfo>,
 }
 
@@ -45,11 +37,19 @@ pub struct ParameterInfo {
 /// `PlanParams`' members, typed and described by the OpenAPI document (read once).
 static DESCRIBED: LazyLock<Value> = LazyLock::new(|| serde_json::from_str(&super::openapi::document()).expect("the OpenAPI document is JSON"));
 
-/// A request member of `PlanParams` as its schema says it: its JSON type and description (the
-/// member's own, else the type's).
-pub fn describe(name: &'static str) -> ParameterInfo {
+/// The schema of the request a method is asked for with, and where that request is sent.
+pub fn request_of(method: MethodKind) -> (&'static str, &'static str) {
+    match method {
+        MethodKind::Coverage | MethodKind::Inspection => ("PlanParams", "/api/v1/missions/{id}/plans"),
+        MethodKind::Patrol => ("PatrolParams", "/api/v1/missions/{id}/patrols"),
+    }
+}
+
+/// A member of the request schema `schema` as the schema says it: its JSON type and description
+/// (the member's own, else the type's).
+pub fn describe(schema: &str, name: &'static str) -> ParameterInfo {
     let schemas = &DESCRIBED["components"]["schemas"];
-    let member = &schemas["PlanParams"]["properties"][name];
+    let member = &schemas[schema]["properties"][name];
     // `T | null` is a oneOf of the type and null; its description sits on the type's branch
     let alternatives = member["oneOf"].as_array().or(member["anyOf"].as_array()).cloned().unwrap_or_else(|| vec![member.clone()]);
     let own = alternatives.into_iter().find(|a| a["type"] != "null").unwrap_or_default();
@@ -71,17 +71,10 @@ pub async fn list() -> Json<Vec<PlannerListing>> {
     Json(planner::catalogue().into_iter().map(listing).collect())
 }
 
-fn listing(p: PlannerInfo) -> PlannerListing {
-    PlannerListing {
-        id: p.id,
-        method: p.method,
-        description: p.description,
-        direction_rule: p.direction_rule,
-        vehicle_kinds: p.vehicle_kinds,
-        default_for: p.default_for,
-        fleets: p.fleets,
-        parameters: p.parameters.into_iter().map(describe).collect(),
-    }
+fn listing(planner: PlannerInfo) -> PlannerListing {
+    let (schema, request_path) = request_of(planner.method);
+    let parameters = planner.parameters.iter().map(|name| describe(schema, name)).collect();
+    PlannerListing { planner, request_path, parameters }
 }
 
 /// Camera presets, for `camera: {"preset": id}`.

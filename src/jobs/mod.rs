@@ -17,6 +17,7 @@ use tokio::sync::{Notify, watch};
 use tokio::task::JoinHandle;
 use tracing::Instrument;
 
+use crate::planner::params::AltitudeReference;
 use crate::planner::patrol::PatrolParams;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
@@ -27,19 +28,55 @@ use crate::telemetry::Telemetry;
 /// The function a worker runs for a job: `planner::plan` in production. It should return soon
 /// after its [`Stop`] is raised or times out; a worker that waited [`ABANDON_AFTER`] past the
 /// time limit gives up on it and takes the next job.
-pub type Runner = Arc<dyn Fn(&plans::Job, &dyn planner::Progress, &Stop) -> Result<JobOutput, JobError> + Send + Sync>;
+pub type Runner = Arc<dyn Fn(&plans::Job, &JobRequest, &dyn planner::Progress, &Stop) -> Result<JobOutput, PlanError> + Send + Sync>;
 
-/// Why a job made no plan: the planner's answer to the request, or a stored record this server
-/// cannot read (its own fault, reported as `internal`, never as the user's).
-#[derive(Debug)]
-pub enum JobError {
-    Plan(PlanError),
-    UnreadableRecord(String),
+/// A stored job's request, read once when a worker takes it: the parameters, typed, and the
+/// vehicle profiles of its snapshot.
+#[derive(Debug, Clone)]
+pub struct JobRequest {
+    pub params: JobParams,
+    pub profiles: Vec<Vehicle>,
 }
 
-impl From<PlanError> for JobError {
-    fn from(e: PlanError) -> Self {
-        JobError::Plan(e)
+// one per running job: boxing would save nothing worth an allocation
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone)]
+pub enum JobParams {
+    Plan(PlanParams),
+    Patrol(PatrolParams),
+}
+
+impl JobRequest {
+    /// The job's request; a record this server cannot read is its own fault, said in words.
+    pub fn read(job: &plans::Job) -> Result<JobRequest, String> {
+        let unreadable = |e: serde_json::Error| format!("stored parameters are unreadable: {e}");
+        let params = match job.kind {
+            plans::JobKind::Patrol => JobParams::Patrol(serde_json::from_value(job.params.clone()).map_err(unreadable)?),
+            plans::JobKind::Plan => JobParams::Plan(serde_json::from_value(job.params.clone()).map_err(unreadable)?),
+        };
+        Ok(JobRequest { params, profiles: snapshot_profiles(&job.mission)? })
+    }
+
+    /// The method it is planned with, for log lines and metrics.
+    fn label(&self) -> &'static str {
+        match &self.params {
+            JobParams::Patrol(_) => planner::patrol::PLANNER_ID,
+            JobParams::Plan(params) => planner::method_id(params, &self.profiles).unwrap_or("refused request"),
+        }
+    }
+
+    /// The time limit the request asks for, if any.
+    fn time_limit(&self) -> Option<Duration> {
+        let asked = match &self.params {
+            JobParams::Plan(params) => params.time_limit_s,
+            JobParams::Patrol(_) => None,
+        };
+        asked.filter(|s| s.is_finite() && *s > 0.0).map(Duration::from_secs_f64)
+    }
+
+    /// A plan flown at a height above the mission's elevation model.
+    fn flies_over_terrain(&self) -> bool {
+        matches!(&self.params, JobParams::Plan(p) if p.altitude_reference == Some(AltitudeReference::Terrain))
     }
 }
 
@@ -81,33 +118,21 @@ pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
     }
 }
 
-/// The method a stored plan request is planned with, for its log lines.
-fn request_label(job: &plans::Job) -> &'static str {
-    let params = serde_json::from_value::<PlanParams>(job.params.clone()).ok();
-    let profiles = snapshot_profiles(&job.mission).ok();
-    params.zip(profiles).and_then(|(params, profiles)| planner::method_id(&params, &profiles)).unwrap_or("unreadable request")
-}
-
-/// A plan request flown at a height above the mission's elevation model.
-fn flies_over_terrain(job: &plans::Job) -> bool {
-    job.kind == plans::JobKind::Plan && job.params.get("altitude_reference").and_then(|v| v.as_str()) == Some("terrain")
-}
-
 /// Runs a stored job with the real planner.
-pub fn plan_job(job: &plans::Job, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, JobError> {
-    let unreadable = |e: serde_json::Error| JobError::UnreadableRecord(format!("stored parameters are unreadable: {e}"));
-    let profiles = snapshot_profiles(&job.mission).map_err(JobError::UnreadableRecord)?;
+pub fn plan_job(job: &plans::Job, request: &JobRequest, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, PlanError> {
     let geometry = snapshot_geometry(&job.mission);
-    let (stats, trajectory) = if job.kind == plans::JobKind::Patrol {
-        let params: PatrolParams = serde_json::from_value(job.params.clone()).map_err(unreadable)?;
-        let out = planner::patrol::patrol(&geometry, &params, &profiles, limits, stop)?;
-        (json!(out.stats), out.trajectory.to_string())
-    } else {
-        let params: PlanParams = serde_json::from_value(job.params.clone()).map_err(unreadable)?;
-        let model = job.terrain.as_ref().map(|(name, bytes)| ElevationModel::read(bytes, name)).transpose().map_err(|e| JobError::Plan(e.into()))?;
-        let geometry = MissionGeometry { terrain: model.as_ref(), ..geometry };
-        let out = planner::plan(&geometry, &params, &profiles, limits, progress, stop)?;
-        (json!(out.stats), serde_json::to_string(&out.trajectory).unwrap_or_default())
+    let profiles = &request.profiles;
+    let (stats, trajectory) = match &request.params {
+        JobParams::Patrol(params) => {
+            let out = planner::patrol::patrol(&geometry, params, profiles, limits, stop)?;
+            (json!(out.stats), out.trajectory.to_string())
+        }
+        JobParams::Plan(params) => {
+            let model = job.terrain.as_ref().map(|(name, bytes)| ElevationModel::read(bytes, name)).transpose()?;
+            let geometry = MissionGeometry { terrain: model.as_ref(), ..geometry };
+            let out = planner::plan(&geometry, params, profiles, limits, progress, stop)?;
+            (json!(out.stats), serde_json::to_string(&out.trajectory).unwrap_or_default())
+        }
     };
     Ok(JobOutput { stats, trajectory })
 }
@@ -244,9 +269,8 @@ impl JobQueue {
     }
 
     /// The time this job may take: the queue's limit, or the plan's own when shorter.
-    fn time_limit(&self, job: &plans::Job) -> Duration {
-        let asked = job.params.get("time_limit_s").and_then(Value::as_f64).filter(|s| s.is_finite() && *s > 0.0).map(Duration::from_secs_f64);
-        asked.map_or(self.settings.time_limit, |a| a.min(self.settings.time_limit))
+    fn time_limit(&self, request: &JobRequest) -> Duration {
+        request.time_limit().map_or(self.settings.time_limit, |a| a.min(self.settings.time_limit))
     }
 
     /// Runs a job; every log line it writes carries its plan id and tenant.
@@ -256,15 +280,28 @@ impl JobQueue {
     }
 
     async fn run_in_span(&self, mut job: plans::Job) {
-        if flies_over_terrain(&job) {
+        let request = match JobRequest::read(&job) {
+            Ok(request) => request,
+            Err(why) => {
+                tracing::error!(%why, "a stored plan request cannot be read");
+                let claim = plans::Claim { plan: &job.id, replica: &self.replica };
+                let detail = format!("this server could not read the stored request ({why}); the plan was not made");
+                if let Err(e) = plans::fail(&self.db, claim, "internal", &detail).await {
+                    tracing::error!(error = %e, "the outcome of a plan could not be stored");
+                }
+                self.telemetry.job("unreadable request", "failed", Duration::ZERO);
+                return;
+            }
+        };
+        if request.flies_over_terrain() {
             match terrain::model(&self.db, &job.tenant, &job.mission_id).await {
                 Ok(model) => job.terrain = model,
                 // the planner then says the mission has no model to follow
                 Err(e) => tracing::error!(error = %e, "the mission's elevation model could not be read"),
             }
         }
-        let limit = self.time_limit(&job);
-        let planner = if job.kind == plans::JobKind::Patrol { "patrol" } else { request_label(&job) };
+        let limit = self.time_limit(&request);
+        let planner = request.label();
         let started = tokio::time::Instant::now();
         let stop = Stop::until(started.into_std() + self.settings.start_delay + limit);
         let requeue = Arc::new(AtomicBool::new(false));
@@ -286,7 +323,7 @@ impl JobQueue {
                     std::thread::sleep(Duration::from_millis(20));
                     waited += Duration::from_millis(20);
                 }
-                catch_unwind(AssertUnwindSafe(|| runner(&job, &report, &stop)))
+                catch_unwind(AssertUnwindSafe(|| runner(&job, &request, &report, &stop)))
             })
         };
         tokio::pin!(task);
@@ -316,16 +353,12 @@ impl JobQueue {
                 ("time_limit", timed_out().await)
             }
             Some(Ok(Ok(Ok(output)))) => ("succeeded", plans::succeed(&self.db, claim, &output.stats, &output.trajectory).await),
-            Some(Ok(Ok(Err(JobError::Plan(PlanError::Cancelled))))) if requeue.load(Ordering::SeqCst) => ("requeued", plans::requeue(&self.db, claim).await),
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) if requeue.load(Ordering::SeqCst) => ("requeued", plans::requeue(&self.db, claim).await),
             // a plan cancelled by its owner is marked so already; one that ran out of time is not
-            Some(Ok(Ok(Err(JobError::Plan(PlanError::Cancelled))))) if stop.timed_out() => ("time_limit", timed_out().await),
-            Some(Ok(Ok(Err(JobError::Plan(PlanError::Cancelled))))) => ("cancelled", plans::release(&self.db, claim, "cancelled").await),
-            Some(Ok(Ok(Err(JobError::Plan(PlanError::Input(e)))))) => ("failed", plans::fail(&self.db, claim, e.code, &e.to_string()).await),
-            Some(Ok(Ok(Err(JobError::Plan(e))))) => ("failed", plans::fail(&self.db, claim, "infeasible", &e.to_string()).await),
-            Some(Ok(Ok(Err(JobError::UnreadableRecord(why))))) => {
-                tracing::error!(%why, "a stored plan request cannot be read");
-                ("failed", plans::fail(&self.db, claim, "internal", &format!("this server could not read the stored request ({why}); the plan was not made")).await)
-            }
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) if stop.timed_out() => ("time_limit", timed_out().await),
+            Some(Ok(Ok(Err(PlanError::Cancelled)))) => ("cancelled", plans::release(&self.db, claim, "cancelled").await),
+            Some(Ok(Ok(Err(PlanError::Input(e))))) => ("failed", plans::fail(&self.db, claim, e.code, &e.to_string()).await),
+            Some(Ok(Ok(Err(e)))) => ("failed", plans::fail(&self.db, claim, "infeasible", &e.to_string()).await),
             Some(Ok(Err(panic))) => {
                 let what = crate::panic_message(&*panic);
                 tracing::error!(panic = %what, "planner panicked");

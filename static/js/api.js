@@ -28,8 +28,8 @@ export async function api(method, path, body) {
   const text = await r.text();
   const data = text ? JSON.parse(text) : null;
   if (!r.ok) {
-    const where = data && data.pointer ? ` (at ${data.pointer})` : '';
-    throw new Error(data && data.detail ? data.detail + where : `${method} ${path}: ${r.status}`);
+    // the detail in words; the pointer says which input to mark, not what to read
+    throw Object.assign(new Error(data && data.detail ? data.detail : `${method} ${path}: ${r.status}`), { pointer: data && data.pointer, code: data && data.code });
   }
   return data;
 }

@@ -20,6 +20,7 @@ const groupOf = (kind) => ({ field: state.fields, nfz: state.zones, obstacle: st
 function addPolygon(kind, latlngs, height) {
   const layer = L.polygon(latlngs, styles[kind]);
   layer.cpKind = kind;
+  layer.on('pm:edit', changed);
   if (kind === 'obstacle') {
     layer.cpHeight = height;
     layer.bindTooltip(`${height} m`);
@@ -32,17 +33,52 @@ function addPolygon(kind, latlngs, height) {
 function addStructure(shape, { height, base = 0, name }) {
   const layer = shape.radius ? L.circle(shape.centre, { radius: shape.radius, ...styles.structure }) : L.polygon(shape, styles.structure);
   Object.assign(layer, { cpKind: 'structure', cpHeight: height, cpBase: base, cpName: name || `structure-${state.structures.getLayers().length + 1}` });
+  layer.on('pm:edit', changed);
   layer.bindTooltip(`${layer.cpName}: ${height} m`);
   state.structures.addLayer(layer);
   return layer;
 }
 
-/** Adds `ring` as a hole of the field that contains it. */
+/** Whether `p` lies inside `ring` (latlngs, not closed): the even-odd rule. */
+function insideRing(p, ring) {
+  let inside = false;
+  for (let i = 0, j = ring.length - 1; i < ring.length; j = i++) {
+    const [a, b] = [ring[i], ring[j]];
+    if ((a.lat > p.lat) !== (b.lat > p.lat) && p.lng < ((b.lng - a.lng) * (p.lat - a.lat)) / (b.lat - a.lat) + a.lng) inside = !inside;
+  }
+  return inside;
+}
+
+/** Whether segments ab and cd cross. */
+function crosses(a, b, c, d) {
+  const side = (p, q, r) => Math.sign((q.lng - p.lng) * (r.lat - p.lat) - (q.lat - p.lat) * (r.lng - p.lng));
+  return side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0;
+}
+
+const edges = (ring) => ring.map((p, i) => [p, ring[(i + 1) % ring.length]]);
+
+/** Whether `ring` lies inside `outer`: every corner inside, no edge crossing it (a notch). */
+function ringWithin(ring, outer) {
+  return ring.every((p) => insideRing(p, outer)) && !edges(ring).some(([a, b]) => edges(outer).some(([c, d]) => crosses(a, b, c, d)));
+}
+
+/** Whether two rings overlap: an edge crosses, or one holds a corner of the other. */
+const ringsOverlap = (r, s) => insideRing(r[0], s) || insideRing(s[0], r) || edges(r).some(([a, b]) => edges(s).some(([c, d]) => crosses(a, b, c, d)));
+
+/** Adds `ring` as a hole of the field it lies in; says why not when it lies in none. */
 function cutHole(ring) {
-  const inside = state.fields.getLayers().find((f) => ring.every((p) => f.getBounds().contains(p)));
-  if (!inside) return status('a hole must be drawn inside a field', true);
-  const rings = inside.getLatLngs();
-  inside.setLatLngs([...rings, ring]);
+  const field = state.fields.getLayers().find((f) => ringWithin(ring, f.getLatLngs()[0]));
+  if (!field) return drawingError('A hole must lie inside a field: this one reaches outside every field. Draw it again, inside the field.');
+  const [outer, ...holes] = field.getLatLngs();
+  if (holes.some((h) => ringsOverlap(ring, h))) return drawingError('This hole overlaps another hole of the field: draw it apart, or edit the other one.');
+  field.setLatLngs([outer, ...holes, ring]);
+  changed();
+}
+
+/** A drawing refused: said beside the drawing tools, where the user is looking. */
+function drawingError(text) {
+  $('draw-error').textContent = text;
+  $('draw-error').hidden = false;
 }
 
 function poseIcon(kind, heading) {
@@ -53,23 +89,90 @@ function poseIcon(kind, heading) {
 
 export function setPose(kind, latlng, heading) {
   if (state.poses[kind]) map.removeLayer(state.poses[kind]);
-  const m = L.marker(latlng, { icon: poseIcon(kind, heading), draggable: true, title: kind });
+  // markers stay out of the tab order: the form is what the keyboard walks through
+  const m = L.marker(latlng, { icon: poseIcon(kind, heading), draggable: true, title: kind, keyboard: false });
   m.cpHeading = heading;
+  m.on('dragend', changed);
   state.poses[kind] = m.addTo(map);
 }
 
+const isPoint = (kind) => ['home', 'start', 'end'].includes(kind);
+
+/** Ends every drawing, editing and removing mode. */
+export function endModes() {
+  if (map.pm.globalDrawModeEnabled()) map.pm.disableDraw();
+  if (map.pm.globalEditModeEnabled()) map.pm.disableGlobalEditMode();
+  if (map.pm.globalRemovalModeEnabled()) map.pm.disableGlobalRemovalMode();
+  syncModeButtons();
+}
+
+function syncModeButtons() {
+  $('edit').setAttribute('aria-pressed', String(map.pm.globalEditModeEnabled()));
+  $('remove').setAttribute('aria-pressed', String(map.pm.globalRemovalModeEnabled()));
+  $('draw-help').textContent = map.pm.globalEditModeEnabled()
+    ? 'Drag a corner to move it, drag a midpoint to add one, right-click (or long-press) a corner to delete it. Escape ends editing.'
+    : map.pm.globalRemovalModeEnabled() ? 'Click a shape to delete it. Escape ends deleting.' : '';
+}
+
+/** "lat, lon" (or "lat lon") as a LatLng; `null` when it is not one. */
+export function parseLatLng(text) {
+  const m = /^\s*(-?\d+(?:\.\d+)?)\s*[,; ]\s*(-?\d+(?:\.\d+)?)\s*$/.exec(text);
+  if (!m) return null;
+  const [lat, lng] = [Number(m[1]), Number(m[2])];
+  return Math.abs(lat) <= 90 && Math.abs(lng) <= 180 ? L.latLng(lat, lng) : null;
+}
+
+function poseHeading(kind) {
+  const h = $('pose-heading').value;
+  return kind === 'home' || h === '' ? null : Number(h);
+}
+
 $('draw').onclick = () => {
+  endModes();
+  $('draw-error').hidden = true;
   const kind = $('draw-kind').value;
-  if (['home', 'start', 'end'].includes(kind)) {
+  if (isPoint(kind)) {
+    // typed coordinates place the point at once; without them, the next click does
+    const typed = $('point-at').value.trim();
+    if (typed) {
+      const at = parseLatLng(typed);
+      if (!at) return drawingError('Type the point as "latitude, longitude", for example 51.985, 5.664.');
+      setPose(kind, at, poseHeading(kind));
+      map.panTo(at);
+      return changed();
+    }
     map.pm.enableDraw('Marker', { markerStyle: { icon: poseIcon(kind, null) } });
   } else {
     map.pm.enableDraw('Polygon', { pathOptions: styles[kind === 'hole' ? 'field' : kind] });
   }
 };
 
-// Escape ends whatever is being drawn
+$('edit').onclick = () => {
+  const on = !map.pm.globalEditModeEnabled();
+  endModes();
+  if (on) map.pm.enableGlobalEditMode({ allowSelfIntersection: false });
+  syncModeButtons();
+};
+$('remove').onclick = () => {
+  const on = !map.pm.globalRemovalModeEnabled();
+  endModes();
+  if (on) map.pm.enableGlobalRemovalMode();
+  syncModeButtons();
+};
+
+map.on('pm:remove', (e) => {
+  for (const group of [state.fields, state.zones, state.obstacles, state.structures]) group.removeLayer(e.layer);
+  for (const k of Object.keys(state.poses)) if (state.poses[k] === e.layer) state.poses[k] = null;
+  changed();
+});
+
+// Escape ends whatever is being drawn, edited or deleted; Ctrl+Z and Ctrl+Y undo and redo
 document.addEventListener('keydown', (e) => {
-  if (e.key === 'Escape' && map.pm.globalDrawModeEnabled()) map.pm.disableDraw();
+  if (e.key === 'Escape') endModes();
+  const typing = ['INPUT', 'SELECT', 'TEXTAREA'].includes(document.activeElement?.tagName);
+  if (!(e.ctrlKey || e.metaKey) || typing) return;
+  if (e.key === 'z' && !e.shiftKey) { e.preventDefault(); undo(); }
+  if (e.key === 'y' || (e.key === 'Z' && e.shiftKey)) { e.preventDefault(); redo(); }
 });
 
 map.on('pm:create', (e) => {
@@ -78,15 +181,15 @@ map.on('pm:create', (e) => {
   if (e.shape === 'Marker') {
     // one click places the point; the mode ends there
     map.pm.disableDraw();
-    const h = $('pose-heading').value;
-    setPose(kind, e.layer.getLatLng(), kind === 'home' || h === '' ? null : Number(h));
+    setPose(kind, e.layer.getLatLng(), poseHeading(kind));
   } else if (kind === 'hole') {
-    cutHole(e.layer.getLatLngs()[0]);
+    return cutHole(e.layer.getLatLngs()[0]);
   } else if (kind === 'structure') {
     addStructure(e.layer.getLatLngs(), { height: Number($('obstacle-height').value), name: $('structure-name').value.trim() || undefined });
   } else {
     addPolygon(kind, e.layer.getLatLngs(), Number($('obstacle-height').value));
   }
+  changed();
 });
 
 function syncDrawInputs() {
@@ -94,11 +197,15 @@ function syncDrawInputs() {
   $('height-box').hidden = !['obstacle', 'structure'].includes(kind);
   $('structure-name-box').hidden = kind !== 'structure';
   $('heading-box').hidden = !['start', 'end'].includes(kind);
+  $('point-box').hidden = !isPoint(kind);
+  $('draw').textContent = isPoint(kind) ? 'Place' : 'Draw';
 }
 $('draw-kind').onchange = syncDrawInputs;
 syncDrawInputs();
 
-export function clearMission() {
+/** Removes every shape and point from the map (the mission's id stays). */
+function clearShapes() {
+  endModes();
   state.fields.clearLayers();
   state.zones.clearLayers();
   state.obstacles.clearLayers();
@@ -107,8 +214,101 @@ export function clearMission() {
     if (state.poses[k]) map.removeLayer(state.poses[k]);
     state.poses[k] = null;
   }
+}
+
+export function clearMission() {
+  clearShapes();
   state.missionId = null;
+  $('mission-name').value = 'New field';
+  $('draw-error').hidden = true;
+  resetHistory();
+  announceChange();
   loadTerrain().catch(() => {});
+}
+
+// ---- what changed: undo and redo, the area, stale results ----
+// each change keeps the mission as it was (its GeoJSON with the start and end poses): undo and
+// redo put one back
+const edits = { past: [], future: [], now: null };
+const snapshot = () => JSON.stringify({ ...geometryOf(), start: poseOf('start'), end: poseOf('end') });
+const poseOf = (kind) => {
+  const m = state.poses[kind];
+  return m ? { at: [m.getLatLng().lng, m.getLatLng().lat], heading: m.cpHeading ?? null } : null;
+};
+
+function resetHistory() {
+  edits.past = [];
+  edits.future = [];
+  edits.now = snapshot();
+  syncHistoryButtons();
+}
+
+function syncHistoryButtons() {
+  $('undo').disabled = !edits.past.length;
+  $('redo').disabled = !edits.future.length;
+}
+
+/** Called after every change a user makes to the mission. */
+function changed() {
+  const now = snapshot();
+  if (now === edits.now) return;
+  edits.past.push(edits.now);
+  if (edits.past.length > 100) edits.past.shift();
+  edits.future = [];
+  edits.now = now;
+  syncHistoryButtons();
+  announceChange();
+}
+
+function restore(text) {
+  const m = JSON.parse(text);
+  clearShapes();
+  drawShapes(m);
+  for (const kind of ['start', 'end']) if (m[kind]) setPose(kind, L.latLng(m[kind].at[1], m[kind].at[0]), m[kind].heading);
+  edits.now = text;
+  syncHistoryButtons();
+  announceChange();
+}
+
+export function undo() {
+  if (!edits.past.length) return;
+  edits.future.push(edits.now);
+  restore(edits.past.pop());
+}
+
+export function redo() {
+  if (!edits.future.length) return;
+  edits.past.push(edits.now);
+  restore(edits.future.pop());
+}
+$('undo').onclick = undo;
+$('redo').onclick = redo;
+
+/** Square metres of a ring of latlngs, on a plane tangent at its middle (fields are small). */
+function ringArea(ring) {
+  const R = 6371008.8, rad = Math.PI / 180;
+  const lat0 = ring.reduce((s, p) => s + p.lat, 0) / ring.length;
+  const k = Math.cos(lat0 * rad);
+  let twice = 0;
+  for (let i = 0, j = ring.length - 1; i < ring.length; j = i++) twice += (ring[j].lng * k * rad * R) * (ring[i].lat * rad * R) - (ring[i].lng * k * rad * R) * (ring[j].lat * rad * R);
+  return Math.abs(twice) / 2;
+}
+
+/** The fields' area less their holes, in hectares. */
+export function fieldHectares() {
+  return state.fields.getLayers().reduce((sum, f) => {
+    const [outer, ...holes] = f.getLatLngs();
+    return sum + ringArea(outer) - holes.reduce((h, r) => h + ringArea(r), 0);
+  }, 0) / 1e4;
+}
+
+/** The mission changed: its area and the first-step prompt follow; the results of the mission
+ * as it was are stale (app.js clears them). */
+function announceChange() {
+  const n = state.fields.getLayers().length;
+  $('mission-area').textContent = n ? `${n} field${n > 1 ? 's' : ''} · ${fieldHectares().toFixed(2)} ha` : 'no field yet';
+  $('first-step').hidden = n > 0;
+  document.dispatchEvent(new CustomEvent('mission-changed'));
 }
 
 // ---- mission ⇄ GeoJSON ----
@@ -127,9 +327,8 @@ const multi = (group) => {
   return polys.length ? { type: 'MultiPolygon', coordinates: polys } : null;
 };
 
-function missionBody() {
-  const area = multi(state.fields);
-  if (!area) throw new Error('draw at least one field first');
+/** The mission's shapes and home as the API takes them (the area may be missing). */
+function geometryOf() {
   const obstacles = state.obstacles.getLayers().map((l) => ({
     type: 'Feature', properties: { height_m: l.cpHeight }, geometry: { type: 'Polygon', coordinates: polygonOf(l) },
   }));
@@ -144,13 +343,18 @@ function missionBody() {
   });
   const home = state.poses.home && state.poses.home.getLatLng();
   return {
-    name: $('mission-name').value || 'Unnamed field',
-    area,
+    area: multi(state.fields),
     no_fly_zones: multi(state.zones),
     obstacles: obstacles.length ? { type: 'FeatureCollection', features: obstacles } : null,
     structures: structures.length ? { type: 'FeatureCollection', features: structures } : null,
     home: home ? [home.lng, home.lat] : null,
   };
+}
+
+function missionBody() {
+  const body = { name: $('mission-name').value || 'Unnamed field', ...geometryOf() };
+  if (!body.area) throw new Error('draw at least one field first');
+  return body;
 }
 
 /** Polygons (with holes) of any GeoJSON geometry, Feature or FeatureCollection, as Leaflet rings. */
@@ -166,10 +370,8 @@ function polygonsOf(g) {
   }
 }
 
-export function drawMission(m) {
-  clearMission();
-  state.missionId = m.id || null;
-  $('mission-name').value = m.name || 'New field';
+/** Draws a mission's shapes and home (GeoJSON, as the API gives them). */
+function drawShapes(m) {
   polygonsOf(m.area).forEach((p) => addPolygon('field', p));
   polygonsOf(m.no_fly_zones).forEach((p) => addPolygon('nfz', p));
   polygonsOf(m.obstacles).forEach((p) => addPolygon('obstacle', p, (p.properties && p.properties.height_m) || 20));
@@ -187,7 +389,18 @@ export function drawMission(m) {
     else polygonsOf(f.geometry).forEach((rings) => addStructure(rings, solid));
   }
   if (m.home) setPose('home', L.latLng(m.home[1], m.home[0]), null);
+}
+
+/** Shows a mission (opened, imported): its shapes, name and model; undo starts from it. */
+export function drawMission(m) {
+  clearShapes();
+  state.missionId = m.id || null;
+  $('mission-name').value = m.name || 'New field';
+  $('draw-error').hidden = true;
+  drawShapes(m);
   if (state.fields.getLayers().length) map.fitBounds(state.fields.getBounds(), { padding: [20, 20] });
+  resetHistory();
+  announceChange();
   loadTerrain().catch((e) => status(e.message, true));
 }
 
@@ -195,7 +408,7 @@ export async function saveMission() {
   const body = missionBody();
   const m = state.missionId ? await api('PUT', `/api/v1/missions/${state.missionId}`, body) : await api('POST', '/api/v1/missions', body);
   state.missionId = m.id;
-  history.replaceState(null, '', `/?mission=${m.id}`);
+  window.history.replaceState(null, '', `/?mission=${m.id}`);
   await listMissions();
   return m;
 }
@@ -223,24 +436,46 @@ $('terrain-file').onchange = (e) => {
   if (file) terrainOf(file);
 };
 
-// ---- files dropped on the map: the server reads them (GeoJSON, KML, KMZ, shapefile zip,
-// ISOXML TaskData, QGroundControl .plan) and stores the mission ----
-const mapEl = $('map');
-mapEl.addEventListener('dragover', (e) => e.preventDefault());
-mapEl.addEventListener('drop', async (e) => {
-  e.preventDefault();
-  const file = e.dataTransfer.files[0];
-  if (!file) return;
+// ---- files opened or dropped on the map: the server reads them (GeoJSON, KML, KMZ, shapefile
+// zip, ISOXML TaskData, QGroundControl .plan) and stores the mission ----
+/** A message about a file without the server's pointer into it (`/doc.kml/…`). */
+const plainly = (text) => String(text).replace(/^\/\S*: /, '');
+
+async function importFile(file) {
   if (isTerrainFile(file.name)) return terrainOf(file);
   try {
     const r = await authorisedFetch('/api/v1/missions/import', { method: 'POST', body: file });
     const m = await r.json();
-    if (!r.ok) throw new Error(m.detail + (m.pointer ? ` (at ${m.pointer})` : ''));
+    if (!r.ok) throw new Error(m.detail);
     drawMission(m);
-    history.replaceState(null, '', `/?mission=${m.id}`);
+    window.history.replaceState(null, '', `/?mission=${m.id}`);
     await listMissions();
-    status(`imported ${file.name}` + (m.warnings.length ? `; ${m.warnings.join('; ')}` : ''));
+    status(`imported ${file.name}` + (m.warnings.length ? `; ${m.warnings.map(plainly).join('; ')}` : ''));
   } catch (err) {
-    status(`${file.name}: ${err.message}`, true);
+    status(`${file.name}: ${plainly(err.message)}`, true);
   }
+}
+const mapEl = $('map');
+mapEl.addEventListener('dragover', (e) => e.preventDefault());
+mapEl.addEventListener('drop', (e) => {
+  e.preventDefault();
+  const file = e.dataTransfer.files[0];
+  if (file) importFile(file);
 });
+$('import-file').onchange = (e) => {
+  const file = e.target.files[0];
+  e.target.value = '';
+  if (file) importFile(file);
+};
+
+// ---- going to a place typed as "lat, lon" ----
+$('goto').onsubmit = (e) => {
+  e.preventDefault();
+  const at = parseLatLng($('goto-at').value);
+  $('goto-at').setAttribute('aria-invalid', String(!at));
+  if (!at) return status('Type a place as "latitude, longitude", for example 51.985, 5.664.', true);
+  map.setView(at, Math.max(map.getZoom(), 16));
+};
+
+resetHistory();
+announceChange();

@@ -50,12 +50,17 @@ function showPatrol(patrol, fc) {
   }
   state.patrol = { layer: notForDrawing(layer).addTo(map), stats: patrol.stats };
   const s = patrol.stats;
+  // a cycle is one move of every UAV to a neighbouring cell: its time turns cycles into minutes
+  const cycleS = s.uavs.length ? Math.max(...s.uavs.map((u) => u.duration_s)) / s.cycles : 0;
+  const minutes = (cycles) => `${((cycles * cycleS) / 60).toFixed(1)} min`;
+  const meanGap = visits.length ? (s.cycles * visits.length) / Math.max(1, visits.reduce((a, b) => a + b, 0)) : 0;
   const rows = [
     ['cells', `${s.free_cells} of ${s.cell_size_m.toFixed(1)} m`],
-    ['visits per cell', `${least} to ${most}`],
-    ['QMI (evenness)', s.qmi.toFixed(1)],
-    ['SDF (spread of visits)', s.sdf.toFixed(2)],
-    ['turns (NTM)', s.ntm],
+    ['each spot is seen every', `${minutes(meanGap)} on average`],
+    ['typical wait, long waits weighted', `${minutes(s.qmi)} (quadratic mean of the gaps, QMI)`],
+    ['visits per cell', `${least} to ${most} (spread ${s.sdf.toFixed(2)}, SDF)`],
+    ['turns', `${s.ntm} (a U-turn counts 2)`],
+    ['patrol time', minutes(s.cycles)],
     ['energy', `${(s.energy_j / 3600).toFixed(0)} Wh`],
   ];
   $('patrol-figures').tBodies[0].innerHTML = rows.map(([k, v]) => `<tr><td>${k}</td><td data-patrol="${k}">${v}</td></tr>`).join('');

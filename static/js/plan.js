@@ -2,18 +2,38 @@
 
 import { $, api, escapeHtml, status } from './api.js';
 import { state } from './map.js';
-import { saveMission, setPose } from './mission.js';
+import { fieldHectares, saveMission, setPose } from './mission.js';
 import { fillFormats, keepForComparison, showPlan } from './result.js';
 
 // ---- the parameter form, from the API's lists ----
+const kindNames = { multirotor: 'Multirotor drones', fixed_wing: 'Fixed-wing aircraft', ground: 'Ground vehicles' };
+/** A vehicle as a person names it: its description up to the first detail, then its id. */
+const vehicleName = (v) => `${(v.description || v.profile).split(/[:;(,]/)[0].trim()} (${v.profile})`;
+let vehicleList = [];
+let cameraList = [];
+
 export async function fillForm() {
   const [planners, vehicles, cameras] = await Promise.all([api('GET', '/api/v1/planners'), api('GET', '/api/v1/vehicles'), api('GET', '/api/v1/cameras'), fillFormats()]);
   catalogue = new Map(planners.map((p) => [p.id, p]));
-  $('planner').innerHTML = planners.map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}">${p.id}</option>`).join('');
-  $('vehicle').innerHTML = vehicles.map((v) => `<option value="${v.profile}" data-kind="${v.kind}" title="${escapeHtml(v.description)}">${v.profile} (${v.kind.replace('_', ' ')})</option>`).join('');
+  vehicleList = vehicles;
+  cameraList = cameras;
+  // a patrol has its own form (the Patrol button)
+  $('planner').innerHTML = planners.filter((p) => p.method !== 'patrol').map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}">${escapeHtml(p.name)}</option>`).join('');
+  $('vehicle').innerHTML = Object.entries(kindNames)
+    .map(([kind, label]) => `<optgroup label="${label}">${vehicles.filter((v) => v.kind === kind).map((v) => `<option value="${v.profile}" data-kind="${v.kind}" title="${escapeHtml(v.description)}">${escapeHtml(vehicleName(v))}</option>`).join('')}</optgroup>`)
+    .join('');
   $('vehicle').value = 'generic_multirotor';
   $('camera').innerHTML += cameras.map((c) => `<option value="${c.id}">${escapeHtml(c.name || c.id)}</option>`).join('');
   syncForm();
+}
+
+/** Marks the planner recommended for the chosen vehicle (the one it defaults to). */
+function markRecommended() {
+  const kind = vehicleKind();
+  for (const o of $('planner').options) {
+    const p = catalogue.get(o.value);
+    o.textContent = p.name + (p.default_for.includes(kind) ? ' (recommended)' : '');
+  }
 }
 
 /** The planners as `GET /api/v1/planners` describes them, by id. */
@@ -41,16 +61,21 @@ function fitPlannerToVehicle() {
 
 function syncForm() {
   fitPlannerToVehicle();
+  markRecommended();
   const ground = groundVehicle();
   const inspection = !ground && inspecting();
   $('ground-box').hidden = !ground;
   $('inspection-box').hidden = !inspection;
-  for (const id of ['camera-box', 'layers-box']) $(id).hidden = ground;
+  // a tractor has no altitude, camera, image overlaps or drones: its implement sets the swaths
+  for (const id of ['camera-box', 'layers-box', 'gsd-box', 'overlap-box', 'altitude-box']) $(id).hidden = ground;
   // an inspection always has a camera: leaving it unset means the planner's default preset
   $('camera').options[0].textContent = inspection ? 'default: DJI Mavic 3 Enterprise (wide)' : 'none: give the line spacing';
   $('drones').closest('.row').hidden = ground || inspection;
-  for (const id of ['altitude-box', 'direction-box', 'overlap-box']) $(id).hidden = inspection;
+  for (const id of ['altitude-box', 'direction-box']) $(id).hidden = ground ? id === 'altitude-box' : inspection;
   const camera = !ground && $('camera').value !== '';
+  $('overlap-box').hidden = ground || inspection || !camera;
+  $('gsd-box').hidden = ground || !camera;
+  $('direction-label').textContent = ground ? 'Swath direction' : 'Sweep heading';
   $('spacing-box').hidden = camera || ground || inspection;
   $('line-ends-box').hidden = !aircraftLineEnds();
   $('fixed-heading-box').hidden = inspection || $('direction').value !== 'fixed';
@@ -58,8 +83,80 @@ function syncForm() {
   $('layers-box').hidden = ground || inspection || !(num('drones') > 1);
   $('reference-box').hidden = ground || inspection;
   $('tolerance-box').hidden = $('altitude-reference').value !== 'terrain';
+  preview();
 }
 ['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference'].forEach((id) => $(id).addEventListener('change', syncForm));
+
+// GSD and altitude say the same thing with a camera: typing one empties the other
+$('altitude').addEventListener('input', () => { if ($('altitude').value !== '') $('gsd').value = ''; });
+$('gsd').addEventListener('input', () => { if ($('gsd').value !== '') $('altitude').value = ''; });
+for (const id of ['altitude', 'gsd', 'side-overlap', 'front-overlap', 'spacing', 'working-width', 'drones']) $(id).addEventListener('input', () => preview());
+document.addEventListener('mission-changed', () => preview());
+
+// ---- figures before planning ----
+const chosenCamera = () => cameraList.find((c) => c.id === $('camera').value);
+const chosenVehicle = () => vehicleList.find((v) => v.profile === $('vehicle').value);
+
+/** The camera's footprint figures at `altitude` (m): GSD (cm/px), across and along (m). A
+ * landscape image's width lies across the lines, as the planner lays them. */
+function footprint(cam, altitude) {
+  const across = (cam.sensor_width_mm * altitude) / cam.focal_length_mm;
+  const along = (cam.sensor_height_mm * altitude) / cam.focal_length_mm;
+  return { gsd: (100 * across) / cam.image_width_px, across, along };
+}
+
+/** The altitude, spacing and photo interval the form asks for, as far as it says them. */
+function layout() {
+  if (groundVehicle()) return { spacing: num('working-width') };
+  const cam = chosenCamera();
+  if (!cam) return { spacing: num('spacing'), altitude: num('altitude') };
+  let altitude = num('altitude');
+  if (altitude === undefined && num('gsd') !== undefined) altitude = (num('gsd') * cam.focal_length_mm * cam.image_width_px) / (100 * cam.sensor_width_mm);
+  if (altitude === undefined) return {};
+  const f = footprint(cam, altitude);
+  return { altitude, gsd: f.gsd, spacing: f.across * (1 - (num('side-overlap') ?? 70) / 100), interval: f.along * (1 - (num('front-overlap') ?? 80) / 100) };
+}
+
+let previewAsked = 0;
+/** The figures the form gives before planning: altitude ⇄ GSD, spacing, photo interval, and a
+ * quick estimate of the sweeps' time and batteries from the vehicle's own energy model. */
+async function preview() {
+  const out = $('preview');
+  if (inspecting() && !groundVehicle()) return (out.textContent = '');
+  const l = layout();
+  const parts = [];
+  if (l.gsd !== undefined) {
+    parts.push(num('altitude') === undefined ? `altitude ${l.altitude.toFixed(1)} m` : `GSD ${l.gsd.toFixed(2)} cm/px`);
+    $(num('altitude') === undefined ? 'altitude' : 'gsd').placeholder = num('altitude') === undefined ? l.altitude.toFixed(1) : l.gsd.toFixed(2);
+  }
+  if (l.spacing) parts.push(`${groundVehicle() ? 'swaths' : 'lines'} ${l.spacing.toFixed(1)} m apart`);
+  if (l.interval) parts.push(`a photo every ${l.interval.toFixed(1)} m`);
+  const ha = fieldHectares();
+  const ask = ++previewAsked;
+  out.textContent = parts.join(' · ');
+  const vehicle = chosenVehicle();
+  if (!(ha > 0 && l.spacing > 0 && vehicle) || groundVehicle()) return;
+  // the sweeps alone are the area over the spacing: flown as one straight line, priced by the
+  // server's model of this vehicle (turns and transits come on top)
+  const sweeps = (ha * 1e4) / l.spacing / Math.max(1, num('drones') || 1);
+  try {
+    const c = state.fields.getBounds().getCenter();
+    const east = 1000 / (111320 * Math.cos((c.lat * Math.PI) / 180));
+    const alt = l.altitude ?? 50;
+    const e = await api('POST', '/api/v1/estimates', { vehicle: { profile: vehicle.profile }, waypoints: [[c.lng, c.lat, alt], [c.lng + east, c.lat, alt]] });
+    if (ask !== previewAsked) return;
+    const leg = e.legs[0];
+    const fixedS = e.totals.duration_s - leg.duration_s;
+    const fixedJ = e.totals.energy_j - leg.energy_j;
+    const seconds = fixedS + (leg.duration_s * sweeps) / leg.length_m;
+    const joules = fixedJ + (leg.energy_j * sweeps) / leg.length_m;
+    const usable = e.totals.energy_j / e.totals.battery_used;
+    parts.push(`sweeps ${(sweeps / 1000).toFixed(1)} km${num('drones') > 1 ? ' each' : ''}: at least ${(seconds / 60).toFixed(0)} min, ${Math.ceil(joules / usable)} batter${Math.ceil(joules / usable) > 1 ? 'ies' : 'y'}`);
+    out.textContent = parts.join(' · ');
+  } catch {
+    // the estimate is a help: the plan itself says what is wrong
+  }
+}
 
 /** An aircraft's plan by a planner that lays parallel lines: the line-end rule applies. */
 const aircraftLineEnds = () => !groundVehicle() && !inspecting() && reads('swath_ends');
@@ -94,8 +191,9 @@ export function planParams() {
     p.swath_ends = $('swath-ends').value;
   } else if ($('camera').value) {
     p.camera = { preset: $('camera').value };
-    p.side_overlap = num('side-overlap');
-    p.front_overlap = num('front-overlap');
+    // the form says overlaps in percent, the API in fractions
+    if (num('side-overlap') !== undefined) p.side_overlap = num('side-overlap') / 100;
+    if (num('front-overlap') !== undefined) p.front_overlap = num('front-overlap') / 100;
     if (num('gsd') !== undefined) p.gsd_cm = num('gsd');
   } else {
     p.line_spacing_m = num('spacing');
@@ -141,13 +239,14 @@ export function restoreParams(p) {
   else $('line-ends').value = p.swath_ends || 'full_width';
   $('camera').value = (p.camera && p.camera.preset) || '';
   set('spacing', p.line_spacing_m);
-  set('altitude', p.altitude_m);
+  $('altitude').value = p.altitude_m ?? '';
   $('altitude-reference').value = p.altitude_reference === 'terrain' && state.terrain ? 'terrain' : 'home';
   set('terrain-tolerance', p.terrain_tolerance_m);
   $('altitude-reference').dispatchEvent(new Event('change'));
-  set('gsd', p.gsd_cm);
-  set('side-overlap', p.side_overlap);
-  set('front-overlap', p.front_overlap);
+  $('gsd').value = p.gsd_cm ?? '';
+  const percent = (f) => (f === undefined ? undefined : Math.round(f * 1000) / 10);
+  set('side-overlap', percent(p.side_overlap));
+  set('front-overlap', percent(p.front_overlap));
   $('direction').value = p.heading_deg !== undefined ? 'fixed' : p.sweep_direction === 'optimal' ? 'optimal' : 'planner';
   set('fixed-heading', p.heading_deg);
   set('objective', p.objective);
@@ -177,10 +276,70 @@ export function restoreParams(p) {
   syncForm();
 }
 
+// ---- errors beside the input at fault ----
+// the request member a refusal points at, and the input that sets it (the longest match wins)
+const inputOf = [
+  ['/line_spacing_m', 'spacing'], ['/altitude_m', 'altitude'], ['/gsd_cm', 'gsd'], ['/side_overlap', 'side-overlap'],
+  ['/front_overlap', 'front-overlap'], ['/heading_deg', 'fixed-heading'], ['/vehicle/working_width_m', 'working-width'],
+  ['/vehicle/turn_radius_m', 'turn-radius'], ['/vehicle', 'vehicle'], ['/headland_passes', 'headland-passes'], ['/vehicles', 'drones'],
+  ['/altitude_separation_m', 'altitude-separation'], ['/budget', 'budget'], ['/inspection/range_m', 'range-min'], ['/seed', 'inspection-seed'],
+  ['/targets', 'target-names'], ['/terrain_tolerance_m', 'terrain-tolerance'], ['/camera', 'camera'], ['/planner', 'planner'], ['/swath_ends', 'line-ends'],
+];
+
+export function clearFieldErrors() {
+  for (const el of document.querySelectorAll('.field-error')) el.remove();
+  for (const el of document.querySelectorAll('[aria-invalid=true]')) el.removeAttribute('aria-invalid');
+}
+
+/** Shows `text` under the input `id`, marks it and moves the focus to it. */
+function fieldError(id, text) {
+  const input = $(id);
+  const note = document.createElement('span');
+  note.className = 'field-error';
+  note.id = `${id}-error`;
+  note.textContent = text;
+  (input.closest('label') || input).after(note);
+  input.setAttribute('aria-invalid', 'true');
+  input.setAttribute('aria-describedby', note.id);
+  input.focus();
+}
+
+/** The first visible input the browser finds out of its bounds, said beside it. */
+function checkBounds() {
+  const bad = [...$('params').querySelectorAll('input')].find((i) => i.offsetParent !== null && !i.checkValidity());
+  if (!bad) return true;
+  const name = (bad.closest('label')?.firstChild?.textContent || 'this value').trim();
+  const range = bad.min !== '' && bad.max !== '' ? `between ${bad.min} and ${bad.max}` : bad.min !== '' ? `at least ${bad.min}` : `at most ${bad.max}`;
+  fieldError(bad.id, bad.validity.rangeUnderflow || bad.validity.rangeOverflow ? `${name} must be ${range}.` : bad.validationMessage);
+  return false;
+}
+
+/** A refusal of the request: beside its input when it has one, else in the status line. */
+function showRefusal(e) {
+  const match = e.pointer && inputOf.filter(([p]) => e.pointer === p || e.pointer.startsWith(`${p}/`)).sort((a, b) => b[0].length - a[0].length)[0];
+  const visible = match && $(match[1]).offsetParent !== null;
+  if (/^\/(area|no_fly_zones|obstacles|structures|home)(\/|$)/.test(e.pointer || '')) {
+    // the mission's shapes are at fault: said beside the drawing tools
+    $('draw-error').textContent = e.message;
+    $('draw-error').hidden = false;
+    status('The mission was refused: see the drawing tools.', true);
+  } else if (visible) {
+    fieldError(match[1], e.message);
+    status('The plan was refused: see the marked field.', true);
+  } else {
+    status(e.message, true);
+  }
+}
+$('params').addEventListener('input', (e) => {
+  if (e.target.getAttribute('aria-invalid') === 'true') clearFieldErrors();
+});
+
 // ---- planning ----
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
 $('plan').onclick = async () => {
+  clearFieldErrors();
+  if (!checkBounds()) return status('A value is out of bounds: see the marked field.', true);
   try {
     $('plan').disabled = true;
     await saveMission();
@@ -199,11 +358,13 @@ $('plan').onclick = async () => {
       if ($('compare').checked && state.result) keepForComparison();
       await showPlan(plan);
       status(`planned in ${Math.round(plan.stats.planning_time_ms)} ms`);
+      // the result is what the user looks at next: the keyboard goes there too
+      $('result-heading').focus();
     } else {
       status(plan.status === 'failed' ? `failed: ${plan.error}` : plan.status, plan.status === 'failed');
     }
   } catch (e) {
-    status(e.message, true);
+    showRefusal(e);
   } finally {
     $('plan').disabled = false;
     $('cancel').disabled = true;

@@ -8,7 +8,7 @@ import { drawProfile } from './terrain.js';
 // ---- the result ----
 const kindStyle = {
   sweep: { color: '#1565c0', weight: 3 },
-  headland: { color: '#2e7d32', weight: 3 },
+  headland: { color: '#00897b', weight: 3, dashArray: '10 3' },
   turn: { color: '#ef6c00', weight: 2 },
   transit: { color: '#6a1b9a', weight: 2, dashArray: '6 4' },
 };
@@ -45,7 +45,7 @@ function drawTrajectory(fc, faded) {
       const a = c[0], b = c[c.length - 1];
       const mid = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2];
       const icon = L.divIcon({ className: 'arrow', html: `<div style="transform: rotate(${bearing(a, b) - 90}deg)">➤</div>`, iconSize: [14, 14] });
-      L.marker([mid[1], mid[0]], { icon, interactive: false }).addTo(group);
+      L.marker([mid[1], mid[0]], { icon, interactive: false, keyboard: false }).addTo(group);
     }
     if (lines.length) {
       const first = lines[0].geometry.coordinates[0];
@@ -57,7 +57,8 @@ function drawTrajectory(fc, faded) {
   }
   // ground no sweep covers: mostly the clearance kept around no-fly zones
   for (const f of fc.features.filter((f) => f.properties.kind === 'uncovered')) {
-    L.geoJSON(f, { style: { color: '#c62828', weight: 0, fillOpacity: faded ? 0.1 : 0.3 }, interactive: !faded })
+    // amber, unlike the no-fly zones' red
+    L.geoJSON(f, { style: { color: '#ff8f00', weight: 0, fillColor: '#ffb300', fillOpacity: faded ? 0.15 : 0.45, className: 'uncovered' }, interactive: !faded })
       .bindTooltip(`not covered: ${Math.round(f.properties.area_m2)} m² (the clearance around no-fly zones, nfz_margin_m, and corners the lines do not reach)`)
       .addTo(group);
   }
@@ -95,6 +96,16 @@ export function clearResult() {
   drawProfile();
 }
 
+/** Forgets the plan kept for comparison. */
+export function dropComparison() {
+  if (!state.compared) return;
+  map.removeLayer(state.compared.layer);
+  map.removeLayer(state.compared.photos);
+  state.compared = null;
+  renderFigures();
+}
+$('compare').onchange = () => { if (!$('compare').checked) dropComparison(); };
+
 export function keepForComparison() {
   if (state.compared) { map.removeLayer(state.compared.layer); map.removeLayer(state.compared.photos); }
   map.removeLayer(state.result.layer);
@@ -125,21 +136,31 @@ function togglePhotos() {
 }
 $('show-photos').onchange = togglePhotos;
 
+// diesel's energy per litre (lower heating value, about 36 MJ): a ground vehicle's energy is fuel
+const DIESEL_J_PER_L = 36e6;
+const onGround = (s) => Boolean(s.ground);
+const hours = (seconds) => (seconds >= 5400 ? `${Math.floor(seconds / 3600)} h ${Math.round((seconds % 3600) / 60)} min` : `${(seconds / 60).toFixed(1)} min`);
+
+// each row: its label (by the plan's kind) and its value; a row no shown plan has is left out
 const figureRows = [
   ['planner', (s, p) => s.planner || (p && p.planner)],
+  ['vehicle', (s, p) => p && p.vehicle && (p.vehicles > 1 ? `${p.vehicles} × ${p.vehicle.profile}` : p.vehicle.profile)],
   ['length', (s) => `${(s.length_m / 1000).toFixed(2)} km`],
-  ['flight time', (s) => `${(s.duration_s / 60).toFixed(1)} min`],
-  ['energy', (s) => `${s.energy_wh.toFixed(1)} Wh`],
+  [(s) => (onGround(s) ? 'working time' : 'flight time'), (s) => hours(s.duration_s)],
+  [(s) => (onGround(s) ? 'fuel' : 'energy'), (s) => (onGround(s) ? `${(s.energy_j / DIESEL_J_PER_L).toFixed(1)} l of diesel` : `${s.energy_wh.toFixed(1)} Wh`)],
+  ['altitude', (s, p) => (onGround(s) || s.inspection ? '' : altitudeFlown(s, p))],
+  ['line spacing', (s) => (s.inspection ? '' : `${s.line_spacing_m.toFixed(1)} m`)],
   ['coverage', (s) => (s.inspection ? '' : `${(100 * s.coverage_ratio).toFixed(1)} %`)],
+  // over 100 % when lines end short of slanted edges: the bound assumes the area fully swept
   ['efficiency', (s) => (s.inspection ? '' : `${(100 * s.efficiency).toFixed(1)} %`)],
   ['points seen', (s) => (s.inspection ? `${(100 * s.inspection_coverage).toFixed(1)} % (${s.inspection.pois_seen} of ${s.inspection.pois})` : '')],
   ['viewpoints', (s) => (s.inspection ? `${s.inspection.viewpoints} of ${s.inspection.viewpoints_sampled} sampled` : '')],
   ['targets', (s) => (s.inspection ? s.inspection.targets.map((t) => `${t.name} ${t.face} ${(100 * t.coverage).toFixed(0)} %`).join(', ') : '')],
   ['turns', (s) => s.turns],
-  ['sorties', (s) => s.sorties],
+  ['sorties', (s) => (onGround(s) ? '' : s.sorties)],
   ['last landing', (s) => (s.makespan_s == null ? '' : `${(s.makespan_s / 60).toFixed(1)} min`)],
   ['conflicts', (s) => (s.conflicts == null ? '' : s.conflicts.length)],
-  ['photos', (s) => s.photos],
+  ['photos', (s) => (s.photos ? s.photos : '')],
   ['mainland worked', (s) => (s.ground ? `${(100 * s.ground.mainland_coverage).toFixed(1)} %` : '')],
   ['headland worked', (s) => (s.ground ? `${(100 * s.ground.headland_coverage).toFixed(1)} % (${s.ground.headland_passes} passes, ${s.ground.headland_width_m.toFixed(1)} m)` : '')],
   ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail, ${s.ground.headland_drives} along a pass` : '')],
@@ -158,12 +179,44 @@ function renderFleet(stats) {
     .join('');
 }
 
+/** The altitude flown, and its GSD with a camera. */
+function altitudeFlown(s, p) {
+  const above = p && p.altitude_reference === 'terrain' ? 'above the ground' : 'above home';
+  const altitude = s.terrain ? null : p && p.altitude_m;
+  const gsd = p && p.gsd_cm;
+  if (altitude == null && gsd == null) return '';
+  return [altitude != null ? `${altitude} m ${above}` : `${above} for GSD`, gsd != null ? `GSD ${gsd} cm/px` : ''].filter(Boolean).join(', ');
+}
+
+/** What tells two plans apart, for their columns' heads: the planner, the vehicle, or else the
+ * parameters that differ. */
+export function columnLabels(a, b) {
+  if (!b) return ['this plan', ''];
+  const planner = (r) => r.stats.planner || r.params.planner;
+  const vehicle = (r) => (r.params.vehicles > 1 ? `${r.params.vehicles} × ` : '') + ((r.params.vehicle && r.params.vehicle.profile) || 'default');
+  const parts = [[planner(a), planner(b)], [vehicle(a), vehicle(b)]].filter(([x, y]) => x !== y);
+  if (!parts.length) {
+    const keys = [...new Set([...Object.keys(a.params), ...Object.keys(b.params)])].filter((k) => JSON.stringify(a.params[k]) !== JSON.stringify(b.params[k]));
+    parts.push(...keys.map((k) => [`${k} ${JSON.stringify(a.params[k] ?? '—')}`, `${k} ${JSON.stringify(b.params[k] ?? '—')}`]));
+  }
+  if (!parts.length) return ['this plan', 'the same, kept'];
+  return [parts.map((p) => p[0]).join(', '), `${parts.map((p) => p[1]).join(', ')} (kept)`];
+}
+
 function renderFigures() {
   const a = state.result, b = state.compared;
   renderFleet(a && a.stats);
   $('col-b').hidden = !b;
-  $('figures').tBodies[0].innerHTML = a
-    ? figureRows.map(([name, f]) => `<tr><td>${name}</td><td data-figure="${name}">${f(a.stats, a.params)}</td>${b ? `<td>${f(b.stats, b.params)}</td>` : ''}</tr>`).join('')
+  const [headA, headB] = a ? columnLabels(a, b) : ['this plan', ''];
+  $('col-a').textContent = headA;
+  $('col-b').textContent = headB;
+  const shown = [a, b].filter(Boolean);
+  $('figures').tBodies[0].innerHTML = shown.length && a
+    ? figureRows
+      .map(([label, f]) => [typeof label === 'function' ? label(a.stats) : label, shown.map((r) => f(r.stats, r.params))])
+      .filter(([, values]) => values.some((v) => v !== '' && v !== undefined && v !== null))
+      .map(([name, [va, vb]]) => `<tr><td>${name}</td><td data-figure="${name}">${va ?? ''}</td>${b ? `<td>${vb ?? ''}</td>` : ''}</tr>`)
+      .join('')
     : '';
 }
 
@@ -175,15 +228,24 @@ export function drawChart() {
   if (!state.result) return;
   const lines = state.result.fc.features.filter((f) => f.geometry.type === 'LineString');
   // energy as a running total over the whole plan: each sortie's own count restarts at zero
+  // each sortie's climb to altitude and descent from it (stats.takeoff_landing_energy_j) is shared
+  // out at its start and end, so that the chart ends at the table's energy
   const points = [];
+  const s = state.result.stats;
+  const flightOf = (f) => `${f.properties.vehicle ?? 0}/${f.properties.sortie ?? 1}`;
+  const flights = lines.filter((f, i) => i === 0 || flightOf(f) !== flightOf(lines[i - 1])).length;
+  const perEnd = (s.takeoff_landing_energy_j || 0) / Math.max(1, flights) / 2;
   let d = 0;
   let e = 0;
-  for (const f of lines) {
+  for (const [i, f] of lines.entries()) {
+    // a landing and a take-off between flights, a take-off before the first
+    if (i === 0 || flightOf(f) !== flightOf(lines[i - 1])) e += i === 0 ? perEnd : 2 * perEnd;
     points.push({ d, v: f.properties.speed_mps, e });
     d += f.properties.length_m;
     e += f.properties.energy_j;
     points.push({ d, v: f.properties.speed_mps, e });
   }
+  if (points.length) points.push({ d, v: 0, e: e + perEnd });
   state.chart = points; // read by the browser test
   if (!points.length || d === 0) return;
   const w = canvas.width, h = canvas.height, pad = 18;

@@ -1,10 +1,14 @@
 // The map page end to end: the real server (a fresh database, no map tiles) and Debian's
-// Chromium driven by playwright-core. Draws a field and a home point, plans it, compares two
-// planners, and reopens the mission from its link with every parameter. The server runs from
+// Chromium driven by playwright-core. Draws a field and a home point, edits a corner, undoes
+// and redoes, refuses a hole outside the field, deletes a shape, plans it, compares two
+// planners and stops comparing, imports a file by the picker (no stale result stays), reopens
+// the mission from its link with every parameter, plans a tractor, shows an error beside its
+// input, plans by keyboard alone, and fits 1366×768 and a 390×844 phone. The server runs from
 // a folder of its own, serving the page built into the binary. Run by tests/run_all.sh after
-// the build. Draws a barn and inspects it, with its 3D view.
+// the build. Draws a barn and inspects it, with its 3D view. Screenshots of each step are left
+// in the temporary folder (coverplan-*.png).
 import { spawn } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
@@ -46,12 +50,31 @@ try {
   page.on('pageerror', (e) => errors.push(e.message));
   // a mission without an elevation model answers 404 to the page's look for one
   const noModel = (m) => /status of 404/.test(m.text()) && /\/terrain$/.test(m.location().url || '');
-  page.on('console', (m) => { if (m.type() === 'error' && !noModel(m)) errors.push(m.text()); });
+  // a refusal the test asks for is logged by the browser too
+  let refusalsAsked = 0;
+  const asked422 = (m) => /status of 422/.test(m.text()) && refusalsAsked > 0 && refusalsAsked--;
+  page.on('console', (m) => { if (m.type() === 'error' && !noModel(m) && !asked422(m)) errors.push(m.text()); });
 
+  const shot = (name) => page.screenshot({ path: path.join(os.tmpdir(), `coverplan-${name}.png`) });
+  const state = (f) => page.evaluate(f);
+  const fieldCount = () => state(() => window.coverplan.state.fields.getLayers().length);
+  const hectares = async () => Number((await page.textContent('#mission-area')).match(/([\d.]+) ha/)[1]);
+  await page.setViewportSize({ width: 1366, height: 768 });
   await page.goto(base);
   await page.waitForSelector('body[data-ready=true]');
-  // the form comes from the API
+  // first visit: a prompt on the empty map, the tool's own words, Plan in sight at 1366×768
+  assert.ok(await page.isVisible('#first-step'), 'a first step is shown on the empty map');
+  assert.match(await page.textContent('#first-step'), /Draw/);
+  assert.equal(await page.textContent('#mission-area'), 'no field yet');
+  assert.notEqual(await page.textContent('label:has(#draw-kind)'), await page.textContent('#draw'), 'the select and the button say different things');
+  const planBox = await page.locator('#plan').boundingBox();
+  assert.ok(planBox.y + planBox.height <= 768, `Plan in sight at 1366×768 (${planBox.y})`);
+  await shot('first-visit');
+  // the form comes from the API: planners by readable names, the recommended one marked
   const planners = await page.$$eval('#planner option', (o) => o.map((x) => x.value));
+  assert.ok(!planners.includes('patrol'), 'a patrol has its own form');
+  assert.match(await page.textContent('#planner option[value=boustrophedon]'), /Back and forth.*\(recommended\)/);
+  assert.equal(await page.locator('#vehicle optgroup[label="Fixed-wing aircraft"] option[value=generic_fixed_wing]').count(), 1, 'vehicles grouped by kind');
   for (const id of ['boustrophedon', 'e_spiral', 'eg_cpp', 'auto', 'line_gtsp']) assert.ok(planners.includes(id), `${id} in ${planners}`);
   const vehicles = await page.$$eval('#vehicle option', (o) => o.map((x) => x.value));
   assert.ok(vehicles.includes('iris') && vehicles.includes('maja'), `${vehicles}`);
@@ -66,7 +89,64 @@ try {
     await page.mouse.click(...at(dx, dy));
     await page.waitForTimeout(150);
   }
-  assert.equal(await page.evaluate(() => window.coverplan.state.fields.getLayers().length), 1, 'one field drawn');
+  assert.equal(await fieldCount(), 1, 'one field drawn');
+  assert.ok(!(await page.isVisible('#first-step')), 'the prompt goes once a field is drawn');
+  const drawn = await hectares();
+  assert.ok(drawn > 0, `the field's area is shown: ${await page.textContent('#mission-area')}`);
+
+  // edit a corner: drag the first vertex outwards, the area grows; Escape ends editing
+  await page.click('#edit');
+  assert.equal(await page.getAttribute('#edit', 'aria-pressed'), 'true');
+  await page.mouse.move(...at(-120, -90));
+  await page.mouse.down();
+  await page.mouse.move(...at(-160, -130), { steps: 8 });
+  await page.mouse.up();
+  await page.keyboard.press('Escape');
+  assert.equal(await state(() => window.coverplan.map.pm.globalEditModeEnabled()), false, 'Escape ends editing');
+  const edited = await hectares();
+  assert.ok(edited > drawn * 1.05, `a corner moved out: ${drawn} ha → ${edited} ha`);
+  await shot('edited');
+  // undo puts the corner back, redo moves it again
+  await page.click('#undo');
+  assert.equal(await hectares(), drawn, 'undo restores the field');
+  await page.click('#redo');
+  assert.equal(await hectares(), edited, 'redo moves the corner again');
+  await page.keyboard.press('Control+z');
+  assert.equal(await hectares(), drawn, 'Ctrl+Z undoes');
+
+  // a hole outside the field is refused beside the drawing tools; the field keeps no hole
+  await page.selectOption('#draw-kind', 'hole');
+  await page.click('#draw');
+  for (const [dx, dy] of [[160, -40], [220, -40], [220, 40], [160, 40], [160, -40]]) {
+    await page.mouse.click(...at(dx, dy));
+    await page.waitForTimeout(150);
+  }
+  assert.ok(await page.isVisible('#draw-error'), 'the refusal is shown');
+  assert.match(await page.textContent('#draw-error'), /inside a field/);
+  assert.equal(await state(() => window.coverplan.state.fields.getLayers()[0].getLatLngs().length), 1, 'no hole was added');
+  // one inside is cut into it, and its area leaves the field's
+  await page.click('#draw');
+  for (const [dx, dy] of [[-20, -20], [30, -20], [30, 20], [-20, 20], [-20, -20]]) {
+    await page.mouse.click(...at(dx, dy));
+    await page.waitForTimeout(150);
+  }
+  assert.equal(await state(() => window.coverplan.state.fields.getLayers()[0].getLatLngs().length), 2, 'the hole is cut');
+  assert.ok(await hectares() < drawn, 'the hole is left out of the area');
+  await page.click('#undo');
+  // a zone drawn, then deleted by itself
+  await page.selectOption('#draw-kind', 'nfz');
+  await page.click('#draw');
+  for (const [dx, dy] of [[40, 30], [90, 30], [90, 70], [40, 70], [40, 30]]) {
+    await page.mouse.click(...at(dx, dy));
+    await page.waitForTimeout(150);
+  }
+  assert.equal(await state(() => window.coverplan.state.zones.getLayers().length), 1, 'a zone drawn');
+  await page.click('#remove');
+  await page.mouse.click(...at(65, 50));
+  assert.equal(await state(() => window.coverplan.state.zones.getLayers().length), 0, 'the zone deleted');
+  assert.equal(await fieldCount(), 1, 'the field stays');
+  await page.keyboard.press('Escape');
+
   await page.selectOption('#draw-kind', 'home');
   await page.click('#draw');
   await page.mouse.click(...at(-160, 120));
@@ -100,6 +180,13 @@ try {
   assert.ok(sorties >= 2, `${sorties} sorties: the field should need several batteries`);
   const chart = await page.evaluate(() => window.coverplan.state.chart.map((p) => p.e));
   assert.ok(chart.every((e, i) => i === 0 || e >= chart[i - 1]), 'energy used never goes down along the path');
+  const tableJ = await state(() => window.coverplan.state.result.stats.energy_j);
+  assert.ok(Math.abs(chart[chart.length - 1] - tableJ) <= 0.001 * tableJ, `the chart ends at the table's energy: ${chart[chart.length - 1]} J, ${tableJ} J`);
+  // rows only where they apply: a survey shows no inspection, fleet or ground rows
+  const rows = await page.$$eval('#figures tbody td:first-child', (t) => t.map((x) => x.textContent));
+  for (const absent of ['points seen', 'viewpoints', 'targets', 'last landing', 'conflicts', 'mainland worked', 'turn shapes']) assert.ok(!rows.includes(absent), `no ${absent} row for a survey: ${rows}`);
+  for (const present of ['flight time', 'energy', 'line spacing', 'coverage']) assert.ok(rows.includes(present), `${present} shown: ${rows}`);
+  await shot('planned');
   const download = await page.getAttribute('#download', 'href');
   assert.ok((await fetch(base + download)).ok, 'the download link serves the trajectory');
   // every format of the menu downloads; flight files of several sorties come as a zip
@@ -129,7 +216,19 @@ try {
   assert.match(await page.textContent('#status'), /line strings were dropped/, 'the page says what the import left out');
   const imported = new URL(page.url()).searchParams.get('mission');
   assert.ok(imported && imported !== missionId, 'the drop made a new mission');
-  assert.equal(await page.evaluate(() => window.coverplan.state.fields.getLayers().length), 1, 'its field is drawn');
+  assert.equal(await fieldCount(), 1, 'its field is drawn');
+  // one mission at a time: the last mission's figures and download are gone
+  assert.equal(await page.$$eval('#figures tbody tr', (r) => r.length), 0, 'no stale figures');
+  assert.ok(!(await page.isVisible('#download-box')), 'no stale download');
+  assert.equal(await page.inputValue('#mission-name'), 'New field', 'named by the KML document');
+  // the same by the file picker (phones and keyboards have no drag and drop)
+  const kmlPath = path.join(dir, 'Home farm.kml');
+  writeFileSync(kmlPath, kml.replace('<name>New field</name>', '<name>Home farm</name>'));
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.setInputFiles('#import-file', kmlPath);
+  await waitFor(async () => /imported Home farm\.kml/.test(await page.textContent('#status')), 'the picked file');
+  assert.doesNotMatch(await page.textContent('#status'), /\/doc\.kml|\/Home/, 'messages without pointers into the file');
+  assert.equal(await page.inputValue('#mission-name'), 'Home farm');
   await page.goto(`${base}/?mission=${missionId}`);
   await page.waitForSelector('body[data-ready=true]');
   await page.waitForSelector('td[data-figure=length]');
@@ -148,9 +247,16 @@ try {
   await waitFor(() => page.isVisible('#col-b'), 'the comparison column', 60000);
   const cells = await page.$$eval('#figures tbody tr:first-child td', (t) => t.map((x) => x.textContent));
   assert.deepEqual(cells.slice(1), ['e_spiral', 'boustrophedon']);
+  assert.deepEqual([await page.textContent('#col-a'), await page.textContent('#col-b')], ['e_spiral', 'boustrophedon (kept)'], 'the columns say what differs');
+  await shot('compared');
+  // unticking the box drops the comparison: its column and its faded lines
+  const fadedBefore = await page.$$eval('path.leaflet-interactive', (p) => p.filter((x) => Number(x.getAttribute('stroke-opacity')) < 0.5).length);
+  assert.ok(fadedBefore > 0, 'the kept plan is drawn faded');
+  await page.uncheck('#compare');
+  assert.ok(!(await page.isVisible('#col-b')), 'no compare column');
+  assert.equal(await page.$$eval('path.leaflet-interactive', (p) => p.filter((x) => Number(x.getAttribute('stroke-opacity')) < 0.5).length), 0, 'no faded lines');
 
   // three drones share the field: each drawn in its colour, each listed with its figures
-  await page.uncheck('#compare');
   await page.selectOption('#planner', 'boustrophedon');
   await page.fill('#drones', '3');
   await page.dispatchEvent('#drones', 'change');
@@ -179,6 +285,12 @@ try {
   assert.ok((await page.$$('path.kind-sweep')).length > 0 && (await page.$$('path.kind-turn')).length > 0, 'swaths and turns');
   assert.equal(await page.textContent('td[data-figure="turns leaving the field"]'), '0');
   assert.match(await page.textContent('td[data-figure="turn shapes"]'), /\d+ U/);
+  for (const id of ['#altitude-box', '#gsd-box', '#overlap-box', '#camera-box', '#reference-box']) assert.ok(!(await page.isVisible(id)), `no ${id} for a tractor`);
+  assert.match(await page.textContent('td[data-figure=fuel]'), /l of diesel/);
+  assert.ok(await page.isVisible('td[data-figure="working time"]'), 'working time, not flight time');
+  const tractorRows = await page.$$eval('#figures tbody td:first-child', (t) => t.map((x) => x.textContent));
+  for (const absent of ['sorties', 'photos', 'energy', 'flight time', 'altitude']) assert.ok(!tractorRows.includes(absent), `no ${absent} for a tractor: ${tractorRows}`);
+  await shot('tractor');
   await page.selectOption('#vehicle', 'generic_multirotor');
   assert.equal(await page.inputValue('#planner'), 'boustrophedon', 'back to a drone planner');
 
@@ -192,6 +304,7 @@ try {
   assert.ok(await page.isVisible('#patrol-figures'), 'the patrol figures');
   const cellFills = await page.$$eval('path.visits-cell', (cells) => cells.map((c) => c.getAttribute('fill')));
   const listed = await page.textContent('td[data-patrol=cells]');
+  assert.match(await page.textContent('td[data-patrol="each spot is seen every"]'), /[\d.]+ min on average/);
   assert.equal(cellFills.length, Number(listed.split(' ')[0]), `a cell drawn per free cell (${listed})`);
   assert.ok(new Set(cellFills).size > 1, 'the heat map shades cells by their visits');
 
@@ -250,9 +363,17 @@ try {
   await page.selectOption('#planner', 'boustrophedon');
   await page.selectOption('#camera', { index: 1 });
   const camera = await page.inputValue('#camera');
+  // GSD and altitude are one choice: typing one empties the other
+  await page.fill('#altitude', '80');
+  await page.fill('#gsd', '2');
+  assert.equal(await page.inputValue('#altitude'), '', 'a GSD empties the altitude');
+  assert.match(await page.textContent('#preview'), /altitude [\d.]+ m/);
   await page.fill('#altitude', '60');
-  await page.fill('#side-overlap', '0.6');
-  await page.fill('#front-overlap', '0.75');
+  assert.equal(await page.inputValue('#gsd'), '', 'an altitude empties the GSD');
+  // overlaps in percent
+  await page.fill('#side-overlap', '60');
+  await page.fill('#front-overlap', '75');
+  await waitFor(async () => /GSD [\d.]+ cm\/px · lines [\d.]+ m apart · a photo every [\d.]+ m · sweeps [\d.]+ km: at least \d+ min, \d+ batter/.test(await page.textContent('#preview')), 'the figures before planning');
   await page.selectOption('#draw-kind', 'start');
   await page.fill('#pose-heading', '90');
   await page.click('#draw');
@@ -273,7 +394,9 @@ try {
     front: await page.inputValue('#front-overlap'),
     start: await page.evaluate(() => { const m = window.coverplan.state.poses.start; return m && m.cpHeading; }),
   };
-  assert.deepEqual(restored, { planner: 'boustrophedon', camera, altitude: '60', side: '0.6', front: '0.75', start: 90 });
+  assert.deepEqual(restored, { planner: 'boustrophedon', camera, altitude: '60', side: '60', front: '75', start: 90 });
+  const sent = (await (await fetch(`${base}/api/v1/missions/${missionId}/plans`)).json()).find((p) => p.status === 'succeeded').params;
+  assert.deepEqual([sent.side_overlap, sent.front_overlap], [0.6, 0.75], 'the API gets fractions');
   await page.screenshot({ path: path.join(os.tmpdir(), 'coverplan-page.png') });
 
   // a hilly field: its elevation model from the file picker, shaded under the field; planned at
@@ -306,10 +429,53 @@ try {
   await page.goto(`${base}/?mission=${missionId}`);
   await page.waitForSelector('body[data-ready=true]');
 
-  // a phone-sized screen: the map and the form are both there
+  await page.waitForSelector('td[data-figure=length]');
+
+  // an error beside its input: the browser's bounds first, then the server's refusal
+  await page.selectOption('#camera', '');
+  await page.fill('#spacing', '0.1');
+  await page.click('#plan');
+  assert.equal(await state(() => document.activeElement.id), 'spacing', 'the input at fault has the focus');
+  assert.equal(await page.getAttribute('#spacing', 'aria-invalid'), 'true');
+  assert.match(await page.textContent('#spacing-error'), /between 0\.5 and 2000/);
+  assert.ok(await page.isVisible('td[data-figure=length]'), 'nothing was planned, nothing was lost');
+  await page.evaluate(() => document.getElementById('spacing').removeAttribute('min'));
+  refusalsAsked = 1;
+  await page.click('#plan');
+  await waitFor(() => page.isVisible('#spacing-error'), 'the server\'s refusal beside the spacing');
+  assert.doesNotMatch(await page.textContent('#spacing-error'), /\/line_spacing_m/, 'in words, without a pointer');
+  assert.equal(await state(() => document.activeElement.id), 'spacing');
+  await shot('error-beside-input');
+  await page.fill('#spacing', '20');
+  assert.equal(await page.$$eval('.field-error', (e) => e.length), 0, 'fixing the input clears its error');
+
+  // keyboard only: Plan is reached in few Tab presses (the plan's shapes are not in the tab
+  // order), Enter plans, and the focus moves to the result
+  await page.goto(`${base}/?mission=${missionId}`);
+  await page.waitForSelector('td[data-figure=length]');
+  await page.focus('#mission-name');
+  let presses = 0;
+  while ((await state(() => document.activeElement.id)) !== 'plan' && presses < 80) {
+    await page.keyboard.press('Tab');
+    presses += 1;
+  }
+  assert.ok(presses < 60, `Plan reached in ${presses} Tab presses`);
+  const outline = await state(() => getComputedStyle(document.activeElement).outlineStyle);
+  assert.notEqual(outline, 'none', 'the focus is visible');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.keyboard.press('Enter');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the plan by keyboard', 60000);
+  assert.equal(await state(() => document.activeElement.id), 'result-heading', 'the focus goes to the result');
+
+  // a phone: the map and the form are both there, Plan in sight, finger-sized and 16 px inputs
   await page.setViewportSize({ width: 390, height: 844 });
   assert.ok((await page.locator('#map').boundingBox()).width > 300, 'the map spans a phone screen');
-  assert.ok(await page.isVisible('#plan'));
+  const phonePlan = await page.locator('#plan').boundingBox();
+  assert.ok(phonePlan.y >= 0 && phonePlan.y + phonePlan.height <= 844, `Plan in sight on a phone (${phonePlan.y})`);
+  assert.ok(phonePlan.height >= 44, `a 44 px Plan button: ${phonePlan.height}`);
+  assert.equal(await state(() => getComputedStyle(document.getElementById('spacing')).fontSize), '16px', '16 px inputs');
+  assert.ok((await page.locator('#compare').boundingBox()).height >= 24, 'a finger-sized checkbox');
+  await shot('phone');
 
   // once the server has a key, the page asks for one, keeps it for the tab and sends it
   await page.setViewportSize({ width: 1280, height: 800 });

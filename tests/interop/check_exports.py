@@ -93,10 +93,26 @@ def check_plan(path, spec):
     if "home_alt" in spec:
         assert abs(plan["mission"]["plannedHomePosition"][2] - spec["home_alt"]) <= TOLERANCE_M, "home on the ground"
     fences = plan["geoFence"]["polygons"]
-    assert sum(1 for f in fences if f["inclusion"]) == spec["fields"], "one inclusion fence per field"
+    inclusion = [f for f in fences if f["inclusion"]]
+    assert len(inclusion) == 1, "one inclusion fence"
+    home = plan["mission"]["plannedHomePosition"][:2]
+    flown = [(i["params"][4], i["params"][5]) for i in items if i["frame"] != 2] + [tuple(home)]
+    outside = [p for p in flown if not inside(p, inclusion[0]["polygon"])]
+    assert not outside, f"{path.name}: {len(outside)} points of the flight outside the inclusion fence, first {outside[:1]}"
     assert sum(1 for f in fences if not f["inclusion"]) == spec["zones"], "one exclusion fence per no-fly zone"
     for f in fences:
         assert ring_area(f["polygon"]) < 0, "fence polygons are written clockwise"
+
+
+def inside(point, ring):
+    """Whether point (lat, lon) lies inside ring ([lat, lon] corners, not closed): the even-odd rule."""
+    y, x = point
+    within = False
+    for i, (ay, ax) in enumerate(ring):
+        by, bx = ring[i - 1]
+        if (ay > y) != (by > y) and x < (bx - ax) * (y - ay) / (by - ay) + ax:
+            within = not within
+    return within
 
 
 def placemarks(feature):

@@ -60,6 +60,10 @@ const OTHER_MEANINGS: &[(&str, &str, &str)] = &[
     ("kml", "planner/src/export/wpml.rs", "the XML root element of a WPML file"),
     ("waypoints", "src/http/openapi.rs", "the estimate request's member in its example"),
     ("inspection", "planner/src/inspection/mod.rs", "the request member holding the inspection's options"),
+    ("patrol", "src/http/patrols.rs", "the resource a 404 names"),
+    ("patrol", "static/index.html", "the Patrol button's element id"),
+    ("patrol", "static/js/patrol.js", "the Patrol button's element id, and the kind of a patrol's paths"),
+    ("patrol", "static/js/plan.js", "a planner's `method` (the kind), not its id"),
 ];
 
 /// Every production file that writes `id` as a string literal, and the files that define it.
@@ -180,10 +184,11 @@ fn every_listed_parameter_is_documented_by_the_request_schema() {
     let mut described = 0;
     for p in planner::catalogue() {
         assert!(!p.parameters.is_empty(), "{} reads no parameter", p.id);
+        let (schema, _) = coverplan::http::planners::request_of(p.method);
         for name in p.parameters {
-            let info = coverplan::http::planners::describe(name);
+            let info = coverplan::http::planners::describe(schema, name);
             assert!(["number", "integer", "string", "boolean", "array", "object"].contains(&info.kind.as_str()), "{}: `{name}` has type {}", p.id, info.kind);
-            assert!(info.description.len() > 15, "{}: `{name}` has no description in PlanParams' schema ({:?})", p.id, info.description);
+            assert!(info.description.len() > 15, "{}: `{name}` has no description in {schema} ({:?})", p.id, info.description);
             described += 1;
         }
     }

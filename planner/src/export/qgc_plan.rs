@@ -1,13 +1,20 @@
-//! QGroundControl `.plan` (JSON): the sortie as plain `SimpleItem`s, the fields as an
-//! inclusion fence and the no-fly zones as exclusion fences (docs/methods.md, interop §3).
-//! Written by hand with serde_json: no crate writes this format.
+//! QGroundControl `.plan` (JSON): the sortie as plain `SimpleItem`s, an inclusion fence round
+//! the fields and every point the sortie flies (home, turns and transits included) with a
+//! margin, and the no-fly zones as exclusion fences (docs/methods.md, interop §3). Written by
+//! hand with serde_json: no crate writes this format.
 
-use geo::{LineString, Winding};
+use geo::algorithm::buffer::Buffer;
+use geo::{ConvexHull, Coord, LineString, MultiPoint, Point, Simplify, Winding};
 use serde_json::{Value, json};
 
 use super::mission_items::{self, FRAME_GLOBAL, FRAME_MISSION, FRAME_TERRAIN, MissionItem, launch, mav_autopilot, mav_type};
 use super::{ALL_METHODS, ExportJob, Exporter, Format};
 use crate::error::InputError;
+use crate::frame::LocalFrame;
+
+/// How far the inclusion fence lies outside the fields and every point flown: an autopilot with
+/// its fence enabled arms at home and flies the turns without a breach.
+pub const FENCE_MARGIN_M: f64 = 30.0;
 
 pub struct QgcPlan;
 
@@ -48,7 +55,7 @@ impl Exporter for QgcPlan {
         // over terrain, home is where the ground is; otherwise the altitudes are relative to it
         let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
         let items: Vec<Value> = items.iter().enumerate().map(|(k, item)| simple_item(item, k + 1)).collect();
-        let mut fences: Vec<Value> = job.outlines.fields.0.iter().map(|p| fence(p.exterior(), true)).collect();
+        let mut fences: Vec<Value> = vec![fence(&inclusion_ring(job, sortie), true)];
         fences.extend(job.outlines.no_fly_zones.0.iter().map(|p| fence(p.exterior(), false)));
         let plan = json!({
             "fileType": "Plan",
@@ -88,6 +95,20 @@ fn simple_item(item: &MissionItem, jump_id: usize) -> Value {
         value["AMSLAltAboveTerrain"] = Value::Null;
     }
     value
+}
+
+/// The convex hull of the fields, home and every point of the sortie, grown by
+/// [`FENCE_MARGIN_M`], in WGS84.
+fn inclusion_ring(job: &ExportJob<'_>, sortie: usize) -> LineString {
+    let flown = job.flight.sorties[sortie].iter().flat_map(|p| p.points.iter().map(|q| [q[0], q[1]]));
+    let outlines = job.outlines.fields.0.iter().flat_map(|p| p.exterior().0.iter().map(|c| [c.x, c.y]));
+    let points: Vec<[f64; 2]> = flown.chain(outlines).chain(job.outlines.home).collect();
+    let frame = LocalFrame::centred_on(points.iter().copied());
+    let local = MultiPoint(points.iter().map(|&[lon, lat]| Point(frame.to_local(lon, lat))).collect());
+    let grown = local.convex_hull().buffer(FENCE_MARGIN_M);
+    // a round join's arc in steps of centimetres: a few metres inside it keeps the fence short
+    let ring = grown.0.first().map_or_else(|| LineString(vec![]), |p| p.exterior().simplify(1.0));
+    LineString(ring.0.iter().map(|&c: &Coord| frame.to_wgs84(c)).map(|[x, y]| Coord { x, y }).collect())
 }
 
 /// A fence polygon, clockwise as QGroundControl documents them, `[lat, lon]`, not closed.

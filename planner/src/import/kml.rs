@@ -70,7 +70,17 @@ fn read_kml(bytes: &[u8], part: &str) -> Result<Collected, InputError> {
 fn visit(node: &Doc<f64>, part: &str, walk: &mut Walk) -> Result<(), InputError> {
     match node {
         Doc::KmlDocument(d) => d.elements.iter().try_for_each(|e| visit(e, part, walk)),
-        Doc::Document { elements, .. } => elements.iter().try_for_each(|e| visit(e, part, walk)),
+        Doc::Document { elements, .. } => {
+            // the document's own name names the mission
+            let named = elements.iter().find_map(|e| match e {
+                Doc::Element(el) if el.name == "name" => el.content.as_deref().map(str::trim).filter(|n| !n.is_empty()),
+                _ => None,
+            });
+            if let Some(name) = named.filter(|_| walk.out.name.is_none()) {
+                walk.out.name = Some(name.to_owned());
+            }
+            elements.iter().try_for_each(|e| visit(e, part, walk))
+        }
         Doc::Folder(f) => f.elements.iter().try_for_each(|e| visit(e, part, walk)),
         Doc::Placemark(p) => placemark(p, part, walk),
         Doc::Polygon(p) => {
@@ -98,6 +108,10 @@ fn placemark(p: &Placemark<f64>, part: &str, walk: &mut Walk) -> Result<(), Inpu
     let at = format!("{part}/Placemark[{name}]");
     let label = format!("{name} {} {}", data(p, "kind").unwrap_or_default(), p.style_url.as_deref().unwrap_or_default());
     let kind = kind_of_label(&label).unwrap_or(Kind::Field);
+    // without a document name, the first field's placemark names the mission
+    if kind == Kind::Field && walk.out.name.is_none() && !name.trim().is_empty() && matches!(&p.geometry, Some(Geometry::Polygon(_) | Geometry::MultiGeometry(_))) {
+        walk.out.name = Some(name.trim().to_owned());
+    }
     let height = data(p, "height_m").and_then(|h| h.trim().parse::<f64>().ok());
     let Some(geometry) = &p.geometry else { return Ok(()) };
     let mut geometries = vec![geometry];

@@ -252,7 +252,7 @@ fn target_groups(structures: &[Structure], targets: &[Target]) -> Result<Vec<Tar
 }
 
 /// The request members (of `PlanParams`) an inspection reads, for `GET /api/v1/planners`.
-pub const PARAMETERS: &[&str] = &["planner", "budget", "targets", "camera", "gsd_cm", "vehicle", "start", "end", "seed", "time_limit_ms", "inspection"];
+pub const PARAMETERS: &[&str] = &["planner", "budget", "targets", "camera", "gsd_cm", "vehicle", "start", "end", "seed", "time_limit_s", "inspection"];
 
 /// What the search starts from: the targets' points, the scene, the camera's reach, the ends.
 struct Setup {
@@ -400,7 +400,7 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         if search.since_improvement >= PATIENCE {
             break SearchEnd::NoImprovement;
         }
-        if started.elapsed().as_millis() as u64 >= spec.time_limit_ms {
+        if started.elapsed() >= spec.search_time {
             break SearchEnd::TimeLimit;
         }
         search.iterate(&inst);

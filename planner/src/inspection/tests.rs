@@ -45,7 +45,7 @@ fn spec(budget: BudgetLimit, extension: Extension, seed: u64) -> InspectionSpec 
         capture_s: 1.0,
         show_unseen: false,
         seed,
-        time_limit_ms: 30_000,
+        search_time: std::time::Duration::from_secs(30),
         start_altitude_m: 0.0,
         end_altitude_m: 0.0,
     }

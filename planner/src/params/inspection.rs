@@ -162,7 +162,8 @@ pub struct InspectionSpec {
     pub capture_s: f64,
     pub show_unseen: bool,
     pub seed: u64,
-    pub time_limit_ms: u64,
+    /// How long the search may run before it returns its best path.
+    pub search_time: std::time::Duration,
     /// Start and end altitudes above ground (default 0: take-off and landing).
     pub start_altitude_m: f64,
     pub end_altitude_m: f64,
@@ -178,13 +179,18 @@ fn pair(v: Option<[f64; 2]>, lo: f64, hi: f64, pointer: &str, unit: &str) -> Res
     Ok(Some([a, b]))
 }
 
+/// An inspection's time limit when the request gives none, seconds.
+pub const DEFAULT_TIME_LIMIT_S: f64 = 20.0;
+/// The share of the time limit the search may use.
+const SEARCH_SHARE: f64 = 0.9;
+
 /// The request's inspection members, checked one by one with their places.
 pub struct InspectionRequest<'a> {
     pub targets: Option<&'a [Target]>,
     pub budget: Option<&'a Budget>,
     pub options: Option<&'a InspectionOptions>,
     pub seed: Option<u64>,
-    pub time_limit_ms: Option<u64>,
+    pub time_limit_s: Option<f64>,
     pub start_altitude_m: Option<f64>,
     pub end_altitude_m: Option<f64>,
 }
@@ -227,10 +233,8 @@ impl InspectionRequest<'_> {
             }
             Ok(v as usize)
         };
-        let time_limit_ms = self.time_limit_ms.unwrap_or(20_000);
-        if !(100..=600_000).contains(&time_limit_ms) {
-            return Err(InputError::new("parameter_out_of_range", "/time_limit_ms", format!("{time_limit_ms} is outside the accepted range [100, 600000]")));
-        }
+        // the plan's own limit ends the job: the search stops short of it to measure its path
+        let search_time = std::time::Duration::from_secs_f64(SEARCH_SHARE * self.time_limit_s.unwrap_or(DEFAULT_TIME_LIMIT_S));
         let altitude = |v: Option<f64>, pointer: &str| -> Result<f64, InputError> {
             let v = v.unwrap_or(0.0);
             check_range(v, 0.0, 1_000.0, pointer, "m")?;
@@ -252,7 +256,7 @@ impl InspectionRequest<'_> {
             capture_s: within(o.capture_s, 1.0, 0.0, 60.0, "capture_s", "s")?,
             show_unseen: o.show_unseen.unwrap_or(false),
             seed: self.seed.unwrap_or(0),
-            time_limit_ms,
+            search_time,
             start_altitude_m: altitude(self.start_altitude_m, "/start/altitude_m")?,
             end_altitude_m: altitude(self.end_altitude_m, "/end/altitude_m")?,
         })

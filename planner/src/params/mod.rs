@@ -96,7 +96,9 @@ pub struct PlanParams {
     /// (default 20); splitting needs the mission's home.
     pub max_sorties: Option<u32>,
     /// Seconds the plan may take, 0.1 to 86 400; past them it fails with `time_limit`. The
-    /// service caps it at its own limit (`COVERPLAN_JOB_TIMEOUT_S`, also the default).
+    /// service caps it at its own limit (`COVERPLAN_JOB_TIMEOUT_S`, also the default). An
+    /// inspection's search instead returns its best path once nine tenths of it have passed
+    /// (default 20 s), leaving the rest to measure the plan.
     pub time_limit_s: Option<f64>,
     /// Several drones fly the field together, 2 to 16 of them: each entry is a vehicle (as
     /// `vehicle`) with an optional `home` of its own. The field is split so that the last drone
@@ -139,9 +141,6 @@ pub struct PlanParams {
     pub inspection: Option<InspectionOptions>,
     /// Inspection: the random seed; the same seed gives the same plan (default 0).
     pub seed: Option<u64>,
-    /// Inspection: milliseconds the search may take before it returns its best path, 100 to
-    /// 600 000 (default 20 000).
-    pub time_limit_ms: Option<u64>,
 }
 
 /// What a plan's altitude is measured from.
@@ -308,7 +307,6 @@ impl PlanParams {
             ("/budget", self.budget.is_some()),
             ("/inspection", self.inspection.is_some()),
             ("/seed", self.seed.is_some()),
-            ("/time_limit_ms", self.time_limit_ms.is_some()),
             ("/start/altitude_m", self.start.as_ref().is_some_and(|p| p.altitude_m.is_some())),
             ("/end/altitude_m", self.end.as_ref().is_some_and(|p| p.altitude_m.is_some())),
         ];
@@ -486,7 +484,7 @@ impl PlanParams {
             budget: self.budget.as_ref(),
             options: self.inspection.as_ref(),
             seed: self.seed,
-            time_limit_ms: self.time_limit_ms,
+            time_limit_s: self.time_limit_s,
             start_altitude_m: self.start.as_ref().and_then(|p| p.altitude_m),
             end_altitude_m: self.end.as_ref().and_then(|p| p.altitude_m),
         }

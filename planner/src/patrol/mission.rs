@@ -18,7 +18,38 @@ use crate::field::{Field, FieldLimits, MissionGeometry};
 use crate::path::{FlightPath, PieceKind};
 use crate::stop::Stop;
 use crate::vehicle::Vehicle;
-use crate::vehicle::VehicleParams;
+use crate::vehicle::{VehicleKind, VehicleParams};
+
+/// The patrol's id among the methods a client can choose (`GET /api/v1/planners`).
+pub const PLANNER_ID: &str = "patrol";
+
+/// What a patrol does, as the catalogue describes it.
+pub const DESCRIPTION: &str = "Patrolling (seed 002 §4.3): several UAVs revisit the cells of a grid over the mission's area \
+     evenly and unpredictably, each moving to its least-visited neighbour (NC-Drone and the strategies it was compared with); \
+     `POST /api/v1/missions/{id}/patrols`.";
+
+/// The members of [`PatrolParams`], all of which a patrol reads.
+pub const PARAMETERS: &[&str] = &[
+    "cell_size_m",
+    "camera",
+    "altitude_m",
+    "gsd_cm",
+    "uavs",
+    "starts",
+    "strategy",
+    "sharing",
+    "comm_radius_cells",
+    "sync_interval",
+    "watershed",
+    "ws_period",
+    "time_ties",
+    "evaporation",
+    "tie_rule",
+    "cycles",
+    "seed",
+    "nfz_margin_m",
+    "vehicle",
+];
 
 /// The methods of the patrolling spec §2–§3.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -199,7 +230,12 @@ impl PatrolParams {
         if self.starts.as_ref().is_some_and(|s| s.is_empty() || s.len() > 64) {
             return Err(out_of_range("/starts", "give 1 to 64 start positions"));
         }
-        Ok((strategy, self.vehicle.resolve(profiles, "/vehicle")?))
+        let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
+        if vehicle.kind != VehicleKind::Multirotor {
+            // the paths turn square at every cell
+            return Err(InputError::new("not_a_multirotor", "/vehicle", "a patrol turns square from cell to cell: give a multirotor"));
+        }
+        Ok((strategy, vehicle))
     }
 }
 

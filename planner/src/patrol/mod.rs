@@ -24,7 +24,7 @@ mod watershed;
 
 pub use grid::{CellGrid, MAX_CELLS};
 pub use metrics::{PatrolMetrics, Visits};
-pub use mission::{PatrolOutput, PatrolParams, PatrolStats, StrategyName, UavTotals, patrol};
+pub use mission::{DESCRIPTION, PARAMETERS, PLANNER_ID, PatrolOutput, PatrolParams, PatrolStats, StrategyName, UavTotals, patrol};
 pub use shared_cycle::{closed_walk, simulate_shared_cycle};
 pub use simulate::{Evaporation, PatrolState, Sharing, Simulation, Strategy, TieRule, Valleys, metrics_over_seeds, next_moves, simulate};
 pub use update_rules::UpdateRule;

@@ -18,6 +18,10 @@ impl Planner for Auto {
         "auto"
     }
 
+    fn name(&self) -> &'static str {
+        "Best of every planner (auto)"
+    }
+
     fn description(&self) -> &'static str {
         "Plans with every applicable planner and keeps the one with the least energy, time or length \
          (`objective`), among those that cover the area as well as the best; the others' figures are reported."

@@ -12,6 +12,7 @@ use crate::vehicle::VehicleKind;
 
 pub struct CellPlanner {
     pub id: &'static str,
+    pub name: &'static str,
     pub description: &'static str,
     pub direction_rule: &'static str,
     pub decomposition: &'static dyn Decomposition,
@@ -25,6 +26,7 @@ pub struct CellPlanner {
 
 pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
     id: "boustrophedon",
+    name: "Back and forth around obstacles (boustrophedon)",
     description: "Boustrophedon cellular decomposition around holes and no-fly zones; each cell swept in its \
         own best direction; cells, directions and entry points ordered as one generalised travelling-salesman \
         problem, with transits around no-fly zones. The recommended planner for hard fields.",
@@ -37,6 +39,7 @@ pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
 
 pub static NAIVE: CellPlanner = CellPlanner {
     id: "naive",
+    name: "Convex cells (naive)",
     description: "Convex cells cut at reflex vertices (seed 000 §3.2.1), each swept across its width, \
         visited nearest first.",
     direction_rule: "each cell across its narrowest width",
@@ -48,6 +51,7 @@ pub static NAIVE: CellPlanner = CellPlanner {
 
 pub static EECD: CellPlanner = CellPlanner {
     id: "eecd",
+    name: "Narrowest convex cells (EECD)",
     description: "Convex cells by the cuts that minimise the summed cell widths, neighbours with the same \
         direction merged while monotone (seed 000 §3.2.2); visiting order over each cell's four entry and exit \
         options.",
@@ -60,6 +64,7 @@ pub static EECD: CellPlanner = CellPlanner {
 
 pub static ENERGY_AWARE: CellPlanner = CellPlanner {
     id: "energy_aware",
+    name: "Energy-aware back and forth (Di Franco)",
     description: "Di Franco's energy-aware back-and-forth (seed 000 §3.2.3, E-BF of seed 002): lines parallel \
         to the longest edge in one main run, the concave pockets it leaves swept the same way, recursively.",
     direction_rule: "parallel to the longest edge (of the field, then of each pocket)",
@@ -71,6 +76,7 @@ pub static ENERGY_AWARE: CellPlanner = CellPlanner {
 
 pub static E_BF: CellPlanner = CellPlanner {
     id: "e_bf",
+    name: "Energy-aware back and forth (E-BF)",
     description: "Energy-aware back-and-forth as seed 002 compares it with E-Spiral: the energy_aware geometry \
         (lines parallel to the longest edge, pockets the same way) flown in a fixed nearest-first order, each \
         leg at its energy-optimal speed. Multirotor only.",
@@ -86,6 +92,10 @@ pub static E_BF: CellPlanner = CellPlanner {
 impl Planner for CellPlanner {
     fn id(&self) -> &'static str {
         self.id
+    }
+
+    fn name(&self) -> &'static str {
+        self.name
     }
 
     fn description(&self) -> &'static str {

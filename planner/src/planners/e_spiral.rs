@@ -292,6 +292,10 @@ impl Planner for ESpiral {
         "e_spiral"
     }
 
+    fn name(&self) -> &'static str {
+        "Energy-aware spiral (E-Spiral)"
+    }
+
     fn description(&self) -> &'static str {
         "Energy-aware spiral (seed 002 §4.1): rings along the boundary inwards, one swath apart, with wide corners \
          a multirotor flies without stopping; each leg at its energy-optimal speed. Multirotors; areas without holes \

@@ -404,6 +404,10 @@ impl Planner for EgCpp {
         "eg_cpp"
     }
 
+    fn name(&self) -> &'static str {
+        "Energy-aware grid (EG-CPP)"
+    }
+
     fn description(&self) -> &'static str {
         "Energy-aware grid coverage (seed 002 §4.2): photo positions on a grid, searched with an energy cost and \
          branch and bound from every start cell, proven optimal when the search completes (stats.optimality). \

@@ -34,6 +34,10 @@ impl Planner for HeadlandPlanner {
         "headland"
     }
 
+    fn name(&self) -> &'static str {
+        "Headland and swaths"
+    }
+
     fn description(&self) -> &'static str {
         "Ground vehicles: headland passes round the field's edge and every hole, swaths over the mainland, every turn inside the headland (Dubins, fishtail when the vehicle may reverse), swath order by GTSP over the real turns"
     }

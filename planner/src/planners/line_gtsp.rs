@@ -87,6 +87,10 @@ impl Planner for LineGtsp {
         "line_gtsp"
     }
 
+    fn name(&self) -> &'static str {
+        "Lines in the shortest order (line GTSP)"
+    }
+
     fn description(&self) -> &'static str {
         "Line-level generalised TSP (seed 004): every line of every field a cluster of its two directions, Dubins \
          connections for fixed-wing aircraft, one optimal route over all fields from the start pose to the end pose \

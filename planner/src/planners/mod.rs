@@ -119,6 +119,8 @@ impl<F: Fn(f64) -> bool> Progress for F {
 
 pub trait Planner: Send + Sync {
     fn id(&self) -> &'static str;
+    /// What a person reads in a menu.
+    fn name(&self) -> &'static str;
     fn description(&self) -> &'static str;
     /// How the planner picks the sweep direction when the user fixes none.
     fn direction_rule(&self) -> &'static str;
@@ -188,6 +190,8 @@ pub enum MethodKind {
     Coverage,
     /// Sees the mission's structures from viewpoints within a budget.
     Inspection,
+    /// Revisits the cells of a grid over the mission's area, with several UAVs, for ever.
+    Patrol,
 }
 
 /// One planner as `GET /api/v1/planners` lists it: everything a client needs to offer it.
@@ -195,6 +199,8 @@ pub enum MethodKind {
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct PlannerInfo {
     pub id: &'static str,
+    /// What a person reads in a menu.
+    pub name: &'static str,
     pub method: MethodKind,
     pub description: &'static str,
     /// How the planner chooses the sweep direction when `heading_deg` does not fix it.
@@ -205,7 +211,9 @@ pub struct PlannerInfo {
     pub default_for: Vec<VehicleKind>,
     /// Whether a fleet's parts may be planned with it.
     pub fleets: bool,
-    /// The request members it reads (`PlanParams`' members, described by its schema).
+    /// The request members it reads (members of its request's schema, which describes them):
+    /// the service lists them with their descriptions.
+    #[serde(skip)]
     pub parameters: Vec<&'static str>,
 }
 
@@ -214,6 +222,7 @@ impl PlannerInfo {
     pub fn of(p: &dyn Planner) -> Self {
         PlannerInfo {
             id: p.id(),
+            name: p.name(),
             method: MethodKind::Coverage,
             description: p.description(),
             direction_rule: p.direction_rule(),

@@ -37,7 +37,7 @@ pub fn scene_one_params(budget_m: f64, extension: &str, seed: u64) -> PlanParams
         "budget": {"max_length_m": budget_m},
         "inspection": {"range_m": [0.3, 5.5], "body_radius_m": 0.5, "safety_margin_m": 0.5, "viewpoints": 300, "extension": extension},
         "seed": seed,
-        "time_limit_ms": 120_000,
+        "time_limit_s": 120,
     }))
     .unwrap()
 }

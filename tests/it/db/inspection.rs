@@ -46,7 +46,7 @@ async fn a_barn_is_inspected_within_300_m_and_goes_to_the_autopilot() {
         "targets": [{"name": "barn"}, {"name": "silo", "faces": ["walls"], "priority": 2}],
         "inspection": {"viewpoints": 200, "show_unseen": true},
         "seed": 3,
-        "time_limit_ms": 10000,
+        "time_limit_s": 10,
     });
     let (status, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &params).await;
     assert_eq!(status, 202, "{plan}");
@@ -160,7 +160,7 @@ async fn inspection_requests_are_refused_with_their_place() {
         (&id, with(json!({"start": {"position": inside_the_barn}})), "position_not_free", "/start"),
         (&id, with(json!({"inspection": {"range_m": [5, 2]}})), "range_reversed", "/inspection/range_m"),
         (&id, with(json!({"inspection": {"viewpoints": 5}})), "parameter_out_of_range", "/inspection/viewpoints"),
-        (&id, with(json!({"time_limit_ms": 10})), "parameter_out_of_range", "/time_limit_ms"),
+        (&id, with(json!({"time_limit_s": 0.01})), "parameter_out_of_range", "/time_limit_s"),
     ];
     for (mission_id, params, code, pointer) in cases {
         let (status, body) = app.post(&format!("/api/v1/missions/{mission_id}/plans"), &params).await;

@@ -32,7 +32,7 @@ async fn fresh_mission() -> (store::Db, missions::Mission, serde_json::Value) {
 #[tokio::test]
 async fn a_stored_request_that_cannot_be_read_fails_as_internal() {
     let (db, mission, snapshot) = fresh_mission().await;
-    let runner: Runner = Arc::new(|job, progress, stop| jobs::plan_job(job, &FieldLimits::default(), progress, stop));
+    let runner: Runner = Arc::new(|job, request, progress, stop| jobs::plan_job(job, request, &FieldLimits::default(), progress, stop));
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
     let damaged = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": "twenty"}), &snapshot, i64::MAX).await.unwrap().unwrap();
     queue.notify();
@@ -54,11 +54,11 @@ async fn a_stored_request_that_cannot_be_read_fails_as_internal() {
 async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
     let (db, mission, snapshot) = fresh_mission().await;
     // spacing 13 makes this runner panic; anything else plans for real
-    let runner: Runner = Arc::new(|job, progress, stop| {
+    let runner: Runner = Arc::new(|job, request, progress, stop| {
         if job.params["line_spacing_m"] == json!(13.0) {
             panic!("deliberate failure for the test");
         }
-        jobs::plan_job(job, &FieldLimits::default(), progress, stop)
+        jobs::plan_job(job, request, &FieldLimits::default(), progress, stop)
     });
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
     let bad = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 13.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
@@ -120,19 +120,19 @@ async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
     let stopped_when_asked = Arc::new(AtomicBool::new(false));
     let runner: Runner = {
         let stopped_when_asked = stopped_when_asked.clone();
-        Arc::new(move |job, progress, stop| match job.params["line_spacing_m"].as_f64() {
+        Arc::new(move |job, request, progress, stop| match job.params["line_spacing_m"].as_f64() {
             Some(1.0) => {
                 while !stop.requested() {
                     std::thread::sleep(Duration::from_millis(5));
                 }
                 stopped_when_asked.store(true, Ordering::SeqCst);
-                Err(PlanError::Cancelled.into())
+                Err(PlanError::Cancelled)
             }
             Some(2.0) => {
                 std::thread::sleep(Duration::from_secs(6));
-                Err(PlanError::Cancelled.into())
+                Err(PlanError::Cancelled)
             }
-            _ => jobs::plan_job(job, &FieldLimits::default(), progress, stop),
+            _ => jobs::plan_job(job, request, &FieldLimits::default(), progress, stop),
         })
     };
     let limit = Duration::from_secs(1);
@@ -168,7 +168,7 @@ async fn cancelling_a_running_plan_frees_its_worker_at_once() {
         missions::NewMission { name: "h14".into(), area: field["area"].clone(), no_fly_zones: Some(field["no_fly_zones"].clone()), obstacles: None, structures: None, home: None };
     let mission = missions::create(&db, OPEN_TENANT, &new).await.unwrap();
     let snapshot = json!({"area": mission.area, "no_fly_zones": mission.no_fly_zones});
-    let runner: Runner = Arc::new(|job, progress, stop| jobs::plan_job(job, &FieldLimits::default(), progress, stop));
+    let runner: Runner = Arc::new(|job, request, progress, stop| jobs::plan_job(job, request, &FieldLimits::default(), progress, stop));
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
     let fixed_wing = json!({"planner": "line_gtsp", "line_spacing_m": 20, "sweep_direction": "optimal", "vehicle": {"kind": "fixed_wing", "turn_radius_m": 10}});
     let long = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &fixed_wing, &snapshot, i64::MAX).await.unwrap().unwrap();

@@ -105,6 +105,7 @@ async fn bad_patrol_parameters_are_refused_with_where() {
         (json!({"uavs": 8, "cycles": 300_000}), "/cycles"),
         (json!({"sync_interval": 0}), "/sync_interval"),
         (json!({"vehicle": {"profile": "no-such-drone"}}), "/vehicle/profile"),
+        (json!({"vehicle": {"profile": "generic_fixed_wing"}}), "/vehicle"),
         (json!({"camera": {"preset": "dji_phantom4_pro"}, "altitude_m": 40, "cell_size_m": 20}), "/cell_size_m"),
         (json!({"altitude_m": 40}), "/altitude_m"),
         (json!({"camera": {"preset": "dji_phantom4_pro"}}), "/altitude_m"),

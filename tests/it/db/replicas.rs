@@ -111,7 +111,7 @@ async fn cancelling_on_one_replica_stops_the_plan_running_on_another() {
 /// apply, nothing is lost, and the interrupted plan is queued again.
 #[tokio::test]
 async fn a_database_of_the_previous_release_upgrades_cleanly() {
-    let old = tempdir_with_migrations(6);
+    let old = tempdir_with_migrations("sqlite", 6);
     let path = common::fresh_db_path();
     let url = format!("sqlite://{}", path.display());
     {
@@ -159,11 +159,53 @@ async fn a_database_of_the_previous_release_upgrades_cleanly() {
     assert!(!keys::required(&db).await.unwrap());
 }
 
-/// A folder holding the first `n` SQLite migrations, as the release that had them shipped.
-fn tempdir_with_migrations(n: usize) -> std::path::PathBuf {
+/// A PostgreSQL database made before patrols had a column of their own (migrations 0001–0002),
+/// with a plan and a patrol told apart by a `kind` member of its parameters, opens with this
+/// release: the patrol is found by its kind, its parameters lose the member, the plan stays a plan.
+#[tokio::test]
+async fn a_postgres_database_with_patrols_in_parameters_upgrades_cleanly() {
+    if common::test_postgres().is_none() {
+        eprintln!("SQLite pass: the PostgreSQL pass runs this test");
+        return;
+    }
+    let old = tempdir_with_migrations("postgres", 2);
+    let url = common::fresh_db_url().await;
+    {
+        let pool = sqlx::PgPool::connect(&url).await.unwrap();
+        sqlx::migrate::Migrator::new(old.as_path()).await.unwrap().run(&pool).await.unwrap();
+        let area = mission_body("real-fields/nl-parcel-b.json")["area"].clone();
+        sqlx::query(
+            "INSERT INTO missions (id, tenant, name, area, created_at, updated_at) VALUES ('m1', 'farm', 'old field', $1, '2026-01-01T00:00:00.000Z', '2026-01-01T00:00:00.000Z')",
+        )
+        .bind(&area)
+        .execute(&pool)
+        .await
+        .unwrap();
+        for (id, params) in [("p-plan", json!({"line_spacing_m": 20})), ("p-patrol", json!({"kind": "patrol", "uavs": 2}))] {
+            sqlx::query("INSERT INTO plans (id, tenant, mission_id, params, mission, status, created_at) VALUES ($1, 'farm', 'm1', $2, $3, 'queued', '2026-01-01T00:00:01.000Z')")
+                .bind(id)
+                .bind(params)
+                .bind(json!({"area": area}))
+                .execute(&pool)
+                .await
+                .unwrap();
+        }
+        pool.close().await;
+    }
+    let db = store::connect(&url).await.unwrap();
+    let patrol = plans::get(&db, "farm", plans::JobKind::Patrol, "p-patrol").await.unwrap().expect("the patrol, by its kind column");
+    assert_eq!(patrol.params, json!({"uavs": 2}), "the kind moved out of the parameters");
+    assert!(plans::get(&db, "farm", plans::JobKind::Plan, "p-patrol").await.unwrap().is_none(), "a patrol is no plan");
+    let plan = plans::get(&db, "farm", plans::JobKind::Plan, "p-plan").await.unwrap().expect("the plan stays a plan");
+    assert_eq!(plan.params, json!({"line_spacing_m": 20}));
+    assert!(plans::get(&db, "farm", plans::JobKind::Patrol, "p-plan").await.unwrap().is_none(), "a plan is no patrol");
+}
+
+/// A folder holding the first `n` migrations of `backend`, as the release that had them shipped.
+fn tempdir_with_migrations(backend: &str, n: usize) -> std::path::PathBuf {
     let dir = common::fresh_db_path().with_file_name("migrations");
     std::fs::create_dir_all(&dir).unwrap();
-    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("migrations/sqlite");
+    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("migrations").join(backend);
     let mut files: Vec<_> = std::fs::read_dir(&source).unwrap().map(|e| e.unwrap().path()).collect();
     files.sort();
     assert!(files.len() > n, "this release adds migrations after the first {n}");

@@ -1,0 +1,79 @@
+//! A ground plan's figures: the headland, the mainland and the turns.
+
+use geo::{Area, BooleanOps, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon};
+use serde::{Deserialize, Serialize};
+
+use super::coverage::under;
+use crate::params::HeadlandSpec;
+use crate::path::{FlightPath, Piece, PieceKind, TurnShape};
+
+/// A ground plan's figures: how much of the mainland and of the headland is worked, and how
+/// the vehicle turns.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct GroundStats {
+    pub headland_width_m: f64,
+    pub headland_passes: usize,
+    pub headland_length_m: f64,
+    pub mainland_area_m2: f64,
+    pub headland_area_m2: f64,
+    /// Shares of the mainland and of the headland band the implement works.
+    pub mainland_coverage: f64,
+    pub headland_coverage: f64,
+    pub u_turns: usize,
+    pub omega_turns: usize,
+    pub fishtail_turns: usize,
+    /// Connections between two swaths driven along a headland pass (where no turn fits), and
+    /// those that cross the mainland (where nothing in the headland joins the swaths).
+    pub headland_drives: usize,
+    pub mainland_crossings: usize,
+    /// Turns that leave the field or enter a hole or no-fly zone: 0 unless the planner is wrong.
+    pub turns_leaving_field: usize,
+    pub turns_crossing_holes: usize,
+}
+
+/// The ground figures of `path`, worked as `swept`, with the headland `spec` over its
+/// `(mainland, band)`; `field` is the fields with their holes, `keep_out` the no-fly zones
+/// grown by the margin.
+pub fn ground_stats(
+    path: &FlightPath,
+    swept: &MultiPolygon,
+    spec: &HeadlandSpec,
+    (mainland, band): (&MultiPolygon, &MultiPolygon),
+    field: &MultiPolygon,
+    keep_out: &MultiPolygon,
+) -> GroundStats {
+    let turns: Vec<&Piece> = path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).collect();
+    let shaped = |shape: TurnShape| turns.iter().filter(|p| p.shape == Some(shape)).count();
+    let pieces = &path.pieces;
+    let between_swaths =
+        (1..pieces.len().saturating_sub(1)).filter(|&i| pieces[i].kind == PieceKind::Transit && pieces[i - 1].kind == PieceKind::Sweep && pieces[i + 1].kind == PieceKind::Sweep);
+    let outer = MultiPolygon(field.iter().map(|p| Polygon::new(p.exterior().clone(), vec![])).collect());
+    let holes = MultiPolygon(field.iter().flat_map(|p| p.interiors().iter().map(|r| Polygon::new(r.clone(), vec![]))).chain(keep_out.iter().cloned()).collect());
+    let inside_length = |zones: &MultiPolygon, p: &Piece| {
+        let line = MultiLineString(vec![LineString::from(p.points.clone())]);
+        zones.clip(&line, false).0.iter().map(|l| Euclidean.length(l)).sum::<f64>()
+    };
+    let share = |part: &MultiPolygon| {
+        let area = part.unsigned_area();
+        if area > 0.0 { (under(swept, part).0 / area).min(1.0) } else { 1.0 }
+    };
+    let crossings = between_swaths.clone().filter(|&i| inside_length(mainland, &pieces[i]) > 1.0).count();
+    GroundStats {
+        headland_width_m: spec.width_m,
+        headland_passes: spec.passes,
+        headland_length_m: path.pieces.iter().filter(|p| p.kind == PieceKind::Headland).map(|p| p.length()).sum(),
+        mainland_area_m2: mainland.unsigned_area(),
+        headland_area_m2: band.unsigned_area(),
+        mainland_coverage: share(mainland),
+        headland_coverage: share(band),
+        u_turns: shaped(TurnShape::U),
+        omega_turns: shaped(TurnShape::Omega),
+        fishtail_turns: shaped(TurnShape::Fishtail),
+        mainland_crossings: crossings,
+        headland_drives: between_swaths.count() - crossings,
+        // a centimetre of slack: the turns' arcs are sampled
+        turns_leaving_field: turns.iter().filter(|p| inside_length(&outer, p) < p.length() - 0.01).count(),
+        turns_crossing_holes: turns.iter().filter(|p| inside_length(&holes, p) > 0.01).count(),
+    }
+}

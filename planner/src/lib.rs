@@ -395,7 +395,7 @@ fn plan_inspection(
     if !progress.report(0.1) {
         return Err(PlanError::Cancelled);
     }
-    let planned = inspection::plan(&s.input(), stop)?;
+    let planned = inspection::plan(&s.input(), progress, stop)?;
     let trajectory = export::geojson::inspection_collection(&s.field.frame, &planned, s.spec.show_unseen);
     let mut stats = planned.stats();
     if planned.energy_j() > s.vehicle.battery.usable_j() {

@@ -122,6 +122,7 @@ pub const ERROR_CODES: &[&str] = &[
     "structure_name_twice",
     "structure_not_one_polygon",
     "structures_not_a_collection",
+    "targets_outside_area",
     "terrain_missing",
     "terrain_not_covering",
     "terrain_too_large",

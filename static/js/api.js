@@ -34,9 +34,9 @@ export async function api(method, path, body) {
   return data;
 }
 
-export function status(text, isError) {
+export function status(text, isError, isWarning) {
   $('status').textContent = text;
-  $('status').className = isError ? 'error' : '';
+  $('status').className = isError ? 'error' : isWarning ? 'warning' : '';
 }
 
 export const escapeHtml = (s) => String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c]);

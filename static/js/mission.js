@@ -175,6 +175,10 @@ document.addEventListener('keydown', (e) => {
   if (e.key === 'y' || (e.key === 'Z' && e.shiftKey)) { e.preventDefault(); redo(); }
 });
 
+// a corner that would make the outline cross itself is not added: say so while drawing (the
+// event comes as the line to the pointer turns red)
+map.on('pm:intersect', () => drawingError('An outline may not cross itself: a corner there is not added. Click elsewhere, or press Escape to start again.'));
+
 map.on('pm:create', (e) => {
   const kind = $('draw-kind').value;
   map.removeLayer(e.layer);

@@ -357,7 +357,10 @@ $('plan').onclick = async () => {
     if (plan.status === 'succeeded') {
       if ($('compare').checked && state.result) keepForComparison();
       await showPlan(plan);
-      status(`planned in ${Math.round(plan.stats.planning_time_ms)} ms`);
+      // what the planner warns about (no viewpoint within the budget, batteries without a home)
+      // is said with the result, not hidden in it
+      const warnings = plan.stats.warnings || [];
+      status(`planned in ${Math.round(plan.stats.planning_time_ms)} ms` + (warnings.length ? `. Note: ${warnings.join('; ')}` : ''), false, warnings.length > 0);
       // the result is what the user looks at next: the keyboard goes there too
       $('result-heading').focus();
     } else {

@@ -151,8 +151,9 @@ const figureRows = [
   ['altitude', (s, p) => (onGround(s) || s.inspection ? '' : altitudeFlown(s, p))],
   ['line spacing', (s) => (s.inspection ? '' : `${s.line_spacing_m.toFixed(1)} m`)],
   ['coverage', (s) => (s.inspection ? '' : `${(100 * s.coverage_ratio).toFixed(1)} %`)],
-  // over 100 % when lines end short of slanted edges: the bound assumes the area fully swept
-  ['efficiency', (s) => (s.inspection ? '' : `${(100 * s.efficiency).toFixed(1)} %`)],
+  // the covered area over the spacing, per metre flown: the API's efficiency counts the whole
+  // area, which a plan that leaves some unflown can seem to beat (over 100 %)
+  ['efficiency', (s) => (s.inspection ? '' : `${(100 * s.efficiency * Math.min(1, s.coverage_ratio)).toFixed(1)} %`)],
   ['points seen', (s) => (s.inspection ? `${(100 * s.inspection_coverage).toFixed(1)} % (${s.inspection.pois_seen} of ${s.inspection.pois})` : '')],
   ['viewpoints', (s) => (s.inspection ? `${s.inspection.viewpoints} of ${s.inspection.viewpoints_sampled} sampled` : '')],
   ['targets', (s) => (s.inspection ? s.inspection.targets.map((t) => `${t.name} ${t.face} ${(100 * t.coverage).toFixed(0)} %`).join(', ') : '')],

@@ -146,6 +146,16 @@ try {
   assert.equal(await state(() => window.coverplan.state.zones.getLayers().length), 0, 'the zone deleted');
   assert.equal(await fieldCount(), 1, 'the field stays');
   await page.keyboard.press('Escape');
+  // an outline that would cross itself: the corner is refused, and the page says so
+  await page.selectOption('#draw-kind', 'field');
+  await page.click('#draw');
+  for (const [dx, dy] of [[200, -100], [300, 0], [300, -100], [200, 0]]) {
+    await page.mouse.click(...at(dx, dy));
+    await page.waitForTimeout(150);
+  }
+  assert.match(await page.textContent('#draw-error'), /cross itself/);
+  await page.keyboard.press('Escape');
+  assert.equal(await fieldCount(), 1, 'no crossed field');
 
   await page.selectOption('#draw-kind', 'home');
   await page.click('#draw');

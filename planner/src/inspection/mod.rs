@@ -22,12 +22,13 @@ mod tests;
 use std::sync::RwLock;
 use std::time::Instant;
 
-use geo::{BoundingRect, Coord, MultiPolygon, Polygon};
+use geo::{BoundingRect, Coord, Intersects, MultiPolygon, Polygon, Rect};
 
 use crate::error::{InputError, PlanError};
 use crate::field::Structure;
 use crate::metrics::{InspectionStats, Stats, TargetCoverage};
 use crate::params::inspection::{BudgetLimit, Extension, Face, InspectionSpec, PLANNER_ID, Target};
+use crate::planners::Progress;
 use crate::stop::Stop;
 use crate::vehicle::Vehicle;
 use legs::{Leg, LegPlanner, Stationary};
@@ -330,10 +331,13 @@ fn setup(input: &InspectionInput<'_>) -> Result<Setup, InputError> {
     Ok(Setup { groups, scene, pois, optics, altitudes, ceiling, ends: [ends[0].0, ends[1].0] })
 }
 
+/// The share of the progress the search spans: sampling comes before it, measuring after.
+const SEARCH_PROGRESS: (f64, f64) = (0.15, 0.95);
+
 /// Plans the inspection; refusals that need the scene (no structures, too many points, a start
 /// or end within the clearance, a budget that does not reach from the start to the end) are
 /// input errors.
-pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, PlanError> {
+pub fn plan(input: &InspectionInput<'_>, progress: &dyn Progress, stop: &Stop) -> Result<InspectionPlan, PlanError> {
     let spec = input.spec;
     let Setup { groups, scene, pois, optics, altitudes, ceiling, ends: ends3 } = setup(input)?;
     let index = poi::index(&pois);
@@ -345,6 +349,21 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         [bb.min().x - optics.max_range_m, bb.min().y - optics.max_range_m, altitudes[0]],
         [bb.width() + 2.0 * optics.max_range_m, bb.height() + 2.0 * optics.max_range_m, altitudes[1] - altitudes[0]],
     );
+    // viewpoints lie inside the fields (the geofence): targets beyond the camera's reach of
+    // every field cannot be seen, whatever the range or the margin
+    let reach = Rect::new(Coord { x: lo[0], y: lo[1] }, Coord { x: lo[0] + size[0], y: lo[1] + size[1] });
+    if !scene.geofence.intersects(&reach.to_polygon()) {
+        return Err(InputError::new(
+            "targets_outside_area",
+            "/targets",
+            format!(
+                "the structures to inspect lie more than {:.0} m (the camera's range) from every field: viewpoints must be inside a field, \
+                 which is the inspection's geofence; draw the field round the structures",
+                optics.max_range_m
+            ),
+        )
+        .into());
+    }
     let mut next = 1 + spec.seed.wrapping_mul(7_919) % 1_000_003;
     let (mut views, tries) = sampler.collect(spec.viewpoints, 200 * spec.viewpoints, |_| {
         let h = halton(next);
@@ -356,7 +375,11 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         warnings.push(format!("{} of {} viewpoints were found in {tries} tries: few places see enough of the targets from outside the clearance", views.len(), spec.viewpoints));
     }
     if views.is_empty() {
-        return Err(PlanError::Infeasible("no viewpoint outside the structures' clearance sees the targets: widen the range or lower the safety margin".into()));
+        return Err(PlanError::Infeasible(
+            "no viewpoint inside the fields and outside the structures' clearance sees the targets: widen the camera's range (inspection.range_m), \
+             lower inspection.safety_margin_m, or draw the field further round the structures"
+                .into(),
+        ));
     }
     if stop.requested() {
         return Err(PlanError::Cancelled);
@@ -402,6 +425,13 @@ pub fn plan(input: &InspectionInput<'_>, stop: &Stop) -> Result<InspectionPlan, 
         }
         if started.elapsed() >= spec.search_time {
             break SearchEnd::TimeLimit;
+        }
+        // the search ends at whichever of its three limits comes first
+        let done = (search.iterations as f64 / MAX_ITERATIONS as f64)
+            .max(search.since_improvement as f64 / PATIENCE as f64)
+            .max(started.elapsed().as_secs_f64() / spec.search_time.as_secs_f64());
+        if !progress.report(SEARCH_PROGRESS.0 + (SEARCH_PROGRESS.1 - SEARCH_PROGRESS.0) * done.min(1.0)) {
+            return Err(PlanError::Cancelled);
         }
         search.iterate(&inst);
         if spec.extension != Extension::None && views.len() < MAX_VIEWPOINTS && !search.best.tour.is_empty() {

@@ -64,7 +64,7 @@ fn run(case: &Case, iris: &Vehicle) -> InspectionPlan {
         start: Coord { x: -45.0, y: -45.0 },
         end: Coord { x: 45.0, y: -45.0 },
     };
-    plan(&input, &Stop::never()).expect("planned")
+    plan(&input, &|_| true, &Stop::never()).expect("planned")
 }
 
 /// 3D distance from `p` to the prism of `footprint` between `lo` and `hi`.
@@ -111,7 +111,7 @@ proptest! {
             structures: &case.structures, obstacles: &case.obstacles, no_fly_zones: &case.no_fly, geofence: &case.fence, vehicle: &iris,
             spec: &case.spec, fov_deg: [70.0, 55.0], gsd_range_m: None, start: Coord { x: -45.0, y: -45.0 }, end: Coord { x: 45.0, y: -45.0 },
         };
-        let planned = match plan(&input, &Stop::never()) {
+        let planned = match plan(&input, &|_| true, &Stop::never()) {
             Ok(p) => p,
             // a start or end that the generated scene blocks is refused, not planned
             Err(PlanError::Input(e)) if e.code == "position_not_free" || e.code == "budget_too_small" => return Ok(()),

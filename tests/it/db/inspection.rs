@@ -110,6 +110,28 @@ async fn a_barn_is_inspected_within_300_m_and_goes_to_the_autopilot() {
     app.stop().await;
 }
 
+/// A barn drawn away from every field cannot be seen from inside one: the plan says so, in
+/// those words, instead of asking for a wider range.
+#[tokio::test]
+async fn structures_beyond_the_fields_reach_are_named_as_the_cause() {
+    let app = TestApp::spawn().await;
+    let mut mission = barn_mission();
+    let frame = LocalFrame::new(8.55, 47.37);
+    let far = |x: f64, y: f64| {
+        let [lon, lat] = frame.to_wgs84(Coord { x: x + 400.0, y });
+        json!([lon, lat])
+    };
+    mission["structures"]["features"][0]["geometry"]["coordinates"] = json!([[far(-12.0, -6.0), far(12.0, -6.0), far(12.0, 6.0), far(-12.0, 6.0), far(-12.0, -6.0)]]);
+    mission["structures"]["features"].as_array_mut().unwrap().truncate(1);
+    let id = app.create_mission(&mission).await;
+    let (status, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &json!({"planner": "inspection", "budget": {"max_length_m": 3000}})).await;
+    assert_eq!(status, 202, "{plan}");
+    let done = app.wait_finished(plan["id"].as_str().unwrap()).await;
+    assert_eq!((done["status"].as_str(), done["error_code"].as_str()), (Some("failed"), Some("targets_outside_area")), "{done}");
+    assert!(done["error"].as_str().unwrap().contains("inside a field"), "{done}");
+    app.stop().await;
+}
+
 #[tokio::test]
 async fn inspection_requests_are_refused_with_their_place() {
     let app = TestApp::spawn().await;

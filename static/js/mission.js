@@ -139,13 +139,28 @@ $('draw').onclick = () => {
       if (!at) return drawingError('Type the point as "latitude, longitude", for example 51.985, 5.664.');
       setPose(kind, at, poseHeading(kind));
       map.panTo(at);
+      $('point-at').value = '';
       return changed();
     }
     map.pm.enableDraw('Marker', { markerStyle: { icon: poseIcon(kind, null) } });
+  } else if ($('point-at').value.trim()) {
+    const corners = $('point-at').value.split(/[;\n]/).map((c) => c.trim()).filter(Boolean).map(parseLatLng);
+    if (corners.length < 3 || corners.some((c) => !c)) return drawingError('Type at least three corners as "latitude, longitude", separated by semicolons.');
+    addShape(kind, corners);
+    $('point-at').value = '';
+    map.fitBounds(L.latLngBounds(corners), { padding: [20, 20], maxZoom: 17 });
   } else {
     map.pm.enableDraw('Polygon', { pathOptions: styles[kind === 'hole' ? 'field' : kind] });
   }
 };
+
+/** Adds a drawn or typed outline as the kind chosen. */
+function addShape(kind, ring) {
+  if (kind === 'hole') return cutHole(ring);
+  if (kind === 'structure') addStructure(ring, { height: Number($('obstacle-height').value), name: $('structure-name').value.trim() || undefined });
+  else addPolygon(kind, ring, Number($('obstacle-height').value));
+  changed();
+}
 
 $('edit').onclick = () => {
   const on = !map.pm.globalEditModeEnabled();
@@ -186,14 +201,10 @@ map.on('pm:create', (e) => {
     // one click places the point; the mode ends there
     map.pm.disableDraw();
     setPose(kind, e.layer.getLatLng(), poseHeading(kind));
-  } else if (kind === 'hole') {
-    return cutHole(e.layer.getLatLngs()[0]);
-  } else if (kind === 'structure') {
-    addStructure(e.layer.getLatLngs(), { height: Number($('obstacle-height').value), name: $('structure-name').value.trim() || undefined });
+    changed();
   } else {
-    addPolygon(kind, e.layer.getLatLngs(), Number($('obstacle-height').value));
+    addShape(kind, e.layer.getLatLngs()[0]);
   }
-  changed();
 });
 
 function syncDrawInputs() {
@@ -201,7 +212,9 @@ function syncDrawInputs() {
   $('height-box').hidden = !['obstacle', 'structure'].includes(kind);
   $('structure-name-box').hidden = kind !== 'structure';
   $('heading-box').hidden = !['start', 'end'].includes(kind);
-  $('point-box').hidden = !isPoint(kind);
+  // typed coordinates draw without a mouse: a point, or a shape's corners
+  $('point-label').textContent = isPoint(kind) ? 'at' : 'corners';
+  $('point-at').placeholder = isPoint(kind) ? 'lat, lon (or click the map)' : 'lat, lon; lat, lon; … (or click the map)';
   $('draw').textContent = isPoint(kind) ? 'Place' : 'Draw';
 }
 $('draw-kind').onchange = syncDrawInputs;

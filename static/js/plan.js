@@ -17,6 +17,7 @@ export async function fillForm() {
   catalogue = new Map(planners.map((p) => [p.id, p]));
   vehicleList = vehicles;
   cameraList = cameras;
+  state.cameras = cameras;
   // a patrol has its own form (the Patrol button)
   $('planner').innerHTML = planners.filter((p) => p.method !== 'patrol').map((p) => `<option value="${p.id}" title="${escapeHtml(p.description)}">${escapeHtml(p.name)}</option>`).join('');
   $('vehicle').innerHTML = Object.entries(kindNames)
@@ -107,11 +108,11 @@ function footprint(cam, altitude) {
 
 /** The altitude, spacing and photo interval the form asks for, as far as it says them. */
 function layout() {
-  if (groundVehicle()) return { spacing: num('working-width') };
+  if (groundVehicle()) return { spacing: valid('working-width') };
   const cam = chosenCamera();
-  if (!cam) return { spacing: num('spacing'), altitude: num('altitude') };
-  let altitude = num('altitude');
-  if (altitude === undefined && num('gsd') !== undefined) altitude = (num('gsd') * cam.focal_length_mm * cam.image_width_px) / (100 * cam.sensor_width_mm);
+  if (!cam) return { spacing: valid('spacing'), altitude: valid('altitude') };
+  let altitude = valid('altitude');
+  if (altitude === undefined && valid('gsd') !== undefined) altitude = (num('gsd') * cam.focal_length_mm * cam.image_width_px) / (100 * cam.sensor_width_mm);
   if (altitude === undefined) return {};
   const f = footprint(cam, altitude);
   return { altitude, gsd: f.gsd, spacing: f.across * (1 - (num('side-overlap') ?? 70) / 100), interval: f.along * (1 - (num('front-overlap') ?? 80) / 100) };
@@ -162,6 +163,8 @@ async function preview() {
 const aircraftLineEnds = () => !groundVehicle() && !inspecting() && reads('swath_ends');
 
 const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
+/** A value for the figures before planning: none while the input is out of its bounds. */
+const valid = (id) => ($(id).checkValidity() ? num(id) : undefined);
 
 /** An inspection's request: the budget, the faces, the camera's reach and the search. */
 function inspectionParams(p) {
@@ -170,7 +173,7 @@ function inspectionParams(p) {
   const names = $('target-names').value.split(',').map((n) => n.trim()).filter(Boolean);
   const both = faces.length === 2;
   p.targets = names.length ? names.map((name) => (both ? name : { name, faces })) : both ? [] : faces;
-  p.inspection = { range_m: [num('range-min'), num('range-max')], extension: $('extension').value, show_unseen: true };
+  p.inspection = { range_m: [num('range-min'), num('range-max')], safety_margin_m: num('safety-margin'), extension: $('extension').value, show_unseen: true };
   p.seed = num('inspection-seed');
   if ($('camera').value) p.camera = { preset: $('camera').value };
   if (num('gsd') !== undefined) p.gsd_cm = num('gsd');
@@ -267,6 +270,7 @@ export function restoreParams(p) {
     set('range-min', p.inspection.range_m && p.inspection.range_m[0]);
     set('range-max', p.inspection.range_m && p.inspection.range_m[1]);
     set('extension', p.inspection.extension);
+    set('safety-margin', p.inspection.safety_margin_m);
   }
   set('inspection-seed', p.seed);
   for (const kind of ['start', 'end']) {
@@ -282,7 +286,7 @@ const inputOf = [
   ['/line_spacing_m', 'spacing'], ['/altitude_m', 'altitude'], ['/gsd_cm', 'gsd'], ['/side_overlap', 'side-overlap'],
   ['/front_overlap', 'front-overlap'], ['/heading_deg', 'fixed-heading'], ['/vehicle/working_width_m', 'working-width'],
   ['/vehicle/turn_radius_m', 'turn-radius'], ['/vehicle', 'vehicle'], ['/headland_passes', 'headland-passes'], ['/vehicles', 'drones'],
-  ['/altitude_separation_m', 'altitude-separation'], ['/budget', 'budget'], ['/inspection/range_m', 'range-min'], ['/seed', 'inspection-seed'],
+  ['/altitude_separation_m', 'altitude-separation'], ['/budget', 'budget'], ['/inspection/range_m', 'range-min'], ['/inspection/safety_margin_m', 'safety-margin'], ['/seed', 'inspection-seed'],
   ['/targets', 'target-names'], ['/terrain_tolerance_m', 'terrain-tolerance'], ['/camera', 'camera'], ['/planner', 'planner'], ['/swath_ends', 'line-ends'],
 ];
 

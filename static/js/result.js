@@ -148,7 +148,7 @@ const figureRows = [
   ['length', (s) => `${(s.length_m / 1000).toFixed(2)} km`],
   [(s) => (onGround(s) ? 'working time' : 'flight time'), (s) => hours(s.duration_s)],
   [(s) => (onGround(s) ? 'fuel' : 'energy'), (s) => (onGround(s) ? `${(s.energy_j / DIESEL_J_PER_L).toFixed(1)} l of diesel` : `${s.energy_wh.toFixed(1)} Wh`)],
-  ['altitude', (s, p) => (onGround(s) || s.inspection ? '' : altitudeFlown(s, p))],
+  ['altitude', (s, p, fc) => (onGround(s) || s.inspection ? '' : altitudeFlown(s, p, fc))],
   ['line spacing', (s) => (s.inspection ? '' : `${s.line_spacing_m.toFixed(1)} m`)],
   ['coverage', (s) => (s.inspection ? '' : `${(100 * s.coverage_ratio).toFixed(1)} %`)],
   // the covered area over the spacing, per metre flown: the API's efficiency counts the whole
@@ -180,13 +180,16 @@ function renderFleet(stats) {
     .join('');
 }
 
-/** The altitude flown, and its GSD with a camera. */
-function altitudeFlown(s, p) {
-  const above = p && p.altitude_reference === 'terrain' ? 'above the ground' : 'above home';
-  const altitude = s.terrain ? null : p && p.altitude_m;
-  const gsd = p && p.gsd_cm;
-  if (altitude == null && gsd == null) return '';
-  return [altitude != null ? `${altitude} m ${above}` : `${above} for GSD`, gsd != null ? `GSD ${gsd} cm/px` : ''].filter(Boolean).join(', ');
+/** The altitude the sweeps are flown at (the trajectory's own heights: a GSD sets it), and the
+ * GSD that gives with the plan's camera. */
+function altitudeFlown(s, p, fc) {
+  if (s.terrain) return `${s.terrain.sweep_height_above_ground_m.map((h) => h.toFixed(1)).join(' to ')} m above the ground on sweeps`;
+  const sweep = fc && fc.features.find((f) => f.properties.kind === 'sweep');
+  const z = sweep && sweep.geometry.coordinates[0][2];
+  if (z == null) return '';
+  const cam = p && p.camera && (state.cameras || []).find((c) => c.id === p.camera.preset);
+  const gsd = cam ? ` · GSD ${((cam.sensor_width_mm * z * 100) / (cam.focal_length_mm * cam.image_width_px)).toFixed(2)} cm/px` : '';
+  return `${z.toFixed(1)} m above home${gsd}`;
 }
 
 /** What tells two plans apart, for their columns' heads: the planner, the vehicle, or else the
@@ -214,7 +217,7 @@ function renderFigures() {
   const shown = [a, b].filter(Boolean);
   $('figures').tBodies[0].innerHTML = shown.length && a
     ? figureRows
-      .map(([label, f]) => [typeof label === 'function' ? label(a.stats) : label, shown.map((r) => f(r.stats, r.params))])
+      .map(([label, f]) => [typeof label === 'function' ? label(a.stats) : label, shown.map((r) => f(r.stats, r.params, r.fc))])
       .filter(([, values]) => values.some((v) => v !== '' && v !== undefined && v !== null))
       .map(([name, [va, vb]]) => `<tr><td>${name}</td><td data-figure="${name}">${va ?? ''}</td>${b ? `<td>${vb ?? ''}</td>` : ''}</tr>`)
       .join('')

@@ -146,6 +146,14 @@ try {
   assert.equal(await state(() => window.coverplan.state.zones.getLayers().length), 0, 'the zone deleted');
   assert.equal(await fieldCount(), 1, 'the field stays');
   await page.keyboard.press('Escape');
+  // a zone typed as corners, without the mouse: drawn, then undone
+  const corner = (dx, dy) => page.evaluate(([x, y]) => { const p = window.coverplan.map.containerPointToLatLng([x, y]); return `${p.lat.toFixed(6)}, ${p.lng.toFixed(6)}`; }, [box.width / 2 + dx, box.height / 2 + dy]);
+  await page.selectOption('#draw-kind', 'nfz');
+  await page.fill('#point-at', [await corner(40, 30), await corner(90, 30), await corner(90, 70)].join('; '));
+  await page.click('#draw');
+  assert.equal(await state(() => window.coverplan.state.zones.getLayers().length), 1, 'a zone from typed corners');
+  await page.click('#undo');
+  assert.equal(await state(() => window.coverplan.state.zones.getLayers().length), 0);
   // an outline that would cross itself: the corner is refused, and the page says so
   await page.selectOption('#draw-kind', 'field');
   await page.click('#draw');
@@ -407,6 +415,7 @@ try {
   assert.deepEqual(restored, { planner: 'boustrophedon', camera, altitude: '60', side: '60', front: '75', start: 90 });
   const sent = (await (await fetch(`${base}/api/v1/missions/${missionId}/plans`)).json()).find((p) => p.status === 'succeeded').params;
   assert.deepEqual([sent.side_overlap, sent.front_overlap], [0.6, 0.75], 'the API gets fractions');
+  assert.match(await page.textContent('td[data-figure=altitude]'), /^60\.0 m above home · GSD [\d.]+ cm\/px$/, 'the altitude flown and its GSD');
   await page.screenshot({ path: path.join(os.tmpdir(), 'coverplan-page.png') });
 
   // a hilly field: its elevation model from the file picker, shaded under the field; planned at
@@ -448,6 +457,8 @@ try {
   assert.equal(await state(() => document.activeElement.id), 'spacing', 'the input at fault has the focus');
   assert.equal(await page.getAttribute('#spacing', 'aria-invalid'), 'true');
   assert.match(await page.textContent('#spacing-error'), /between 0\.5 and 2000/);
+  const [inputBox, barBox] = [await page.locator('#spacing').boundingBox(), await page.locator('.plan-bar').boundingBox()];
+  assert.ok(inputBox.y >= 0 && inputBox.y + inputBox.height <= barBox.y, `the input at fault is in sight, above the Plan bar (${inputBox.y}, bar at ${barBox.y})`);
   assert.ok(await page.isVisible('td[data-figure=length]'), 'nothing was planned, nothing was lost');
   await page.evaluate(() => document.getElementById('spacing').removeAttribute('min'));
   refusalsAsked = 1;

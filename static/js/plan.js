@@ -163,6 +163,8 @@ async function preview() {
 const aircraftLineEnds = () => !groundVehicle() && !inspecting() && reads('swath_ends');
 
 const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
+/** Watt-hours in a litre of diesel (36 MJ). */
+const WH_PER_LITRE = 10000;
 /** A value for the figures before planning: none while the input is out of its bounds. */
 const valid = (id) => ($(id).checkValidity() ? num(id) : undefined);
 
@@ -189,6 +191,9 @@ export function planParams() {
   if (!groundVehicle() && inspecting()) return inspectionParams(p);
   if (groundVehicle()) {
     Object.assign(p.vehicle, { working_width_m: num('working-width'), turn_radius_m: num('turn-radius'), reverse_allowed: $('reverse-allowed').checked });
+    // a tractor's figures in a farmer's units: km/h, and litres of diesel (36 MJ, 10 kWh each)
+    if (num('working-speed') !== undefined) p.vehicle.cruise_speed_mps = num('working-speed') / 3.6;
+    if (num('tank-litres') !== undefined) p.vehicle.battery_wh = num('tank-litres') * WH_PER_LITRE;
     p.headland_passes = num('headland-passes');
     p.headland_order = $('headland-order').value;
     p.swath_ends = $('swath-ends').value;
@@ -236,6 +241,8 @@ export function restoreParams(p) {
   set('working-width', p.vehicle && p.vehicle.working_width_m);
   set('turn-radius', p.vehicle && p.vehicle.turn_radius_m);
   $('reverse-allowed').checked = Boolean(p.vehicle && p.vehicle.reverse_allowed);
+  $('working-speed').value = p.vehicle && p.vehicle.cruise_speed_mps && groundVehicle() ? Math.round(p.vehicle.cruise_speed_mps * 36) / 10 : '';
+  $('tank-litres').value = p.vehicle && p.vehicle.battery_wh && groundVehicle() ? Math.round(p.vehicle.battery_wh / WH_PER_LITRE) : '';
   set('headland-passes', p.headland_passes);
   set('headland-order', p.headland_order);
   if (groundVehicle()) set('swath-ends', p.swath_ends);

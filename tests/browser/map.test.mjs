@@ -295,6 +295,8 @@ try {
   assert.ok(!(await page.isVisible('#camera-box')) && !(await page.isVisible('#spacing-box')), 'no camera or spacing for a tractor');
   assert.equal(await page.inputValue('#planner'), 'headland');
   await page.fill('#working-width', '12');
+  await page.fill('#working-speed', '9');
+  await page.fill('#tank-litres', '150');
   await page.selectOption('#swath-ends', 'centre_line');
   await page.evaluate(() => { document.getElementById('status').textContent = ''; });
   await page.click('#plan');
@@ -305,6 +307,8 @@ try {
   assert.match(await page.textContent('td[data-figure="turn shapes"]'), /\d+ U/);
   for (const id of ['#altitude-box', '#gsd-box', '#overlap-box', '#camera-box', '#reference-box']) assert.ok(!(await page.isVisible(id)), `no ${id} for a tractor`);
   assert.match(await page.textContent('td[data-figure=fuel]'), /l of diesel/);
+  const tractorSent = (await (await fetch(`${base}/api/v1/missions/${missionId}/plans`)).json()).find((p) => p.params.vehicle.profile === 'tractor_sprayer').params.vehicle;
+  assert.deepEqual([tractorSent.cruise_speed_mps, tractorSent.battery_wh], [2.5, 1500000], 'km/h and litres sent as m/s and Wh');
   assert.ok(await page.isVisible('td[data-figure="working time"]'), 'working time, not flight time');
   const tractorRows = await page.$$eval('#figures tbody td:first-child', (t) => t.map((x) => x.textContent));
   for (const absent of ['sorties', 'photos', 'energy', 'flight time', 'altitude']) assert.ok(!tractorRows.includes(absent), `no ${absent} for a tractor: ${tractorRows}`);

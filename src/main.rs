@@ -293,14 +293,8 @@ fn plan(
         None => None,
     };
     let home = mission.get("home").filter(|h| !h.is_null()).map(|h| serde_json::from_value::<[f64; 2]>(h.clone())).transpose().context("home must be [lon, lat]")?;
-    let geometry = MissionGeometry {
-        area: mission.get("area").context("the mission has no `area`")?,
-        no_fly_zones: mission.get("no_fly_zones").filter(|v| !v.is_null()),
-        obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
-        structures: mission.get("structures").filter(|v| !v.is_null()),
-        home,
-        terrain: model.as_ref(),
-    };
+    mission.get("area").context("the mission has no `area`")?;
+    let geometry = MissionGeometry { home, terrain: model.as_ref(), ..MissionGeometry::of(&mission) };
     let profiles = planner::vehicle::builtin_profiles();
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(100);

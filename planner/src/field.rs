@@ -40,6 +40,28 @@ pub struct MissionGeometry<'a> {
     pub terrain: Option<&'a crate::terrain::ElevationModel>,
 }
 
+impl<'a> MissionGeometry<'a> {
+    /// The geometry of a mission document as the API writes one (`area`, `no_fly_zones`,
+    /// `obstacles`, `structures`, `home`; a member set to null is absent). A home that is not
+    /// `[lon, lat]` is no home: validating the document names that error.
+    pub fn of(document: &'a Value) -> Self {
+        let member = |name: &str| document.get(name).filter(|v| !v.is_null());
+        MissionGeometry {
+            area: document.get("area").unwrap_or(&Value::Null),
+            no_fly_zones: member("no_fly_zones"),
+            obstacles: member("obstacles"),
+            structures: member("structures"),
+            home: member("home").and_then(|h| serde_json::from_value(h.clone()).ok()),
+            terrain: None,
+        }
+    }
+
+    /// A mission of one area and nothing else.
+    pub fn area(area: &'a Value) -> Self {
+        MissionGeometry { area, no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None }
+    }
+}
+
 /// A validated field in its local frame: polygons with holes, no-fly zones, home.
 #[derive(Debug, Clone)]
 pub struct Field {

@@ -627,7 +627,7 @@ mod tests {
                     "start": {"position": at(corner.0, corner.1)},
                 }))
                 .unwrap();
-                let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None };
+                let mission = MissionGeometry::area(&area);
                 let prepared = prepare(&mission, &params, &profiles, &FieldLimits::default()).unwrap();
                 let transit = TransitPlanner::new(&prepared.keep_out, &prepared.walls);
                 let stop = Stop::never();

@@ -15,7 +15,7 @@ fn eg_cpp_answers_within_its_time_limit_with_the_gap_it_left() {
     let (dx, dy) = (190.0 / (111_320.0 * 45f64.to_radians().cos()), 190.0 / 110_574.0);
     let area = json!({"type": "Polygon", "coordinates": [[[10.0, 45.0], [10.0 + dx, 45.0], [10.0 + dx, 45.0 + dy], [10.0, 45.0 + dy], [10.0, 45.0]]]});
     let params: PlanParams = serde_json::from_value(json!({"planner": "eg_cpp", "line_spacing_m": 20})).unwrap();
-    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None };
+    let mission = MissionGeometry::area(&area);
     let mut profiles = builtin_profiles();
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
     let started = std::time::Instant::now();

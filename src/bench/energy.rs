@@ -47,7 +47,7 @@ fn geojson(points: &[[f64; 2]]) -> Value {
 
 fn plan(area: &Value, planner: &str, profiles: &[planner::vehicle::Vehicle]) -> Result<planner::PlanOutput, planner::PlanError> {
     let params: PlanParams = serde_json::from_value(json!({"planner": planner, "line_spacing_m": 20, "vehicle": {"profile": "iris"}})).expect("params");
-    let mission = MissionGeometry { area, no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None };
+    let mission = MissionGeometry::area(area);
     planner::plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never())
 }
 

@@ -61,8 +61,7 @@ pub fn run(dir: &Path, fields: &[String]) -> anyhow::Result<String> {
         let ring = m["area"]["coordinates"][0].as_array().context("a polygon")?;
         let (lon, lat) = ring.iter().fold((f64::INFINITY, f64::INFINITY), |(x, y), p| (x.min(p[0].as_f64().unwrap_or(x)), y.min(p[1].as_f64().unwrap_or(y))));
         let home = [lon - 50.0 / (111_320.0 * lat.to_radians().cos()), lat - 50.0 / 110_574.0];
-        let mission =
-            MissionGeometry { area: &m["area"], no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null()), obstacles: None, structures: None, home: Some(home), terrain: None };
+        let mission = MissionGeometry { home: Some(home), ..MissionGeometry::of(&m) };
         let mut one = None;
         for (k, &n) in FLEETS.iter().enumerate() {
             let params = PlanParams { line_spacing_m: Some(spacing), vehicles: (n > 1).then_some(n), ..PlanParams::default() };

@@ -35,7 +35,7 @@ fn params(width: f64, radius: f64, headland: Value) -> anyhow::Result<PlanParams
 /// The plan of `mission` (median time over `repeats` runs, peak memory of the last), or the
 /// reason it was refused.
 fn plan(mission: &Value, params: &PlanParams, repeats: usize) -> Result<(PlanOutput, f64, f64), String> {
-    let m = MissionGeometry { area: &mission["area"], no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None };
+    let m = MissionGeometry::area(&mission["area"]);
     let profiles = planner::vehicle::builtin_profiles();
     let mut times = Vec::new();
     let mut last = None;

@@ -65,14 +65,7 @@ struct Row<'a> {
 }
 
 fn row(out: &mut String, r: &Row<'_>, seeds: u64) {
-    let m = MissionGeometry {
-        area: &r.mission["area"],
-        no_fly_zones: None,
-        obstacles: None,
-        structures: Some(&r.mission["structures"]),
-        home: serde_json::from_value(r.mission["home"].clone()).ok(),
-        terrain: None,
-    };
+    let m = MissionGeometry { no_fly_zones: None, obstacles: None, ..MissionGeometry::of(r.mission) };
     let profiles = planner::vehicle::builtin_profiles();
     let (mut shares, mut times, mut flown, mut sampled, mut lengths, mut iterations) = (Vec::new(), Vec::new(), 0, 0, 0.0, 0);
     let mut options = r.options.clone();

@@ -180,14 +180,10 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
             if fixed_wing {
                 params.vehicle = VehicleParams { kind: Some(VehicleKind::FixedWing), turn_radius_m: Some(spacing / 2.0), ..VehicleParams::default() };
             }
-            let mission = MissionGeometry {
-                area: &m["area"],
-                no_fly_zones: m.get("no_fly_zones").filter(|v| !v.is_null() && !options.overfly_holes),
-                obstacles: None,
-                structures: None,
-                home: None,
-                terrain: None,
-            };
+            let mut mission = MissionGeometry::area(&m["area"]);
+            if !options.overfly_holes {
+                mission.no_fly_zones = m.get("no_fly_zones").filter(|v| !v.is_null());
+            }
             for _ in 0..repeats {
                 reset_peak();
                 let t = Instant::now();

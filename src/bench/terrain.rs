@@ -76,14 +76,7 @@ fn generated(class: &str, seed: u64, hills: usize, height: f64, width: f64, clif
 }
 
 fn plan_once(case: &Case, params: &PlanParams, over_terrain: bool) -> anyhow::Result<(PlanOutput, f64)> {
-    let geometry = MissionGeometry {
-        area: &case.mission["area"],
-        no_fly_zones: None,
-        obstacles: None,
-        structures: None,
-        home: serde_json::from_value(case.mission["home"].clone()).ok(),
-        terrain: over_terrain.then_some(&case.model),
-    };
+    let geometry = MissionGeometry { no_fly_zones: None, terrain: over_terrain.then_some(&case.model), ..MissionGeometry::of(&case.mission) };
     let started = Instant::now();
     let out = planner::plan(&geometry, params, &planner::vehicle::builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never())
         .map_err(|e| anyhow::anyhow!("{}: {e}", case.class))?;

@@ -99,14 +99,7 @@ pub use crate::config::QueueSettings;
 
 /// The geometry of a mission snapshot stored with a plan.
 pub fn snapshot_geometry(mission: &Value) -> MissionGeometry<'_> {
-    MissionGeometry {
-        area: mission.get("area").unwrap_or(&Value::Null),
-        no_fly_zones: mission.get("no_fly_zones").filter(|v| !v.is_null()),
-        obstacles: mission.get("obstacles").filter(|v| !v.is_null()),
-        structures: mission.get("structures").filter(|v| !v.is_null()),
-        home: mission.get("home").and_then(|h| serde_json::from_value::<[f64; 2]>(h.clone()).ok()),
-        terrain: None,
-    }
+    MissionGeometry::of(mission)
 }
 
 /// The vehicle profiles of a snapshot, as they were when the plan was queued (older plans:

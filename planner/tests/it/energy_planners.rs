@@ -30,7 +30,7 @@ fn run(area: &[(f64, f64)], nfz: Option<&[(f64, f64)]>, home: Option<[f64; 2]>, 
     let area = json!({"type": "Polygon", "coordinates": [ring(area)]});
     let nfz = nfz.map(|z| json!({"type": "Polygon", "coordinates": [ring(z)]}));
     let params: PlanParams = serde_json::from_value(params).unwrap();
-    let mission = MissionGeometry { area: &area, no_fly_zones: nfz.as_ref(), obstacles: None, structures: None, home, terrain: None };
+    let mission = MissionGeometry { no_fly_zones: nfz.as_ref(), home, ..MissionGeometry::area(&area) };
     plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never())
 }
 

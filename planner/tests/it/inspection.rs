@@ -44,7 +44,7 @@ pub fn scene_one_params(budget_m: f64, extension: &str, seed: u64) -> PlanParams
 
 pub fn plan_scene_one(params: &PlanParams) -> PlanOutput {
     let (area, structures, home) = scene_one();
-    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: Some(&structures), home: Some(home), terrain: None };
+    let mission = MissionGeometry { structures: Some(&structures), home: Some(home), ..MissionGeometry::area(&area) };
     plan(&mission, params, &coverplan_planner::vehicle::builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned")
 }
 
@@ -102,7 +102,7 @@ fn a_higher_priority_is_seen_at_least_as_much() {
         {"type": "Feature", "properties": {"name": "east", "height_m": 8.0}, "geometry": {"type": "Polygon", "coordinates": square(15.0)}},
     ]});
     let home = frame.to_wgs84(Coord { x: 4.0, y: -20.0 });
-    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: Some(&structures), home: Some(home), terrain: None };
+    let mission = MissionGeometry { structures: Some(&structures), home: Some(home), ..MissionGeometry::area(&area) };
     let share_of_east = |priority: f64| {
         let params: PlanParams = serde_json::from_value(json!({
             "planner": "inspection",
@@ -136,7 +136,7 @@ fn a_model_is_inspected_like_its_prism() {
     let structures = json!({"type": "FeatureCollection", "features": [{
         "type": "Feature", "properties": {"name": "model", "obj": obj, "up": "y"}, "geometry": {"type": "Point", "coordinates": corner},
     }]});
-    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: Some(&structures), home: Some(home), terrain: None };
+    let mission = MissionGeometry { structures: Some(&structures), home: Some(home), ..MissionGeometry::area(&area) };
     let out =
         plan(&mission, &scene_one_params(200.0, "none", 1), &coverplan_planner::vehicle::builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned");
     let ins = out.stats.inspection.unwrap();

@@ -42,7 +42,7 @@ fn mission(sides: &[&str], penalty: f64) -> (PlanOutput, Vec<Polygon>, LocalFram
         "obstacle_clearance_m": CLEARANCE, "max_climb_deg": 30.0, "coverage_penalty": penalty,
     }))
     .unwrap();
-    let m = MissionGeometry { area: &area, no_fly_zones: None, obstacles: Some(&obstacles_json), structures: None, home: None, terrain: None };
+    let m = MissionGeometry { obstacles: Some(&obstacles_json), ..MissionGeometry::area(&area) };
     (plan(&m, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned"), obstacles, frame)
 }
 
@@ -100,7 +100,7 @@ fn field_cut_by_a_zone(params: Value) -> PlanOutput {
     params["vehicle"] = json!({"kind": "fixed_wing", "turn_radius_m": 40.0});
     let area = json!({"type": "Polygon", "coordinates": ring(&frame, &field)});
     let zones = json!({"type": "Polygon", "coordinates": ring(&frame, &zone)});
-    let m = MissionGeometry { area: &area, no_fly_zones: Some(&zones), obstacles: None, structures: None, home: None, terrain: None };
+    let m = MissionGeometry { no_fly_zones: Some(&zones), ..MissionGeometry::area(&area) };
     plan(&m, &serde_json::from_value(params).unwrap(), &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned")
 }
 

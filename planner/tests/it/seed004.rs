@@ -59,7 +59,7 @@ fn plan_scenario(s: &Scenario, lon: f64, lat: f64, turn_deg: f64, allow_reentry:
         "allow_reentry": allow_reentry,
     }))
     .unwrap();
-    let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None };
+    let mission = MissionGeometry::area(&area);
     plan(&mission, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned")
 }
 

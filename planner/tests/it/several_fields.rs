@@ -32,7 +32,7 @@ proptest! {
         ]});
         let params: PlanParams =
             serde_json::from_value(json!({"planner": "line_gtsp", "line_spacing_m": 20, "vehicle": {"profile": "iris"}})).unwrap();
-        let mission = MissionGeometry { area: &area, no_fly_zones: None, obstacles: None, structures: None, home: None, terrain: None };
+        let mission = MissionGeometry::area(&area);
         let out = plan(&mission, &params, &coverplan_planner::vehicle::builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never()).expect("planned");
         prop_assert!(out.stats.coverage_ratio >= 0.99, "coverage {}", out.stats.coverage_ratio);
         let mut sweeps = [0, 0];

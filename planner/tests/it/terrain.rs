@@ -178,7 +178,7 @@ fn refuses_a_model_that_misses_home_or_a_plan_without_one() {
     far["home"] = json!([9.2, 46.96]);
     let params: PlanParams = serde_json::from_value(json!({"altitude_m": 60, "line_spacing_m": 60, "altitude_reference": "terrain"})).unwrap();
     let home = serde_json::from_value(far["home"].clone()).ok();
-    let geometry = |terrain| MissionGeometry { area: &far["area"], no_fly_zones: None, obstacles: None, structures: None, home, terrain };
+    let geometry = |terrain| MissionGeometry { home, terrain, ..MissionGeometry::area(&far["area"]) };
     let check = |g| coverplan_planner::check_plan(&g, &params, &builtin_profiles(), &FieldLimits::default()).err().unwrap();
     let e = check(geometry(Some(&model)));
     assert_eq!((e.code, e.pointer.as_str()), ("terrain_not_covering", "/home"), "{e:?}");

@@ -20,7 +20,7 @@ fn plan_with_home(area: &Value, nfz: Option<&Value>, home: [f64; 2], params: &Pl
 /// The plan, or `None` when the planner refuses the field with a documented refusal (as
 /// `planner_properties::try_plan`); any other error fails.
 fn try_plan_with_home(area: &Value, nfz: Option<&Value>, home: [f64; 2], params: &PlanParams) -> Option<PlanOutput> {
-    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, structures: None, home: Some(home), terrain: None };
+    let mission = MissionGeometry { no_fly_zones: nfz, home: Some(home), ..MissionGeometry::area(area) };
     match planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()) {
         Ok(out) => Some(out),
         Err(PlanError::Input(e)) if ["planner_not_applicable", "instance_too_large"].contains(&e.code) => None,
@@ -232,7 +232,7 @@ fn altitude_layers_separate_transits() {
 #[test]
 fn fleets_refuse_what_they_cannot_split() {
     let (area, nfz, home) = fixture_field("random-fields/h02_00.json");
-    let mission = MissionGeometry { area: &area, no_fly_zones: nfz.as_ref(), obstacles: None, structures: None, home: Some(home), terrain: None };
+    let mission = MissionGeometry { no_fly_zones: nfz.as_ref(), home: Some(home), ..MissionGeometry::area(&area) };
     let refused = |params: PlanParams| match planner::plan(&mission, &params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()) {
         Err(PlanError::Input(e)) => (e.code, e.pointer),
         other => panic!("not refused: {:?}", other.map(|o| o.stats.planner)),

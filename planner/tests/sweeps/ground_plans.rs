@@ -19,7 +19,7 @@ fn ground(width: f64, radius: f64, extra: Value) -> PlanParams {
 }
 
 fn run(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Result<PlanOutput, PlanError> {
-    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, structures: None, home: None, terrain: None };
+    let mission = MissionGeometry { no_fly_zones: nfz, ..MissionGeometry::area(area) };
     planner::plan(&mission, params, &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never())
 }
 

@@ -20,7 +20,7 @@ fn plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> PlanOutput {
 /// refusals: outside its method (`planner_not_applicable`, such as a spiral around holes) or
 /// over its search limit (`instance_too_large`); any other error fails.
 fn try_plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Option<PlanOutput> {
-    let mission = MissionGeometry { area, no_fly_zones: nfz, obstacles: None, structures: None, home: None, terrain: None };
+    let mission = MissionGeometry { no_fly_zones: nfz, ..MissionGeometry::area(area) };
     match planner::plan(&mission, params, &unlimited_battery(), &FieldLimits::default(), &|_| true, &Stop::never()) {
         Ok(out) => Some(out),
         Err(PlanError::Input(e)) if ["planner_not_applicable", "instance_too_large"].contains(&e.code) => None,

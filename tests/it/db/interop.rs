@@ -587,7 +587,7 @@ async fn kml_imports_are_named_by_the_file() {
 /// arc), and the ISOXML reads back to the same fields.
 fn check_every_format(file: &str, fixed_wing: bool, camera: bool) -> Result<(), TestCaseError> {
     let fixture = common::fixture(&format!("random-fields/{file}"));
-    let mission = MissionGeometry { area: &fixture["area"], no_fly_zones: fixture.get("no_fly_zones"), obstacles: None, structures: None, home: None, terrain: None };
+    let mission = MissionGeometry { no_fly_zones: fixture.get("no_fly_zones"), ..MissionGeometry::area(&fixture["area"]) };
     let mut params: PlanParams = serde_json::from_value(json!({"planner": "boustrophedon", "vehicle": {"kind": if fixed_wing { "fixed_wing" } else { "multirotor" }}})).unwrap();
     if camera {
         params.camera = serde_json::from_value(json!({"preset": "dji_mavic3_enterprise"})).unwrap();

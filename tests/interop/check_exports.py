@@ -4,7 +4,10 @@ usage: check_exports.py DIR
 
 DIR/manifest.json (written by tests/it/db/interop.rs) lists the files and what each must hold:
   {"files": [{"file", "format", "waypoints": [[lat, lon], ...], "pieces", "fields", "holes",
-              "zones", "photo_lines"}]}
+              "zones", "photo_lines", "photos"}]}
+"photos" (the plan's photo count, when its sweeps are straight lines) is checked against the
+photos an autopilot triggering by distance takes along the MAVLink files; their extra waypoints
+where a line's photos start and stop must lie on the planned lines.
 A plan over terrain adds "frame" (the MAVLink frame of positions: 0 above mean sea level, 10 above
 the ground), "heights" (each waypoint's altitude in that frame) and "home_alt" (the ground at home,
 above mean sea level).
@@ -37,16 +40,79 @@ WPML = "{http://www.dji.com/wpmz/1.0.6}"
 KML = "{http://www.opengis.net/kml/2.2}"
 
 
-def same_points(found, expected, what):
-    assert len(found) == len(expected), f"{what}: {len(found)} waypoints, expected {len(expected)}"
-    for k, (f, e) in enumerate(zip(found, expected)):
-        assert abs(f[0] - e[0]) <= TOLERANCE_DEG and abs(f[1] - e[1]) <= TOLERANCE_DEG, f"{what}: waypoint {k} at {f}, expected {e}"
+def same_point(f, e):
+    return abs(f[0] - e[0]) <= TOLERANCE_DEG and abs(f[1] - e[1]) <= TOLERANCE_DEG
 
 
-def same_heights(found, spec, what, offset=0.0):
-    """Each waypoint's altitude against the planned one (less `offset`), when the plan says them."""
+def same_points(found, expected, what, extras_on_legs=False):
+    """The planned points in order; with `extras_on_legs`, other points may come between two
+    planned ones if they lie on the leg between them. Returns the indices of the planned ones."""
+    if not extras_on_legs:
+        assert len(found) == len(expected), f"{what}: {len(found)} waypoints, expected {len(expected)}"
+        for k, (f, e) in enumerate(zip(found, expected)):
+            assert same_point(f, e), f"{what}: waypoint {k} at {f}, expected {e}"
+        return list(range(len(found)))
+    matched, k = [], 0
+    for i, f in enumerate(found):
+        if k < len(expected) and same_point(f, expected[k]):
+            matched.append(i)
+            k += 1
+            continue
+        assert 0 < k < len(expected) and on_leg(f, expected[k - 1], expected[k]), f"{what}: waypoint {i} at {f} is neither the next planned point {expected[min(k, len(expected) - 1)]} nor on the leg to it"
+    assert k == len(expected), f"{what}: {k} of {len(expected)} planned points found"
+    return matched
+
+
+def on_leg(p, a, b):
+    """Whether p lies on the segment from a to b (degrees, within about a centimetre)."""
+    (ay, ax), (by, bx), (py, px) = a, b, p
+    dx, dy = bx - ax, by - ay
+    length2 = dx * dx + dy * dy
+    t = ((px - ax) * dx + (py - ay) * dy) / length2 if length2 else 0.0
+    return -1e-9 <= t <= 1 + 1e-9 and abs((px - ax) * dy - (py - ay) * dx) / max(length2 ** 0.5, 1e-12) <= TOLERANCE_DEG
+
+
+def autopilot_photos(items):
+    """Photos an autopilot triggering by distance takes along (command, p1, p3, lat, lon) items:
+    one when a distance is set with "trigger now", then one whenever it is that distance
+    (straight-line) from the last, until a distance of 0. ArduPilot's and PX4's rule."""
+    import math
+
+    photos, at, distance = [], None, 0.0
+    lat0 = next(i[3] for i in items if i[0] == NAV_WAYPOINT)
+    scale = (111320.0 * math.cos(math.radians(lat0)), 110574.0)
+    for command, p1, p3, lat, lon in items:
+        if command == CAM_TRIGG_DIST:
+            distance = p1
+            if p3 == 1 and at is not None:
+                photos.append(at)
+            continue
+        if command != NAV_WAYPOINT:
+            continue
+        to = (lon * scale[0], lat * scale[1])
+        if at is not None and distance > 0:
+            leg = (to[0] - at[0], to[1] - at[1])
+            length = math.hypot(*leg)
+            u = (leg[0] / length, leg[1] / length) if length else (0.0, 0.0)
+            while length:
+                last = photos[-1]
+                w = (at[0] - last[0], at[1] - last[1])
+                b = w[0] * u[0] + w[1] * u[1]
+                s = -b + math.sqrt(max(0.0, b * b - (w[0] ** 2 + w[1] ** 2) + distance * distance))
+                if not (1e-9 < s <= length):
+                    break
+                photos.append((at[0] + u[0] * s, at[1] + u[1] * s))
+        at = to
+    return photos
+
+
+def same_heights(found, spec, what, offset=0.0, planned=None):
+    """Each waypoint's altitude against the planned one (less `offset`), when the plan says them;
+    `planned`: the indices of the planned waypoints among those found."""
     if "heights" not in spec:
         return
+    if planned is not None:
+        found = [found[i] for i in planned]
     expected = [h - offset for h in spec["heights"]]
     assert len(found) == len(expected), f"{what}: {len(found)} heights, expected {len(expected)}"
     for k, (f, e) in enumerate(zip(found, expected)):
@@ -65,12 +131,16 @@ def check_waypoints(path, spec):
         assert i.frame == expected_frame, f"item {i.seq}: frame {i.frame}"
     if "home_alt" in spec:
         assert abs(loader.wp(0).z - spec["home_alt"]) <= TOLERANCE_M, f"home at {loader.wp(0).z} m, the ground at {spec['home_alt']} m"
-    same_points([(i.x, i.y) for i in items if i.command == NAV_WAYPOINT], spec["waypoints"], path.name)
-    same_heights([i.z for i in items if i.command == NAV_WAYPOINT], spec, path.name)
+    planned = same_points([(i.x, i.y) for i in items if i.command == NAV_WAYPOINT], spec["waypoints"], path.name, extras_on_legs=True)
+    same_heights([i.z for i in items if i.command == NAV_WAYPOINT], spec, path.name, planned=planned)
+    if "photos" in spec:
+        taken = autopilot_photos([(i.command, i.param1, i.param3, i.x, i.y) for i in items])
+        assert len(taken) == spec["photos"], f"{path.name}: an autopilot takes {len(taken)} photos, the plan shows {spec['photos']}"
     first_waypoint = next(k for k, i in enumerate(items) if i.command == NAV_WAYPOINT)
     speeds = [i.param2 for i in items[:first_waypoint] if i.command == mavutil.mavlink.MAV_CMD_DO_CHANGE_SPEED]
     assert speeds and speeds[0] > 0, "the speed is set before the first waypoint"
-    starts = sum(1 for i in items if i.command == CAM_TRIGG_DIST and i.param1 > 0)
+    # a line's camera starts with "trigger now" (a line of one photo: a distance of 0)
+    starts = sum(1 for i in items if i.command == CAM_TRIGG_DIST and (i.param1 > 0 or i.param3 == 1))
     assert starts == spec["photo_lines"], f"camera started {starts} times, expected {spec['photo_lines']}"
 
 
@@ -85,11 +155,14 @@ def check_plan(path, spec):
     items = plan["mission"]["items"]
     assert [i["doJumpId"] for i in items] == list(range(1, len(items) + 1)), "doJumpId must count from 1"
     waypoints = [i for i in items if i["command"] == NAV_WAYPOINT]
-    same_points([(i["params"][4], i["params"][5]) for i in waypoints], spec["waypoints"], path.name)
+    planned = same_points([(i["params"][4], i["params"][5]) for i in waypoints], spec["waypoints"], path.name, extras_on_legs=True)
     frame = spec.get("frame", 3)
     assert plan["mission"]["globalPlanAltitudeMode"] == ALTITUDE_MODES[frame]
     assert all(i["frame"] == frame and i["AltitudeMode"] == ALTITUDE_MODES[frame] for i in waypoints), f"{path.name}: every waypoint in frame {frame}"
-    same_heights([i["Altitude"] for i in waypoints], spec, path.name)
+    same_heights([i["Altitude"] for i in waypoints], spec, path.name, planned=planned)
+    if "photos" in spec:
+        taken = autopilot_photos([(i["command"], i["params"][0], i["params"][2], i["params"][4], i["params"][5]) for i in items])
+        assert len(taken) == spec["photos"], f"{path.name}: an autopilot takes {len(taken)} photos, the plan shows {spec['photos']}"
     if "home_alt" in spec:
         assert abs(plan["mission"]["plannedHomePosition"][2] - spec["home_alt"]) <= TOLERANCE_M, "home on the ground"
     fences = plan["geoFence"]["polygons"]

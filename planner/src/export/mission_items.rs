@@ -1,12 +1,15 @@
 //! MAVLink mission items of one sortie, shared by the QGroundControl `.plan` and the
 //! `QGC WPL 110` file (docs/methods.md, interop §4): take-off, a speed change wherever the speed
 //! changes, a waypoint at every line end and turn point, the camera triggered by distance on
-//! sweeps only, and a return to launch (or a landing, without a home) at the end. At an
+//! sweeps only (from the plan's first photo of a line to its last, at the line's own step), and
+//! a return to launch (or a landing, without a home) at the end. At an
 //! inspection's viewpoint the vehicle holds, turns to the viewpoint's yaw, points the gimbal
 //! and takes one picture.
 
 use super::flight::{FlownPiece, ViewAction, Waypoint, waypoints};
-use super::{AltitudeFrame, Firmware, FlightSettings};
+use super::{AltitudeFrame, Firmware, FlightSettings, PhotoRule};
+use crate::camera::fitted_photo_offsets;
+use crate::frame::LocalFrame;
 use crate::path::PieceKind;
 use crate::vehicle::VehicleKind;
 
@@ -124,9 +127,25 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], settings: &Fli
         }
         let on_sweep = piece.kind == PieceKind::Sweep;
         let sweep_end = on_sweep && w.index + 1 == piece.points.len();
-        if let (Some(distance), true) = (settings.trigger_distance_m, on_sweep && w.index == 1) {
-            // the vehicle is at the line's start: trigger now and every `distance` metres
-            items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [distance, 0.0, 1.0, 0.0]));
+        let mut stopped = false;
+        if let (Some(rule), true) = (settings.photos, on_sweep && w.index == 1) {
+            match line_triggers(piece, w.piece, rule) {
+                // a straight line: fly to its first photo, trigger there and every step, stop
+                // half a step past its last photo
+                Some(line) => {
+                    if let Some(start) = &line.start {
+                        items.push(place(NAV_WAYPOINT, [Some(0.0), Some(0.0), Some(0.0), keep_yaw], start));
+                    }
+                    items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [line.step_m, 0.0, 1.0, 0.0]));
+                    if let Some(stop) = &line.stop {
+                        items.push(place(NAV_WAYPOINT, [Some(0.0), Some(0.0), Some(0.0), keep_yaw], stop));
+                        items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
+                        stopped = true;
+                    }
+                }
+                // a sweep laid over terrain bends: trigger from its start at the camera's step
+                None => items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [rule.spacing_m, 0.0, 1.0, 0.0])),
+            }
         }
         if w.position[2] - w.ground_m.unwrap_or(0.0) < GROUND_M {
             continue;
@@ -136,7 +155,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], settings: &Fli
             Some(view) => items.extend(view_items(view, w.position, settings)),
             None => items.push(place(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w)),
         }
-        if settings.trigger_distance_m.is_some() && sweep_end {
+        if settings.photos.is_some() && sweep_end && !stopped {
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
         }
     }
@@ -148,6 +167,37 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], settings: &Fli
         }
     }
     items
+}
+
+/// Where a straight sweep's photos start and stop, and their step.
+struct LineTriggers {
+    /// The first photo's place, unless it is the line's start.
+    start: Option<Waypoint>,
+    /// Half a step past the last photo, unless that is past the line's end (or the line has one
+    /// photo: a step of 0 takes it and stops).
+    stop: Option<Waypoint>,
+    step_m: f64,
+}
+
+/// The plan's photos on a straight sweep (`None` for a sweep of several segments), by the
+/// plan's own rule ([`fitted_photo_offsets`]): the file triggers where the plan images.
+fn line_triggers(piece: &FlownPiece, index: usize, rule: PhotoRule) -> Option<LineTriggers> {
+    let [a, b] = piece.points.as_slice() else { return None };
+    let local = LocalFrame::new(a[0], a[1]).to_local(b[0], b[1]);
+    let len = local.x.hypot(local.y);
+    let offsets = fitted_photo_offsets(len, rule.footprint_along_m, rule.spacing_m);
+    let (&first, &last) = (offsets.first()?, offsets.last()?);
+    let step_m = if offsets.len() > 1 { (last - first) / (offsets.len() - 1) as f64 } else { 0.0 };
+    // a waypoint closer than this to another is none: the vehicle is there already
+    const NEAR_M: f64 = 0.05;
+    let at = |t: f64| {
+        let f = t / len;
+        let lerp = |u: f64, v: f64| u + (v - u) * f;
+        let ground_m = piece.ground_m.as_ref().map(|g| lerp(g[0], g[1]));
+        Waypoint { position: [lerp(a[0], b[0]), lerp(a[1], b[1]), lerp(a[2], b[2])], piece: index, index: 0, on_arc: false, ground_m }
+    };
+    let stop_t = last + step_m / 2.0;
+    Some(LineTriggers { start: (first > NEAR_M).then(|| at(first)), stop: (step_m > 0.0 && stop_t < len - NEAR_M).then(|| at(stop_t)), step_m })
 }
 
 /// At an inspection's viewpoint: hold, face its yaw (PX4 reads the waypoint's yaw; ArduCopter
@@ -190,7 +240,7 @@ mod tests {
             cruise_speed_mps: 8.0,
             turn_radius_m: 0.0,
             line_spacing_m: 20.0,
-            trigger_distance_m: trigger,
+            photos: trigger.map(|spacing_m| PhotoRule { footprint_along_m: 20.0, spacing_m }),
             hold_s: 0.0,
             altitude_frame: AltitudeFrame::Amsl,
         }
@@ -206,18 +256,84 @@ mod tests {
         ];
         let items = mission_items(&pieces, &[], &settings(Some(12.0)), Some([0.0, 0.0]));
         let commands: Vec<u16> = items.iter().map(|i| i.command).collect();
-        assert_eq!(commands, vec![22, 178, 16, 16, 178, 206, 16, 206, 178, 16, 178, 206, 16, 206, 20]);
-        assert_eq!(items[5].params[0], Some(12.0));
+        // on each sweep: to the first photo, trigger, to half a step past the last, stop, the end
+        assert_eq!(commands, vec![22, 178, 16, 16, 178, 16, 206, 16, 206, 16, 178, 16, 178, 16, 206, 16, 206, 16, 20]);
+        assert!(items[6].params[0].is_some_and(|step| step > 11.9 && step <= 12.0), "the line's step: {:?}", items[6].params);
         // lat, lon order
-        assert_eq!(items[6].position, Some([0.0, 2.0, 40.0]));
-        assert_eq!(waypoint_positions(&items), vec![[0.0, 0.0], [0.0, 1.0], [0.0, 2.0], [1.0, 2.0], [1.0, 1.0]]);
+        assert_eq!(items[9].position, Some([0.0, 2.0, 40.0]));
+        let corners = [[0.0, 0.0], [0.0, 1.0], [0.0, 2.0], [1.0, 2.0], [1.0, 1.0]];
+        assert!(corners.iter().all(|c| waypoint_positions(&items).contains(c)));
     }
 
     #[test]
     fn a_sortie_that_starts_on_a_sweep_triggers_on_it() {
         let pieces = [piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0), piece(PieceKind::Turn, &[[2.0, 0.0], [2.0, 1.0]], 6.0)];
         let commands: Vec<u16> = mission_items(&pieces, &[], &settings(Some(12.0)), None).iter().map(|i| i.command).collect();
-        assert_eq!(commands, vec![22, 178, 16, 206, 16, 206, 16, 21]);
+        assert_eq!(commands, vec![22, 178, 16, 16, 206, 16, 206, 16, 16, 21]);
+    }
+
+    /// Where an autopilot triggering by distance takes photos along `items` (ArduPilot's and
+    /// PX4's rule): one when a distance is set with "trigger now", then one whenever it is that
+    /// distance (straight-line) from the last, until a distance of 0; in metres east and north
+    /// of `frame`.
+    fn autopilot_photos(items: &[MissionItem], frame: &LocalFrame) -> Vec<geo::Coord> {
+        let (mut photos, mut at, mut distance) = (Vec::new(), None::<geo::Coord>, 0.0);
+        for item in items {
+            if item.command == DO_SET_CAM_TRIGG_DIST {
+                distance = item.params[0].unwrap_or(0.0);
+                if item.params[2] == Some(1.0) {
+                    photos.extend(at);
+                }
+                continue;
+            }
+            let Some([lat, lon, _]) = item.position else { continue };
+            let to = frame.to_local(lon, lat);
+            if let (Some(from), true) = (at, distance > 0.0) {
+                let leg = to - from;
+                let len = leg.x.hypot(leg.y);
+                let u = geo::Coord { x: leg.x / len, y: leg.y / len };
+                loop {
+                    let last = *photos.last().expect("a photo before the distance runs");
+                    let w = from - last;
+                    let b = w.x * u.x + w.y * u.y;
+                    let s = -b + (b * b - (w.x * w.x + w.y * w.y) + distance * distance).sqrt();
+                    if !(s > 1e-9 && s <= len) {
+                        break;
+                    }
+                    photos.push(from + u * s);
+                }
+            }
+            at = Some(to);
+        }
+        photos
+    }
+
+    /// The flight file triggers where the plan's photos are, line by line: as many, within a
+    /// centimetre, for lines of any length, footprints and steps (an autopilot follows it).
+    #[test]
+    fn an_autopilot_triggering_by_distance_takes_the_plans_photos() {
+        let frame = LocalFrame::new(8.5, 47.3);
+        let deg = |x: f64, y: f64| frame.to_wgs84(geo::Coord { x, y });
+        let mut checked = 0;
+        for len in [9.0, 31.0, 64.5, 120.0, 257.3, 801.0] {
+            for (footprint, spacing) in [(20.0, 4.0), (35.0, 8.4), (60.0, 25.0), (12.0, 12.0)] {
+                let rule = PhotoRule { footprint_along_m: footprint, spacing_m: spacing };
+                let s = FlightSettings { photos: Some(rule), ..settings(None) };
+                let [a, b, c, d] = [deg(0.0, 0.0), deg(len, 0.0), deg(len, 20.0), deg(0.0, 20.0)];
+                let sweep = |p: [f64; 2], q: [f64; 2]| FlownPiece { kind: PieceKind::Sweep, points: vec![[p[0], p[1], 40.0], [q[0], q[1], 40.0]], speed_mps: 6.0, ground_m: None };
+                let turn = FlownPiece { kind: PieceKind::Turn, points: vec![[b[0], b[1], 40.0], [c[0], c[1], 40.0]], speed_mps: 3.0, ground_m: None };
+                let items = mission_items(&[sweep(a, b), turn, sweep(c, d)], &[], &s, None);
+                let found = autopilot_photos(&items, &frame);
+                let offsets = fitted_photo_offsets(len, footprint, spacing);
+                let planned: Vec<geo::Coord> = offsets.iter().map(|&t| geo::Coord { x: t, y: 0.0 }).chain(offsets.iter().map(|&t| geo::Coord { x: len - t, y: 20.0 })).collect();
+                assert_eq!(found.len(), planned.len(), "{len} m, footprint {footprint} m, step {spacing} m: {found:?}");
+                for (f, p) in found.iter().zip(&planned) {
+                    assert!((f.x - p.x).hypot(f.y - p.y) < 0.01, "{len} m, footprint {footprint} m, step {spacing} m: a photo at {f:?}, planned at {p:?}");
+                }
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 24);
     }
 
     #[test]

@@ -152,6 +152,19 @@ fn sweeps(trajectory: &FeatureCollection) -> usize {
     trajectory.features.iter().filter(|f| f.properties.as_ref().and_then(|p| p.get("kind")).and_then(Value::as_str) == Some("sweep")).count()
 }
 
+/// The photos the plan shows (its MultiPoint of kind `photos`).
+fn photo_count(trajectory: &FeatureCollection) -> usize {
+    trajectory
+        .features
+        .iter()
+        .filter(|f| f.properties.as_ref().and_then(|p| p.get("kind")).and_then(Value::as_str) == Some("photos"))
+        .filter_map(|f| match &f.geometry.as_ref()?.value {
+            GeometryValue::MultiPoint { coordinates } => Some(coordinates.len()),
+            _ => None,
+        })
+        .sum()
+}
+
 fn flown_pieces(trajectory: &FeatureCollection) -> usize {
     trajectory.features.iter().filter(|f| f.properties.as_ref().and_then(|p| p.get("kind")).and_then(Value::as_str).is_some_and(|k| FLOWN.contains(&k))).count()
 }
@@ -222,7 +235,7 @@ async fn every_format_downloads_reads_back_and_passes_independent_readers() {
         std::fs::write(dir.join(&file), &bytes).unwrap();
         manifest.push(json!({
             "file": file, "format": format, "waypoints": flown_points(&trajectory), "pieces": flown_pieces(&trajectory),
-            "fields": fields.len(), "holes": holes, "zones": zones.len(), "photo_lines": sweeps(&trajectory),
+            "fields": fields.len(), "holes": holes, "zones": zones.len(), "photo_lines": sweeps(&trajectory), "photos": photo_count(&trajectory),
             "lines": sweeps(&trajectory), "swath_width_mm": (spacing * 1000.0).round(),
         }));
         // back through the service: fields, holes and zones come back within 1 cm
@@ -431,6 +444,53 @@ fn close(a: [f64; 2], b: [f64; 2]) -> bool {
     (a[0] - b[0]).abs() <= ONE_CM_DEG && (a[1] - b[1]).abs() <= ONE_CM_DEG
 }
 
+/// Whether `p` lies on the segment from `a` to `b` (`[lat, lon]`, within about a centimetre).
+fn on_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool {
+    let (d, w) = ([b[0] - a[0], b[1] - a[1]], [p[0] - a[0], p[1] - a[1]]);
+    let length2 = d[0] * d[0] + d[1] * d[1];
+    let t = if length2 > 0.0 { (w[0] * d[0] + w[1] * d[1]) / length2 } else { 0.0 };
+    (-1e-9..=1.0 + 1e-9).contains(&t) && (w[0] * d[1] - w[1] * d[0]).abs() / length2.sqrt().max(1e-12) <= ONE_CM_DEG
+}
+
+/// How many photos an autopilot triggering by distance takes along a QGC WPL 110 file
+/// (ArduPilot's and PX4's rule): one when a distance is set with "trigger now", then one
+/// whenever it is that distance (straight-line) from the last, until a distance of 0.
+fn autopilot_photo_count(text: &str) -> usize {
+    let rows: Vec<Vec<f64>> = text.lines().skip(2).map(|l| l.split('\t').map(|c| c.parse().unwrap()).collect()).collect();
+    let lat0 = rows.iter().find(|r| r[3] == 16.0).map_or(0.0, |r| r[8]);
+    let (kx, ky) = (111_320.0 * lat0.to_radians().cos(), 110_574.0);
+    let (mut photos, mut at, mut distance): (Vec<[f64; 2]>, Option<[f64; 2]>, f64) = (Vec::new(), None, 0.0);
+    for r in &rows {
+        if r[3] == 206.0 {
+            distance = r[4];
+            if r[6] == 1.0 {
+                photos.extend(at);
+            }
+            continue;
+        }
+        if r[3] != 16.0 {
+            continue;
+        }
+        let to = [r[9] * kx, r[8] * ky];
+        let len = at.map_or(0.0, |from: [f64; 2]| (to[0] - from[0]).hypot(to[1] - from[1]));
+        if let (Some(from), true) = (at, distance > 0.0 && len > 0.0) {
+            let u = [(to[0] - from[0]) / len, (to[1] - from[1]) / len];
+            loop {
+                let last = *photos.last().expect("a photo before the distance runs");
+                let w = [from[0] - last[0], from[1] - last[1]];
+                let b = w[0] * u[0] + w[1] * u[1];
+                let s = -b + (b * b - (w[0] * w[0] + w[1] * w[1]) + distance * distance).max(0.0).sqrt();
+                if !(s > 1e-9 && s <= len) {
+                    break;
+                }
+                photos.push([from[0] + u[0] * s, from[1] + u[1] * s]);
+            }
+        }
+        at = Some(to);
+    }
+    photos.len()
+}
+
 /// `[lat, lon]` of the NAV_WAYPOINT items of a QGC WPL 110 file, home (item 0) left out.
 fn wpl_waypoints(text: &str) -> Vec<[f64; 2]> {
     let mut lines = text.lines();
@@ -629,17 +689,34 @@ fn check_every_format(file: &str, fixed_wing: bool, camera: bool) -> Result<(), 
         prop_assert!(!file_out.bytes.is_empty());
         if format == "waypoints" {
             let visited = wpl_waypoints(std::str::from_utf8(&file_out.bytes).unwrap());
-            // in order, a subsequence of the trajectory's points
+            // in order, a subsequence of the trajectory's points, and between two of them the
+            // places on the leg where a line's photos start and stop
             let mut next = 0;
+            let mut on_trajectory = 0;
             for v in &visited {
-                let found = points[next..].iter().position(|p| close(*p, *v));
-                prop_assert!(found.is_some(), "{}: waypoint {:?} is not on the trajectory after point {}", format, v, next);
-                next += found.unwrap();
+                match points[next..].iter().position(|p| close(*p, *v)) {
+                    Some(found) => {
+                        next += found;
+                        on_trajectory += 1;
+                    }
+                    None => prop_assert!(
+                        next + 1 < points.len() && on_segment(*v, points[next], points[next + 1]),
+                        "{}: waypoint {:?} is neither on the trajectory after point {} nor on the leg from it",
+                        format,
+                        v,
+                        next
+                    ),
+                }
             }
             if fixed_wing {
                 prop_assert!(ends.iter().all(|e| visited.iter().any(|v| close(*v, *e))), "every line end is a waypoint");
             } else {
-                prop_assert_eq!(visited.len(), points.len(), "a multirotor visits every point");
+                prop_assert_eq!(on_trajectory, points.len(), "a multirotor visits every point");
+            }
+            if camera {
+                // the file triggers where the plan's photos are: an autopilot takes as many
+                let taken = autopilot_photo_count(std::str::from_utf8(&file_out.bytes).unwrap());
+                prop_assert_eq!(taken, photo_count(&out.trajectory), "{}: photos an autopilot takes against the plan's", file);
             }
             // the .plan holds the same waypoints
             let plan = export::export("plan", &request).unwrap();

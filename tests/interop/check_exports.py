@@ -72,15 +72,25 @@ def on_leg(p, a, b):
     return -1e-9 <= t <= 1 + 1e-9 and abs((px - ax) * dy - (py - ay) * dx) / max(length2 ** 0.5, 1e-12) <= TOLERANCE_DEG
 
 
-def autopilot_photos(items):
-    """Photos an autopilot triggering by distance takes along (command, p1, p3, lat, lon) items:
-    one when a distance is set with "trigger now", then one whenever it is that distance
-    (straight-line) from the last, until a distance of 0. ArduPilot's and PX4's rule."""
+def autopilot_distance(firmware, a, b):
+    """Metres between (lat, lon) points as the autopilot measures them when it triggers by
+    distance: ArduPilot's Location::get_distance (111 318.845 m a degree, longitude scaled at the
+    mean latitude), PX4's haversine on a 6 371 km sphere."""
     import math
 
+    if firmware == "ardupilot":
+        scale = max(math.cos(math.radians((a[0] + b[0]) / 2)), 0.01)
+        return 111318.84502145034 * math.hypot(b[0] - a[0], (b[1] - a[1]) * scale)
+    la, lb = math.radians(a[0]), math.radians(b[0])
+    h = math.sin((lb - la) / 2) ** 2 + math.cos(la) * math.cos(lb) * math.sin(math.radians(b[1] - a[1]) / 2) ** 2
+    return 2 * 6371000.0 * math.asin(min(1.0, math.sqrt(h)))
+
+
+def autopilot_photos(items, firmware="ardupilot"):
+    """Photos an autopilot triggering by distance takes along (command, p1, p3, lat, lon) items,
+    in its own metric: one when a distance is set with "trigger now", then one whenever it is
+    that distance from the last, until a distance of 0. ArduPilot's and PX4's rule."""
     photos, at, distance = [], None, 0.0
-    lat0 = next(i[3] for i in items if i[0] == NAV_WAYPOINT)
-    scale = (111320.0 * math.cos(math.radians(lat0)), 110574.0)
     for command, p1, p3, lat, lon in items:
         if command == CAM_TRIGG_DIST:
             distance = p1
@@ -89,19 +99,21 @@ def autopilot_photos(items):
             continue
         if command != NAV_WAYPOINT:
             continue
-        to = (lon * scale[0], lat * scale[1])
+        to = (lat, lon)
         if at is not None and distance > 0:
-            leg = (to[0] - at[0], to[1] - at[1])
-            length = math.hypot(*leg)
-            u = (leg[0] / length, leg[1] / length) if length else (0.0, 0.0)
-            while length:
-                last = photos[-1]
-                w = (at[0] - last[0], at[1] - last[1])
-                b = w[0] * u[0] + w[1] * u[1]
-                s = -b + math.sqrt(max(0.0, b * b - (w[0] ** 2 + w[1] ** 2) + distance * distance))
-                if not (1e-9 < s <= length):
-                    break
-                photos.append((at[0] + u[0] * s, at[1] + u[1] * s))
+            start = at
+            along = lambda s: (start[0] + (to[0] - start[0]) * s, start[1] + (to[1] - start[1]) * s)
+            s = 0.0
+            while autopilot_distance(firmware, photos[-1], along(1.0)) >= distance:
+                lo, hi = s, 1.0
+                for _ in range(60):
+                    mid = (lo + hi) / 2
+                    if autopilot_distance(firmware, photos[-1], along(mid)) < distance:
+                        lo = mid
+                    else:
+                        hi = mid
+                s = hi
+                photos.append(along(s))
         at = to
     return photos
 

@@ -28,11 +28,14 @@ pub struct ViewAction {
     pub gimbal_pitch_deg: f64,
 }
 
-/// The pieces of each sortie in flight order, and an inspection's viewpoints.
+/// The pieces of each sortie in flight order, an inspection's viewpoints, and the photos the
+/// plan shows on its sweeps.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Flight {
     pub sorties: Vec<Vec<FlownPiece>>,
     pub views: Vec<ViewAction>,
+    /// `[lon, lat]` of every photo (the MultiPoints of kind `photos`).
+    pub photos: Vec<[f64; 2]>,
 }
 
 impl Flight {
@@ -41,6 +44,7 @@ impl Flight {
     pub fn from_trajectory(trajectory: &FeatureCollection, altitude_m: f64) -> Result<Flight, InputError> {
         let mut sorties: Vec<Vec<FlownPiece>> = Vec::new();
         let mut views = Vec::new();
+        let mut photos = Vec::new();
         for (i, feature) in trajectory.features.iter().enumerate() {
             let property = |key: &str| feature.properties.as_ref().and_then(|p| p.get(key));
             let number = |key: &str| property(key).and_then(Value::as_f64);
@@ -53,7 +57,13 @@ impl Flight {
                 views.push(ViewAction { position: [p[0], p[1], p.as_slice().get(2).copied().unwrap_or(altitude_m)], yaw_deg, gimbal_pitch_deg });
                 continue;
             }
-            // the flown pieces; photos and marks are not flown
+            if property("kind").and_then(Value::as_str) == Some("photos") {
+                if let Some(GeometryValue::MultiPoint { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) {
+                    photos.extend(coordinates.iter().filter(|p| p.len() >= 2).map(|p| [p[0], p[1]]));
+                }
+                continue;
+            }
+            // the flown pieces; other marks are not flown
             let Some(kind) = property("kind").and_then(|k| PieceKind::deserialize(k).ok()) else { continue };
             let Some(GeometryValue::LineString { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) else {
                 return Err(InputError::new("invalid_trajectory", format!("/features/{i}/geometry"), "a flown piece must be a LineString"));
@@ -86,7 +96,7 @@ impl Flight {
         if sorties.is_empty() {
             return Err(InputError::new("invalid_trajectory", "/features", "the trajectory has no flown piece"));
         }
-        Ok(Flight { sorties, views })
+        Ok(Flight { sorties, views, photos })
     }
 
     /// Over terrain: the ground's height, above mean sea level, where `sortie` takes off.

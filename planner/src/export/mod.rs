@@ -10,6 +10,7 @@ pub mod geojson;
 mod isoxml;
 mod kml;
 mod mission_items;
+pub use mission_items::autopilot_distance_m;
 mod qgc_plan;
 mod wpl;
 mod wpml;

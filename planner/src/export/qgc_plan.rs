@@ -49,7 +49,7 @@ impl Exporter for QgcPlan {
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
         let pieces = &job.flight.sorties[sortie];
         let s = &job.settings;
-        let items = mission_items::mission_items(pieces, &job.flight.views, s, job.outlines.home);
+        let items = mission_items::mission_items(pieces, &job.flight.views, &job.flight.photos, s, job.outlines.home);
         let [lon, lat] = launch(pieces, job.outlines.home);
         let plan_mode = items.iter().find(|i| i.frame != FRAME_MISSION).map_or(ALTITUDE_RELATIVE, |i| altitude_mode(i.frame));
         // over terrain, home is where the ground is; otherwise the altitudes are relative to it

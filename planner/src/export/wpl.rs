@@ -26,7 +26,7 @@ impl Exporter for WaypointList {
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
         let pieces = &job.flight.sorties[sortie];
-        let items = mission_items::mission_items(pieces, &job.flight.views, &job.settings, job.outlines.home);
+        let items = mission_items::mission_items(pieces, &job.flight.views, &job.flight.photos, &job.settings, job.outlines.home);
         let [lon, lat] = launch(pieces, job.outlines.home);
         let mut text = String::from("QGC WPL 110\n");
         // item 0: home, absolute frame (over terrain at the ground's height), current

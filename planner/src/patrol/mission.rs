@@ -213,8 +213,14 @@ impl PatrolParams {
         if !self.cycles.is_none_or(|c| (1..=1_000_000).contains(&c)) {
             return Err(out_of_range("/cycles", "cycles is 1 to 1 000 000"));
         }
+        if !self.uavs.is_none_or(|n| (1..=64).contains(&n)) {
+            return Err(out_of_range("/uavs", "uavs is 1 to 64"));
+        }
+        if self.starts.as_ref().is_some_and(|s| s.is_empty() || s.len() > 64) {
+            return Err(out_of_range("/starts", "give 1 to 64 start positions"));
+        }
         let uavs = self.starts.as_ref().map_or(self.uavs.unwrap_or(4), Vec::len);
-        let moves = uavs as u64 * u64::from(self.cycles.unwrap_or(10_000));
+        let moves = (uavs as u64).saturating_mul(u64::from(self.cycles.unwrap_or(10_000)));
         if moves > MAX_UAV_CYCLES {
             return Err(out_of_range(
                 "/cycles",
@@ -223,12 +229,6 @@ impl PatrolParams {
         }
         if !self.nfz_margin_m.is_none_or(|m| (0.0..=1000.0).contains(&m)) {
             return Err(out_of_range("/nfz_margin_m", "nfz_margin_m is 0 to 1 000 m"));
-        }
-        if !self.uavs.is_none_or(|n| (1..=64).contains(&n)) {
-            return Err(out_of_range("/uavs", "uavs is 1 to 64"));
-        }
-        if self.starts.as_ref().is_some_and(|s| s.is_empty() || s.len() > 64) {
-            return Err(out_of_range("/starts", "give 1 to 64 start positions"));
         }
         let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
         if vehicle.kind != VehicleKind::Multirotor {

@@ -453,12 +453,11 @@ fn on_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> bool {
 }
 
 /// How many photos an autopilot triggering by distance takes along a QGC WPL 110 file
-/// (ArduPilot's and PX4's rule): one when a distance is set with "trigger now", then one
-/// whenever it is that distance (straight-line) from the last, until a distance of 0.
-fn autopilot_photo_count(text: &str) -> usize {
+/// (ArduPilot's and PX4's rule, in `firmware`'s metric): one when a distance is set with
+/// "trigger now", then one whenever it is that distance from the last, until a distance of 0.
+fn autopilot_photo_count(text: &str, firmware: Firmware) -> usize {
     let rows: Vec<Vec<f64>> = text.lines().skip(2).map(|l| l.split('\t').map(|c| c.parse().unwrap()).collect()).collect();
-    let lat0 = rows.iter().find(|r| r[3] == 16.0).map_or(0.0, |r| r[8]);
-    let (kx, ky) = (111_320.0 * lat0.to_radians().cos(), 110_574.0);
+    let metre = |a: [f64; 2], b: [f64; 2]| export::autopilot_distance_m(firmware, a, b);
     let (mut photos, mut at, mut distance): (Vec<[f64; 2]>, Option<[f64; 2]>, f64) = (Vec::new(), None, 0.0);
     for r in &rows {
         if r[3] == 206.0 {
@@ -471,19 +470,22 @@ fn autopilot_photo_count(text: &str) -> usize {
         if r[3] != 16.0 {
             continue;
         }
-        let to = [r[9] * kx, r[8] * ky];
-        let len = at.map_or(0.0, |from: [f64; 2]| (to[0] - from[0]).hypot(to[1] - from[1]));
-        if let (Some(from), true) = (at, distance > 0.0 && len > 0.0) {
-            let u = [(to[0] - from[0]) / len, (to[1] - from[1]) / len];
+        let to = [r[9], r[8]];
+        if let (Some(from), true) = (at, distance > 0.0) {
+            let along = |s: f64| [from[0] + (to[0] - from[0]) * s, from[1] + (to[1] - from[1]) * s];
+            let mut s = 0.0;
             loop {
                 let last = *photos.last().expect("a photo before the distance runs");
-                let w = [from[0] - last[0], from[1] - last[1]];
-                let b = w[0] * u[0] + w[1] * u[1];
-                let s = -b + (b * b - (w[0] * w[0] + w[1] * w[1]) + distance * distance).max(0.0).sqrt();
-                if !(s > 1e-9 && s <= len) {
+                if metre(last, along(1.0)) < distance {
                     break;
                 }
-                photos.push([from[0] + u[0] * s, from[1] + u[1] * s]);
+                let (mut lo, mut hi) = (s, 1.0);
+                for _ in 0..60 {
+                    let mid = (lo + hi) / 2.0;
+                    if metre(last, along(mid)) < distance { lo = mid } else { hi = mid }
+                }
+                s = hi;
+                photos.push(along(s));
             }
         }
         at = Some(to);
@@ -715,7 +717,7 @@ fn check_every_format(file: &str, fixed_wing: bool, camera: bool) -> Result<(), 
             }
             if camera {
                 // the file triggers where the plan's photos are: an autopilot takes as many
-                let taken = autopilot_photo_count(std::str::from_utf8(&file_out.bytes).unwrap());
+                let taken = autopilot_photo_count(std::str::from_utf8(&file_out.bytes).unwrap(), Firmware::Px4);
                 prop_assert_eq!(taken, photo_count(&out.trajectory), "{}: photos an autopilot takes against the plan's", file);
             }
             // the .plan holds the same waypoints

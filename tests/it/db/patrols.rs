@@ -102,6 +102,8 @@ async fn bad_patrol_parameters_are_refused_with_where() {
         (json!({"cycles": 0}), "/cycles"),
         (json!({"cell_size_m": 0.5}), "/cell_size_m"),
         (json!({"uavs": 65}), "/uavs"),
+        // uavs × cycles would overflow: refused as out of range, never a panic
+        (json!({"uavs": 4_611_686_018_427_387_904u64, "cycles": 10}), "/uavs"),
         (json!({"uavs": 8, "cycles": 300_000}), "/cycles"),
         (json!({"sync_interval": 0}), "/sync_interval"),
         (json!({"vehicle": {"profile": "no-such-drone"}}), "/vehicle/profile"),

@@ -17,7 +17,7 @@ use crate::planner::geojson::FeatureCollection;
 use crate::planner::params::AltitudeReference;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
-use crate::planner::{self, PlanParams};
+use crate::planner::{self, MissionGeometry, PlanParams};
 use crate::store::plans::{self, JobKind, Plan, PlanStatus};
 use crate::store::{missions, terrain, vehicles};
 
@@ -165,7 +165,7 @@ fn export_file(id: &str, format: &str, source: &plans::ExportSource, geojson: &s
     let trajectory: FeatureCollection = serde_json::from_str(geojson).map_err(|e| internal(&e))?;
     let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
     let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
-    let mission = jobs::snapshot_geometry(&source.mission);
+    let mission = MissionGeometry::of(&source.mission);
     let request = ExportRequest { name: &source.name, mission, params: &params, profiles: &profiles, trajectory: &trajectory, options };
     Ok(export::export(format, &request)?)
 }

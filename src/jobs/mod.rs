@@ -97,11 +97,6 @@ pub const ABANDON_AFTER: Duration = Duration::from_millis(500);
 
 pub use crate::config::QueueSettings;
 
-/// The geometry of a mission snapshot stored with a plan.
-pub fn snapshot_geometry(mission: &Value) -> MissionGeometry<'_> {
-    MissionGeometry::of(mission)
-}
-
 /// The vehicle profiles of a snapshot, as they were when the plan was queued (older plans:
 /// the built-ins).
 pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
@@ -113,7 +108,7 @@ pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
 
 /// Runs a stored job with the real planner.
 pub fn plan_job(job: &plans::Job, request: &JobRequest, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, PlanError> {
-    let geometry = snapshot_geometry(&job.mission);
+    let geometry = MissionGeometry::of(&job.mission);
     let profiles = &request.profiles;
     let (stats, trajectory) = match &request.params {
         JobParams::Patrol(params) => {

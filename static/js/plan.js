@@ -3,7 +3,7 @@
 import { $, api, escapeHtml, status } from './api.js';
 import { state } from './map.js';
 import { fieldHectares, saveMission, setPose } from './mission.js';
-import { fillFormats, keepForComparison, showPlan } from './result.js';
+import { DIESEL_J_PER_L, fillFormats, keepForComparison, showPlan } from './result.js';
 
 // ---- the parameter form, from the API's lists ----
 const kindNames = { multirotor: 'Multirotor drones', fixed_wing: 'Fixed-wing aircraft', ground: 'Ground vehicles' };
@@ -163,8 +163,8 @@ async function preview() {
 const aircraftLineEnds = () => !groundVehicle() && !inspecting() && reads('swath_ends');
 
 const num = (id) => ($(id).value === '' ? undefined : Number($(id).value));
-/** Watt-hours in a litre of diesel (36 MJ). */
-const WH_PER_LITRE = 10000;
+/** Watt-hours in a litre of diesel. */
+const WH_PER_LITRE = DIESEL_J_PER_L / 3600;
 /** A value for the figures before planning: none while the input is out of its bounds. */
 const valid = (id) => ($(id).checkValidity() ? num(id) : undefined);
 

@@ -137,7 +137,7 @@ function togglePhotos() {
 $('show-photos').onchange = togglePhotos;
 
 // diesel's energy per litre (lower heating value, about 36 MJ): a ground vehicle's energy is fuel
-const DIESEL_J_PER_L = 36e6;
+export const DIESEL_J_PER_L = 36e6;
 const onGround = (s) => Boolean(s.ground);
 const hours = (seconds) => (seconds >= 5400 ? `${Math.floor(seconds / 3600)} h ${Math.round((seconds % 3600) / 60)} min` : `${(seconds / 60).toFixed(1)} min`);
 

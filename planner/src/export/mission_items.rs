@@ -8,6 +8,8 @@
 
 use super::flight::{FlownPiece, ViewAction, Waypoint, waypoints};
 use super::{AltitudeFrame, Firmware, FlightSettings};
+use rstar::{AABB, RTree};
+
 use crate::frame::LocalFrame;
 use crate::path::PieceKind;
 use crate::vehicle::VehicleKind;
@@ -101,6 +103,8 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
     let [lon, lat] = launch(pieces, home);
     let pitch = if fixed_wing { TAKEOFF_PITCH_DEG } else { 0.0 };
     let mut points = waypoints(pieces, fixed_wing.then_some(ARC_STEP_DEG));
+    // each line looks up the photos near it: indexed once, not scanned per line
+    let photos = RTree::bulk_load(if settings.trigger_distance_m.is_some() { photos.to_vec() } else { Vec::new() });
     if fixed_wing {
         // a fixed wing climbs out straight ahead: a transit's waypoint it passes while climbing
         // (home itself, first of all) would turn it back once it is up
@@ -139,8 +143,8 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
         let on_sweep = piece.kind == PieceKind::Sweep;
         let sweep_end = on_sweep && w.index + 1 == piece.points.len();
         let mut stopped = false;
-        if let (Some(rule), true) = (settings.photos, on_sweep && w.index == 1) {
-            match line_triggers(piece, w.piece, photos, settings.firmware) {
+        if let (Some(distance), true) = (settings.trigger_distance_m, on_sweep && w.index == 1) {
+            match line_triggers(piece, w.piece, &photos, settings.firmware) {
                 // a straight line: fly to its first photo, trigger there and every step, stop
                 // half a step past its last photo
                 Triggers::Line(line) => {
@@ -156,7 +160,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
                 }
                 Triggers::None => stopped = true,
                 // a sweep laid over terrain bends: trigger from its start at the camera's step
-                Triggers::Bent => items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [rule.spacing_m, 0.0, 1.0, 0.0])),
+                Triggers::Bent => items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [distance, 0.0, 1.0, 0.0])),
             }
         }
         if w.position[2] - w.ground_m.unwrap_or(0.0) < GROUND_M {
@@ -167,7 +171,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
             Some(view) => items.extend(view_items(view, w.position, settings)),
             None => items.push(place(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w)),
         }
-        if settings.photos.is_some() && sweep_end && !stopped {
+        if settings.trigger_distance_m.is_some() && sweep_end && !stopped {
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
         }
     }
@@ -225,7 +229,7 @@ enum Triggers {
 }
 
 /// Where the plan's photos lie on a sweep: the file triggers where the plan images.
-fn line_triggers(piece: &FlownPiece, index: usize, photos: &[[f64; 2]], firmware: Firmware) -> Triggers {
+fn line_triggers(piece: &FlownPiece, index: usize, photos: &RTree<[f64; 2]>, firmware: Firmware) -> Triggers {
     let [a, b] = piece.points.as_slice() else { return Triggers::Bent };
     let frame = LocalFrame::new(a[0], a[1]);
     let end = frame.to_local(b[0], b[1]);
@@ -234,9 +238,15 @@ fn line_triggers(piece: &FlownPiece, index: usize, photos: &[[f64; 2]], firmware
         return Triggers::None;
     }
     let along = geo::Coord { x: end.x / len, y: end.y / len };
-    // the photos on this line: within a centimetre of it, between its ends
+    // the photos on this line: within a centimetre of it, between its ends; looked up in the box
+    // in degrees of the line as the plan draws it (straight in metres, so a long one bows in
+    // degrees), a metre wider, and then tested in metres
+    const MARGIN_DEG: f64 = 1e-5;
+    let drawn: Vec<[f64; 2]> = (0..=8).map(|k| frame.to_wgs84(geo::Coord { x: end.x * k as f64 / 8.0, y: end.y * k as f64 / 8.0 })).collect();
+    let (lo, hi) = drawn.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])]));
+    let near = AABB::from_corners([lo[0] - MARGIN_DEG, lo[1] - MARGIN_DEG], [hi[0] + MARGIN_DEG, hi[1] + MARGIN_DEG]);
     let mut offsets: Vec<f64> = photos
-        .iter()
+        .locate_in_envelope(&near)
         .map(|p| frame.to_local(p[0], p[1]))
         .filter(|p| (p.x * along.y - p.y * along.x).abs() < ON_LINE_M)
         .map(|p| p.x * along.x + p.y * along.y)
@@ -289,7 +299,6 @@ fn view_items(view: &ViewAction, position: [f64; 3], settings: &FlightSettings) 
 mod tests {
     use super::*;
     use crate::camera::fitted_photo_offsets;
-    use crate::export::PhotoRule;
 
     /// The positions of the `NAV_WAYPOINT` items, `[lat, lon]`, for tests of every flight format.
     fn waypoint_positions(items: &[MissionItem]) -> Vec<[f64; 2]> {
@@ -300,15 +309,16 @@ mod tests {
         FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed, ground_m: None }
     }
 
-    /// The photos a plan shows on the straight sweeps of `pieces` (camera §6's rule).
-    fn plan_photos_with(pieces: &[FlownPiece], rule: PhotoRule) -> Vec<[f64; 2]> {
+    /// The photos a plan shows on the straight sweeps of `pieces` (camera §6's rule), for a
+    /// footprint `footprint_m` long and photos at most `spacing_m` apart.
+    fn plan_photos_with(pieces: &[FlownPiece], footprint_m: f64, spacing_m: f64) -> Vec<[f64; 2]> {
         let mut out = Vec::new();
         for p in pieces.iter().filter(|p| p.kind == PieceKind::Sweep) {
             let (a, b) = (p.points[0], p.points[1]);
             let frame = LocalFrame::new(a[0], a[1]);
             let end = frame.to_local(b[0], b[1]);
             let len = end.x.hypot(end.y);
-            for t in fitted_photo_offsets(len, rule.footprint_along_m, rule.spacing_m) {
+            for t in fitted_photo_offsets(len, footprint_m, spacing_m) {
                 out.push(frame.to_wgs84(geo::Coord { x: end.x * t / len, y: end.y * t / len }));
             }
         }
@@ -316,7 +326,7 @@ mod tests {
     }
 
     fn plan_photos(pieces: &[FlownPiece], spacing_m: f64) -> Vec<[f64; 2]> {
-        plan_photos_with(pieces, PhotoRule { footprint_along_m: 20.0, spacing_m })
+        plan_photos_with(pieces, 20.0, spacing_m)
     }
 
     fn settings(trigger: Option<f64>) -> FlightSettings {
@@ -327,7 +337,7 @@ mod tests {
             cruise_speed_mps: 8.0,
             turn_radius_m: 0.0,
             line_spacing_m: 20.0,
-            photos: trigger.map(|spacing_m| PhotoRule { footprint_along_m: 20.0, spacing_m }),
+            trigger_distance_m: trigger,
             hold_s: 0.0,
             altitude_frame: AltitudeFrame::Amsl,
         }
@@ -408,14 +418,13 @@ mod tests {
         let mut checked = 0;
         for len in [9.0, 31.0, 64.5, 120.0, 257.3, 801.0, 1_637.9] {
             for (footprint, spacing) in [(20.0, 4.0), (35.0, 8.4), (60.0, 25.0), (12.0, 12.0)] {
-                let rule = PhotoRule { footprint_along_m: footprint, spacing_m: spacing };
                 let firmware = if checked % 2 == 0 { Firmware::Ardupilot } else { Firmware::Px4 };
-                let s = FlightSettings { photos: Some(rule), firmware, ..settings(None) };
+                let s = FlightSettings { trigger_distance_m: Some(spacing), firmware, ..settings(None) };
                 let [a, b, c, d] = [deg(0.0, 0.0), deg(len, 0.0), deg(len, 20.0), deg(0.0, 20.0)];
                 let sweep = |p: [f64; 2], q: [f64; 2]| FlownPiece { kind: PieceKind::Sweep, points: vec![[p[0], p[1], 40.0], [q[0], q[1], 40.0]], speed_mps: 6.0, ground_m: None };
                 let turn = FlownPiece { kind: PieceKind::Turn, points: vec![[b[0], b[1], 40.0], [c[0], c[1], 40.0]], speed_mps: 3.0, ground_m: None };
                 let pieces = [sweep(a, b), turn, sweep(c, d)];
-                let items = mission_items(&pieces, &[], &plan_photos_with(&pieces, rule), &s, None);
+                let items = mission_items(&pieces, &[], &plan_photos_with(&pieces, footprint, spacing), &s, None);
                 let found: Vec<geo::Coord> = autopilot_photos(&items, s.firmware).iter().map(|p| frame.to_local(p[0], p[1])).collect();
                 let offsets = fitted_photo_offsets(len, footprint, spacing);
                 let planned: Vec<geo::Coord> = offsets.iter().map(|&t| geo::Coord { x: t, y: 0.0 }).chain(offsets.iter().map(|&t| geo::Coord { x: len - t, y: 20.0 })).collect();

@@ -93,15 +93,6 @@ pub struct Outlines {
     pub home: Option<[f64; 2]>,
 }
 
-/// How a plan places its photos on a sweep (camera §6): fitted to each line between half a
-/// footprint from either end, at most `spacing_m` apart. Flight files trigger where the plan's
-/// photos are.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PhotoRule {
-    pub footprint_along_m: f64,
-    pub spacing_m: f64,
-}
-
 /// How the vehicle flies the exported path.
 #[derive(Debug, Clone, Copy)]
 pub struct FlightSettings {
@@ -112,8 +103,9 @@ pub struct FlightSettings {
     pub cruise_speed_mps: f64,
     pub turn_radius_m: f64,
     pub line_spacing_m: f64,
-    /// Where photos are taken on sweeps, when a camera was given.
-    pub photos: Option<PhotoRule>,
+    /// Distance between photos on sweeps, when a camera was given (the flight files trigger at
+    /// the plan's own photos where they can, at this step where they cannot).
+    pub trigger_distance_m: Option<f64>,
     /// Seconds held at an inspection's viewpoint for its picture.
     pub hold_s: f64,
     /// Plans over terrain: how altitudes are said.
@@ -246,7 +238,7 @@ struct FileParams {
     fleet: Vec<FleetVehicle>,
     altitude_m: Option<f64>,
     line_spacing_m: f64,
-    photos: Option<PhotoRule>,
+    trigger_distance_m: Option<f64>,
     hold_s: Option<f64>,
 }
 
@@ -260,13 +252,21 @@ impl FileParams {
                 fleet: Vec::new(),
                 altitude_m: None,
                 line_spacing_m: 0.0,
-                photos: None,
+                trigger_distance_m: None,
                 hold_s: Some(spec.capture_s),
             });
         }
         let r = params.resolve(profiles)?;
-        let photos = r.camera.map(|c| PhotoRule { footprint_along_m: c.footprint_along_m, spacing_m: c.photo_spacing_m });
-        Ok(FileParams { method: MethodKind::Coverage, vehicle: r.vehicle, fleet: r.fleet, altitude_m: r.altitude_m, line_spacing_m: r.line_spacing_m, photos, hold_s: None })
+        let trigger_distance_m = r.camera.map(|c| c.photo_spacing_m);
+        Ok(FileParams {
+            method: MethodKind::Coverage,
+            vehicle: r.vehicle,
+            fleet: r.fleet,
+            altitude_m: r.altitude_m,
+            line_spacing_m: r.line_spacing_m,
+            trigger_distance_m,
+            hold_s: None,
+        })
     }
 }
 
@@ -308,7 +308,7 @@ fn prepare<'a>(
         cruise_speed_mps: vehicle.cruise_speed_mps,
         turn_radius_m: vehicle.turn_radius_m,
         line_spacing_m: planned.line_spacing_m,
-        photos: planned.photos,
+        trigger_distance_m: planned.trigger_distance_m,
         hold_s: planned.hold_s.unwrap_or(0.0),
         altitude_frame: request.options.altitude_frame,
     };

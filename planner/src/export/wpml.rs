@@ -100,7 +100,7 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
         x.leaf("wpml:useStraightLine", "1");
         // a sweep starts here when the next waypoint is its second point
         let sweep_starts = points.get(k + 1).is_some_and(|n| n.index == 1 && pieces[n.piece].kind == PieceKind::Sweep);
-        if let (Some(distance), true) = (s.photos.map(|p| p.spacing_m), sweep_starts) {
+        if let (Some(distance), true) = (s.trigger_distance_m, sweep_starts) {
             photo_group(&mut x, group, k, distance);
             group += 1;
         }

@@ -10,14 +10,16 @@ use super::field::Field;
 use super::frame::LocalFrame;
 use super::geom::{distance, grow, polyline_length};
 use super::metrics::{self, Stats};
+use super::params::Landing;
 use super::path::{FlightPath, Piece, PieceKind};
 use super::planners::{self, Problem, Progress};
-use super::route::connect::Connector;
+use super::route::connect::{Connector, FlightEnds};
 use super::route::visibility::TransitPlanner;
 use super::stop::Stop;
 use super::terrain::profile::{self, Ground};
 use super::turn::climb::Obstacles;
 use super::turn::{self, TurnModel};
+use super::vehicle::VehicleKind;
 use super::{fleet, params, sortie, sweep, vehicle};
 
 /// Everything a planner needs, validated and in the local frame.
@@ -87,7 +89,7 @@ impl Flight {
         let legs = |s: &FlightPath, e: &PathEstimate| {
             let first = s.pieces.first().filter(|p| p.kind == PieceKind::Transit).map_or(0.0, |_| e.pieces[0].duration_s);
             let last = s.pieces.last().filter(|p| p.kind == PieceKind::Transit && s.pieces.len() > 1).map_or(0.0, |_| e.pieces[e.pieces.len() - 1].duration_s);
-            first + last + e.takeoff_landing_s
+            first + last + e.takeoff_landing_s()
         };
         self.sorties.iter().zip(&self.estimates).map(|(s, e)| legs(s, e)).sum()
     }
@@ -119,7 +121,7 @@ impl Stages<'_> {
             TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), walls)),
             TurnModel::Straight => None,
         };
-        let connector = Connector::new(turn, self.transit, detour.as_ref()).stopping_on(self.stop);
+        let connector = Connector::new(turn, self.transit, detour.as_ref()).with_ends(self.flight_ends(vehicle, &ends)).stopping_on(self.stop);
         let problem = Problem {
             region,
             keep_out,
@@ -182,6 +184,21 @@ impl Stages<'_> {
         Ok(Flight { vehicle: vehicle.clone(), planned, sorties, estimates, battery_swaps: split.battery_swaps, needed_j: split.needed_j, lost_coverage_m, laid: laid_sorties })
     }
 
+    /// A fixed wing's straights: a lead-in before every line, a climb-out from the launch point
+    /// and, landing `auto`, the approach into the flight's end; none for other vehicles.
+    fn flight_ends(&self, vehicle: &vehicle::Vehicle, ends: &Ends) -> FlightEnds {
+        let resolved = &self.prepared.resolved;
+        if vehicle.kind != VehicleKind::FixedWing {
+            return FlightEnds::default();
+        }
+        let altitude = resolved.altitude_m.unwrap_or(0.0);
+        let landing = match (resolved.landing, ends.end.or(ends.home)) {
+            (Landing::Auto, Some(point)) => Some((point, vehicle.landing_approach_m(altitude), resolved.landing_heading)),
+            _ => None,
+        };
+        FlightEnds { lead_in_m: vehicle.lead_in_m(resolved.lead_in_m), climb_out: ends.home.or(ends.start).map(|launch| (launch, vehicle.climb_out_m(altitude))), landing }
+    }
+
     /// Plans the fleet: the area split among the drones (docs/methods.md, fleets), each part
     /// flown by its drone from its home. A drone not needed has no flight.
     pub fn fly_fleet(&self, progress: &dyn Progress) -> Result<(Vec<Option<Flight>>, FleetPlan), PlanError> {
@@ -191,7 +208,7 @@ impl Stages<'_> {
             .fleet
             .iter()
             .map(|d| {
-                let climb = d.vehicle.energy_model().estimate(&FlightPath::default(), resolved.altitude_m).takeoff_landing_s / 2.0;
+                let climb = d.vehicle.energy_model().estimate(&FlightPath::default(), resolved.altitude_m).takeoff.duration_s;
                 climb + 2.0 * fleet::timeline::CONFLICT_DISTANCE_M / d.vehicle.cruise_speed_mps
             })
             .collect();

@@ -118,8 +118,8 @@ pub fn estimate_route(req: &EstimateRequest, profiles: &[Vehicle]) -> Result<Rou
     }
     let model = vehicle.energy_model();
     // climb to the first waypoint's altitude, descend from the last one's
-    let (takeoff_landing_s, takeoff_landing_j) = model.takeoff_landing(positions[0].1.max(0.0), positions[positions.len() - 1].1.max(0.0));
-    let estimate = PathEstimate { pieces: model.pieces(&path), takeoff_landing_s, takeoff_landing_j };
+    let [takeoff, landing] = model.flight_ends(positions[0].1.max(0.0), positions[positions.len() - 1].1.max(0.0));
+    let estimate = PathEstimate { pieces: model.pieces(&path), takeoff, landing };
     let legs = path
         .pieces
         .iter()
@@ -143,7 +143,7 @@ pub fn estimate_route(req: &EstimateRequest, profiles: &[Vehicle]) -> Result<Rou
             duration_s: estimate.duration_s(),
             energy_j,
             energy_wh: energy_j / 3600.0,
-            takeoff_landing_energy_j: estimate.takeoff_landing_j,
+            takeoff_landing_energy_j: estimate.takeoff_landing_j(),
             battery_used: energy_j / vehicle.battery.usable_j(),
         },
         legs,
@@ -169,8 +169,11 @@ mod tests {
         assert_eq!(e.legs.len(), 3);
         let legs: f64 = e.legs.iter().map(|l| l.energy_j).sum();
         assert!((legs + e.totals.takeoff_landing_energy_j - e.totals.energy_j).abs() < 1e-6);
-        // climbing and descending 10 m at the measured rates
-        assert!((e.totals.takeoff_landing_energy_j - 10.0 * (119.08 + 166.07)).abs() < 1.0, "{}", e.totals.takeoff_landing_energy_j);
+        // climbing 10 m at the measured rate; landing as ArduCopter does, hovering over home and
+        // sinking slowly over the last 10 m
+        let hover_w = crate::energy::iem::IemCoefficients::iris().hover_power_w();
+        let landing_j = (crate::energy::RTL_HOVER_S + 10.0 / crate::energy::LAND_SPEED_MPS) * hover_w;
+        assert!((e.totals.takeoff_landing_energy_j - 10.0 * 119.08 - landing_j).abs() < 1.0, "{}", e.totals.takeoff_landing_energy_j);
         assert!(e.legs[1].v_in_mps > 0.0 && e.legs[2].v_out_mps == 0.0);
     }
 

@@ -37,7 +37,7 @@
 //!
 //! The crate exports what the service and the CLI use; the stages in plain text are private.
 
-mod archive;
+pub mod archive;
 pub mod camera;
 mod compose;
 mod decompose;

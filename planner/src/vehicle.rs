@@ -57,7 +57,59 @@ pub struct Battery {
     pub reserve: f64,
 }
 
+/// ArduPlane's default L1 guidance (`NAVL1_PERIOD`, `NAVL1_DAMPING`): how far ahead it aims.
+pub const L1_PERIOD_S: f64 = 17.0;
+pub const L1_DAMPING: f64 = 0.75;
+
+/// ArduPlane's L1 distance at `speed_mps` with its default period and damping.
+pub fn l1_distance_m(speed_mps: f64) -> f64 {
+    (L1_DAMPING * L1_PERIOD_S * speed_mps / std::f64::consts::PI).max(1.0)
+}
+
+/// Share of the L1 distance fixed-wing connections keep from zones beyond the margin.
+pub const TRACKING_SHARE_OF_L1: f64 = 0.25;
+
+/// A fixed wing's pitch climbing out after take-off (the take-off item's), degrees.
+pub const TAKEOFF_PITCH_DEG: f64 = 15.0;
+
+/// Seconds at cruise speed a fixed wing's default lead-in lasts: twice the distance ArduPlane's
+/// default L1 guidance looks ahead (period 17 s, damping 0.75: 4.06 s of flight). Our follower
+/// reaches a line's start within 0.3 m after it, 9 m off after half of it (docs/flight-files.md).
+pub const LEAD_IN_S: f64 = 8.0;
+
 impl Vehicle {
+    /// A fixed wing's straight climb after take-off to `altitude_m`, metres over the ground.
+    pub fn climb_out_m(&self, altitude_m: f64) -> f64 {
+        altitude_m / TAKEOFF_PITCH_DEG.to_radians().tan()
+    }
+
+    /// A fixed wing's landing approach from `altitude_m`, metres over the ground: a glide at
+    /// cruise speed sinking at its energy model's descent rate.
+    pub fn landing_approach_m(&self, altitude_m: f64) -> f64 {
+        let (_, sink) = self.energy.vertical_rates_mps();
+        altitude_m * self.cruise_speed_mps / sink.max(0.1)
+    }
+
+    /// How far an autopilot following waypoints strays from a planned turn: a quarter of its
+    /// L1 distance for a fixed wing (15 m at 15 m/s; with half the default margin, 20 m: our
+    /// follower strayed up to 19.5 m from the plans of the random fields, and never into a
+    /// zone); nothing for vehicles that fly their legs exactly.
+    pub fn turn_tracking_m(&self) -> f64 {
+        match self.kind {
+            VehicleKind::FixedWing => l1_distance_m(self.cruise_speed_mps) * TRACKING_SHARE_OF_L1,
+            _ => 0.0,
+        }
+    }
+
+    /// The straight approach flown before each line: `asked`, or [`LEAD_IN_S`] at cruise speed
+    /// for a fixed wing; none for the others, which fly onto a line exactly.
+    pub fn lead_in_m(&self, asked: Option<f64>) -> f64 {
+        match self.kind {
+            VehicleKind::FixedWing => asked.unwrap_or(LEAD_IN_S * self.cruise_speed_mps),
+            _ => 0.0,
+        }
+    }
+
     /// A multirotor's climb and descent rates: its energy model's, or 3 and 2 m/s.
     pub fn vertical_rates_mps(&self) -> (f64, f64) {
         match &self.energy {
@@ -303,7 +355,13 @@ impl Vehicle {
             // a reversal: stop from the turning speed and start again
             VehicleKind::Ground => 2.0 * headland_speed_mps / self.acceleration_mps2,
         };
-        self.energy.model(Motion { cruise_speed_mps: self.cruise_speed_mps, turn_radius_m: self.turn_radius_m, corner_stop_s, headland_speed_mps })
+        self.energy.model(Motion {
+            cruise_speed_mps: self.cruise_speed_mps,
+            turn_radius_m: self.turn_radius_m,
+            corner_stop_s,
+            headland_speed_mps,
+            multirotor: self.kind == VehicleKind::Multirotor,
+        })
     }
 
     /// Checks every figure; `at` is the JSON pointer of the profile in the request.

@@ -179,6 +179,8 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
             };
             if fixed_wing {
                 params.vehicle = VehicleParams { kind: Some(VehicleKind::FixedWing), turn_radius_m: Some(spacing / 2.0), ..VehicleParams::default() };
+                // Fields2Cover's paths enter each swath from its turn
+                params.lead_in_m = options.fields2cover.then_some(0.0);
             }
             let mut mission = MissionGeometry::area(&m["area"]);
             if !options.overfly_holes {

@@ -6,7 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{EnergyModel, PieceEstimate, heading_change};
+use super::{EnergyModel, PieceEstimate, Vertical, heading_change, multirotor_landing};
 use crate::error::{InputError, check_range};
 use crate::path::FlightPath;
 
@@ -33,6 +33,8 @@ pub struct ConstantPower<'a> {
     pub speed_mps: f64,
     /// Seconds a full stop at a corner adds (0: corners are flown through).
     pub corner_stop_s: f64,
+    /// Lands as a multirotor's autopilot does.
+    pub multirotor: bool,
 }
 
 const CORNER_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
@@ -74,6 +76,16 @@ impl EnergyModel for ConstantPower<'_> {
         let t = (up_m + down_m) / self.power.vertical_speed_mps;
         (t, t * self.power.cruise_power_w)
     }
+
+    /// A multirotor lands as its autopilot does ([`multirotor_landing`]); a fixed wing's or
+    /// a ground vehicle's on the spot.
+    fn flight_ends(&self, up_m: f64, down_m: f64) -> [Vertical; 2] {
+        let takeoff = Vertical::new(self.takeoff_landing(up_m, 0.0));
+        if self.multirotor {
+            return [takeoff, multirotor_landing(down_m, |d| self.takeoff_landing(0.0, d), self.power.cruise_power_w)];
+        }
+        [takeoff, Vertical::new(self.takeoff_landing(0.0, down_m))]
+    }
 }
 
 #[cfg(test)]
@@ -96,7 +108,7 @@ mod tests {
         let mut bent = FlightPath::default();
         bent.push(PieceKind::Sweep, vec![c(0.0, 0.0), c(100.0, 0.0)], 5.0);
         bent.push(PieceKind::Turn, vec![c(100.0, 0.0), c(100.0, 100.0)], 0.0);
-        let m = ConstantPower { power, speed_mps: v.cruise_speed_mps, corner_stop_s: v.cruise_speed_mps / v.acceleration_mps2 };
+        let m = ConstantPower { power, speed_mps: v.cruise_speed_mps, corner_stop_s: v.cruise_speed_mps / v.acceleration_mps2, multirotor: true };
         let t_straight = m.estimate(&straight, None).duration_s();
         let t_bent = m.estimate(&bent, None).duration_s();
         let stop = v.cruise_speed_mps / v.acceleration_mps2;
@@ -105,6 +117,6 @@ mod tests {
         let e = m.estimate(&bent, None).energy_j();
         assert!((e - t_bent * power.cruise_power_w).abs() < 1e-6);
         let climbing = m.estimate(&bent, Some(40.0));
-        assert!((climbing.takeoff_landing_s - 80.0 / power.vertical_speed_mps).abs() < 1e-9);
+        assert!((climbing.takeoff.duration_s - 40.0 / power.vertical_speed_mps).abs() < 1e-9);
     }
 }

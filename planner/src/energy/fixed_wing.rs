@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{EnergyModel, PieceEstimate, heading_change};
+use super::{EnergyModel, PieceEstimate, Vertical, heading_change};
 use crate::error::{InputError, check_range};
 use crate::geom::distance;
 use crate::path::FlightPath;
@@ -139,6 +139,16 @@ impl EnergyModel for FixedWing<'_> {
         let up = self.airframe.power_w(v, 1.0, rate);
         let down = self.airframe.power_w(v, 1.0, -rate);
         ((up_m + down_m) / rate, up_m / rate * up + down_m / rate * down)
+    }
+
+    /// A fixed wing climbs after take-off while flying the first transit's climb-out, and
+    /// glides down its landing approach (both pieces of the path, timed there): the ends add
+    /// the climb's extra power only. Without an approach the flight ends over home, where the
+    /// pilot lands it.
+    fn flight_ends(&self, up_m: f64, _down_m: f64) -> [Vertical; 2] {
+        let (v, rate) = (self.speed_mps, self.airframe.climb_rate_mps);
+        let extra_w = self.airframe.power_w(v, 1.0, rate) - self.airframe.power_w(v, 1.0, 0.0);
+        [Vertical { duration_s: 0.0, energy_j: up_m / rate * extra_w }, Vertical::default()]
     }
 }
 

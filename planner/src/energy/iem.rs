@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{EnergyModel, Leg, PieceEstimate, legs, spread_over_pieces};
+use super::{EnergyModel, Leg, PieceEstimate, Vertical, legs, multirotor_landing, spread_over_pieces};
 use crate::error::{InputError, check_range};
 use crate::path::FlightPath;
 
@@ -274,6 +274,10 @@ impl EnergyModel for Iem<'_> {
 
     fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64) {
         self.vertical(up_m, down_m)
+    }
+
+    fn flight_ends(&self, up_m: f64, down_m: f64) -> [Vertical; 2] {
+        [Vertical::new(self.vertical(up_m, 0.0)), multirotor_landing(down_m, |d| self.vertical(0.0, d), self.coefficients.hover_power_w())]
     }
 }
 

@@ -48,15 +48,28 @@ pub struct Motion {
     pub corner_stop_s: f64,
     /// A ground vehicle's speed in turns and transits.
     pub headland_speed_mps: f64,
+    pub multirotor: bool,
 }
 
 impl EnergyParams {
+    /// The vertical speeds of take-off and landing, m/s: climbing, descending.
+    pub fn vertical_rates_mps(&self) -> (f64, f64) {
+        match self {
+            EnergyParams::MultirotorIem(c) => (c.climb_rate_mps, c.descent_rate_mps),
+            EnergyParams::FixedWing(a) => (a.climb_rate_mps, a.climb_rate_mps),
+            EnergyParams::ConstantPower(p) => (p.vertical_speed_mps, p.vertical_speed_mps),
+            EnergyParams::Ground(_) => (f64::INFINITY, f64::INFINITY),
+        }
+    }
+
     /// The model with these parameters.
     pub fn model(&self, motion: Motion) -> Box<dyn EnergyModel + '_> {
         match self {
             EnergyParams::MultirotorIem(c) => Box::new(iem::Iem { coefficients: c, max_speed_mps: motion.cruise_speed_mps }),
             EnergyParams::FixedWing(a) => Box::new(fixed_wing::FixedWing { airframe: a, speed_mps: motion.cruise_speed_mps, turn_radius_m: motion.turn_radius_m }),
-            EnergyParams::ConstantPower(p) => Box::new(constant_power::ConstantPower { power: p, speed_mps: motion.cruise_speed_mps, corner_stop_s: motion.corner_stop_s }),
+            EnergyParams::ConstantPower(p) => {
+                Box::new(constant_power::ConstantPower { power: p, speed_mps: motion.cruise_speed_mps, corner_stop_s: motion.corner_stop_s, multirotor: motion.multirotor })
+            }
             EnergyParams::Ground(p) => {
                 Box::new(ground::Ground { power: p, working_speed_mps: motion.cruise_speed_mps, headland_speed_mps: motion.headland_speed_mps, reversal_s: motion.corner_stop_s })
             }
@@ -90,32 +103,81 @@ pub struct PieceEstimate {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct PathEstimate {
     pub pieces: Vec<PieceEstimate>,
-    pub takeoff_landing_s: f64,
-    pub takeoff_landing_j: f64,
+    pub takeoff: Vertical,
+    pub landing: Vertical,
+}
+
+/// Time and energy of a flight's take-off or landing.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Vertical {
+    pub duration_s: f64,
+    pub energy_j: f64,
+}
+
+impl Vertical {
+    pub fn new((duration_s, energy_j): (f64, f64)) -> Self {
+        Vertical { duration_s, energy_j }
+    }
 }
 
 impl PathEstimate {
     pub fn duration_s(&self) -> f64 {
-        self.pieces.iter().map(|e| e.duration_s).sum::<f64>() + self.takeoff_landing_s
+        self.pieces.iter().map(|e| e.duration_s).sum::<f64>() + self.takeoff_landing_s()
     }
 
     pub fn energy_j(&self) -> f64 {
-        self.pieces.iter().map(|e| e.energy_j).sum::<f64>() + self.takeoff_landing_j
+        self.pieces.iter().map(|e| e.energy_j).sum::<f64>() + self.takeoff_landing_j()
     }
+
+    pub fn takeoff_landing_s(&self) -> f64 {
+        self.takeoff.duration_s + self.landing.duration_s
+    }
+
+    pub fn takeoff_landing_j(&self) -> f64 {
+        self.takeoff.energy_j + self.landing.energy_j
+    }
+}
+
+/// How a multirotor's autopilot lands (ArduCopter's defaults, the slower of ArduCopter's and
+/// PX4's): after a return it hovers [`RTL_HOVER_S`] over home (`RTL_LOIT_TIME`), descends at
+/// its own rate down to [`LAND_SLOW_BELOW_M`] (`LAND_ALT_LOW`), then at [`LAND_SPEED_MPS`]
+/// (`LAND_SPEED`). Flown in software-in-the-loop, these were most of the 25 s a plan's duration
+/// lacked against mission start to disarm (docs/flight-files.md).
+pub const RTL_HOVER_S: f64 = 5.0;
+pub const LAND_SLOW_BELOW_M: f64 = 10.0;
+pub const LAND_SPEED_MPS: f64 = 0.5;
+
+/// A multirotor's landing from `down_m` as its autopilot flies it: `descend` prices a descent at
+/// the model's own rate, `hover_w` the power of hovering and of the slow last metres. Nothing
+/// to land from: no landing.
+pub fn multirotor_landing(down_m: f64, descend: impl Fn(f64) -> (f64, f64), hover_w: f64) -> Vertical {
+    if down_m <= 0.0 {
+        return Vertical::default();
+    }
+    let slow_m = down_m.min(LAND_SLOW_BELOW_M);
+    let (fast_s, fast_j) = descend(down_m - slow_m);
+    let held_s = RTL_HOVER_S + slow_m / LAND_SPEED_MPS;
+    Vertical { duration_s: fast_s + held_s, energy_j: fast_j + held_s * hover_w }
 }
 
 pub trait EnergyModel {
     /// One estimate per piece of `path`, in order, from rest to rest.
     fn pieces(&self, path: &FlightPath) -> Vec<PieceEstimate>;
 
-    /// Time and energy of climbing `up_m` after take-off and descending `down_m` to land.
+    /// Time and energy of climbing `up_m` and descending `down_m` on the spot.
     fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64);
+
+    /// The take-off climbing `up_m` and the landing from `down_m` as the autopilot flies them
+    /// (default: both on the spot at the model's rates).
+    fn flight_ends(&self, up_m: f64, down_m: f64) -> [Vertical; 2] {
+        [Vertical::new(self.takeoff_landing(up_m, 0.0)), Vertical::new(self.takeoff_landing(0.0, down_m))]
+    }
 
     /// The whole flight at `altitude_m` (or at ground level).
     fn estimate(&self, path: &FlightPath, altitude_m: Option<f64>) -> PathEstimate {
         let h = altitude_m.unwrap_or(0.0).max(0.0);
-        let (takeoff_landing_s, takeoff_landing_j) = self.takeoff_landing(h, h);
-        PathEstimate { pieces: self.pieces(path), takeoff_landing_s, takeoff_landing_j }
+        let [takeoff, landing] = self.flight_ends(h, h);
+        PathEstimate { pieces: self.pieces(path), takeoff, landing }
     }
 }
 

@@ -105,24 +105,21 @@ impl Flight {
     }
 }
 
-/// The points a vehicle is sent to, in order, each with the piece it ends and whether it lies
-/// inside a turn's arc: every point of every piece, once (consecutive pieces share their ends),
-/// with the arcs of fixed-wing turns thinned to one point per `arc_step_deg` of heading
-/// change, keeping the tangent points (docs/methods.md, interop §4).
-pub fn waypoints(pieces: &[FlownPiece], arc_step_deg: Option<f64>) -> Vec<Waypoint> {
+/// The points a vehicle is sent to, in order, each with the piece it ends: every point of every
+/// piece, once (consecutive pieces share their ends); with `arc_corner_deg` (a fixed wing) the
+/// arcs of turns and transits are written as corners round them (docs/flight-files.md).
+pub fn waypoints(pieces: &[FlownPiece], arc_corner_deg: Option<f64>) -> Vec<Waypoint> {
     let mut out: Vec<Waypoint> = Vec::new();
     for (index, piece) in pieces.iter().enumerate() {
-        let keep = match (piece.kind, arc_step_deg) {
-            (PieceKind::Turn, Some(step)) => thin_arc(&piece.points, step),
-            _ => vec![true; piece.points.len()],
+        let points = match arc_corner_deg {
+            Some(max_turn) if matches!(piece.kind, PieceKind::Turn | PieceKind::Transit) => arc_corners(piece, max_turn),
+            _ => (0..piece.points.len()).map(|k| (k, piece.points[k], piece.ground_m.as_ref().map(|g| g[k]), None)).collect(),
         };
-        for (k, (p, kept)) in piece.points.iter().zip(keep).enumerate() {
-            if !kept || out.last().is_some_and(|w| w.position == *p) {
+        for (k, position, ground_m, arc_begins_m) in points {
+            if out.last().is_some_and(|w| w.position == position) {
                 continue;
             }
-            let on_arc = piece.kind == PieceKind::Turn && arc_step_deg.is_some() && k > 0 && k + 1 < piece.points.len();
-            let ground_m = piece.ground_m.as_ref().map(|g| g[k]);
-            out.push(Waypoint { position: *p, piece: index, index: k, on_arc, ground_m });
+            out.push(Waypoint { position, piece: index, index: k, arc_begins_m, ground_m });
         }
     }
     out
@@ -136,41 +133,80 @@ pub struct Waypoint {
     /// in that piece.
     pub piece: usize,
     pub index: usize,
-    pub on_arc: bool,
+    /// A corner written for an arc: the distance from it at which the arc begins.
+    pub arc_begins_m: Option<f64>,
     /// Over terrain: the ground's height under it, above mean sea level.
     pub ground_m: Option<f64>,
 }
 
-/// Which points of a densified turn to keep: both ends, every point where one part of the
-/// turn meets the next (arc and straight: there the chord length changes, or the turn changes
-/// side), and on an arc a point whenever the heading has changed by `step_deg` since the last
-/// one kept.
-fn thin_arc(points: &[[f64; 3]], step_deg: f64) -> Vec<bool> {
+/// The largest heading change between two samples of an arc (`turn::dubins` samples at most
+/// 10° a step), with room for rounding.
+const ARC_STEP_MAX_RAD: f64 = 10.5 * std::f64::consts::PI / 180.0;
+
+/// A point written for a piece: the index of the piece's point at or before it, its position,
+/// the ground under it, and for an arc's corner the distance from it at which the arc begins.
+type Written = (usize, [f64; 3], Option<f64>, Option<f64>);
+
+/// A fixed wing's arcs as an autopilot following waypoints flies them: each arc of `piece`
+/// (a run of equal chords turning one way) becomes the corners of the polygon drawn round it,
+/// one per `max_turn_deg` of heading change at most, each with the distance from it at which
+/// the arc begins; straights keep their ends.
+fn arc_corners(piece: &FlownPiece, max_turn_deg: f64) -> Vec<Written> {
+    let points = &piece.points;
     let n = points.len();
-    let mut keep = vec![true; n];
-    if n < 3 {
-        return keep;
+    let ground = |k: usize| piece.ground_m.as_ref().map(|g| g[k]);
+    let mut out = vec![(0, points[0], ground(0), None)];
+    if n < 2 {
+        return out;
     }
-    // a plane scaled by the latitude's cosine: good enough for angles and length ratios
+    const METRES_PER_DEGREE: f64 = 111_320.0;
     let cos = points[0][1].to_radians().cos();
-    let delta = |i: usize| ((points[i + 1][0] - points[i][0]) * cos, points[i + 1][1] - points[i][1]);
-    let mut since = 0.0;
-    for (i, kept) in keep.iter_mut().enumerate().take(n - 1).skip(1) {
-        let (a, b) = (delta(i - 1), delta(i));
-        let turn = (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1).to_degrees();
-        let (la, lb) = (a.0.hypot(a.1), b.0.hypot(b.1));
-        let next_turn = (i + 2 < n).then(|| {
-            let c = delta(i + 1);
-            b.0 * c.1 - b.1 * c.0
-        });
-        let part_ends = (la - lb).abs() > 0.01 * la.max(lb) || next_turn.is_some_and(|t| t * turn < 0.0);
-        since += turn.abs();
-        *kept = part_ends || since >= step_deg - 1e-9;
-        if *kept {
-            since = 0.0;
+    let local = |p: &[f64; 3]| geo::Coord { x: p[0] * cos * METRES_PER_DEGREE, y: p[1] * METRES_PER_DEGREE };
+    let back = |c: geo::Coord, z: f64| [c.x / cos / METRES_PER_DEGREE, c.y / METRES_PER_DEGREE, z];
+    let xy: Vec<geo::Coord> = points.iter().map(local).collect();
+    let heading = |i: usize| (xy[i + 1].y - xy[i].y).atan2(xy[i + 1].x - xy[i].x);
+    let length = |i: usize| (xy[i + 1] - xy[i]).x.hypot((xy[i + 1] - xy[i]).y);
+    let wrap = |a: f64| (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+    // the turn at vertex i, between chords i - 1 and i, when it continues an arc: equal chords
+    // turning no more than the sampler's step (a corner between two legs is no arc)
+    let arc_turn = |i: usize| {
+        let turn = wrap(heading(i) - heading(i - 1));
+        let equal = (length(i) - length(i - 1)).abs() <= 0.01 * length(i).max(length(i - 1));
+        (turn.abs() > 1e-4 && turn.abs() <= ARC_STEP_MAX_RAD && equal).then_some(turn)
+    };
+    let mut a = 0;
+    while a < n - 1 {
+        // chords a..=b form one arc
+        let mut b = a;
+        while b + 1 < n - 1 && arc_turn(b + 1).is_some_and(|t| arc_turn(a + 1).is_some_and(|t0| t * t0 > 0.0)) {
+            b += 1;
         }
+        if b == a {
+            out.push((a + 1, points[a + 1], ground(a + 1), None));
+            a += 1;
+            continue;
+        }
+        let beta = (a + 1..=b).map(|i| wrap(heading(i) - heading(i - 1))).sum::<f64>() / (b - a) as f64;
+        let total = beta * (b - a + 1) as f64;
+        let radius = length(a) / (2.0 * (beta.abs() / 2.0).sin());
+        let h0 = heading(a) - beta / 2.0;
+        let side = beta.signum();
+        let centre = xy[a] + geo::Coord { x: -h0.sin(), y: h0.cos() } * (side * radius);
+        let parts = (total.abs().to_degrees() / max_turn_deg).ceil().max(1.0) as usize;
+        let step = total / parts as f64;
+        let tangent = radius * (step.abs() / 2.0).tan();
+        let z = (a..=b + 1).map(|k| points[k][2]).fold(f64::NEG_INFINITY, f64::max);
+        let highest = (a..=b + 1).max_by(|&i, &j| points[i][2].total_cmp(&points[j][2])).unwrap_or(a);
+        for j in 0..parts {
+            let h = h0 + step * j as f64;
+            let on_arc = centre + geo::Coord { x: h.sin(), y: -h.cos() } * (side * radius);
+            let corner = on_arc + geo::Coord { x: h.cos(), y: h.sin() } * tangent;
+            out.push((a, back(corner, z), ground(highest), Some(tangent)));
+        }
+        out.push((b + 1, points[b + 1], ground(b + 1), None));
+        a = b + 1;
     }
-    keep
+    out
 }
 
 #[cfg(test)]
@@ -181,28 +217,39 @@ mod tests {
         (0..=n).map(|k| (k as f64 / n as f64 * degrees).to_radians()).map(|a| [1e-3 * a.cos(), 1e-3 * a.sin(), 50.0]).collect()
     }
 
-    #[test]
-    fn thinning_keeps_ends_and_steps() {
-        // 180° sampled every 5°: 15° steps keep every third point, and both ends
-        let points = arc(36, 180.0);
-        let keep = thin_arc(&points, 15.0);
-        assert!(keep[0] && keep[36]);
-        let kept: Vec<usize> = (0..=36).filter(|&i| keep[i]).collect();
-        assert!(kept.windows(2).all(|w| w[1] - w[0] <= 3), "{kept:?}");
-        assert!(kept.len() <= 14, "{kept:?}");
+    fn turn(points: Vec<[f64; 3]>) -> FlownPiece {
+        FlownPiece { kind: PieceKind::Turn, points, speed_mps: 15.0, ground_m: None }
     }
 
+    /// A half circle sampled every 5°, then a straight: two corners of the square round it,
+    /// each as far from the arc's ends as the radius (tan 45°), and the straight's end.
     #[test]
-    fn thinning_keeps_tangent_points() {
-        // 20° of arc, then a straight: the tangent point (index 4) stays although only 5° of
-        // heading changed since the point kept at 15°
-        let mut points = arc(4, 20.0);
-        let end = points[4];
-        let heading = 110f64.to_radians();
-        points.push([end[0] + 1e-3 * heading.cos(), end[1] + 1e-3 * heading.sin(), 50.0]);
-        let keep = thin_arc(&points, 15.0);
-        assert!(keep[4] && keep[5], "{keep:?}");
-        assert!(!keep[1] && !keep[2], "{keep:?}");
+    fn an_arc_becomes_the_corners_round_it() {
+        let mut points = arc(36, 180.0);
+        points.push([-1e-3, -1e-3, 50.0]);
+        let out = arc_corners(&turn(points.clone()), 90.0);
+        let metres = |p: [f64; 3]| (p[0] * 111_320.0, p[1] * 111_320.0);
+        let radius = 1e-3 * 111_320.0;
+        assert_eq!(out.len(), 5, "{out:?}");
+        assert_eq!(out[0].1, points[0]);
+        for (corner, expected) in out[1..3].iter().zip([(radius, radius), (-radius, radius)]) {
+            let (x, y) = metres(corner.1);
+            assert!((x - expected.0).abs() < 0.5 && (y - expected.1).abs() < 0.5, "{corner:?}");
+            assert!(corner.3.is_some_and(|d| (d - radius).abs() < 0.5), "{corner:?}");
+        }
+        assert_eq!(out[3].1, points[36]);
+        assert_eq!(out[4].1, points[37]);
+    }
+
+    /// 60° of arc is one corner; 300° five, each standing for 60°.
+    #[test]
+    fn corners_stand_for_at_most_the_step() {
+        assert_eq!(arc_corners(&turn(arc(12, 60.0)), 90.0).iter().filter(|c| c.3.is_some()).count(), 1);
+        let many = arc_corners(&turn(arc(60, 300.0)), 90.0);
+        let corners: Vec<f64> = many.iter().filter_map(|c| c.3).collect();
+        assert_eq!(corners.len(), 4);
+        let radius = 1e-3 * 111_320.0;
+        assert!(corners.iter().all(|d| (d - radius * 37.5f64.to_radians().tan()).abs() < 0.5), "{corners:?}");
     }
 
     #[test]

@@ -146,7 +146,7 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
     };
     for (k, (sortie, estimate)) in flight.sorties.iter().zip(flight.estimates).enumerate() {
         // take-off is spent before the first piece
-        let mut used = estimate.takeoff_landing_j / 2.0;
+        let mut used = estimate.takeoff.energy_j;
         for (j, (piece, e)) in sortie.pieces.iter().zip(&estimate.pieces).enumerate() {
             used += e.energy_j;
             let coords = piece.points.iter().enumerate().map(|(i, &c)| position(frame, c, piece.z.get(i).copied().or(altitude_m))).collect();
@@ -181,7 +181,7 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
                 let battery = flight.battery_swaps.len() - swaps.len();
                 let props = json!({"kind": "battery_swap", "battery": battery, "cumulative_energy_j": round(used, 1)});
                 push(&mut features, GeometryValue::Point { coordinates: position(frame, piece.end(), altitude_m) }, props);
-                used = estimate.takeoff_landing_j / 2.0;
+                used = estimate.takeoff.energy_j;
             }
         }
     }

@@ -7,17 +7,20 @@
 //! and takes one picture.
 
 use super::flight::{FlownPiece, ViewAction, Waypoint, waypoints};
+use super::follower;
 use super::{AltitudeFrame, Firmware, FlightSettings};
+use crate::params::Landing;
 use rstar::{AABB, RTree};
 
 use crate::frame::LocalFrame;
 use crate::path::PieceKind;
-use crate::vehicle::VehicleKind;
+use crate::vehicle::{TAKEOFF_PITCH_DEG, VehicleKind};
 
 pub const NAV_WAYPOINT: u16 = 16;
 pub const NAV_RETURN_TO_LAUNCH: u16 = 20;
 pub const NAV_LAND: u16 = 21;
 pub const NAV_TAKEOFF: u16 = 22;
+pub const DO_LAND_START: u16 = 189;
 pub const DO_CHANGE_SPEED: u16 = 178;
 pub const DO_SET_CAM_TRIGG_DIST: u16 = 206;
 pub const CONDITION_YAW: u16 = 115;
@@ -36,10 +39,10 @@ pub const FRAME_GLOBAL: u8 = 0;
 /// `MAV_FRAME_GLOBAL_TERRAIN_ALT`: altitude above the ground under the waypoint.
 pub const FRAME_TERRAIN: u8 = 10;
 
-/// Heading change between two waypoints kept on a fixed-wing turn.
-pub const ARC_STEP_DEG: f64 = 15.0;
-/// Minimum pitch during a fixed-wing take-off.
-const TAKEOFF_PITCH_DEG: f64 = 15.0;
+/// Most heading change a fixed wing's arc corner stands for: an autopilot following
+/// waypoints flies a turn from corners this far apart within about 10 m of the arc (15° steps,
+/// in software-in-the-loop and in our follower alike, swung 20 to 28 m wide).
+pub const ARC_CORNER_DEG: f64 = 90.0;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct MissionItem {
@@ -102,19 +105,26 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
     };
     let [lon, lat] = launch(pieces, home);
     let pitch = if fixed_wing { TAKEOFF_PITCH_DEG } else { 0.0 };
-    let mut points = waypoints(pieces, fixed_wing.then_some(ARC_STEP_DEG));
+    let mut points = waypoints(pieces, fixed_wing.then_some(ARC_CORNER_DEG));
     // each line looks up the photos near it: indexed once, not scanned per line
     let photos = RTree::bulk_load(if settings.trigger_distance_m.is_some() { photos.to_vec() } else { Vec::new() });
     if fixed_wing {
-        // a fixed wing climbs out straight ahead: a transit's waypoint it passes while climbing
-        // (home itself, first of all) would turn it back once it is up
+        // a fixed wing climbs out straight ahead (the plan's first transit begins so): a
+        // waypoint it passes while climbing (home itself, first of all) would turn it back
+        // once it is up, so the first transit's points within the climb-out are left out
         let climb_out_m = settings.altitude_m / TAKEOFF_PITCH_DEG.to_radians().tan();
         let frame = LocalFrame::new(lon, lat);
-        let from_launch = |w: &Waypoint| {
-            let c = frame.to_local(w.position[0], w.position[1]);
-            c.x.hypot(c.y)
-        };
-        let behind = points.iter().take_while(|w| pieces[w.piece].kind == PieceKind::Transit && from_launch(w) < climb_out_m).count();
+        let mut along = 0.0;
+        let mut previous = geo::Coord { x: 0.0, y: 0.0 };
+        let behind = points
+            .iter()
+            .take_while(|w| {
+                let c = frame.to_local(w.position[0], w.position[1]);
+                along += (c - previous).x.hypot((c - previous).y);
+                previous = c;
+                pieces[w.piece].kind == PieceKind::Transit && along < climb_out_m - 0.5
+            })
+            .count();
         points.drain(..behind.min(points.len().saturating_sub(1)));
     }
     // over terrain: each waypoint in the frame asked; the take-off climbs to the first one
@@ -132,10 +142,18 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
     };
     // airspeed for fixed wings, ground speed for multirotors
     let speed_type = if fixed_wing { 0.0 } else { 1.0 };
-    let arc_radius = (settings.turn_radius_m / 4.0).min(10.0);
     let mut speed: Option<f64> = None;
+    // landing `auto` with a home: the last waypoint is where the vehicle lands
+    let lands = settings.landing == Landing::Auto && home.is_some();
+    let last_sweep = pieces.iter().rposition(|p| p.kind == PieceKind::Sweep);
+    let landing_at = if lands { points.pop() } else { None };
     for w in &points {
         let piece = &pieces[w.piece];
+        if fixed_wing && lands && last_sweep.is_some_and(|k| w.piece > k) && !items.iter().any(|i| i.command == DO_LAND_START) {
+            // the landing sequence: from the return's first point to touch-down; an autopilot's
+            // own return jumps here when told to land
+            items.push(MissionItem::command(DO_LAND_START, [0.0; 4]));
+        }
         if piece.speed_mps > 0.0 && speed.is_none_or(|s| (piece.speed_mps - s).abs() > 0.05) {
             speed = Some(piece.speed_mps);
             items.push(MissionItem::command(DO_CHANGE_SPEED, [speed_type, piece.speed_mps, -1.0, 0.0]));
@@ -144,7 +162,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
         let sweep_end = on_sweep && w.index + 1 == piece.points.len();
         let mut stopped = false;
         if let (Some(distance), true) = (settings.trigger_distance_m, on_sweep && w.index == 1) {
-            match line_triggers(piece, w.piece, &photos, settings.firmware) {
+            match line_triggers(piece, w.piece, &photos, Some(settings.firmware)) {
                 // a straight line: fly to its first photo, trigger there and every step, stop
                 // half a step past its last photo
                 Triggers::Line(line) => {
@@ -166,7 +184,11 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
         if w.position[2] - w.ground_m.unwrap_or(0.0) < GROUND_M {
             continue;
         }
-        let acceptance = if w.on_arc { arc_radius } else { 0.0 };
+        // an arc's corner: the autopilot's own turn distance, unless the arc begins sooner
+        let acceptance = match w.arc_begins_m {
+            Some(m) if m > follower::turn_distance_m(piece.speed_mps.max(settings.cruise_speed_mps), 90.0) => m.round().clamp(1.0, 255.0),
+            _ => 0.0,
+        };
         match views.iter().find(|v| v.position == w.position) {
             Some(view) => items.extend(view_items(view, w.position, settings)),
             None => items.push(place(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w)),
@@ -175,9 +197,16 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
         }
     }
-    match home {
-        Some(_) => items.push(MissionItem::command(NAV_RETURN_TO_LAUNCH, [0.0; 4])),
-        None => {
+    match (home, landing_at) {
+        (Some(_), Some(at)) => {
+            if fixed_wing && !items.iter().any(|i| i.command == DO_LAND_START) {
+                items.push(MissionItem::command(DO_LAND_START, [0.0; 4]));
+            }
+            let ground = Waypoint { position: [at.position[0], at.position[1], at.ground_m.unwrap_or(0.0)], ..at };
+            items.push(place(NAV_LAND, [Some(0.0), Some(0.0), Some(0.0), keep_yaw], &ground));
+        }
+        (Some(_), None) => items.push(MissionItem::command(NAV_RETURN_TO_LAUNCH, [0.0; 4])),
+        (None, _) => {
             let last = points.last().map_or([lon, lat, 0.0], |w| w.position);
             items.push(MissionItem::at(NAV_LAND, [Some(0.0), Some(0.0), Some(0.0), keep_yaw], [last[0], last[1], 0.0]));
         }
@@ -204,22 +233,26 @@ pub fn autopilot_distance_m(firmware: Firmware, a: [f64; 2], b: [f64; 2]) -> f64
     }
 }
 
+/// How often ArduPilot's camera library (50 Hz) and PX4's trigger check the distance flown: a
+/// photo is taken, on average, half this late.
+pub const CAMERA_CHECK_S: f64 = 0.02;
+
 /// How far from a line a photo may lie and still be one of its photos (the plan writes them to
 /// the centimetre).
 const ON_LINE_M: f64 = 0.02;
 
 /// Where a straight sweep's photos start and stop, and their step.
-struct LineTriggers {
+pub(super) struct LineTriggers {
     /// The first photo's place, unless it is the line's start.
-    start: Option<Waypoint>,
+    pub start: Option<Waypoint>,
     /// Half a step past the last photo, unless that is past the line's end (or the line has one
     /// photo: a step of 0 takes it and stops).
-    stop: Option<Waypoint>,
-    step_m: f64,
+    pub stop: Option<Waypoint>,
+    pub step_m: f64,
 }
 
 /// How a sweep's camera is triggered.
-enum Triggers {
+pub(super) enum Triggers {
     /// A straight line: from its first photo to its last.
     Line(LineTriggers),
     /// A straight line the plan shows no photo on.
@@ -228,8 +261,9 @@ enum Triggers {
     Bent,
 }
 
-/// Where the plan's photos lie on a sweep: the file triggers where the plan images.
-fn line_triggers(piece: &FlownPiece, index: usize, photos: &RTree<[f64; 2]>, firmware: Firmware) -> Triggers {
+/// Where the plan's photos lie on a sweep: the file triggers where the plan images. The step is
+/// in `firmware`'s metric, less its trigger's average lateness; without one (DJI), in metres.
+pub(super) fn line_triggers(piece: &FlownPiece, index: usize, photos: &RTree<[f64; 2]>, firmware: Option<Firmware>) -> Triggers {
     let [a, b] = piece.points.as_slice() else { return Triggers::Bent };
     let frame = LocalFrame::new(a[0], a[1]);
     let end = frame.to_local(b[0], b[1]);
@@ -262,16 +296,20 @@ fn line_triggers(piece: &FlownPiece, index: usize, photos: &RTree<[f64; 2]>, fir
         let f = t / len;
         let lerp = |u: f64, v: f64| u + (v - u) * f;
         let ground_m = piece.ground_m.as_ref().map(|g| lerp(g[0], g[1]));
-        Waypoint { position: [lerp(a[0], b[0]), lerp(a[1], b[1]), lerp(a[2], b[2])], piece: index, index: 0, on_arc: false, ground_m }
+        Waypoint { position: [lerp(a[0], b[0]), lerp(a[1], b[1]), lerp(a[2], b[2])], piece: index, index: 0, arc_begins_m: None, ground_m }
     };
     let stop_t = last + step_m / 2.0;
     // the step as the autopilot measures it: its metric and ours differ by up to a few tenths of
     // a per cent, which a long line's photos would add up to a photo more or less
-    let autopilot_step_m = if offsets.len() > 1 {
-        let (p, q) = (at(first).position, at(last).position);
-        autopilot_distance_m(firmware, [p[0], p[1]], [q[0], q[1]]) / (offsets.len() - 1) as f64
-    } else {
-        0.0
+    // and less the distance flown, on average, between the autopilot's checks of the distance
+    // and the picture: its photos then lie as far apart as the plan's
+    let autopilot_step_m = match firmware {
+        Some(firmware) if offsets.len() > 1 => {
+            let (p, q) = (at(first).position, at(last).position);
+            let latency_m = piece.speed_mps * CAMERA_CHECK_S / 2.0;
+            autopilot_distance_m(firmware, [p[0], p[1]], [q[0], q[1]]) / (offsets.len() - 1) as f64 - latency_m
+        }
+        _ => step_m,
     };
     Triggers::Line(LineTriggers { start: (first > NEAR_M).then(|| at(first)), stop: (step_m > 0.0 && stop_t < len - NEAR_M).then(|| at(stop_t)), step_m: autopilot_step_m })
 }
@@ -340,6 +378,7 @@ mod tests {
             trigger_distance_m: trigger,
             hold_s: 0.0,
             altitude_frame: AltitudeFrame::Amsl,
+            landing: Landing::Return,
         }
     }
 
@@ -369,48 +408,17 @@ mod tests {
         assert_eq!(commands, vec![22, 178, 16, 16, 206, 16, 206, 16, 16, 21]);
     }
 
-    /// Where an autopilot triggering by distance takes photos along `items` (ArduPilot's and
-    /// PX4's rule, in `firmware`'s own metric): one when a distance is set with "trigger now",
-    /// then one whenever it is that distance from the last, until a distance of 0; `[lon, lat]`.
-    pub(crate) fn autopilot_photos(items: &[MissionItem], firmware: Firmware) -> Vec<[f64; 2]> {
-        let (mut photos, mut at, mut distance): (Vec<[f64; 2]>, Option<[f64; 2]>, f64) = (Vec::new(), None, 0.0);
-        for item in items {
-            if item.command == DO_SET_CAM_TRIGG_DIST {
-                distance = item.params[0].unwrap_or(0.0);
-                if item.params[2] == Some(1.0) {
-                    photos.extend(at);
-                }
-                continue;
-            }
-            let Some([lat, lon, _]) = item.position else { continue };
-            let to = [lon, lat];
-            if let (Some(from), true) = (at, distance > 0.0) {
-                let along = |s: f64| [from[0] + (to[0] - from[0]) * s, from[1] + (to[1] - from[1]) * s];
-                let mut s = 0.0;
-                loop {
-                    let last = *photos.last().expect("a photo before the distance runs");
-                    let short = |u: f64| autopilot_distance_m(firmware, last, along(u)) < distance;
-                    if short(1.0) {
-                        break;
-                    }
-                    // the first point of the leg that far from the last photo
-                    let (mut lo, mut hi) = (s, 1.0);
-                    for _ in 0..60 {
-                        let mid = (lo + hi) / 2.0;
-                        if short(mid) { lo = mid } else { hi = mid }
-                    }
-                    s = hi;
-                    photos.push(along(s));
-                }
-            }
-            at = Some(to);
-        }
-        photos
+    /// Where an autopilot triggering by distance takes photos along `items` (the follower's
+    /// multirotor: `[lon, lat]`).
+    fn autopilot_photos(items: &[MissionItem], firmware: Firmware) -> Vec<[f64; 2]> {
+        let spec =
+            follower::FollowerSpec { kind: VehicleKind::Multirotor, firmware, cruise_speed_mps: 6.0, turn_radius_m: 0.0, acceleration_mps2: 2.0, climb_mps: 2.0, descent_mps: 1.5 };
+        follower::fly(items, &spec).photos
     }
 
-    /// The flight file triggers where the plan's photos are, line by line: as many, within a
-    /// centimetre along the line, for lines of any length, footprints and steps, in either
-    /// autopilot's metric.
+    /// The flight file triggers where the plan's photos are, line by line: as many, within the
+    /// distance flown between two checks of the autopilot along the line, for lines of any
+    /// length, footprints and steps, in either autopilot's metric.
     #[test]
     fn an_autopilot_triggering_by_distance_takes_the_plans_photos() {
         let frame = LocalFrame::new(8.5, 47.3);
@@ -432,7 +440,11 @@ mod tests {
                 for (f, p) in found.iter().zip(&planned) {
                     // along the line, where triggering decides (across it, a straight line in
                     // degrees and one in metres part by centimetres over a kilometre)
-                    assert!((f.x - p.x).abs() < 0.01 && (f.y - p.y).abs() < 0.2, "{len} m, footprint {footprint} m, step {spacing} m: a photo at {f:?}, planned at {p:?}");
+                    // within the distance flown between two of the autopilot's checks
+                    assert!(
+                        (f.x - p.x).abs() < 6.0 * CAMERA_CHECK_S && (f.y - p.y).abs() < 0.2,
+                        "{len} m, footprint {footprint} m, step {spacing} m: a photo at {f:?}, planned at {p:?}"
+                    );
                 }
                 checked += 1;
             }

@@ -6,13 +6,14 @@
 //! Conventions (coordinate order, winding, altitude reference) follow docs/methods.md, interop.
 
 mod flight;
+pub mod follower;
 pub mod geojson;
 mod isoxml;
 mod kml;
 mod mission_items;
-pub use mission_items::autopilot_distance_m;
+pub use mission_items::{MissionItem, autopilot_distance_m};
 mod qgc_plan;
-mod wpl;
+pub mod wpl;
 mod wpml;
 mod xml;
 
@@ -22,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use super::archive;
 use super::error::{InputError, check_range};
 use super::field::{Field, FieldLimits, MissionGeometry};
-use super::params::{FleetVehicle, PlanParams, inspection};
+use super::params::{FleetVehicle, Landing, PlanParams, inspection};
 use super::planners::MethodKind;
 use super::vehicle::{Vehicle, VehicleKind};
 pub use flight::{Flight, FlownPiece};
@@ -110,6 +111,8 @@ pub struct FlightSettings {
     pub hold_s: f64,
     /// Plans over terrain: how altitudes are said.
     pub altitude_frame: AltitudeFrame,
+    /// How each flight ends: the autopilot's return, or a landing written in the file.
+    pub landing: Landing,
 }
 
 /// Everything an exporter writes from.
@@ -240,6 +243,7 @@ struct FileParams {
     line_spacing_m: f64,
     trigger_distance_m: Option<f64>,
     hold_s: Option<f64>,
+    landing: Landing,
 }
 
 impl FileParams {
@@ -254,6 +258,7 @@ impl FileParams {
                 line_spacing_m: 0.0,
                 trigger_distance_m: None,
                 hold_s: Some(spec.capture_s),
+                landing: Landing::Return,
             });
         }
         let r = params.resolve(profiles)?;
@@ -266,6 +271,7 @@ impl FileParams {
             line_spacing_m: r.line_spacing_m,
             trigger_distance_m,
             hold_s: None,
+            landing: r.landing,
         })
     }
 }
@@ -311,6 +317,7 @@ fn prepare<'a>(
         trigger_distance_m: planned.trigger_distance_m,
         hold_s: planned.hold_s.unwrap_or(0.0),
         altitude_frame: request.options.altitude_frame,
+        landing: planned.landing,
     };
     let flight = Flight::from_trajectory(trajectory, altitude_m)?;
     Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory })

@@ -4,7 +4,7 @@
 
 use std::fmt::Write;
 
-use super::mission_items::{self, launch};
+use super::mission_items::{self, MissionItem, launch};
 use super::{ALL_METHODS, ExportJob, Exporter, Format, number};
 use crate::error::InputError;
 
@@ -40,4 +40,31 @@ impl Exporter for WaypointList {
         }
         Ok(text.into_bytes())
     }
+}
+
+/// The mission items of a `QGC WPL 110` file, its home (item 0) left out: what an autopilot
+/// loads from it, for the follower (`export::follower`) and for checks of written files.
+pub fn read(text: &str) -> Result<Vec<MissionItem>, InputError> {
+    let mut lines = text.lines();
+    if lines.next().map(str::trim) != Some("QGC WPL 110") {
+        return Err(InputError::new("invalid_waypoints", "/", "a waypoint file starts with `QGC WPL 110`"));
+    }
+    lines
+        .enumerate()
+        .filter(|(_, line)| !line.trim().is_empty())
+        .skip(1)
+        .map(|(k, line)| {
+            let at = format!("/lines/{}", k + 1);
+            let columns: Vec<&str> = line.split('\t').collect();
+            if columns.len() != 12 {
+                return Err(InputError::new("invalid_waypoints", at, format!("{} columns where an item has 12", columns.len())));
+            }
+            let integer =
+                |c: usize| columns[c].trim().parse::<u16>().map_err(|_| InputError::new("invalid_waypoints", at.clone(), format!("column {} is not a whole number", c + 1)));
+            let number = |c: usize| columns[c].trim().parse::<f64>().ok().filter(|v| v.is_finite());
+            let frame = integer(2)? as u8;
+            let position = (frame != mission_items::FRAME_MISSION).then(|| [number(8).unwrap_or(0.0), number(9).unwrap_or(0.0), number(10).unwrap_or(0.0)]);
+            Ok(MissionItem { command: integer(3)?, frame, params: [number(4), number(5), number(6), number(7)], position })
+        })
+        .collect()
 }

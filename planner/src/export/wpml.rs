@@ -1,9 +1,13 @@
 //! DJI WPML: a KMZ holding `wpmz/template.kml` and `wpmz/waylines.wpml`, the waypoint route
 //! that DJI Pilot 2 opens: heights relative to the take-off point, a speed per waypoint, and on
-//! each sweep a photo every trigger distance (an action group over the line's waypoints).
+//! each sweep the plan's photos (an action group taking one every step of the line, from a
+//! waypoint at its first photo to one half a step past its last).
 //! Written with quick-xml: no crate writes WPML.
 
+use rstar::RTree;
+
 use super::flight::waypoints;
+use super::mission_items::{Triggers, line_triggers};
 use super::xml::Xml;
 use super::{COVERAGE_ONLY, ExportJob, Exporter, Format, number};
 use crate::archive;
@@ -49,7 +53,33 @@ impl Exporter for Wpml {
 fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
     let s = &job.settings;
     let pieces = &job.flight.sorties[sortie];
-    let points = waypoints(pieces, None);
+    let photos = RTree::bulk_load(job.flight.photos.clone());
+    // on a straight sweep the camera runs from the plan's first photo to half a step past its
+    // last (waypoints added there), at the line's own step
+    let mut points = Vec::new();
+    let mut triggers: Vec<(usize, usize, f64)> = Vec::new();
+    for w in waypoints(pieces, None) {
+        let piece = &pieces[w.piece];
+        if let (Some(distance), true) = (s.trigger_distance_m, piece.kind == PieceKind::Sweep && w.index == 1) {
+            let from = points.len().saturating_sub(1);
+            match line_triggers(piece, w.piece, &photos, None) {
+                Triggers::Line(line) => {
+                    let start = line.start.map_or(from, |p| {
+                        points.push(p);
+                        points.len() - 1
+                    });
+                    let stop = line.stop.map_or(points.len(), |p| {
+                        points.push(p);
+                        points.len() - 1
+                    });
+                    triggers.push((start, stop, line.step_m));
+                }
+                Triggers::None => {}
+                Triggers::Bent => triggers.push((from, points.len(), distance)),
+            }
+        }
+        points.push(w);
+    }
     // over terrain the heights are above mean sea level: DJI's are relative to the take-off
     // point (its WGS84 mode is ellipsoidal, not sea level), so the launch ground comes off
     let launch_ground = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
@@ -98,10 +128,8 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
             x.leaf("wpml:useGlobalHeadingParam", "1").leaf("wpml:useGlobalTurnParam", "1");
         }
         x.leaf("wpml:useStraightLine", "1");
-        // a sweep starts here when the next waypoint is its second point
-        let sweep_starts = points.get(k + 1).is_some_and(|n| n.index == 1 && pieces[n.piece].kind == PieceKind::Sweep);
-        if let (Some(distance), true) = (s.trigger_distance_m, sweep_starts) {
-            photo_group(&mut x, group, k, distance);
+        for &(start, stop, step) in triggers.iter().filter(|t| t.0 == k) {
+            photo_group(&mut x, group, start, stop, step);
             group += 1;
         }
         x.close("Placemark");
@@ -110,12 +138,12 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
     x.finish()
 }
 
-/// Photos every `distance` metres from waypoint `start` to the next one.
-fn photo_group(x: &mut Xml, id: usize, start: usize, distance: f64) {
+/// Photos every `distance` metres from waypoint `start` to waypoint `stop`.
+fn photo_group(x: &mut Xml, id: usize, start: usize, stop: usize, distance: f64) {
     x.open("wpml:actionGroup", &[])
         .leaf("wpml:actionGroupId", &id.to_string())
         .leaf("wpml:actionGroupStartIndex", &start.to_string())
-        .leaf("wpml:actionGroupEndIndex", &(start + 1).to_string())
+        .leaf("wpml:actionGroupEndIndex", &stop.to_string())
         .leaf("wpml:actionGroupMode", "sequence");
     x.open("wpml:actionTrigger", &[]).leaf("wpml:actionTriggerType", "multipleDistance").leaf("wpml:actionTriggerParam", &number(distance, 2)).close("wpml:actionTrigger");
     x.open("wpml:action", &[]).leaf("wpml:actionId", "0").leaf("wpml:actionActuatorFunc", "takePhoto");

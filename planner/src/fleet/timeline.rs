@@ -34,7 +34,7 @@ impl Track {
         for (sortie, estimate) in sorties.iter().zip(estimates) {
             let Some(first) = sortie.pieces.first() else { continue };
             knots.push((t, first.start(), first.z.first().copied().unwrap_or(altitude_m)));
-            t += estimate.takeoff_landing_s / 2.0;
+            t += estimate.takeoff.duration_s;
             for (piece, e) in sortie.pieces.iter().zip(&estimate.pieces) {
                 let length = polyline_length(&piece.points);
                 let start = t;
@@ -46,7 +46,7 @@ impl Track {
                 }
                 t = start + e.duration_s;
             }
-            t += estimate.takeoff_landing_s / 2.0;
+            t += estimate.landing.duration_s;
             if let Some(&(_, c, z)) = knots.last() {
                 knots.push((t, c, z));
             }
@@ -167,7 +167,7 @@ mod tests {
         let mut path = FlightPath::default();
         path.push(PieceKind::Transit, vec![a, b], 0.0);
         let e = PieceEstimate { speed_mps: distance(a, b) / seconds, duration_s: seconds, energy_j: 0.0, v_in_mps: 0.0, v_out_mps: 0.0 };
-        (path, PathEstimate { pieces: vec![e], takeoff_landing_s: 0.0, takeoff_landing_j: 0.0 })
+        (path, PathEstimate { pieces: vec![e], ..PathEstimate::default() })
     }
 
     #[test]

@@ -52,7 +52,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         duration_s: m.estimates.iter().map(PathEstimate::duration_s).sum(),
         energy_j,
         energy_wh: energy_j / 3600.0,
-        takeoff_landing_energy_j: m.estimates.iter().map(|e| e.takeoff_landing_j).sum(),
+        takeoff_landing_energy_j: m.estimates.iter().map(|e| e.takeoff_landing_j()).sum(),
         sorties: m.sorties.len(),
         sortie_totals: m
             .sorties

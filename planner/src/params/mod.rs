@@ -88,8 +88,26 @@ pub struct PlanParams {
     /// direction, 0 to 1000 (default 10): sweep flown too high to image over an obstacle, or
     /// (`line_gtsp`, fixed wing) cut short to leave room to turn before a no-fly zone.
     pub coverage_penalty: Option<f64>,
-    /// Clearance kept from no-fly zones, 1 to 500 m (default 10).
+    /// Clearance kept from no-fly zones by sweeps, 1 to 500 m; connections keep half of it
+    /// (default 10, and for a fixed wing twice a quarter of its L1 distance more: 40 m at
+    /// 15 m/s, the room an autopilot following waypoints strays from a turn;
+    /// docs/flight-files.md).
     pub nfz_margin_m: Option<f64>,
+    /// Fixed wing: metres flown straight on each line's extension before the line, for an
+    /// autopilot to settle on it before the camera starts, 0 to 1000 m (default: eight seconds
+    /// at cruise speed, twice the distance ArduPlane's default L1 guidance looks ahead);
+    /// shortened where it would enter a no-fly zone.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1000.0))]
+    pub lead_in_m: Option<f64>,
+    /// How each flight ends: `return` (default) sends the vehicle home (a multirotor lands
+    /// there; a fixed wing circles home for the pilot to land it); `auto` writes a landing at
+    /// home (a fixed wing: `DO_LAND_START`, an approach along `landing_heading_deg` and
+    /// `NAV_LAND`). Without a home every flight lands where it ends.
+    pub landing: Option<Landing>,
+    /// With `landing` `auto`, a fixed wing: the compass bearing it lands on (default: the
+    /// heading it arrives home on).
+    #[cfg_attr(feature = "schema", schema(minimum = -360.0, maximum = 360.0))]
+    pub landing_heading_deg: Option<f64>,
     /// What planner `auto` minimises (default `energy`).
     pub objective: Option<Objective>,
     /// Most sorties a plan may be split into when one battery is not enough, 1 to 100
@@ -141,6 +159,18 @@ pub struct PlanParams {
     pub inspection: Option<InspectionOptions>,
     /// Inspection: the random seed; the same seed gives the same plan (default 0).
     pub seed: Option<u64>,
+}
+
+/// How a flight ends.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum Landing {
+    /// Return to launch: the autopilot's own return.
+    #[default]
+    Return,
+    /// A landing sequence at home, written in the flight file and timed in the plan.
+    Auto,
 }
 
 /// What a plan's altitude is measured from.
@@ -274,6 +304,11 @@ pub struct Resolved {
     pub headland: Option<HeadlandSpec>,
     /// `altitude_reference` `terrain`.
     pub terrain: Option<TerrainSpec>,
+    /// Fixed wing: the lead-in asked, metres (`None`: the vehicle's default).
+    pub lead_in_m: Option<f64>,
+    pub landing: Landing,
+    /// Fixed wing landing `auto`: the landing direction, math radians.
+    pub landing_heading: Option<f64>,
 }
 
 /// A start or end's position, checked; `name` is its member.
@@ -381,8 +416,10 @@ impl PlanParams {
         let obstacle_clearance_m = within(self.obstacle_clearance_m, 10.0, 0.0, 200.0, "/obstacle_clearance_m", "m")?;
         let max_climb_deg = within(self.max_climb_deg, 30.0, 1.0, 60.0, "/max_climb_deg", "°")?;
         let coverage_penalty = within(self.coverage_penalty, 10.0, 0.0, 1000.0, "/coverage_penalty", "")?;
-        // a tractor drives up to a fence; an aircraft keeps its distance
-        let nfz_margin_m = self.nfz_margin_m.unwrap_or(if headland.is_some() { 1.0 } else { 10.0 });
+        // a tractor drives up to a fence; an aircraft keeps its distance, a fixed wing room
+        // besides to stray from its turns on either side
+        let tracking = fleet.iter().map(|m| &m.vehicle).chain([&vehicle]).map(Vehicle::turn_tracking_m).fold(0.0, f64::max);
+        let nfz_margin_m = self.nfz_margin_m.unwrap_or(if headland.is_some() { 1.0 } else { 10.0 + 2.0 * tracking });
         check_range(nfz_margin_m, 1.0, 500.0, "/nfz_margin_m", "m")?;
         if let Some(limit) = self.time_limit_s {
             check_range(limit, 0.1, 86_400.0, "/time_limit_s", "s")?;
@@ -392,6 +429,7 @@ impl PlanParams {
             return Err(InputError::new("parameter_out_of_range", "/max_sorties", format!("{max_sorties} is outside the accepted range [1, 100]")));
         }
         let terrain = self.terrain(&vehicle, altitude_m, max_climb_deg)?;
+        let (lead_in_m, landing, landing_heading) = self.flight_ends(&vehicle, &fleet)?;
         Ok(Resolved {
             line_spacing_m,
             camera,
@@ -415,7 +453,35 @@ impl PlanParams {
             altitude_separation_m,
             headland,
             terrain,
+            lead_in_m,
+            landing,
+            landing_heading,
         })
+    }
+
+    /// The lead-in, the landing and its heading, checked against the vehicles they are for.
+    fn flight_ends(&self, vehicle: &Vehicle, fleet: &[FleetVehicle]) -> Result<(Option<f64>, Landing, Option<f64>), InputError> {
+        let fixed_wing = vehicle.kind == VehicleKind::FixedWing || fleet.iter().any(|m| m.vehicle.kind == VehicleKind::FixedWing);
+        let not_fixed_wing = |pointer: &str| InputError::new("not_a_fixed_wing", pointer, "this member is for a fixed-wing aircraft");
+        if let Some(m) = self.lead_in_m {
+            if !fixed_wing {
+                return Err(not_fixed_wing("/lead_in_m"));
+            }
+            check_range(m, 0.0, 1000.0, "/lead_in_m", "m")?;
+        }
+        let landing = self.landing.unwrap_or_default();
+        if landing == Landing::Auto && vehicle.kind == VehicleKind::Ground {
+            return Err(InputError::new("not_for_ground_vehicles", "/landing", "a ground vehicle does not land: leave out landing"));
+        }
+        let heading = match self.landing_heading_deg {
+            Some(_) if !fixed_wing => return Err(not_fixed_wing("/landing_heading_deg")),
+            Some(_) if landing != Landing::Auto => {
+                return Err(InputError::new("not_landing", "/landing_heading_deg", "a landing heading is for landing \"auto\""));
+            }
+            Some(h) => Some(check_range(h, -360.0, 360.0, "/landing_heading_deg", "°").map(|_| bearing_to_math(h))?),
+            None => None,
+        };
+        Ok((self.lead_in_m, landing, heading))
     }
 
     fn terrain(&self, vehicle: &Vehicle, altitude_m: Option<f64>, max_climb_deg: f64) -> Result<Option<TerrainSpec>, InputError> {
@@ -468,6 +534,9 @@ impl PlanParams {
             ("/vehicles", self.vehicles.is_some()),
             ("/headland_passes", self.headland_passes.is_some()),
             ("/objective", self.objective.is_some()),
+            ("/lead_in_m", self.lead_in_m.is_some()),
+            ("/landing", self.landing.is_some()),
+            ("/landing_heading_deg", self.landing_heading_deg.is_some()),
         ];
         if let Some((pointer, _)) = coverage_members.iter().find(|(_, given)| *given) {
             return Err(InputError::new("not_for_inspection", *pointer, "an inspection flies to viewpoints around structures: this member is for coverage plans"));

@@ -37,6 +37,22 @@ pub struct Connector<'a> {
     /// False: a blocked connection takes the hops along the detour, never a way through one
     /// corner ([`Connector::hops_only`]).
     via_corners: bool,
+    /// Fixed wing: the straights flown at the ends of connections ([`Connector::with_ends`]).
+    ends: FlightEnds,
+}
+
+/// The straights a fixed wing flies at the ends of its connections, each left out where it
+/// would enter a wall (docs/flight-files.md).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FlightEnds {
+    /// Metres flown straight into every pose a connection reaches (a line's start): an
+    /// autopilot following waypoints settles on the line over them.
+    pub lead_in_m: f64,
+    /// From the launch point, metres flown straight ahead climbing after take-off.
+    pub climb_out: Option<(Coord, f64)>,
+    /// Into the landing point: the approach's length, and its math heading (`None`: the
+    /// heading the connection arrives on).
+    pub landing: Option<(Coord, f64, Option<f64>)>,
 }
 
 type Legs = RwLock<HashMap<[u64; 3], Arc<LegRow>>>;
@@ -78,6 +94,7 @@ impl<'a> Connector<'a> {
             sights: Places::default(),
             stop: None,
             via_corners: true,
+            ends: FlightEnds::default(),
         }
     }
 
@@ -94,6 +111,7 @@ impl<'a> Connector<'a> {
             sights: Places::default(),
             stop: self.stop.clone(),
             via_corners: self.via_corners,
+            ends: self.ends,
         }
     }
 
@@ -104,6 +122,44 @@ impl<'a> Connector<'a> {
         let mut fresh = self.fresh();
         fresh.via_corners = false;
         fresh
+    }
+
+    /// Dubins connections fly `ends`' straights (a fixed wing's lead-ins, climb-out and
+    /// landing approach).
+    pub fn with_ends(mut self, ends: FlightEnds) -> Self {
+        self.ends = ends;
+        self
+    }
+
+    /// The poses a Dubins connection from `from` to `to` turns between: the ends of the
+    /// climb-outs when `from` is the launch point (every heading whose climb-out is clear of
+    /// the walls, in 15° steps from the one asked; else `from`), and short of the landing
+    /// approach when `to` is the landing point (on its heading), short of the lead-in
+    /// otherwise, each shortened until it is clear.
+    fn turning_ends(&self, from: Pose, to: Pose) -> (Vec<Pose>, Pose) {
+        let moved = |p: Pose, metres: f64| Pose::new(p.x + metres * p.theta.cos(), p.y + metres * p.theta.sin(), p.theta);
+        let clear = |a: Pose, b: Pose| self.transit.is_clear(a.coord(), b.coord());
+        let at = |c: Coord, p: Pose| (c - p.coord()).x.hypot((c - p.coord()).y) < 1e-6;
+        // the climb-outs whose straight is clear, the heading asked first, then the nearest ones
+        let starts = match self.ends.climb_out {
+            Some((launch, metres)) if metres > 0.0 && at(launch, from) => (0..=24)
+                .map(|k| from.theta + (if k % 2 == 0 { 1.0 } else { -1.0 }) * (k as f64 / 2.0).ceil() * 15f64.to_radians())
+                .map(|theta| Pose { theta, ..from })
+                .map(|launch| (launch, moved(launch, metres)))
+                .filter(|&(launch, end)| clear(launch, end))
+                .map(|(_, end)| end)
+                .collect(),
+            _ => Vec::new(),
+        };
+        let starts = if starts.is_empty() { vec![from] } else { starts };
+        let (to, metres) = match self.ends.landing {
+            Some((point, metres, heading)) if at(point, to) => (Pose { theta: heading.unwrap_or(to.theta), ..to }, metres),
+            _ => (to, self.ends.lead_in_m),
+        };
+        // the longest straight that stays clear, down to a tenth of the one asked
+        let end =
+            std::iter::successors(Some(metres), |m| Some(m * 0.75)).take_while(|&m| m >= metres / 10.0 && m > 0.0).map(|m| moved(to, -m)).find(|&p| clear(p, to)).unwrap_or(to);
+        (starts, end)
     }
 
     /// Finds no more connections once `stop` is raised, so that every search built on
@@ -147,16 +203,35 @@ impl Connector<'_> {
         }
         match self.turn {
             TurnModel::Straight => self.transit.path(from.coord(), to.coord()),
-            TurnModel::Dubins(r) => self.clear_dubins(from, to, r).or_else(|| {
-                // hops along the detour bound what a way through one corner may cost
-                let hops = self.dubins_detour(from, to, r);
-                if !self.via_corners {
-                    return hops;
-                }
-                let limit = hops.as_deref().map_or(f64::INFINITY, crate::geom::polyline_length);
-                self.via_corner(from, to, r, limit).or(hops)
-            }),
+            TurnModel::Dubins(r) => self.with_straights(from, to, r),
         }
+    }
+
+    /// The Dubins connection with its straights ([`Connector::turning_ends`]): where no clear
+    /// way joins them, one with another climb-out, then without the approach, and only then
+    /// without the climb-out (a fixed wing cannot turn while it climbs out).
+    fn with_straights(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+        let (starts, end) = self.turning_ends(from, to);
+        let ends = if end.coord() == to.coord() { vec![to] } else { vec![end, to] };
+        let tries = starts.iter().flat_map(|&start| ends.iter().map(move |&end| (start, end))).chain([(from, to)]);
+        tries.take(12).find_map(|(start, end)| {
+            let turn = self.dubins_path(start, end, r)?;
+            let points = (start.coord() != from.coord()).then(|| from.coord()).into_iter().chain(turn).chain((end.coord() != to.coord()).then(|| to.coord()));
+            Some(points.collect())
+        })
+    }
+
+    /// The shortest clear Dubins connection, without a lead-in.
+    fn dubins_path(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+        self.clear_dubins(from, to, r).or_else(|| {
+            // hops along the detour bound what a way through one corner may cost
+            let hops = self.dubins_detour(from, to, r);
+            if !self.via_corners {
+                return hops;
+            }
+            let limit = hops.as_deref().map_or(f64::INFINITY, crate::geom::polyline_length);
+            self.via_corner(from, to, r, limit).or(hops)
+        })
     }
 
     /// Length of [`Connector::path`]; infinite when there is none.
@@ -170,10 +245,13 @@ impl Connector<'_> {
                 None => f64::INFINITY,
             },
             TurnModel::Dubins(r) => {
-                if !self.transit.any_wall_in(&reach(from, to, r)) {
-                    return TurnModel::Dubins(r).length(from, to);
+                let (starts, end) = self.turning_ends(from, to);
+                let start = starts[0];
+                if !self.transit.any_wall_in(&reach(start, end, r)) {
+                    let straights = (start.x - from.x).hypot(start.y - from.y) + (to.x - end.x).hypot(to.y - end.y);
+                    return TurnModel::Dubins(r).length(start, end) + straights;
                 }
-                self.path(from, to).map_or(f64::INFINITY, |p| crate::geom::polyline_length(&p))
+                self.with_straights(from, to, r).map_or(f64::INFINITY, |points| crate::geom::polyline_length(&points))
             }
         }
     }

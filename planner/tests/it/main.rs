@@ -3,6 +3,7 @@
 
 mod architecture;
 mod energy_planners;
+mod flown;
 mod inspection;
 mod obstacles;
 mod patrolling;

@@ -57,6 +57,8 @@ fn plan_scenario(s: &Scenario, lon: f64, lat: f64, turn_deg: f64, allow_reentry:
         "start": {"position": place(s.start), "heading_deg": heading},
         "end": {"position": place(s.end), "heading_deg": heading},
         "allow_reentry": allow_reentry,
+        // the thesis's paths enter each line from its turn
+        "lead_in_m": 0,
     }))
     .unwrap();
     let mission = MissionGeometry::area(&area);

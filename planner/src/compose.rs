@@ -196,7 +196,7 @@ impl Stages<'_> {
             (Landing::Auto, Some(point)) => Some((point, vehicle.landing_approach_m(altitude), resolved.landing_heading)),
             _ => None,
         };
-        FlightEnds { lead_in_m: vehicle.lead_in_m(resolved.lead_in_m), climb_out: ends.home.or(ends.start).map(|launch| (launch, vehicle.climb_out_m(altitude))), landing }
+        FlightEnds { lead_in_m: vehicle.lead_in_m(resolved.lead_in_m), climb_out: ends.home.or(ends.start).map(|launch| (launch, vehicle::climb_out_m(altitude))), landing }
     }
 
     /// Plans the fleet: the area split among the drones (docs/methods.md, fleets), each part

@@ -72,21 +72,21 @@ pub const TRACKING_SHARE_OF_L1: f64 = 0.25;
 /// A fixed wing's pitch climbing out after take-off (the take-off item's), degrees.
 pub const TAKEOFF_PITCH_DEG: f64 = 15.0;
 
+/// A fixed wing's straight climb after take-off to `altitude_m`, metres over the ground.
+pub fn climb_out_m(altitude_m: f64) -> f64 {
+    altitude_m / TAKEOFF_PITCH_DEG.to_radians().tan()
+}
+
 /// Seconds at cruise speed a fixed wing's default lead-in lasts: twice the distance ArduPlane's
 /// default L1 guidance looks ahead (period 17 s, damping 0.75: 4.06 s of flight). Our follower
 /// reaches a line's start within 0.3 m after it, 9 m off after half of it (docs/flight-files.md).
 pub const LEAD_IN_S: f64 = 8.0;
 
 impl Vehicle {
-    /// A fixed wing's straight climb after take-off to `altitude_m`, metres over the ground.
-    pub fn climb_out_m(&self, altitude_m: f64) -> f64 {
-        altitude_m / TAKEOFF_PITCH_DEG.to_radians().tan()
-    }
-
     /// A fixed wing's landing approach from `altitude_m`, metres over the ground: a glide at
     /// cruise speed sinking at its energy model's descent rate.
     pub fn landing_approach_m(&self, altitude_m: f64) -> f64 {
-        let (_, sink) = self.energy.vertical_rates_mps();
+        let (_, sink) = self.vertical_rates_mps();
         altitude_m * self.cruise_speed_mps / sink.max(0.1)
     }
 
@@ -110,12 +110,13 @@ impl Vehicle {
         }
     }
 
-    /// A multirotor's climb and descent rates: its energy model's, or 3 and 2 m/s.
+    /// Climb and descent rates: its energy model's, or 3 and 2 m/s.
     pub fn vertical_rates_mps(&self) -> (f64, f64) {
         match &self.energy {
             EnergyParams::MultirotorIem(c) => (c.climb_rate_mps, c.descent_rate_mps),
             EnergyParams::ConstantPower(p) => (p.vertical_speed_mps, p.vertical_speed_mps),
-            _ => (3.0, 2.0),
+            EnergyParams::FixedWing(a) => (a.climb_rate_mps, a.climb_rate_mps),
+            EnergyParams::Ground(_) => (3.0, 2.0),
         }
     }
 }

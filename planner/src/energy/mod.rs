@@ -52,16 +52,6 @@ pub struct Motion {
 }
 
 impl EnergyParams {
-    /// The vertical speeds of take-off and landing, m/s: climbing, descending.
-    pub fn vertical_rates_mps(&self) -> (f64, f64) {
-        match self {
-            EnergyParams::MultirotorIem(c) => (c.climb_rate_mps, c.descent_rate_mps),
-            EnergyParams::FixedWing(a) => (a.climb_rate_mps, a.climb_rate_mps),
-            EnergyParams::ConstantPower(p) => (p.vertical_speed_mps, p.vertical_speed_mps),
-            EnergyParams::Ground(_) => (f64::INFINITY, f64::INFINITY),
-        }
-    }
-
     /// The model with these parameters.
     pub fn model(&self, motion: Motion) -> Box<dyn EnergyModel + '_> {
         match self {

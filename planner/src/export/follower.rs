@@ -191,7 +191,7 @@ fn corner_deg(from: Coord, at: Coord, to: Coord) -> f64 {
     if a.x.hypot(a.y) < 1e-6 || b.x.hypot(b.y) < 1e-6 {
         return 0.0;
     }
-    (a.x * b.y - a.y * b.x).atan2(a.x * b.x + a.y * b.y).abs().to_degrees()
+    angle_between(a, b).abs().to_degrees()
 }
 
 struct Camera {

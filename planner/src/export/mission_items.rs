@@ -14,7 +14,7 @@ use rstar::{AABB, RTree};
 
 use crate::frame::LocalFrame;
 use crate::path::PieceKind;
-use crate::vehicle::{TAKEOFF_PITCH_DEG, VehicleKind};
+use crate::vehicle::{TAKEOFF_PITCH_DEG, VehicleKind, climb_out_m};
 
 pub const NAV_WAYPOINT: u16 = 16;
 pub const NAV_RETURN_TO_LAUNCH: u16 = 20;
@@ -112,7 +112,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
         // a fixed wing climbs out straight ahead (the plan's first transit begins so): a
         // waypoint it passes while climbing (home itself, first of all) would turn it back
         // once it is up, so the first transit's points within the climb-out are left out
-        let climb_out_m = settings.altitude_m / TAKEOFF_PITCH_DEG.to_radians().tan();
+        let climb_out = climb_out_m(settings.altitude_m);
         let frame = LocalFrame::new(lon, lat);
         let mut along = 0.0;
         let mut previous = geo::Coord { x: 0.0, y: 0.0 };
@@ -122,7 +122,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
                 let c = frame.to_local(w.position[0], w.position[1]);
                 along += (c - previous).x.hypot((c - previous).y);
                 previous = c;
-                pieces[w.piece].kind == PieceKind::Transit && along < climb_out_m - 0.5
+                pieces[w.piece].kind == PieceKind::Transit && along < climb_out - 0.5
             })
             .count();
         points.drain(..behind.min(points.len().saturating_sub(1)));
@@ -147,12 +147,14 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
     let lands = settings.landing == Landing::Auto && home.is_some();
     let last_sweep = pieces.iter().rposition(|p| p.kind == PieceKind::Sweep);
     let landing_at = if lands { points.pop() } else { None };
+    let mut land_start_written = false;
     for w in &points {
         let piece = &pieces[w.piece];
-        if fixed_wing && lands && last_sweep.is_some_and(|k| w.piece > k) && !items.iter().any(|i| i.command == DO_LAND_START) {
+        if fixed_wing && lands && !land_start_written && last_sweep.is_some_and(|k| w.piece > k) {
             // the landing sequence: from the return's first point to touch-down; an autopilot's
             // own return jumps here when told to land
             items.push(MissionItem::command(DO_LAND_START, [0.0; 4]));
+            land_start_written = true;
         }
         if piece.speed_mps > 0.0 && speed.is_none_or(|s| (piece.speed_mps - s).abs() > 0.05) {
             speed = Some(piece.speed_mps);
@@ -199,7 +201,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
     }
     match (home, landing_at) {
         (Some(_), Some(at)) => {
-            if fixed_wing && !items.iter().any(|i| i.command == DO_LAND_START) {
+            if fixed_wing && !land_start_written {
                 items.push(MissionItem::command(DO_LAND_START, [0.0; 4]));
             }
             let ground = Waypoint { position: [at.position[0], at.position[1], at.ground_m.unwrap_or(0.0)], ..at };
@@ -488,7 +490,7 @@ mod tests {
         let items = mission_items(&[transit.clone(), sweep.clone()], &[], &[], &plane, Some([at(0.0)[0], at(0.0)[1]]));
         let first = items.iter().find(|i| i.command == NAV_WAYPOINT).and_then(|i| i.position).unwrap();
         let ahead = frame.to_local(first[1], first[0]).x;
-        let climb_out = 80.0 / TAKEOFF_PITCH_DEG.to_radians().tan();
+        let climb_out = climb_out_m(80.0);
         assert!(ahead >= climb_out && ahead < climb_out + 50.0, "the first waypoint {ahead:.0} m ahead; the climb-out takes {climb_out:.0} m");
         let copter = mission_items(&[transit, sweep], &[], &[], &FlightSettings { altitude_m: 80.0, ..settings(None) }, Some([at(0.0)[0], at(0.0)[1]]));
         assert_eq!(copter.iter().filter(|i| i.command == NAV_WAYPOINT).count(), 13, "a multirotor flies every point");

@@ -72,6 +72,16 @@ const UNKNOWN: u8 = 0;
 const CLEAR: u8 = 1;
 const BLOCKED: u8 = 2;
 
+/// `p` moved `metres` along its heading.
+fn moved(p: Pose, metres: f64) -> Pose {
+    Pose::new(p.x + metres * p.theta.cos(), p.y + metres * p.theta.sin(), p.theta)
+}
+
+/// True when `p` stands on `c`.
+fn at(c: Coord, p: Pose) -> bool {
+    (c - p.coord()).x.hypot((c - p.coord()).y) < 1e-6
+}
+
 /// Headings a connection may pass a detour corner in.
 const VIA_HEADINGS: usize = 16;
 
@@ -131,35 +141,36 @@ impl<'a> Connector<'a> {
         self
     }
 
-    /// The poses a Dubins connection from `from` to `to` turns between: the ends of the
-    /// climb-outs when `from` is the launch point (every heading whose climb-out is clear of
-    /// the walls, in 15° steps from the one asked; else `from`), and short of the landing
-    /// approach when `to` is the landing point (on its heading), short of the lead-in
-    /// otherwise, each shortened until it is clear.
-    fn turning_ends(&self, from: Pose, to: Pose) -> (Vec<Pose>, Pose) {
-        let moved = |p: Pose, metres: f64| Pose::new(p.x + metres * p.theta.cos(), p.y + metres * p.theta.sin(), p.theta);
-        let clear = |a: Pose, b: Pose| self.transit.is_clear(a.coord(), b.coord());
-        let at = |c: Coord, p: Pose| (c - p.coord()).x.hypot((c - p.coord()).y) < 1e-6;
-        // the climb-outs whose straight is clear, the heading asked first, then the nearest ones
-        let starts = match self.ends.climb_out {
-            Some((launch, metres)) if metres > 0.0 && at(launch, from) => (0..=24)
-                .map(|k| from.theta + (if k % 2 == 0 { 1.0 } else { -1.0 }) * (k as f64 / 2.0).ceil() * 15f64.to_radians())
-                .map(|theta| Pose { theta, ..from })
-                .map(|launch| (launch, moved(launch, metres)))
-                .filter(|&(launch, end)| clear(launch, end))
+    /// Where a Dubins connection from `from` may start turning: the ends of the climb-outs
+    /// when `from` is the launch point (every heading whose climb-out is clear of the walls, in
+    /// 15° steps from the one asked), else `from` itself.
+    fn turn_starts(&self, from: Pose) -> impl Iterator<Item = Pose> + '_ {
+        let climb_out = self.ends.climb_out.filter(|&(launch, metres)| metres > 0.0 && at(launch, from));
+        let outs = climb_out.into_iter().flat_map(move |(_, metres)| {
+            (0..=24)
+                .map(move |k| from.theta + (if k % 2 == 0 { 1.0 } else { -1.0 }) * (k as f64 / 2.0).ceil() * 15f64.to_radians())
+                .map(move |theta| (Pose { theta, ..from }, moved(Pose { theta, ..from }, metres)))
+                .filter(|&(launch, end)| self.transit.is_clear(launch.coord(), end.coord()))
                 .map(|(_, end)| end)
-                .collect(),
-            _ => Vec::new(),
-        };
-        let starts = if starts.is_empty() { vec![from] } else { starts };
+        });
+        let mut outs = outs.peekable();
+        let none = outs.peek().is_none();
+        outs.chain(none.then_some(from))
+    }
+
+    /// Where a Dubins connection to `to` stops turning: short of the landing approach when `to`
+    /// is the landing point (on its heading), short of the lead-in otherwise, each shortened
+    /// until it is clear of the walls (to a tenth of it at least; else `to` itself).
+    fn turn_end(&self, to: Pose) -> Pose {
         let (to, metres) = match self.ends.landing {
             Some((point, metres, heading)) if at(point, to) => (Pose { theta: heading.unwrap_or(to.theta), ..to }, metres),
             _ => (to, self.ends.lead_in_m),
         };
-        // the longest straight that stays clear, down to a tenth of the one asked
-        let end =
-            std::iter::successors(Some(metres), |m| Some(m * 0.75)).take_while(|&m| m >= metres / 10.0 && m > 0.0).map(|m| moved(to, -m)).find(|&p| clear(p, to)).unwrap_or(to);
-        (starts, end)
+        std::iter::successors(Some(metres), |m| Some(m * 0.75))
+            .take_while(|&m| m >= metres / 10.0 && m > 0.0)
+            .map(|m| moved(to, -m))
+            .find(|&p| self.transit.is_clear(p.coord(), to.coord()))
+            .unwrap_or(to)
     }
 
     /// Finds no more connections once `stop` is raised, so that every search built on
@@ -207,13 +218,14 @@ impl Connector<'_> {
         }
     }
 
-    /// The Dubins connection with its straights ([`Connector::turning_ends`]): where no clear
+    /// The Dubins connection with its straights ([`Connector::turn_starts`],
+    /// [`Connector::turn_end`]): where no clear
     /// way joins them, one with another climb-out, then without the approach, and only then
     /// without the climb-out (a fixed wing cannot turn while it climbs out).
     fn with_straights(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
-        let (starts, end) = self.turning_ends(from, to);
+        let end = self.turn_end(to);
         let ends = if end.coord() == to.coord() { vec![to] } else { vec![end, to] };
-        let tries = starts.iter().flat_map(|&start| ends.iter().map(move |&end| (start, end))).chain([(from, to)]);
+        let tries = self.turn_starts(from).flat_map(|start| ends.iter().map(move |&end| (start, end))).chain([(from, to)]);
         tries.take(12).find_map(|(start, end)| {
             let turn = self.dubins_path(start, end, r)?;
             let points = (start.coord() != from.coord()).then(|| from.coord()).into_iter().chain(turn).chain((end.coord() != to.coord()).then(|| to.coord()));
@@ -245,8 +257,7 @@ impl Connector<'_> {
                 None => f64::INFINITY,
             },
             TurnModel::Dubins(r) => {
-                let (starts, end) = self.turning_ends(from, to);
-                let start = starts[0];
+                let (start, end) = (self.turn_starts(from).next().unwrap_or(from), self.turn_end(to));
                 if !self.transit.any_wall_in(&reach(start, end, r)) {
                     let straights = (start.x - from.x).hypot(start.y - from.y) + (to.x - end.x).hypot(to.y - end.y);
                     return TurnModel::Dubins(r).length(start, end) + straights;

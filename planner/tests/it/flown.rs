@@ -7,6 +7,7 @@ use coverplan_planner::archive;
 use coverplan_planner::export::follower::{self, Flown, FollowerSpec};
 use coverplan_planner::export::{self, AltitudeFrame, ExportOptions, ExportRequest, Firmware};
 use coverplan_planner::frame::LocalFrame;
+use coverplan_planner::path::PieceKind;
 use coverplan_planner::vehicle::builtin_profiles;
 use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop, plan};
 use geo::Coord;
@@ -27,12 +28,14 @@ fn rectangle(frame: &LocalFrame, width: f64, height: f64, home_back: f64) -> (Va
 /// One sortie: the plan's pieces `(kind, points in the follower's frame)` and what the follower
 /// flew from its file.
 struct Sortie {
-    pieces: Vec<(String, Vec<Coord>)>,
+    pieces: Vec<(PieceKind, Vec<Coord>)>,
     flown: Flown,
 }
 
 struct Case {
     output: PlanOutput,
+    /// The plan's photos, `[lon, lat]`.
+    photos: Vec<[f64; 2]>,
     sorties: Vec<Sortie>,
     /// The vehicle's lead-in, metres.
     lead_in_m: f64,
@@ -52,7 +55,7 @@ fn fly_case_with_zones(area: &Value, zones: Option<&Value>, home: [f64; 2], para
         plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true, &Stop::never()).unwrap_or_else(|e| panic!("{e} ({:?} at {home:?})", params.vehicle.profile));
     let request = ExportRequest {
         name: "flown",
-        mission: MissionGeometry { home: Some(home), no_fly_zones: zones, ..MissionGeometry::area(area) },
+        mission: mission.clone(),
         params: &params,
         profiles: &profiles,
         trajectory: &output.trajectory,
@@ -61,7 +64,7 @@ fn fly_case_with_zones(area: &Value, zones: Option<&Value>, home: [f64; 2], para
     let file = export::export("waypoints", &request).unwrap();
     let files = if archive::is_zip(&file.bytes) { archive::unzip(&file.bytes).unwrap().into_iter().map(|f| f.1).collect() } else { vec![file.bytes] };
     let vehicle = params.resolve(&profiles).unwrap().vehicle;
-    let (climb_mps, descent_mps) = vehicle.energy.vertical_rates_mps();
+    let (climb_mps, descent_mps) = vehicle.vertical_rates_mps();
     let spec = FollowerSpec {
         kind: vehicle.kind,
         firmware,
@@ -73,33 +76,20 @@ fn fly_case_with_zones(area: &Value, zones: Option<&Value>, home: [f64; 2], para
     };
     let zones = zones.map(|z| serde_json::from_value::<geojson::Geometry>(z.clone()).unwrap());
     let zones: Option<geo::MultiPolygon> = zones.map(|g| geo::MultiPolygon::try_from(g).unwrap());
+    // the plan as the exporters read it: its sorties' pieces and its photos
+    let planned = export::Flight::from_trajectory(&output.trajectory, 0.0).unwrap();
     let sorties = files
         .iter()
-        .enumerate()
-        .map(|(k, bytes)| {
+        .zip(&planned.sorties)
+        .map(|(bytes, pieces)| {
             let items = export::wpl::read(std::str::from_utf8(bytes).unwrap()).unwrap();
             let flown = follower::fly(&items, &spec);
-            let pieces = planned_pieces(&output, k as u64 + 1, &flown.frame);
+            let pieces = pieces.iter().map(|p| (p.kind, p.points.iter().map(|q| flown.frame.to_local(q[0], q[1])).collect())).collect();
             Sortie { pieces, flown }
         })
         .collect();
     let lead_in_m = vehicle.lead_in_m(params.lead_in_m);
-    Case { output, sorties, lead_in_m, zones }
-}
-
-/// The plan's flown pieces of sortie `sortie` (1-based), in `frame`.
-fn planned_pieces(output: &PlanOutput, sortie: u64, frame: &LocalFrame) -> Vec<(String, Vec<Coord>)> {
-    output
-        .trajectory
-        .features
-        .iter()
-        .filter(|f| f.property("sortie").and_then(Value::as_u64).unwrap_or(1) == sortie)
-        .filter_map(|f| {
-            let kind = f.property("kind")?.as_str()?.to_owned();
-            let geojson::GeometryValue::LineString { coordinates } = &f.geometry.as_ref()?.value else { return None };
-            Some((kind, coordinates.iter().map(|p| frame.to_local(p[0], p[1])).collect()))
-        })
-        .collect()
+    Case { photos: planned.photos, output, sorties, lead_in_m, zones }
 }
 
 fn distance_to_polyline(p: Coord, line: &[Coord]) -> f64 {
@@ -166,7 +156,7 @@ fn figures(case: &Case) -> Figures {
     let mut totals = (0.0, 0.0);
     for (k, Sortie { pieces, flown }) in case.sorties.iter().enumerate() {
         let path: Vec<Coord> = pieces.iter().flat_map(|p| p.1.iter().copied()).collect();
-        let sweeps: Vec<&Vec<Coord>> = pieces.iter().filter(|p| p.0 == "sweep").map(|p| &p.1).collect();
+        let sweeps: Vec<&Vec<Coord>> = pieces.iter().filter(|p| p.0 == PieceKind::Sweep).map(|p| &p.1).collect();
         let airborne = flown.track.iter().position(|s| s.item > 0).unwrap_or(0);
         for s in flown.track[airborne..].iter().step_by(5) {
             path_off.push(distance_to_polyline(s.at, &path));
@@ -191,7 +181,7 @@ fn figures(case: &Case) -> Figures {
         // the lines the plan enters straight over the whole lead-in
         let led_in: Vec<bool> = pieces
             .windows(2)
-            .filter(|w| w[1].0 == "sweep")
+            .filter(|w| w[1].0 == PieceKind::Sweep)
             .map(|w| {
                 let before = &w[0].1;
                 let (a, b) = (before[before.len().saturating_sub(2)], before[before.len() - 1]);
@@ -220,7 +210,7 @@ fn figures(case: &Case) -> Figures {
             }
         }
         // photos line by line, each counted to its nearest line
-        let planned = planned_photos(&case.output, &flown.frame);
+        let planned: Vec<Coord> = case.photos.iter().map(|p| flown.frame.to_local(p[0], p[1])).collect();
         let taken: Vec<Coord> = flown.photos.iter().map(|p| flown.frame.to_local(p[0], p[1])).collect();
         let per_line = |photos: &[Coord]| {
             let mut counts = vec![0usize; sweeps.len()];
@@ -251,17 +241,6 @@ fn figures(case: &Case) -> Figures {
     f.path_off_p95_m = percentile(path_off.clone(), 0.95);
     f.path_off_max_m = path_off.iter().copied().fold(0.0, f64::max);
     f
-}
-
-/// The plan's photos, in `frame`.
-fn planned_photos(output: &PlanOutput, frame: &LocalFrame) -> Vec<Coord> {
-    let photos = output.trajectory.features.iter().filter(|f| f.property("kind").and_then(Value::as_str) == Some("photos"));
-    photos
-        .flat_map(|f| match &f.geometry.as_ref().map(|g| &g.value) {
-            Some(geojson::GeometryValue::MultiPoint { coordinates }) => coordinates.iter().map(|p| frame.to_local(p[0], p[1])).collect(),
-            _ => Vec::new(),
-        })
-        .collect()
 }
 
 /// The two missions flown in software-in-the-loop (issue 57), as the follower flies them: a

@@ -27,14 +27,20 @@ pub enum Orientation {
 pub struct Camera {
     /// A camera from `GET /api/v1/cameras`.
     pub preset: Option<String>,
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 200.0))]
     pub sensor_width_mm: Option<f64>,
     pub sensor_height_mm: Option<f64>,
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 2000.0))]
     pub focal_length_mm: Option<f64>,
     /// Horizontal field of view (across the image width), instead of sensor and lens.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 170.0))]
     pub hfov_deg: Option<f64>,
     /// Diagonal field of view, as data sheets usually quote it.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 170.0))]
     pub dfov_deg: Option<f64>,
+    #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 1000000))]
     pub image_width_px: Option<u32>,
+    #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 1000000))]
     pub image_height_px: Option<u32>,
     pub orientation: Option<Orientation>,
 }
@@ -154,6 +160,9 @@ impl Camera {
             }
             (None, None) => return Err(InputError::new("camera_needs_altitude", "/altitude_m", "with a camera, give altitude_m or gsd_cm")),
         };
+        if gsd_cm.is_some() && !(1.0..=5_000.0).contains(&altitude_m) {
+            return Err(InputError::new("gsd_out_of_reach", "/gsd_cm", format!("this camera takes that GSD from {altitude_m:.1} m; the altitude is 1 to 5 000 m")));
+        }
         check_range(altitude_m, 1.0, 5_000.0, "/altitude_m", "m")?;
         let gsd = altitude_m * per_m;
         let (across, along) = match self.orientation.unwrap_or_default() {

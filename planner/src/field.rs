@@ -443,10 +443,11 @@ pub fn check_position(p: &[f64; 2], pointer: &str) -> Result<(), InputError> {
     if !lon.is_finite() || !lat.is_finite() {
         return Err(InputError::new("invalid_position", pointer, "coordinates must be finite numbers"));
     }
+    if lat.abs() > 90.0 && lon.abs() <= 90.0 {
+        return Err(InputError::new("coordinates_look_swapped", pointer, format!("latitude {lat} is outside [-90, 90]; positions are [longitude, latitude]: these look swapped")));
+    }
     if lat.abs() > 90.0 {
-        let (code, hint) =
-            if lon.abs() <= 90.0 { ("coordinates_look_swapped", "; positions are [longitude, latitude]: these look swapped") } else { ("coordinate_out_of_range", "") };
-        return Err(InputError::new(code, pointer, format!("latitude {lat} is outside [-90, 90]{hint}")));
+        return Err(InputError::new("coordinate_out_of_range", pointer, format!("latitude {lat} is outside [-90, 90]")));
     }
     if lon.abs() > 180.0 {
         return Err(InputError::new("coordinate_out_of_range", pointer, format!("longitude {lon} is outside [-180, 180]")));
@@ -521,7 +522,7 @@ fn validate(polygon: &Polygon, raw: &RawPolygon, frame: &LocalFrame) -> Result<(
         RingRole::Interior(i) => format!("{}/{}", raw.pointer, i + 1),
     };
     let first = problems;
-    let (code, pointer, detail) = match &first {
+    Err(match &first {
         InvalidPolygon::SelfIntersection(role) => {
             let ring = ring_of(polygon, role);
             let at = self_intersection(ring)
@@ -530,17 +531,16 @@ fn validate(polygon: &Polygon, raw: &RawPolygon, frame: &LocalFrame) -> Result<(
                     format!(" near [{:.7}, {:.7}]", ll[0], ll[1])
                 })
                 .unwrap_or_default();
-            ("self_intersection", ring_pointer(role), format!("the ring crosses itself{at}"))
+            InputError::new("self_intersection", ring_pointer(role), format!("the ring crosses itself{at}"))
         }
         InvalidPolygon::InteriorRingNotContainedInExteriorRing(role) => {
-            ("hole_outside_shell", ring_pointer(role), "this hole is not inside its polygon's exterior ring".to_owned())
+            InputError::new("hole_outside_shell", ring_pointer(role), "this hole is not inside its polygon's exterior ring")
         }
         InvalidPolygon::IntersectingRingsOnALine(a, _) | InvalidPolygon::IntersectingRingsOnAnArea(a, _) => {
-            ("rings_intersect", ring_pointer(a), format!("rings of this polygon cross or overlap: {first}"))
+            InputError::new("rings_intersect", ring_pointer(a), format!("rings of this polygon cross or overlap: {first}"))
         }
-        InvalidPolygon::TooFewPointsInRing(role) | InvalidPolygon::NonFiniteCoord(role, _) => ("degenerate_ring", ring_pointer(role), first.to_string()),
-    };
-    Err(InputError::new(code, pointer, detail))
+        InvalidPolygon::TooFewPointsInRing(role) | InvalidPolygon::NonFiniteCoord(role, _) => InputError::new("degenerate_ring", ring_pointer(role), first.to_string()),
+    })
 }
 
 fn ring_of<'a>(polygon: &'a Polygon, role: &geo::algorithm::validation::RingRole) -> &'a LineString {

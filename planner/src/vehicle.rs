@@ -224,6 +224,11 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
     ]
 }
 
+/// Most energy a ground vehicle's tank holds, Wh.
+pub const MAX_TANK_WH: f64 = 20_000_000.0;
+/// Most energy an aircraft's battery holds, Wh.
+pub const MAX_BATTERY_WH: f64 = 100_000.0;
+
 /// The profile used for a kind when no profile is named.
 fn default_profile(kind: Option<VehicleKind>) -> &'static str {
     match kind {
@@ -242,21 +247,28 @@ pub struct VehicleParams {
     /// Name of a profile, as listed by `GET /api/v1/vehicles`.
     pub profile: Option<String>,
     pub kind: Option<VehicleKind>,
+    #[cfg_attr(feature = "schema", schema(minimum = 0.5, maximum = 100.0))]
     pub cruise_speed_mps: Option<f64>,
     /// Minimum turning radius (also accepted as `min_turn_radius_m`).
     #[serde(default, skip_serializing_if = "Option::is_none", alias = "min_turn_radius_m")]
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 5000.0))]
     pub turn_radius_m: Option<f64>,
-    /// Battery (or, ground vehicle, tank) energy, Wh.
+    /// Battery (or, ground vehicle, tank) energy, Wh: at most 100 000 for an aircraft.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 20000000.0))]
     pub battery_wh: Option<f64>,
     /// Share of the battery kept at landing, 0 to 0.9.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.9))]
     pub battery_reserve: Option<f64>,
     /// Ground vehicle: width of the implement.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.5, maximum = 100.0))]
     pub working_width_m: Option<f64>,
     /// Ground vehicle: may reverse (Reeds–Shepp turns with cusps, three-point turns).
     pub reverse_allowed: Option<bool>,
     /// Ground vehicle: continuous-curvature turns with this steering limit, 1/m².
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0001, maximum = 10.0))]
     pub max_curvature_rate: Option<f64>,
     /// Ground vehicle: speed of turns and transits.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 30.0))]
     pub headland_speed_mps: Option<f64>,
 }
 
@@ -376,8 +388,10 @@ impl Vehicle {
         range(self.turn_radius_m, 0.0, 5_000.0, "turn_radius_m", "m")?;
         range(self.acceleration_mps2, 0.1, 20.0, "acceleration_mps2", "m/s²")?;
         // a tractor's tank holds megawatt-hours of fuel
-        let most_wh = if self.kind == VehicleKind::Ground { 20_000_000.0 } else { 100_000.0 };
-        range(self.battery.energy_wh, 1.0, most_wh, "battery/energy_wh", "Wh")?;
+        range(self.battery.energy_wh, 1.0, MAX_TANK_WH, "battery/energy_wh", "Wh")?;
+        if self.kind != VehicleKind::Ground && self.battery.energy_wh > MAX_BATTERY_WH {
+            return Err(InputError::new("battery_too_large", format!("{at}/battery/energy_wh"), format!("an aircraft's battery holds at most {MAX_BATTERY_WH} Wh")));
+        }
         range(self.battery.reserve, 0.0, 0.9, "battery/reserve", "")?;
         if self.kind == VehicleKind::FixedWing && self.turn_radius_m < 1.0 {
             return Err(InputError::new("turn_radius_too_small", format!("{at}/turn_radius_m"), "a fixed-wing aircraft needs a turning radius of at least 1 m"));

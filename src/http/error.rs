@@ -20,6 +20,7 @@ pub const ERROR_CODES: &[&str] = &[
     "archive_too_large",
     "area_too_large",
     "area_too_small",
+    "battery_too_large",
     "body_too_large",
     "budget_missing",
     "budget_too_small",
@@ -29,8 +30,11 @@ pub const ERROR_CODES: &[&str] = &[
     "camera_incomplete",
     "camera_missing",
     "camera_needs_altitude",
+    "cell_outside_grid",
+    "cell_size_out_of_range",
     "cell_size_twice",
     "coordinate_out_of_range",
+    "coordinates_look_swapped",
     "crs_not_supported",
     "curvature_rate_too_low",
     "degenerate_ring",
@@ -44,9 +48,12 @@ pub const ERROR_CODES: &[&str] = &[
     "fleet_size",
     "fleet_twice",
     "format_not_applicable",
+    "grid_too_large",
     "ground_figures_missing",
+    "gsd_out_of_reach",
     "headland_not_covered",
     "headland_too_narrow",
+    "hole_outside_shell",
     "home_in_no_fly_zone",
     "idempotency_in_progress",
     "idempotency_key_reused",
@@ -101,6 +108,7 @@ pub const ERROR_CODES: &[&str] = &[
     "obstacles",
     "overlapping_fields",
     "parameter_out_of_range",
+    "patrol_too_long",
     "plan_too_long",
     "planner_not_applicable",
     "planner_not_for_fleets",
@@ -114,8 +122,11 @@ pub const ERROR_CODES: &[&str] = &[
     "rate_limited",
     "ring_not_closed",
     "ring_too_short",
+    "rings_intersect",
     "route_missing",
     "route_twice",
+    "self_intersection",
+    "server_time_limit",
     "spacing_missing",
     "start_missing",
     "start_outside_area",
@@ -155,6 +166,114 @@ pub const ERROR_CODES: &[&str] = &[
     "wrong_winding",
     "xml_entities_refused",
 ];
+
+/// Refusals that no JSON Schema can state, by what they depend on: a request the OpenAPI
+/// document allows may still get one of them. Each operation's 422 answer lists the ones it can
+/// give (`x-beyond-schema`, [`super::openapi`]); the fuzz test (`tests/fuzz/`) fails on any other
+/// refusal of a request generated as valid, which would be a gap in the document.
+pub mod beyond_schema {
+    /// Geometry: rings closed, simple and with area, holes inside their shell, fields apart,
+    /// the mission's size.
+    pub const GEOMETRY: &[&str] = &[
+        "area_too_large",
+        "area_too_small",
+        "degenerate_ring",
+        "empty_area",
+        "hole_outside_shell",
+        "home_in_no_fly_zone",
+        "invalid_polygon",
+        "mission_too_wide",
+        "overlapping_fields",
+        "ring_not_closed",
+        "rings_intersect",
+        "self_intersection",
+        "structure_name_twice",
+        "too_many_vertices",
+    ];
+    /// A route's legs, each at most 1 000 km.
+    pub const ROUTE: &[&str] = &["leg_too_long"];
+    /// A file's contents (an OBJ model's among them).
+    pub const FILE: &[&str] = &[
+        "empty_file",
+        "invalid_isoxml",
+        "invalid_kml",
+        "invalid_model",
+        "invalid_shapefile",
+        "invalid_terrain",
+        "invalid_xml",
+        "invalid_zip",
+        "model_below_ground",
+        "unknown_format",
+        "xml_entities_refused",
+    ];
+    /// An imported file's contents, where the request's own members would be described.
+    pub const IMPORTED: &[&str] = &[
+        "coordinate_out_of_range",
+        "coordinates_look_swapped",
+        "crs_not_supported",
+        "empty_geometry",
+        "invalid_geojson",
+        "invalid_plan",
+        "invalid_position",
+        "missing_file_part",
+        "missing_geometry",
+        "ring_too_short",
+        "unsupported_geometry",
+        "unsupported_projection",
+    ];
+    /// Figures that must agree with each other: a relation between two numbers, or between
+    /// items of a list.
+    pub const RELATIONS: &[&str] = &[
+        "cell_outside_grid",
+        "cell_size_out_of_range",
+        "curvature_rate_too_low",
+        "grid_too_large",
+        "gsd_out_of_reach",
+        "headland_not_covered",
+        "invalid_energy_model",
+        "patrol_too_long",
+        "position_not_free",
+        "profile_mismatch",
+        "range_reversed",
+        "state_mismatch",
+    ];
+    /// The mission a request plans, and the server's own limits.
+    pub const MISSION: &[&str] = &[
+        "altitude_missing",
+        "budget_too_small",
+        "field_too_narrow",
+        "no_structures",
+        "nothing_to_cover",
+        "nothing_to_inspect",
+        "plan_too_long",
+        "point_in_no_fly_zone",
+        "server_time_limit",
+        "start_outside_area",
+        "targets_outside_area",
+        "terrain_missing",
+        "terrain_not_covering",
+        "too_many_lines",
+        "too_many_points",
+        "too_many_zone_corners",
+        "unknown_target",
+    ];
+    /// Given only where the request names a stored vehicle profile (`profile`): its kind and
+    /// figures, which the overrides and the other members must suit.
+    pub const PROFILE: &[&str] = &[
+        "battery_too_large",
+        "not_a_fixed_wing",
+        "not_a_ground_vehicle",
+        "not_a_multirotor",
+        "not_for_fixed_wing",
+        "not_for_ground_vehicles",
+        "planner_not_applicable",
+        "planner_vehicle_mismatch",
+        "spacing_missing",
+        "turn_radius_too_small",
+        "unknown_vehicle_profile",
+        "vehicle_kind_mismatch",
+    ];
+}
 
 /// RFC 9457 problem details.
 #[derive(Debug, Clone, Serialize, ToSchema)]
@@ -281,6 +400,8 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
             detail: format!("the body is not valid JSON: {e}"),
             pointer: None,
         })?;
+        let mut json = json;
+        whole_numbers_as_integers(&mut json);
         let value: T = serde_path_to_error::deserialize(json).map_err(|e| ApiError::Client {
             status: StatusCode::UNPROCESSABLE_ENTITY,
             code: "invalid_body",
@@ -288,6 +409,24 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
             pointer: Some(json_pointer(e.path())),
         })?;
         Ok(ApiJson(value))
+    }
+}
+
+/// Writes every whole number of `value` as an integer: JSON has one number type and JSON Schema's
+/// `integer` admits `3.0`, which serde would refuse for an integer field.
+fn whole_numbers_as_integers(value: &mut serde_json::Value) {
+    use serde_json::Value;
+    // beyond 2^53 a float is whole but no longer exact
+    const EXACT: f64 = 9_007_199_254_740_992.0;
+    match value {
+        Value::Number(n) if n.is_f64() => {
+            if let Some(f) = n.as_f64().filter(|f| f.fract() == 0.0 && f.abs() <= EXACT) {
+                *value = Value::from(f as i64);
+            }
+        }
+        Value::Array(items) => items.iter_mut().for_each(whole_numbers_as_integers),
+        Value::Object(members) => members.values_mut().for_each(whole_numbers_as_integers),
+        _ => {}
     }
 }
 

@@ -76,7 +76,7 @@ pub fn router(state: AppState) -> Router {
     let (api, document) = api().split_for_parts();
     let document = openapi::complete(document);
     let no_route = || async { error::ApiError::Client { status: StatusCode::NOT_FOUND, code: "no_route", detail: "no such API route".into(), pointer: None } };
-    let router = Router::new().merge(api).route("/api/v1/{*rest}", any(no_route)).merge(SwaggerUi::new("/docs").url("/openapi.json", document));
+    let router = Router::new().merge(api).route("/api/v1/{*rest}", any(no_route)).merge(SwaggerUi::new("/docs").external_url_unchecked("/openapi.json", document));
     // the page: embedded in the binary, or from a folder while developing it
     let router = match &state.config.static_dir {
         Some(dir) => router.fallback_service(ServeDir::new(dir)),

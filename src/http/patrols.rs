@@ -109,7 +109,9 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
 #[serde(deny_unknown_fields)]
 pub struct NextMovesRequest {
     /// The grid: `cols` × `rows` cells, numbered row by row from the south-west corner.
+    #[schema(minimum = 1, maximum = 40000)]
     pub cols: usize,
+    #[schema(minimum = 1, maximum = 40000)]
     pub rows: usize,
     /// Cells no UAV may enter.
     #[serde(default)]
@@ -144,8 +146,8 @@ pub async fn next_moves(ApiJson(request): ApiJson<NextMovesRequest>) -> Result<J
         return Err(ApiError::invalid("strategy_not_online", "/strategy", "shared_cycle is a fixed walk, not a cycle-by-cycle decision: use nc_drone or another online method"));
     }
     let cells = request.cols.saturating_mul(request.rows);
-    if cells == 0 || cells > patrol::MAX_CELLS {
-        return Err(ApiError::invalid("parameter_out_of_range", "/cols", format!("the grid has 1 to {} cells", patrol::MAX_CELLS)));
+    if cells > patrol::MAX_CELLS {
+        return Err(ApiError::invalid("grid_too_large", "/cols", format!("the grid has 1 to {} cells", patrol::MAX_CELLS)));
     }
     let s = &request.state;
     if s.u.len() != cells || s.last_visit.len() != cells {
@@ -158,17 +160,18 @@ pub async fn next_moves(ApiJson(request): ApiJson<NextMovesRequest>) -> Result<J
         return Err(ApiError::invalid("parameter_out_of_range", "/state/cycle", "cycles count from 1"));
     }
     if let Some(k) = s.last_visit.iter().position(|&t| t > s.cycle) {
-        return Err(ApiError::invalid("parameter_out_of_range", &format!("/state/last_visit/{k}"), "a last visit cannot be after the cycle about to run"));
+        return Err(ApiError::invalid("state_mismatch", &format!("/state/last_visit/{k}"), "a last visit cannot be after the cycle about to run"));
     }
     if s.at.is_empty() || s.at.len() > 64 || s.headings.len() != s.at.len() {
         return Err(ApiError::invalid("state_mismatch", "/state/at", "1 to 64 UAVs, each with a heading"));
     }
     let mut grid = CellGrid::open(request.cols, request.rows);
     for (k, &b) in request.blocked.iter().enumerate() {
-        *grid.free.get_mut(b).ok_or_else(|| ApiError::invalid("parameter_out_of_range", &format!("/blocked/{k}"), "no such cell"))? = false;
+        let cell = grid.free.get_mut(b).ok_or_else(|| ApiError::invalid("cell_outside_grid", &format!("/blocked/{k}"), "no such cell"))?;
+        *cell = false;
     }
     if let Some(k) = s.at.iter().position(|&c| c >= cells || !grid.free[c]) {
-        return Err(ApiError::invalid("parameter_out_of_range", &format!("/state/at/{k}"), "each UAV is on a free cell of the grid"));
+        return Err(ApiError::invalid("position_not_free", &format!("/state/at/{k}"), "each UAV is on a free cell of the grid"));
     }
     if let Some(k) = s.headings.iter().position(|&h| h > 3) {
         return Err(ApiError::invalid("parameter_out_of_range", &format!("/state/headings/{k}"), "headings are 0 (north), 1 (east), 2 (south) or 3 (west)"));

@@ -47,7 +47,7 @@ pub async fn create(
     .await?;
     let most = state.config.queue.time_limit.as_secs_f64();
     if params.time_limit_s.is_some_and(|s| s > most) {
-        return Err(ApiError::invalid("parameter_out_of_range", "/time_limit_s", format!("this server plans for at most {most} s; ask for that or less")));
+        return Err(ApiError::invalid("server_time_limit", "/time_limit_s", format!("this server plans for at most {most} s; ask for that or less")));
     }
     let flown = planner::vehicles_flown(&params, &profiles)?;
     let snapshot = snapshot(&mission, &profiles, &flown.iter().collect::<Vec<_>>());

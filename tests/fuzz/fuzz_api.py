@@ -5,7 +5,7 @@ runs schemathesis with every check and a tenant's key, then reads the server's o
 count what was asked and answered: it fails unless schemathesis passed, at least MIN_REQUESTS
 requests were made and none was answered 5xx.
 
-Usage: python fuzz_api.py BINARY [--max-examples N] [--seed N]
+Usage: python fuzz_api.py BINARY [--max-examples N] [--seed N] [schemathesis options]
 """
 
 import argparse
@@ -20,7 +20,7 @@ import tempfile
 import time
 import urllib.request
 
-MIN_REQUESTS = 2000
+MIN_REQUESTS = 5000
 
 
 def free_port():
@@ -54,7 +54,8 @@ def main():
     parser.add_argument("binary")
     parser.add_argument("--max-examples", type=int, default=60)
     parser.add_argument("--seed", type=int, default=20261124)
-    args = parser.parse_args()
+    # anything else goes to schemathesis (for example --include-operation-id create_plan)
+    args, passed_on = parser.parse_known_args()
     work = tempfile.mkdtemp(prefix="coverplan-fuzz-")
     db = os.path.join(work, "fuzz.db")
     port = free_port()
@@ -102,7 +103,7 @@ def main():
             "--no-color",
             "--report", "json",
             "--report-json-path", report,
-        ]
+        ] + passed_on
         print("fuzz:", " ".join(c if "Bearer" not in c else "Authorization: Bearer …" for c in command), flush=True)
         fuzzed = subprocess.run(command, env=fuzz_env)
         counts = requests_by_status(get(f"{base}/metrics", operator_key))

@@ -15,8 +15,10 @@ use crate::path::FlightPath;
 #[serde(deny_unknown_fields)]
 pub struct PowerFigures {
     /// Electrical power drawn in flight.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 1e6))]
     pub cruise_power_w: f64,
     /// Take-off climb and landing descent rate.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 50.0))]
     pub vertical_speed_mps: f64,
 }
 

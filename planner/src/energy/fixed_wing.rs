@@ -18,17 +18,26 @@ const G: f64 = 9.81;
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Airframe {
+    #[cfg_attr(feature = "schema", schema(minimum = 0.05, maximum = 1e4))]
     pub mass_kg: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 100.0))]
     pub wing_span_m: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 0.01, maximum = 1e3))]
     pub wing_area_m2: f64,
     /// Zero-lift drag coefficient.
+    #[cfg_attr(feature = "schema", schema(minimum = 1e-4, maximum = 1.0))]
     pub drag_coefficient_zero_lift: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 1.0))]
     pub oswald_efficiency: f64,
     /// Battery to thrust power.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.05, maximum = 1.0))]
     pub propulsive_efficiency: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1e4))]
     pub avionics_power_w: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 2.0))]
     pub air_density_kg_m3: f64,
     /// Climb and descent rate for take-off and landing.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 50.0))]
     pub climb_rate_mps: f64,
 }
 

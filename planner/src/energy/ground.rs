@@ -16,8 +16,10 @@ use crate::path::{FlightPath, TurnShape};
 #[serde(deny_unknown_fields)]
 pub struct GroundPower {
     /// Fuel power drawn while working, W.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 2e6))]
     pub working_power_w: f64,
     /// Fuel power drawn while turning or driving with the implement lifted, W.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 2e6))]
     pub travel_power_w: f64,
 }
 

@@ -17,28 +17,40 @@ use crate::path::FlightPath;
 #[serde(deny_unknown_fields)]
 pub struct IemCoefficients {
     /// Power in steady level flight against speed, W(m/s).
+    #[cfg_attr(feature = "schema", schema(min_items = 1, max_items = 12))]
     pub level_power: Vec<f64>,
     /// Power while accelerating at 1 m/s², against the current speed.
+    #[cfg_attr(feature = "schema", schema(min_items = 1, max_items = 12))]
     pub accel_power: Vec<f64>,
     /// Power while decelerating at 1 m/s², against the time since braking began from
     /// `decel_reference_mps`.
+    #[cfg_attr(feature = "schema", schema(min_items = 1, max_items = 12))]
     pub decel_power: Vec<f64>,
+    #[cfg_attr(feature = "schema", schema(minimum = 1e-3, maximum = 100.0))]
     pub decel_reference_mps: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 1e-3, maximum = 50.0))]
     pub climb_rate_mps: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 1e-3, maximum = 1e6))]
     pub climb_power_w: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 1e-3, maximum = 50.0))]
     pub descent_rate_mps: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 1e-3, maximum = 1e6))]
     pub descent_power_w: f64,
     /// Yaw in place: rate and power.
+    #[cfg_attr(feature = "schema", schema(minimum = 1e-3, maximum = 3600.0))]
     pub yaw_rate_deg_s: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 1e-3, maximum = 1e6))]
     pub yaw_power_w: f64,
     /// Fraction of the leg speed kept into a corner, as knots `[interior angle °, fraction]`,
     /// linear between them.
+    #[cfg_attr(feature = "schema", schema(min_items = 1))]
     pub exit_speed_fraction: Vec<[f64; 2]>,
     /// The autopilot turns to face each next waypoint (ArduCopter-style), costing yaw energy.
     #[serde(default = "yes")]
     pub yaw_at_waypoints: bool,
     /// Hover at each corner, seconds.
     #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 600.0))]
     pub waypoint_hold_s: f64,
 }
 

@@ -37,6 +37,7 @@ pub struct DetailedTarget {
     /// Default: walls and roof.
     pub faces: Option<Vec<Face>>,
     /// Weight of each of its points, 0.01 to 100 (default 1).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.01, maximum = 100.0))]
     pub priority: Option<f64>,
 }
 
@@ -47,10 +48,13 @@ pub struct DetailedTarget {
 #[serde(deny_unknown_fields)]
 pub struct Budget {
     /// Path length in metres (climbs included), 10 to 100 000.
+    #[cfg_attr(feature = "schema", schema(minimum = 10.0, maximum = 100000.0))]
     pub max_length_m: Option<f64>,
     /// Flight time in seconds (legs, yaw and captures), 10 to 86 400.
+    #[cfg_attr(feature = "schema", schema(minimum = 10.0, maximum = 86400.0))]
     pub max_time_s: Option<f64>,
     /// Energy in joules from the vehicle's model, 1 000 to 10⁹.
+    #[cfg_attr(feature = "schema", schema(minimum = 1000.0, maximum = 1e9))]
     pub max_energy_j: Option<f64>,
 }
 
@@ -75,31 +79,38 @@ pub enum Extension {
 #[serde(deny_unknown_fields)]
 pub struct InspectionOptions {
     /// Spacing of the points of interest on the faces, 0.1 to 10 m (default 0.5).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 10.0))]
     pub poi_spacing_m: Option<f64>,
     /// Nearest and farthest a point may be from the camera to count as seen, metres (default
     /// [1, 12], or the farthest from `gsd_cm`).
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub range_m: Option<[f64; 2]>,
     /// Steepest angle between a face's normal and the line of sight, 10 to 89° (default 75).
+    #[cfg_attr(feature = "schema", schema(minimum = 10.0, maximum = 89.0))]
     pub max_incidence_deg: Option<f64>,
     /// Lowest and highest gimbal pitch, degrees (negative: down; default [-90, 30]).
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub gimbal_pitch_deg: Option<[f64; 2]>,
     /// The drone's radius, 0.05 to 10 m (default 0.5).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.05, maximum = 10.0))]
     pub body_radius_m: Option<f64>,
     /// Clearance kept beyond the body from every structure and obstacle, 0 to 50 m (default 2).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 50.0))]
     pub safety_margin_m: Option<f64>,
     /// Lowest and highest altitude of a viewpoint above ground, metres (default: 2 to the
     /// tallest target's top plus the farthest range).
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub altitude_range_m: Option<[f64; 2]>,
     /// Viewpoints sampled before the search, 10 to 3 000 (default 300).
+    #[cfg_attr(feature = "schema", schema(minimum = 10, maximum = 3000))]
     pub viewpoints: Option<u32>,
     /// Default `sphere`.
     pub extension: Option<Extension>,
     /// Viewpoints added per iteration with an extension, 1 to 50 (default 5).
+    #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 50))]
     pub extension_per_iteration: Option<u32>,
     /// Hover at each viewpoint to take the picture, 0 to 60 s (default 1).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 60.0))]
     pub capture_s: Option<f64>,
     /// Add the points of interest to the trajectory, seen and unseen (default false).
     pub show_unseen: Option<bool>,

@@ -20,10 +20,38 @@ pub struct PoseParam {
     /// [longitude, latitude]
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
     pub position: [f64; 2],
+    #[cfg_attr(feature = "schema", schema(minimum = -360.0, maximum = 360.0))]
     pub heading_deg: Option<f64>,
     /// Inspection: height above ground, 0 to 1 000 m (default 0: on the ground).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1000.0))]
     pub altitude_m: Option<f64>,
 }
+
+/// The members only planner `inspection` reads (and the start's and end's `altitude_m`).
+pub const INSPECTION_ONLY_MEMBERS: [&str; 4] = ["targets", "budget", "inspection", "seed"];
+
+/// The members planner `inspection` refuses: they shape coverage plans.
+pub const COVERAGE_ONLY_MEMBERS: [&str; 13] = [
+    "line_spacing_m",
+    "altitude_m",
+    "heading_deg",
+    "sweep_direction",
+    "side_overlap",
+    "front_overlap",
+    "fleet",
+    "vehicles",
+    "headland_passes",
+    "objective",
+    "lead_in_m",
+    "landing",
+    "landing_heading_deg",
+];
+
+/// Members only a ground vehicle's plan reads.
+pub const GROUND_ONLY_MEMBERS: [&str; 4] = ["headland_passes", "headland_width_m", "headland_order", "overlap"];
+
+/// Members of plans over terrain (`altitude_reference` `terrain`).
+pub const TERRAIN_MEMBERS: [&str; 3] = ["terrain_tolerance_m", "max_climb_mps", "max_descent_mps"];
 
 /// Parameters of a plan.
 #[serde_with::skip_serializing_none]
@@ -35,20 +63,26 @@ pub struct PlanParams {
     /// for a ground vehicle.
     pub planner: Option<String>,
     /// Distance between sweep lines; required unless a camera is given.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.5, maximum = 2000.0))]
     pub line_spacing_m: Option<f64>,
     /// The camera, by `preset` (`GET /api/v1/cameras`) or by its figures: sets the line spacing
     /// from the side overlap and the photo positions from the front overlap (an inspection's
     /// default: the `dji_mavic3_enterprise` preset).
     pub camera: Option<Camera>,
     /// Flight altitude above ground; with a camera, or instead `gsd_cm`.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 5000.0))]
     pub altitude_m: Option<f64>,
     /// Wanted ground sample distance, in cm per pixel (camera only).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.01, maximum = 1000.0))]
     pub gsd_cm: Option<f64>,
     /// Overlap of neighbouring lines' images, 0 to 0.95 (default 0.7).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.95))]
     pub side_overlap: Option<f64>,
     /// Overlap of consecutive images along a line, 0 to 0.95 (default 0.8).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.95))]
     pub front_overlap: Option<f64>,
     /// Compass bearing of the sweep lines; absent: the planner chooses.
+    #[cfg_attr(feature = "schema", schema(minimum = -360.0, maximum = 360.0))]
     pub heading_deg: Option<f64>,
     /// Without `heading_deg`: `planner` (default) lets the planner apply its own rule;
     /// `optimal` plans every direction (2° apart, refined to 0.5°) and keeps the shortest per
@@ -67,8 +101,10 @@ pub struct PlanParams {
     /// each field in one block.
     pub allow_reentry: Option<bool>,
     /// With obstacles: clearance kept above and around them, 0 to 200 m (default 10).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 200.0))]
     pub obstacle_clearance_m: Option<f64>,
     /// With obstacles: steepest climb and descent, 1 to 60° (default 30).
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 60.0))]
     pub max_climb_deg: Option<f64>,
     /// What `altitude_m` is measured from: `home` (default: one altitude above the take-off
     /// point) or `terrain` (the height above the ground of the mission's elevation model,
@@ -77,21 +113,26 @@ pub struct PlanParams {
     pub altitude_reference: Option<AltitudeReference>,
     /// With `altitude_reference` `terrain`: how far the height above ground may stray on
     /// sweeps, and below it anywhere, 0.5 to 100 m (default 5).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.5, maximum = 100.0))]
     pub terrain_tolerance_m: Option<f64>,
     /// With `altitude_reference` `terrain`, a multirotor: fastest climb, 0.1 to 20 m/s
     /// (default: its energy model's climb rate, or 3). A fixed wing climbs at `max_climb_deg`.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 20.0))]
     pub max_climb_mps: Option<f64>,
     /// With `altitude_reference` `terrain`, a multirotor: fastest descent, 0.1 to 20 m/s
     /// (default: its energy model's descent rate, or 2). A fixed wing descends at `max_climb_deg`.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 20.0))]
     pub max_descent_mps: Option<f64>,
     /// Metres of path that one metre of sweep lost costs when choosing the order and the
     /// direction, 0 to 1000 (default 10): sweep flown too high to image over an obstacle, or
     /// (`line_gtsp`, fixed wing) cut short to leave room to turn before a no-fly zone.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1000.0))]
     pub coverage_penalty: Option<f64>,
     /// Clearance kept from no-fly zones by sweeps, 1 to 500 m; connections keep half of it
     /// (default 10, and for a fixed wing twice a quarter of its L1 distance more: 40 m at
     /// 15 m/s, the room an autopilot following waypoints strays from a turn;
     /// docs/flight-files.md).
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 500.0))]
     pub nfz_margin_m: Option<f64>,
     /// Fixed wing: metres flown straight on each line's extension before the line, for an
     /// autopilot to settle on it before the camera starts, 0 to 1000 m (default: eight seconds
@@ -112,11 +153,13 @@ pub struct PlanParams {
     pub objective: Option<Objective>,
     /// Most sorties a plan may be split into when one battery is not enough, 1 to 100
     /// (default 20); splitting needs the mission's home.
+    #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 100))]
     pub max_sorties: Option<u32>,
     /// Seconds the plan may take, 0.1 to 86 400; past them it fails with `time_limit`. The
     /// service caps it at its own limit (`COVERPLAN_JOB_TIMEOUT_S`, also the default). An
     /// inspection's search instead returns its best path once nine tenths of it have passed
     /// (default 20 s), leaving the rest to measure the plan.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 86400.0))]
     pub time_limit_s: Option<f64>,
     /// Several drones fly the field together, 2 to 16 of them: each entry is a vehicle (as
     /// `vehicle`) with an optional `home` of its own. The field is split so that the last drone
@@ -124,17 +167,21 @@ pub struct PlanParams {
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 16))]
     pub fleet: Option<Vec<FleetMember>>,
     /// A fleet of this many copies of `vehicle`, 2 to 16, all taking off from the mission's home.
+    #[cfg_attr(feature = "schema", schema(minimum = 2, maximum = 16))]
     pub vehicles: Option<u32>,
     /// Fleet: each drone's transits fly in a layer of its own, this many metres above the
     /// previous drone's (the first one this far above the survey altitude), 1 to 200 m.
     /// Without it every drone flies at the survey altitude and the plan reports where two
     /// drones come close at the same time (`stats.conflicts`).
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 200.0))]
     pub altitude_separation_m: Option<f64>,
     /// Ground vehicle: working passes round the field's edge and every hole, 1 to 20 (default
     /// 2, or as many as cover `headland_width_m`).
+    #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 20))]
     pub headland_passes: Option<u32>,
     /// Ground vehicle: width of the headland, 1 to 500 m (default: the passes times the
     /// working width).
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 500.0))]
     pub headland_width_m: Option<f64>,
     /// Ground vehicle: work the headland passes after the swaths (`last`, default) or before.
     pub headland_order: Option<HeadlandOrder>,
@@ -150,6 +197,7 @@ pub struct PlanParams {
     pub swath_ends: Option<SwathEnds>,
     /// Ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5
     /// (default 0).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.5))]
     pub overlap: Option<f64>,
     /// Inspection: what to look at (default: the walls and roof of every structure).
     pub targets: Option<Vec<Target>>,
@@ -337,16 +385,13 @@ pub fn math_to_bearing(angle: f64) -> f64 {
 impl PlanParams {
     /// Validates the parameters; `vehicle.profile` is looked up in `profiles`.
     pub fn resolve(&self, profiles: &[Vehicle]) -> Result<Resolved, InputError> {
-        let inspection_members = [
-            ("/targets", self.targets.is_some()),
-            ("/budget", self.budget.is_some()),
-            ("/inspection", self.inspection.is_some()),
-            ("/seed", self.seed.is_some()),
-            ("/start/altitude_m", self.start.as_ref().is_some_and(|p| p.altitude_m.is_some())),
-            ("/end/altitude_m", self.end.as_ref().is_some_and(|p| p.altitude_m.is_some())),
-        ];
-        if let Some((pointer, _)) = inspection_members.iter().find(|(_, given)| *given) {
-            return Err(InputError::new("not_an_inspection", *pointer, "this member is for planner inspection"));
+        let given = [self.targets.is_some(), self.budget.is_some(), self.inspection.is_some(), self.seed.is_some()];
+        let pose_altitude = |p: &Option<PoseParam>| p.as_ref().is_some_and(|p| p.altitude_m.is_some());
+        let pointer = INSPECTION_ONLY_MEMBERS.iter().zip(given).find(|(_, given)| *given).map(|(member, _)| format!("/{member}")).or_else(|| {
+            [("/start/altitude_m", pose_altitude(&self.start)), ("/end/altitude_m", pose_altitude(&self.end))].into_iter().find(|(_, given)| *given).map(|(p, _)| p.to_owned())
+        });
+        if let Some(pointer) = pointer {
+            return Err(InputError::new("not_an_inspection", pointer, "this member is for planner inspection"));
         }
         let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
         let fleet = self.resolve_fleet(&vehicle, profiles)?;
@@ -485,8 +530,9 @@ impl PlanParams {
     }
 
     fn terrain(&self, vehicle: &Vehicle, altitude_m: Option<f64>, max_climb_deg: f64) -> Result<Option<TerrainSpec>, InputError> {
-        let members =
-            [("/terrain_tolerance_m", self.terrain_tolerance_m.is_some()), ("/max_climb_mps", self.max_climb_mps.is_some()), ("/max_descent_mps", self.max_descent_mps.is_some())];
+        let given = [self.terrain_tolerance_m.is_some(), self.max_climb_mps.is_some(), self.max_descent_mps.is_some()];
+        let pointers = TERRAIN_MEMBERS.map(|m| format!("/{m}"));
+        let members: Vec<(&str, bool)> = pointers.iter().map(String::as_str).zip(given).collect();
         if self.altitude_reference != Some(AltitudeReference::Terrain) {
             return match members.iter().find(|m| m.1) {
                 Some((pointer, _)) => Err(InputError::new("not_over_terrain", *pointer, "this member is for plans over terrain: give altitude_reference \"terrain\"")),
@@ -523,23 +569,23 @@ impl PlanParams {
     /// The inspection's vehicle and parameters (planner `inspection`): a multirotor, which
     /// stops and turns on the spot at each viewpoint.
     pub fn resolve_inspection(&self, profiles: &[Vehicle]) -> Result<(Vehicle, InspectionSpec), InputError> {
-        let coverage_members = [
-            ("/line_spacing_m", self.line_spacing_m.is_some()),
-            ("/altitude_m", self.altitude_m.is_some()),
-            ("/heading_deg", self.heading_deg.is_some()),
-            ("/sweep_direction", self.sweep_direction.is_some()),
-            ("/side_overlap", self.side_overlap.is_some()),
-            ("/front_overlap", self.front_overlap.is_some()),
-            ("/fleet", self.fleet.is_some()),
-            ("/vehicles", self.vehicles.is_some()),
-            ("/headland_passes", self.headland_passes.is_some()),
-            ("/objective", self.objective.is_some()),
-            ("/lead_in_m", self.lead_in_m.is_some()),
-            ("/landing", self.landing.is_some()),
-            ("/landing_heading_deg", self.landing_heading_deg.is_some()),
+        let given = [
+            self.line_spacing_m.is_some(),
+            self.altitude_m.is_some(),
+            self.heading_deg.is_some(),
+            self.sweep_direction.is_some(),
+            self.side_overlap.is_some(),
+            self.front_overlap.is_some(),
+            self.fleet.is_some(),
+            self.vehicles.is_some(),
+            self.headland_passes.is_some(),
+            self.objective.is_some(),
+            self.lead_in_m.is_some(),
+            self.landing.is_some(),
+            self.landing_heading_deg.is_some(),
         ];
-        if let Some((pointer, _)) = coverage_members.iter().find(|(_, given)| *given) {
-            return Err(InputError::new("not_for_inspection", *pointer, "an inspection flies to viewpoints around structures: this member is for coverage plans"));
+        if let Some((member, _)) = COVERAGE_ONLY_MEMBERS.iter().zip(given).find(|(_, given)| *given) {
+            return Err(InputError::new("not_for_inspection", format!("/{member}"), "an inspection flies to viewpoints around structures: this member is for coverage plans"));
         }
         let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
         if vehicle.kind != VehicleKind::Multirotor {
@@ -564,14 +610,11 @@ impl PlanParams {
     /// A ground vehicle's headland; the headland parameters are refused for an aircraft.
     fn headland(&self, vehicle: &Vehicle) -> Result<Option<HeadlandSpec>, InputError> {
         let Some(ground) = vehicle.ground.filter(|_| vehicle.kind == VehicleKind::Ground) else {
-            let given = [
-                ("/headland_passes", self.headland_passes.is_some()),
-                ("/headland_width_m", self.headland_width_m.is_some()),
-                ("/headland_order", self.headland_order.is_some()),
-                ("/overlap", self.overlap.is_some()),
-            ];
-            return match given.iter().find(|(_, set)| *set) {
-                Some((pointer, _)) => Err(InputError::new("not_a_ground_vehicle", *pointer, "headlands and swath overlap are for ground vehicles (vehicle kind ground)")),
+            let given = [self.headland_passes.is_some(), self.headland_width_m.is_some(), self.headland_order.is_some(), self.overlap.is_some()];
+            return match GROUND_ONLY_MEMBERS.iter().zip(given).find(|(_, set)| *set) {
+                Some((member, _)) => {
+                    Err(InputError::new("not_a_ground_vehicle", format!("/{member}"), "headlands and swath overlap are for ground vehicles (vehicle kind ground)"))
+                }
                 None => Ok(None),
             };
         };

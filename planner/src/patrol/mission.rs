@@ -73,19 +73,23 @@ pub enum StrategyName {
 #[serde(deny_unknown_fields)]
 pub struct PatrolParams {
     /// Side of a grid cell, metres, 1 to 1 000 (default 20, or the camera's footprint).
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 1000.0))]
     pub cell_size_m: Option<f64>,
     /// The UAVs' camera, looking straight down: a cell is the square its footprint covers at
     /// `altitude_m` (or at the altitude that gives `gsd_cm`), instead of `cell_size_m`.
     pub camera: Option<Camera>,
     /// Patrol altitude above ground, with `camera`.
+    #[cfg_attr(feature = "schema", schema(minimum = 1.0, maximum = 5000.0))]
     pub altitude_m: Option<f64>,
     /// Wanted ground sample distance, cm per pixel, with `camera` (instead of `altitude_m`).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.01, maximum = 1000.0))]
     pub gsd_cm: Option<f64>,
     /// How many UAVs, 1 to 64 (default 4), all starting on the free cell nearest the area's
     /// south-west corner as in the source; or give `starts`.
+    #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 64))]
     pub uavs: Option<usize>,
     /// Start positions, [longitude, latitude] each: one UAV per position.
-    #[cfg_attr(feature = "schema", schema(value_type = Option<Vec<Vec<f64>>>))]
+    #[cfg_attr(feature = "schema", schema(value_type = Option<Vec<Vec<f64>>>, min_items = 1, max_items = 64))]
     pub starts: Option<Vec<[f64; 2]>>,
     /// Default `nc_drone`.
     pub strategy: Option<StrategyName>,
@@ -93,12 +97,15 @@ pub struct PatrolParams {
     /// `comm_radius_cells`; `periodic` merges every `sync_interval` cycles (CFS).
     pub sharing: Option<Sharing>,
     /// Chebyshev range of the UAVs' radios, cells (default 3).
+    #[cfg_attr(feature = "schema", schema(minimum = 0, maximum = 1000))]
     pub comm_radius_cells: Option<usize>,
     /// Cycles between synchronisations with `periodic` sharing (default 100).
+    #[cfg_attr(feature = "schema", schema(minimum = 1))]
     pub sync_interval: Option<u32>,
     /// Watershed (`visits`) or WSTS (`last_visit`); none by default.
     pub watershed: Option<Valleys>,
     /// Cycles between Watershed decisions with a central matrix (default 100).
+    #[cfg_attr(feature = "schema", schema(minimum = 1))]
     pub ws_period: Option<u32>,
     /// TS: ties go to the least recently visited cell first.
     pub time_ties: Option<bool>,
@@ -106,10 +113,12 @@ pub struct PatrolParams {
     /// Overrides the strategy's tie rule.
     pub tie_rule: Option<TieRule>,
     /// Cycles to simulate, 1 to 1 000 000 (default 10 000), and at most 2 000 000 UAV moves in all.
+    #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 1_000_000))]
     pub cycles: Option<u32>,
     /// Seed of the random choices (default 0): the same seed gives the same patrol.
     pub seed: Option<u64>,
     /// Clearance around no-fly zones, metres (default 10): cells whose centre is nearer are blocked.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1000.0))]
     pub nfz_margin_m: Option<f64>,
     /// The vehicle whose model prices each path (default: the multirotor default).
     #[serde(default, skip_serializing_if = "is_default")]
@@ -222,9 +231,10 @@ impl PatrolParams {
         let uavs = self.starts.as_ref().map_or(self.uavs.unwrap_or(4), Vec::len);
         let moves = (uavs as u64).saturating_mul(u64::from(self.cycles.unwrap_or(10_000)));
         if moves > MAX_UAV_CYCLES {
-            return Err(out_of_range(
+            return Err(InputError::new(
+                "patrol_too_long",
                 "/cycles",
-                &format!("{uavs} UAVs × cycles is {moves}; the limit is {MAX_UAV_CYCLES} (the paths would make a very large file): fewer cycles or UAVs"),
+                format!("{uavs} UAVs × cycles is {moves}; the limit is {MAX_UAV_CYCLES} (the paths would make a very large file): fewer cycles or UAVs"),
             ));
         }
         if !self.nfz_margin_m.is_none_or(|m| (0.0..=1000.0).contains(&m)) {
@@ -256,7 +266,8 @@ impl PatrolParams {
         let footprint = camera.plan(self.altitude_m, self.gsd_cm, 0.0, 0.0)?;
         let side = footprint.footprint_across_m.min(footprint.footprint_along_m);
         if !(1.0..=1000.0).contains(&side) {
-            return Err(out_of_range("/altitude_m", &format!("the camera's footprint there is {side:.1} m; cells are 1 to 1 000 m")));
+            let at = if self.gsd_cm.is_some() { "/gsd_cm" } else { "/altitude_m" };
+            return Err(InputError::new("cell_size_out_of_range", at, format!("the camera's footprint there is {side:.1} m; cells are 1 to 1 000 m")));
         }
         Ok((side, Some(footprint.altitude_m)))
     }

@@ -49,7 +49,9 @@ pub enum Sharing {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct Evaporation {
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0))]
     pub factor: f64,
+    #[cfg_attr(feature = "schema", schema(minimum = 1))]
     pub interval: u32,
     /// Lose it continuously (`factor · Δt / interval`) as the released code does, not in steps.
     #[serde(default)]
@@ -427,8 +429,14 @@ pub fn simulate(grid: &CellGrid, strategy: &Strategy, starts: &[usize], cycles: 
 pub struct PatrolState {
     pub u: Vec<f64>,
     pub last_visit: Vec<u32>,
+    /// Each UAV's cell, 1 to 64 UAVs.
+    #[cfg_attr(feature = "schema", schema(min_items = 1, max_items = 64))]
     pub at: Vec<usize>,
+    /// Each UAV's heading: 0 (north), 1 (east), 2 (south) or 3 (west).
+    #[cfg_attr(feature = "schema", schema(value_type = Vec<u8>))]
     pub headings: Vec<usize>,
+    /// The cycle about to run, from 1.
+    #[cfg_attr(feature = "schema", schema(minimum = 1))]
     pub cycle: u32,
 }
 

@@ -63,3 +63,22 @@ async fn every_documented_operation_is_served() {
     assert!(operations >= 21, "{operations} operations");
     app.stop().await;
 }
+
+/// The refusals a 422 answer lists as beyond the document are codes the document knows.
+#[test]
+fn refusals_beyond_the_document_are_known_codes() {
+    let doc: serde_json::Value = serde_json::from_str(&coverplan::http::openapi::document()).unwrap();
+    let known: Vec<&str> = doc["components"]["schemas"]["ErrorCode"]["enum"].as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
+    let mut listed = 0;
+    for item in doc["paths"].as_object().unwrap().values() {
+        for answer in item.as_object().unwrap().values().filter_map(|op| op.pointer("/responses/422")) {
+            for list in ["x-beyond-schema", "x-beyond-schema-with-profile", "x-stated-in-words"] {
+                for code in answer[list].as_array().into_iter().flatten() {
+                    assert!(known.contains(&code.as_str().unwrap()), "{list} lists {code}, which ErrorCode does not");
+                    listed += 1;
+                }
+            }
+        }
+    }
+    assert!(listed > 50, "{listed} refusals listed");
+}

@@ -6,6 +6,12 @@ use utoipa::OpenApi;
 
 use super::error;
 
+mod camera;
+mod geojson;
+mod patrols;
+mod plans;
+mod vehicles;
+
 #[derive(OpenApi)]
 #[openapi(
     info(title = "coverplan", description = "Coverage path planning for drones and farm vehicles: \
@@ -18,7 +24,7 @@ pub struct ApiDoc;
 
 /// The document as the server serves it, pretty-printed.
 pub fn document() -> String {
-    complete(super::api().into_openapi()).to_pretty_json().expect("the OpenAPI document serialises") + "\n"
+    serde_json::to_string_pretty(&complete(super::api().into_openapi())).expect("the OpenAPI document serialises") + "\n"
 }
 
 /// A problem answer of the document.
@@ -36,8 +42,14 @@ const PROBLEM_TYPE: &str = "application/problem+json";
 /// - links from what a request makes to what can be done with it next, and working examples;
 /// - two schemas the derive gets wrong: `MissionItems` (two array forms, which an empty list
 ///   matches both: `anyOf`, not `oneOf`) and `StoredVehicle` (a `Vehicle`, which allows no
-///   other member, plus three: written out whole instead of `allOf`).
-pub fn complete(doc: utoipa::openapi::OpenApi) -> utoipa::openapi::OpenApi {
+///   other member, plus three: written out whole instead of `allOf`);
+/// - what the derive cannot write of the requests: GeoJSON ([`geojson`]), the rules between
+///   members ([`vehicles`], [`plans`], [`patrols`], [`camera`]), and each operation's refusals
+///   beyond what the document can state.
+///
+/// The result is JSON: utoipa's types cannot hold all of JSON Schema 2020-12 (`prefixItems`,
+/// `const` without a type).
+pub fn complete(doc: utoipa::openapi::OpenApi) -> Value {
     let mut doc = serde_json::to_value(&doc).expect("the OpenAPI document serialises");
     doc["components"]["securitySchemes"]["api_key"] = json!({
         "type": "http", "scheme": "bearer",
@@ -92,6 +104,23 @@ pub fn complete(doc: utoipa::openapi::OpenApi) -> utoipa::openapi::OpenApi {
             }
         }
     }
+    // the refusals each operation can give to a request this document allows
+    for r in refusals() {
+        let answer = &mut paths[r.path][r.method]["responses"]["422"];
+        assert!(answer.is_object(), "{} {} documents its 422 answer", r.method, r.path);
+        let listed = |codes: &[&str]| codes.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ");
+        let mut description = format!("{}; beyond what this document can state: {}", answer["description"].as_str().unwrap_or_default(), listed(&r.beyond));
+        if !r.with_profile.is_empty() {
+            description += &format!("; with a stored profile named, also {}", listed(&r.with_profile));
+        }
+        if !r.in_words.is_empty() {
+            description += &format!("; of rules the members' descriptions state: {}", listed(r.in_words));
+        }
+        answer["description"] = json!(description);
+        answer["x-beyond-schema"] = json!(r.beyond);
+        answer["x-beyond-schema-with-profile"] = json!(r.with_profile);
+        answer["x-stated-in-words"] = json!(r.in_words);
+    }
     // the formats and autopilots the registries know, as the only values the query takes
     let choices = [
         ("/api/v1/missions/import", "format", crate::planner::import::format_ids().to_vec()),
@@ -141,6 +170,11 @@ pub fn complete(doc: utoipa::openapi::OpenApi) -> utoipa::openapi::OpenApi {
     let default_planner = crate::planner::planners::default_for(crate::planner::vehicle::VehicleKind::Multirotor).map(|p| p.id());
     schemas["PlanParams"]["example"] = json!({"planner": default_planner, "line_spacing_m": 25, "vehicle": {"profile": "iris"}});
     schemas["EstimateRequest"]["example"] = json!({"waypoints": [[5.66, 51.985], [5.6629, 51.985], [5.6629, 51.9864]], "vehicle": {"profile": "iris"}});
+    geojson::apply(schemas);
+    vehicles::apply(schemas);
+    plans::apply(schemas);
+    patrols::apply(schemas);
+    camera::apply(schemas);
     if let Some(items) = schemas["MissionItems"].as_object_mut()
         && let Some(forms) = items.remove("oneOf")
     {
@@ -159,5 +193,41 @@ pub fn complete(doc: utoipa::openapi::OpenApi) -> utoipa::openapi::OpenApi {
     }
     stored["description"] = json!("A stored profile: the vehicle's figures, whether it is built in, and when it was made and changed.");
     schemas["StoredVehicle"] = stored;
-    serde_json::from_value(doc).expect("the completed document is an OpenAPI document")
+    doc
+}
+
+/// The refusals an operation can give to a request the document allows.
+struct Refusals {
+    path: &'static str,
+    method: &'static str,
+    /// Beyond what a schema can state (see [`super::error::beyond_schema`]).
+    beyond: Vec<&'static str>,
+    /// Also these where the request names a stored vehicle profile, whose kind decides them.
+    with_profile: Vec<&'static str>,
+    /// Of rules the members' descriptions state in words (see [`plans::IN_WORDS`]).
+    in_words: &'static [&'static str],
+}
+
+/// The refusals of each operation that has some.
+fn refusals() -> Vec<Refusals> {
+    use super::error::beyond_schema::{FILE, GEOMETRY, IMPORTED, MISSION, PROFILE, RELATIONS, ROUTE};
+    let of = |groups: &[&[&'static str]]| -> Vec<&'static str> {
+        let mut codes: Vec<_> = groups.concat();
+        codes.sort_unstable();
+        codes.dedup();
+        codes
+    };
+    let refusals = |path, method, beyond, with_profile| Refusals { path, method, beyond, with_profile, in_words: &[] };
+    vec![
+        refusals("/api/v1/missions", "post", of(&[GEOMETRY, FILE]), vec![]),
+        refusals("/api/v1/missions/{id}", "put", of(&[GEOMETRY, FILE]), vec![]),
+        refusals("/api/v1/missions/import", "post", of(&[GEOMETRY, FILE, IMPORTED]), vec![]),
+        refusals("/api/v1/missions/{id}/terrain", "put", of(&[FILE]), vec![]),
+        Refusals { in_words: plans::IN_WORDS, ..refusals("/api/v1/missions/{id}/plans", "post", of(&[MISSION, RELATIONS]), of(&[PROFILE])) },
+        refusals("/api/v1/missions/{id}/patrols", "post", of(&[MISSION, RELATIONS]), of(&[PROFILE])),
+        refusals("/api/v1/patrols/next-moves", "post", of(&[RELATIONS]), vec![]),
+        refusals("/api/v1/estimates", "post", of(&[ROUTE]), of(&[PROFILE])),
+        refusals("/api/v1/vehicles", "post", of(&[RELATIONS]), vec![]),
+        refusals("/api/v1/vehicles/{id}", "put", of(&[RELATIONS]), vec![]),
+    ]
 }

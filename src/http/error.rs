@@ -128,6 +128,7 @@ pub const ERROR_CODES: &[&str] = &[
     "self_intersection",
     "server_time_limit",
     "spacing_missing",
+    "spacing_out_of_range",
     "start_missing",
     "start_outside_area",
     "state_mismatch",
@@ -235,6 +236,7 @@ pub mod beyond_schema {
         "position_not_free",
         "profile_mismatch",
         "range_reversed",
+        "spacing_out_of_range",
         "state_mismatch",
     ];
     /// The mission a request plans, and the server's own limits.

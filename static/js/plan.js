@@ -47,6 +47,7 @@ const vehicleKind = () => $('vehicle').selectedOptions[0]?.dataset.kind;
 /** True when the chosen vehicle works the ground: it gets its implement's fields and a ground
  * planner instead of a camera, a line spacing and drones. */
 const groundVehicle = () => vehicleKind() === 'ground';
+const fixedWing = () => vehicleKind() === 'fixed_wing';
 
 /** An inspection flies to viewpoints around the mission's structures: no lines, no sweep
  * direction, no fleet. */
@@ -82,11 +83,15 @@ function syncForm() {
   $('fixed-heading-box').hidden = inspection || $('direction').value !== 'fixed';
   $('objective-box').hidden = !reads('objective');
   $('layers-box').hidden = ground || inspection || !(num('drones') > 1);
+  // how flights end: an aircraft's; the approach heading and the lead-in are a fixed wing's
+  $('ends-box').hidden = ground || inspection;
+  $('lead-in-box').hidden = !fixedWing();
+  $('landing-heading-box').hidden = !fixedWing() || $('landing').value !== 'auto';
   $('reference-box').hidden = ground || inspection;
   $('tolerance-box').hidden = $('altitude-reference').value !== 'terrain';
   preview();
 }
-['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference'].forEach((id) => $(id).addEventListener('change', syncForm));
+['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference', 'landing'].forEach((id) => $(id).addEventListener('change', syncForm));
 
 // GSD and altitude say the same thing with a camera: typing one empties the other
 $('altitude').addEventListener('input', () => { if ($('altitude').value !== '') $('gsd').value = ''; });
@@ -220,6 +225,11 @@ export function planParams() {
     p.vehicles = num('drones');
     if (num('altitude-separation') !== undefined) p.altitude_separation_m = num('altitude-separation');
   }
+  if ($('landing').value === 'auto') p.landing = 'auto';
+  if (fixedWing()) {
+    if (num('lead-in') !== undefined) p.lead_in_m = num('lead-in');
+    if (p.landing === 'auto' && num('landing-heading') !== undefined) p.landing_heading_deg = num('landing-heading');
+  }
   for (const kind of ['start', 'end']) {
     const m = state.poses[kind];
     if (m) {
@@ -261,6 +271,9 @@ export function restoreParams(p) {
   set('fixed-heading', p.heading_deg);
   set('objective', p.objective);
   $('drones').value = p.vehicles || 1;
+  $('landing').value = p.landing || 'return';
+  $('landing-heading').value = p.landing_heading_deg ?? '';
+  $('lead-in').value = p.lead_in_m ?? '';
   $('altitude-separation').value = p.altitude_separation_m ?? '';
   if (p.budget) {
     const [kind, value] = Object.entries(p.budget)[0];
@@ -295,6 +308,7 @@ const inputOf = [
   ['/vehicle/turn_radius_m', 'turn-radius'], ['/vehicle', 'vehicle'], ['/headland_passes', 'headland-passes'], ['/vehicles', 'drones'],
   ['/altitude_separation_m', 'altitude-separation'], ['/budget', 'budget'], ['/inspection/range_m', 'range-min'], ['/inspection/safety_margin_m', 'safety-margin'], ['/seed', 'inspection-seed'],
   ['/targets', 'target-names'], ['/terrain_tolerance_m', 'terrain-tolerance'], ['/camera', 'camera'], ['/planner', 'planner'], ['/swath_ends', 'line-ends'],
+  ['/landing', 'landing'], ['/landing_heading_deg', 'landing-heading'], ['/lead_in_m', 'lead-in'],
 ];
 
 export function clearFieldErrors() {

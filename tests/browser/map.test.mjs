@@ -289,6 +289,21 @@ try {
   await page.fill('#drones', '1');
   await page.dispatchEvent('#drones', 'change');
 
+  // a fixed wing: how its flights end and its lead-in, sent as asked
+  assert.ok(await page.isVisible('#ends-box') && !(await page.isVisible('#lead-in-box')), 'a multirotor chooses how flights end, without a lead-in');
+  await page.selectOption('#vehicle', 'generic_fixed_wing');
+  assert.ok(await page.isVisible('#lead-in-box') && !(await page.isVisible('#landing-heading-box')), 'a fixed wing has a lead-in; a heading only for a landing');
+  await page.selectOption('#landing', 'auto');
+  assert.ok(await page.isVisible('#landing-heading-box'), 'the landing heading once it lands');
+  await page.fill('#landing-heading', '270');
+  await page.fill('#lead-in', '150');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.click('#plan');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the fixed-wing plan', 90000);
+  const wingSent = (await (await fetch(`${base}/api/v1/missions/${missionId}/plans`)).json()).find((p) => p.params.vehicle.profile === 'generic_fixed_wing').params;
+  assert.deepEqual([wingSent.landing, wingSent.landing_heading_deg, wingSent.lead_in_m], ['auto', 270, 150], 'landing, heading and lead-in sent');
+  await page.selectOption('#landing', 'return');
+
   // a tractor: its implement's fields instead of a camera, the headland planner, passes drawn
   await page.selectOption('#vehicle', 'tractor_sprayer');
   assert.ok(await page.isVisible('#ground-box'), 'the implement and headland fields');

@@ -63,6 +63,8 @@ const OTHER_MEANINGS: &[(&str, &str, &str)] = &[
     ("inspection", "planner/src/inspection/mod.rs", "the request member holding the inspection's options"),
     ("inspection", "planner/src/params/mod.rs", "the request member holding the inspection's options"),
     ("patrol", "src/http/patrols.rs", "the resource a 404 names"),
+    ("auto", "static/index.html", "the value of `landing` that lands at home"),
+    ("auto", "static/js/plan.js", "the value of `landing` that lands at home"),
     ("patrol", "static/index.html", "the Patrol button's element id"),
     ("patrol", "static/js/patrol.js", "the Patrol button's element id, and the kind of a patrol's paths"),
     ("patrol", "static/js/plan.js", "a planner's `method` (the kind), not its id"),

@@ -434,6 +434,11 @@ impl PlanParams {
                 return Err(InputError::new("spacing_missing", "/line_spacing_m", "give line_spacing_m, or a camera to derive it from"));
             }
         };
+        if self.line_spacing_m.is_none() && !(0.5..=2_000.0).contains(&line_spacing_m) {
+            // from the camera's footprint, or the implement's width less the overlap
+            let at = if camera.is_some() { "/camera" } else { "/overlap" };
+            return Err(InputError::new("spacing_out_of_range", at, format!("these figures space the lines {line_spacing_m:.2} m apart; the spacing is 0.5 to 2 000 m")));
+        }
         check_range(line_spacing_m, 0.5, 2_000.0, "/line_spacing_m", "m")?;
         let altitude_m = camera.map(|c| c.altitude_m).or(self.altitude_m);
         if let Some(a) = altitude_m {

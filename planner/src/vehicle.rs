@@ -224,6 +224,9 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
     ]
 }
 
+/// The members of a plan's vehicle only a ground vehicle has.
+pub const GROUND_OVERRIDES: [&str; 4] = ["working_width_m", "reverse_allowed", "max_curvature_rate", "headland_speed_mps"];
+
 /// Most energy a ground vehicle's tank holds, Wh.
 pub const MAX_TANK_WH: f64 = 20_000_000.0;
 /// Most energy an aircraft's battery holds, Wh.
@@ -305,14 +308,9 @@ impl VehicleParams {
 
     /// The ground vehicle's overrides; refused for an aircraft.
     fn apply_ground(&self, v: &mut Vehicle, at: &str) -> Result<(), InputError> {
-        let given = [
-            ("working_width_m", self.working_width_m.is_some()),
-            ("reverse_allowed", self.reverse_allowed.is_some()),
-            ("max_curvature_rate", self.max_curvature_rate.is_some()),
-            ("headland_speed_mps", self.headland_speed_mps.is_some()),
-        ];
+        let given = [self.working_width_m.is_some(), self.reverse_allowed.is_some(), self.max_curvature_rate.is_some(), self.headland_speed_mps.is_some()];
         let Some(g) = v.ground.as_mut() else {
-            return match given.iter().find(|(_, set)| *set) {
+            return match GROUND_OVERRIDES.iter().zip(given).find(|(_, set)| *set) {
                 Some((name, _)) => Err(InputError::new("not_a_ground_vehicle", format!("{at}/{name}"), format!("profile `{}` is not a ground vehicle", v.profile))),
                 None => Ok(()),
             };

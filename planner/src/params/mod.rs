@@ -53,6 +53,11 @@ pub const GROUND_ONLY_MEMBERS: [&str; 4] = ["headland_passes", "headland_width_m
 /// Members of plans over terrain (`altitude_reference` `terrain`).
 pub const TERRAIN_MEMBERS: [&str; 3] = ["terrain_tolerance_m", "max_climb_mps", "max_descent_mps"];
 
+/// The pointer of the first of `members` that `given` says the request holds.
+fn first_given(members: &[&str], given: &[bool]) -> Option<String> {
+    members.iter().zip(given).find(|(_, given)| **given).map(|(member, _)| format!("/{member}"))
+}
+
 /// Parameters of a plan.
 #[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -387,9 +392,8 @@ impl PlanParams {
     pub fn resolve(&self, profiles: &[Vehicle]) -> Result<Resolved, InputError> {
         let given = [self.targets.is_some(), self.budget.is_some(), self.inspection.is_some(), self.seed.is_some()];
         let pose_altitude = |p: &Option<PoseParam>| p.as_ref().is_some_and(|p| p.altitude_m.is_some());
-        let pointer = INSPECTION_ONLY_MEMBERS.iter().zip(given).find(|(_, given)| *given).map(|(member, _)| format!("/{member}")).or_else(|| {
-            [("/start/altitude_m", pose_altitude(&self.start)), ("/end/altitude_m", pose_altitude(&self.end))].into_iter().find(|(_, given)| *given).map(|(p, _)| p.to_owned())
-        });
+        let pointer =
+            first_given(&INSPECTION_ONLY_MEMBERS, &given).or_else(|| first_given(&["start/altitude_m", "end/altitude_m"], &[pose_altitude(&self.start), pose_altitude(&self.end)]));
         if let Some(pointer) = pointer {
             return Err(InputError::new("not_an_inspection", pointer, "this member is for planner inspection"));
         }
@@ -536,11 +540,9 @@ impl PlanParams {
 
     fn terrain(&self, vehicle: &Vehicle, altitude_m: Option<f64>, max_climb_deg: f64) -> Result<Option<TerrainSpec>, InputError> {
         let given = [self.terrain_tolerance_m.is_some(), self.max_climb_mps.is_some(), self.max_descent_mps.is_some()];
-        let pointers = TERRAIN_MEMBERS.map(|m| format!("/{m}"));
-        let members: Vec<(&str, bool)> = pointers.iter().map(String::as_str).zip(given).collect();
         if self.altitude_reference != Some(AltitudeReference::Terrain) {
-            return match members.iter().find(|m| m.1) {
-                Some((pointer, _)) => Err(InputError::new("not_over_terrain", *pointer, "this member is for plans over terrain: give altitude_reference \"terrain\"")),
+            return match first_given(&TERRAIN_MEMBERS, &given) {
+                Some(pointer) => Err(InputError::new("not_over_terrain", pointer, "this member is for plans over terrain: give altitude_reference \"terrain\"")),
                 None => Ok(None),
             };
         }
@@ -553,8 +555,9 @@ impl PlanParams {
         let tolerance_m = self.terrain_tolerance_m.unwrap_or(5.0);
         check_range(tolerance_m, 0.5, 100.0, "/terrain_tolerance_m", "m")?;
         let (climb, descent) = if vehicle.kind == VehicleKind::FixedWing {
-            if let Some((pointer, _)) = members[1..].iter().find(|m| m.1) {
-                return Err(InputError::new("not_for_fixed_wing", *pointer, "a fixed wing climbs and descends at max_climb_deg"));
+            // the climb and descent rates: a fixed wing's are its climb angle
+            if let Some(pointer) = first_given(&TERRAIN_MEMBERS[1..], &given[1..]) {
+                return Err(InputError::new("not_for_fixed_wing", pointer, "a fixed wing climbs and descends at max_climb_deg"));
             }
             let slope = max_climb_deg.to_radians().tan();
             (slope, slope)
@@ -589,8 +592,8 @@ impl PlanParams {
             self.landing.is_some(),
             self.landing_heading_deg.is_some(),
         ];
-        if let Some((member, _)) = COVERAGE_ONLY_MEMBERS.iter().zip(given).find(|(_, given)| *given) {
-            return Err(InputError::new("not_for_inspection", format!("/{member}"), "an inspection flies to viewpoints around structures: this member is for coverage plans"));
+        if let Some(pointer) = first_given(&COVERAGE_ONLY_MEMBERS, &given) {
+            return Err(InputError::new("not_for_inspection", pointer, "an inspection flies to viewpoints around structures: this member is for coverage plans"));
         }
         let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
         if vehicle.kind != VehicleKind::Multirotor {
@@ -616,10 +619,8 @@ impl PlanParams {
     fn headland(&self, vehicle: &Vehicle) -> Result<Option<HeadlandSpec>, InputError> {
         let Some(ground) = vehicle.ground.filter(|_| vehicle.kind == VehicleKind::Ground) else {
             let given = [self.headland_passes.is_some(), self.headland_width_m.is_some(), self.headland_order.is_some(), self.overlap.is_some()];
-            return match GROUND_ONLY_MEMBERS.iter().zip(given).find(|(_, set)| *set) {
-                Some((member, _)) => {
-                    Err(InputError::new("not_a_ground_vehicle", format!("/{member}"), "headlands and swath overlap are for ground vehicles (vehicle kind ground)"))
-                }
+            return match first_given(&GROUND_ONLY_MEMBERS, &given) {
+                Some(pointer) => Err(InputError::new("not_a_ground_vehicle", pointer, "headlands and swath overlap are for ground vehicles (vehicle kind ground)")),
                 None => Ok(None),
             };
         };

@@ -3,7 +3,7 @@
 
 use serde_json::{Value, json};
 
-use super::plans::{absent, given};
+use super::{absent, given};
 use crate::planner::camera::PRESETS;
 
 pub fn apply(schemas: &mut Value) {

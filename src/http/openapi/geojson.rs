@@ -10,9 +10,17 @@ use crate::planner::estimate::MAX_WAYPOINTS;
 /// Tallest obstacle or structure, metres (as `planner::field` reads them).
 const MAX_HEIGHT_M: f64 = 1_000.0;
 
+fn reference(name: &str) -> Value {
+    json!({"$ref": format!("#/components/schemas/{name}")})
+}
+
+/// A position's longitude and latitude, as the first two items of an array.
+fn longitude_latitude() -> [Value; 2] {
+    [json!({"type": "number", "minimum": -180, "maximum": 180}), json!({"type": "number", "minimum": -90, "maximum": 90})]
+}
+
 /// The GeoJSON schemas, to add to the document's components.
 pub fn schemas() -> Vec<(&'static str, Value)> {
-    let reference = |name: &str| json!({"$ref": format!("#/components/schemas/{name}")});
     let geometry = |kind: &str, coordinates: Value| {
         json!({"type": "object", "required": ["type", "coordinates"], "properties": {
             "type": {"const": kind}, "coordinates": coordinates, "bbox": {"type": ["array", "null"], "items": {"type": "number"}}}})
@@ -29,7 +37,14 @@ pub fn schemas() -> Vec<(&'static str, Value)> {
     };
     let polygon_geometry = json!({"oneOf": [reference("GeoPolygon"), reference("GeoMultiPolygon")]});
     let any_properties = json!({"type": ["object", "null"]});
+    // RFC 7946 drops `crs`: the server refuses one on an area or no-fly zones rather than guess
+    let polygons = |description: &str, min_features: u64| {
+        let feature = feature(polygon_geometry.clone(), any_properties.clone());
+        json!({"description": description, "not": {"required": ["crs"]},
+            "oneOf": [reference("GeoPolygon"), reference("GeoMultiPolygon"), feature.clone(), collection(feature, min_features)]})
+    };
     let height = json!({"type": "number", "exclusiveMinimum": 0, "maximum": MAX_HEIGHT_M, "description": "metres above ground"});
+    let obstacle = feature(polygon_geometry.clone(), json!({"type": "object", "required": ["height_m"], "properties": {"height_m": height}}));
     let structure_properties = |required: &[&str], extra: Value| {
         let mut properties = json!({
             "height_m": {"type": "number", "minimum": 0.1, "maximum": MAX_HEIGHT_M, "description": "metres, from base_m up"},
@@ -43,8 +58,7 @@ pub fn schemas() -> Vec<(&'static str, Value)> {
         (
             "GeoPosition",
             json!({"type": "array", "description": "[longitude, latitude], WGS84 degrees (further numbers, such as an altitude, are ignored)",
-                "prefixItems": [{"type": "number", "minimum": -180, "maximum": 180}, {"type": "number", "minimum": -90, "maximum": 90}],
-                "items": {"type": "number"}, "minItems": 2}),
+                "prefixItems": longitude_latitude(), "items": {"type": "number"}, "minItems": 2}),
         ),
         (
             "GeoRing",
@@ -53,24 +67,12 @@ pub fn schemas() -> Vec<(&'static str, Value)> {
         ),
         ("GeoPolygon", geometry("Polygon", json!({"type": "array", "items": reference("GeoRing"), "minItems": 1}))),
         ("GeoMultiPolygon", geometry("MultiPolygon", json!({"type": "array", "items": {"type": "array", "items": reference("GeoRing"), "minItems": 1}}))),
-        // RFC 7946 drops `crs`: the server refuses one on an area or no-fly zones rather than guess
-        (
-            "GeoPolygons",
-            json!({"description": "A Polygon, a MultiPolygon, or a Feature or FeatureCollection of them", "not": {"required": ["crs"]},
-                "oneOf": [reference("GeoPolygon"), reference("GeoMultiPolygon"), feature(polygon_geometry.clone(), any_properties.clone()), collection(feature(polygon_geometry.clone(), any_properties.clone()), 0)]}),
-        ),
-        (
-            "GeoArea",
-            json!({"description": "A Polygon, a MultiPolygon, or a Feature or FeatureCollection of them, holding at least one polygon", "not": {"required": ["crs"]},
-                "oneOf": [reference("GeoPolygon"), reference("GeoMultiPolygon"), feature(polygon_geometry.clone(), any_properties.clone()), collection(feature(polygon_geometry.clone(), any_properties.clone()), 1)]}),
-        ),
+        ("GeoPolygons", polygons("A Polygon, a MultiPolygon, or a Feature or FeatureCollection of them", 0)),
+        ("GeoArea", polygons("A Polygon, a MultiPolygon, or a Feature or FeatureCollection of them, holding at least one polygon", 1)),
         (
             "GeoObstacles",
             json!({"description": "A Feature or FeatureCollection of Polygon (or MultiPolygon) features, each with its `height_m`",
-            "oneOf": [
-                feature(polygon_geometry.clone(), json!({"type": "object", "required": ["height_m"], "properties": {"height_m": height}})),
-                collection(feature(polygon_geometry.clone(), json!({"type": "object", "required": ["height_m"], "properties": {"height_m": height}})), 0),
-            ]}),
+            "oneOf": [obstacle.clone(), collection(obstacle, 0)]}),
         ),
         (
             "GeoStructures",
@@ -99,14 +101,14 @@ pub fn schemas() -> Vec<(&'static str, Value)> {
 
 /// A route's waypoints: [longitude, latitude] or [longitude, latitude, altitude_m].
 pub fn waypoints() -> Value {
+    let [longitude, latitude] = longitude_latitude();
     json!({"type": "array", "minItems": 2, "maxItems": MAX_WAYPOINTS, "items": {"type": "array", "minItems": 2, "maxItems": 3,
-        "prefixItems": [{"type": "number", "minimum": -180, "maximum": 180}, {"type": "number", "minimum": -90, "maximum": 90}, {"type": "number", "minimum": -500, "maximum": 10_000}]}})
+        "prefixItems": [longitude, latitude, {"type": "number", "minimum": -500, "maximum": 10_000}]}})
 }
 
 /// A point: exactly [longitude, latitude].
 fn point() -> Value {
-    json!({"type": "array", "minItems": 2, "maxItems": 2,
-        "prefixItems": [{"type": "number", "minimum": -180, "maximum": 180}, {"type": "number", "minimum": -90, "maximum": 90}]})
+    json!({"type": "array", "minItems": 2, "maxItems": 2, "prefixItems": longitude_latitude()})
 }
 
 /// Puts the GeoJSON schemas where the requests hold GeoJSON or points, keeping each member's
@@ -115,7 +117,6 @@ pub fn apply(schemas: &mut Value) {
     for (name, schema) in self::schemas() {
         schemas[name] = schema;
     }
-    let reference = |name: &str| json!({"$ref": format!("#/components/schemas/{name}")});
     let members = [
         ("MissionRequest", "area", reference("GeoArea")),
         ("MissionRequest", "no_fly_zones", reference("GeoPolygons")),

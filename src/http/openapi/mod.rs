@@ -27,6 +27,17 @@ pub fn document() -> String {
     serde_json::to_string_pretty(&complete(super::api().into_openapi())).expect("the OpenAPI document serialises") + "\n"
 }
 
+/// A schema: these members absent (or null).
+fn absent(members: &[&str]) -> Value {
+    let nulls: serde_json::Map<String, Value> = members.iter().map(|m| (m.to_string(), json!({"type": "null"}))).collect();
+    json!({"properties": nulls})
+}
+
+/// A schema: the member given (not null).
+fn given(member: &str) -> Value {
+    json!({"required": [member], "properties": {member: {"not": {"type": "null"}}}})
+}
+
 /// A problem answer of the document.
 fn problem(description: &str) -> Value {
     json!({"description": description, "content": {PROBLEM_TYPE: {"schema": {"$ref": "#/components/schemas/Problem"}}}})

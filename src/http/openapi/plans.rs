@@ -6,19 +6,9 @@
 
 use serde_json::{Value, json};
 
+use super::{absent, given};
 use crate::planner::INSPECTION;
 use crate::planner::params::{COVERAGE_ONLY_MEMBERS, INSPECTION_ONLY_MEMBERS, TERRAIN_MEMBERS};
-
-/// `then`: these members absent (or null).
-pub(super) fn absent(members: &[&str]) -> Value {
-    let nulls: serde_json::Map<String, Value> = members.iter().map(|m| (m.to_string(), json!({"type": "null"}))).collect();
-    json!({"properties": nulls})
-}
-
-/// The member is given (not null).
-pub(super) fn given(member: &str) -> Value {
-    json!({"required": [member], "properties": {member: {"not": {"type": "null"}}}})
-}
 
 /// Most cross-member rules one schema holds: with more (or with a seventh in `Budget`'s
 /// choice), schemathesis 4.32's generator, which expands them into every combination, gives

@@ -3,10 +3,8 @@
 
 use serde_json::{Value, json};
 
-use crate::planner::vehicle::MAX_BATTERY_WH;
-
-/// The members only a ground vehicle has, in a plan's vehicle.
-const GROUND_OVERRIDES: [&str; 4] = ["working_width_m", "reverse_allowed", "max_curvature_rate", "headland_speed_mps"];
+use super::absent;
+use crate::planner::vehicle::{GROUND_OVERRIDES, MAX_BATTERY_WH};
 
 /// Adds the kind rules to the stored profile (`Vehicle`) and the plan's vehicle
 /// (`VehicleParams`, and a fleet's drone).
@@ -30,13 +28,11 @@ pub fn apply(schemas: &mut Value) {
     schemas["Vehicle"]["allOf"] = profile_rules;
     // a plan's vehicle: a kind (or, without a profile, the multirotor default) bounds the
     // overrides; a named profile's kind is the stored profile's, beyond the document
-    let no_ground: serde_json::Map<String, Value> = GROUND_OVERRIDES.iter().map(|m| (m.to_string(), json!({"type": "null"}))).collect();
-    let aircraft_overrides = json!({"properties": Value::Object(no_ground.clone())});
-    let mut aircraft_overrides = aircraft_overrides;
+    let mut aircraft_overrides = absent(&GROUND_OVERRIDES);
     aircraft_overrides["properties"]["battery_wh"] = json!({"anyOf": [{"type": "null"}, {"maximum": MAX_BATTERY_WH}]});
     let default_kind = json!({"properties": {"kind": {"type": "null"}, "profile": {"type": "null"}}});
-    let mut fixed_wing = json!({"properties": {"turn_radius_m": {"anyOf": [{"type": "null"}, {"minimum": 1}]}}});
-    fixed_wing["properties"].as_object_mut().expect("an object").extend(no_ground);
+    // a fixed wing is also an aircraft: the rule above keeps its ground members out
+    let fixed_wing = json!({"properties": {"turn_radius_m": {"anyOf": [{"type": "null"}, {"minimum": 1}]}}});
     let params_rules = json!([
         {"if": kind_is(&aircraft), "then": aircraft_overrides},
         {"if": default_kind, "then": aircraft_overrides},

@@ -250,6 +250,7 @@ pub mod beyond_schema {
         "plan_too_long",
         "point_in_no_fly_zone",
         "server_time_limit",
+        "start_missing",
         "start_outside_area",
         "targets_outside_area",
         "terrain_missing",

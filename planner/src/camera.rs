@@ -8,6 +8,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::error::{InputError, check_range};
+use super::sweep::Footprint;
 
 /// How the camera is mounted: `landscape` puts the image width across the track.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -83,6 +84,13 @@ pub struct CameraPlan {
     pub line_spacing_m: f64,
     /// Largest distance between photos for the front overlap.
     pub photo_spacing_m: f64,
+}
+
+impl CameraPlan {
+    /// What one photo images and how far apart photos are taken, for laying lines.
+    pub fn footprint(&self) -> Footprint {
+        Footprint { across_m: self.footprint_across_m, along_m: self.footprint_along_m, photo_spacing_m: self.photo_spacing_m }
+    }
 }
 
 /// Horizontal field of view from a diagonal one, for an image of `w` × `h` pixels.
@@ -192,9 +200,64 @@ pub fn fitted_photo_offsets(len: f64, footprint: f64, max_step: f64) -> Vec<f64>
     (0..n).map(|i| footprint / 2.0 + i as f64 * step).collect()
 }
 
+/// Photo positions along a straight piece of a line that bends (a spiral's ring, a spur), where
+/// the camera keeps triggering through the bends: the photo at a bend is the next piece's first,
+/// taken at the bend and facing the next piece, so that its footprint reaches over the corner
+/// (seed 002 §4.1: a photo at each ring vertex images the field's corner). `after_bend`: the
+/// piece starts at a bend (else its first footprint is flush with its start); `before_bend`: it
+/// ends at one (its last photo is a step before the bend; else its last footprint is flush with
+/// its end). Both false: [`fitted_photo_offsets`].
+pub fn photo_offsets_through_bends(len: f64, footprint: f64, max_step: f64, after_bend: bool, before_bend: bool) -> Vec<f64> {
+    let first = if after_bend { 0.0 } else { (footprint / 2.0).min(len / 2.0) };
+    let steps = |span: f64| ((span / max_step) - 1e-9).ceil().max(1.0) as usize;
+    match (after_bend, before_bend) {
+        (false, false) => fitted_photo_offsets(len, footprint, max_step),
+        // photos up to the bend, the bend's own left to the next piece
+        (_, true) => {
+            let n = steps(len - first);
+            (0..n).map(|i| first + i as f64 * (len - first) / n as f64).collect()
+        }
+        // from the bend to a footprint flush with the end
+        (true, false) => {
+            let last = len - footprint / 2.0;
+            if last <= 0.0 {
+                return vec![0.0];
+            }
+            let n = steps(last);
+            (0..=n).map(|i| i as f64 * last / n as f64).collect()
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Through bends, photos stay a step apart at most; a bend's photo is the piece's
+        /// first and never its last (the next piece takes it); an end without a bend keeps its
+        /// footprint flush with the end.
+        #[test]
+        fn photos_through_bends_image_the_whole_piece(len in 0.5..400.0f64, footprint in 5.0..60.0f64, overlap in 0.0..0.9f64, after in any::<bool>(), before in any::<bool>()) {
+            let step = footprint * (1.0 - overlap);
+            let offsets = photo_offsets_through_bends(len, footprint, step, after, before);
+            prop_assert!(!offsets.is_empty());
+            prop_assert!(offsets.windows(2).all(|w| w[1] > w[0] && w[1] - w[0] <= step + 1e-9), "{offsets:?}");
+            let (first, last) = (offsets[0], offsets[offsets.len() - 1]);
+            prop_assert!(first >= 0.0 && last <= len);
+            if after {
+                prop_assert_eq!(first, 0.0);
+            } else {
+                prop_assert!(first <= footprint / 2.0 + 1e-9);
+            }
+            if before {
+                prop_assert!(last < len && len - last <= step + 1e-9, "{offsets:?}");
+            } else {
+                prop_assert!(last + footprint / 2.0 >= len - 1e-9, "{offsets:?}");
+            }
+        }
+    }
 
     fn sensor(w: f64, h: f64, f: f64, px: (u32, u32)) -> Camera {
         Camera { sensor_width_mm: Some(w), sensor_height_mm: Some(h), focal_length_mm: Some(f), image_width_px: Some(px.0), image_height_px: Some(px.1), ..Camera::default() }

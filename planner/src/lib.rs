@@ -85,8 +85,8 @@ pub use stop::Stop;
 
 use compose::{Ends, Flight, Prepared, Stages};
 use field::Field;
-use geom::{grow, polyline_length};
-use path::{FlightPath, PieceKind};
+use geom::grow;
+use path::FlightPath;
 use route::visibility::TransitPlanner;
 use turn::TurnModel;
 use turn::climb::Obstacles;
@@ -468,7 +468,9 @@ fn plan_until(
     let estimates: Vec<energy::PathEstimate> = flown.iter().flat_map(|f| f.estimates.iter().cloned()).collect();
     let usable_j: Vec<f64> = flown.iter().flat_map(|f| std::iter::repeat_n(f.vehicle.battery.usable_j(), f.sorties.len())).collect();
     let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
-    let photos = resolved.camera.map(|c| flown.iter().flat_map(|f| f.sorties.iter().flat_map(move |s| photo_positions(s, &c, f.planned.sweep_angle))).collect::<Vec<_>>());
+    let photos = resolved
+        .camera
+        .map(|c| flown.iter().flat_map(|f| f.sorties.iter().flat_map(move |s| metrics::photo_positions(s, &c.footprint(), Some(f.planned.sweep_angle)))).collect::<Vec<_>>());
     // measured by the planner when its one sortie is its path as planned
     let measured = match flown.as_slice() {
         [f] if f.sorties.len() == 1 && f.sorties[0] == f.planned.path => f.planned.swept.clone(),
@@ -576,27 +578,6 @@ pub fn vehicles_flown(params: &PlanParams, profiles: &[vehicle::Vehicle]) -> Res
 fn unknown_planner(id: &str) -> InputError {
     let known: Vec<&str> = planners::registry().iter().map(|p| p.id()).chain([INSPECTION]).collect();
     InputError::new("unknown_planner", "/planner", format!("no planner named `{id}`; known: {}", known.join(", ")))
-}
-
-/// Photo positions on every sweep (docs/methods.md, camera §6, fitted mode), with the line's
-/// direction. A sweep of no length (a grid of one cell) is one photo, facing `still_heading`.
-fn photo_positions(path: &FlightPath, camera: &camera::CameraPlan, still_heading: f64) -> Vec<metrics::Photo> {
-    let mut out = Vec::new();
-    for p in path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep) {
-        let (a, b) = (p.start(), p.end());
-        let len = polyline_length(&p.points);
-        if len == 0.0 {
-            out.push(metrics::Photo { at: a, heading: still_heading });
-            continue;
-        }
-        let heading = (b.y - a.y).atan2(b.x - a.x);
-        out.extend(
-            camera::fitted_photo_offsets(len, camera.footprint_along_m, camera.photo_spacing_m)
-                .into_iter()
-                .map(|t| metrics::Photo { at: Coord { x: a.x + (b.x - a.x) * t / len, y: a.y + (b.y - a.y) * t / len }, heading }),
-        );
-    }
-    out
 }
 
 #[cfg(test)]

@@ -105,6 +105,20 @@ impl FlightPath {
         self.pieces.last().map(Piece::end)
     }
 
+    /// True when piece `k` is a sweep that leaves the sweep before it at an angle, with no turn
+    /// between (a spiral ring's corner, a spur's tip): the camera keeps triggering through it.
+    pub fn bends_into(&self, k: usize) -> bool {
+        let (Some(before), Some(piece)) = (k.checked_sub(1).and_then(|j| self.pieces.get(j)), self.pieces.get(k)) else { return false };
+        if before.kind != PieceKind::Sweep || piece.kind != PieceKind::Sweep {
+            return false;
+        }
+        let [.., a0, a1] = before.points[..] else { return false };
+        let [b0, b1, ..] = piece.points[..] else { return false };
+        let (a, b) = (a1 - a0, b1 - b0);
+        let (cross, dot) = (a.x * b.y - a.y * b.x, a.x * b.x + a.y * b.y);
+        cross.abs() > 1e-6 * a.x.hypot(a.y) * b.x.hypot(b.y) || dot < 0.0
+    }
+
     pub fn length(&self) -> f64 {
         self.pieces.iter().map(Piece::length).sum()
     }

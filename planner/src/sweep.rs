@@ -20,15 +20,24 @@ pub struct SweepSegment {
     pub hi: f64,
 }
 
+/// The ground one photo images, and the largest step between photos along a line (from the
+/// camera's figures and the front overlap).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Footprint {
+    pub across_m: f64,
+    pub along_m: f64,
+    pub photo_spacing_m: f64,
+}
+
 /// How lines are laid across a width (docs/methods.md, camera §4).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LineLayout {
     /// Largest distance between neighbouring lines.
     pub spacing: f64,
-    /// Width imaged across the track. `Some`: as few lines as cover the width with the outer
+    /// A camera's footprint. `Some`: as few lines as cover the width with the outer
     /// footprints flush with its edges, spacing re-fitted (layout `footprint`). `None`: lines
     /// `spacing` apart, centred on the width (layout `centered`).
-    pub footprint: Option<f64>,
+    pub footprint: Option<Footprint>,
     /// Where lines end at a slanted edge of the area ([`ends::end_lines`]; the sweep itself
     /// always runs them full width).
     pub ends: ends::SwathEnds,
@@ -41,7 +50,7 @@ impl LineLayout {
 
     /// Number of lines across width `d`.
     pub fn count(&self, d: f64) -> usize {
-        match self.footprint {
+        match self.footprint.map(|f| f.across_m) {
             None => line_count(d, self.spacing),
             Some(f) => (((d - (f - self.spacing)) / self.spacing) - WIDTH_TOLERANCE).ceil().max(1.0) as usize,
         }
@@ -55,7 +64,7 @@ impl LineLayout {
             let half = self.spacing.max(hi - lo) / 2.0;
             return vec![(mid, mid - half, mid + half)];
         }
-        let (first, step) = match self.footprint {
+        let (first, step) = match self.footprint.map(|f| f.across_m) {
             None => (lo + ((hi - lo) - (n - 1) as f64 * self.spacing) / 2.0, self.spacing),
             Some(f) => (lo + f / 2.0, ((hi - lo) - f) / (n - 1) as f64),
         };
@@ -69,15 +78,15 @@ impl LineLayout {
             .collect()
     }
 
-    /// True for a camera plan (lines laid by a footprint): its coverage is what the photos image
+    /// A camera plan's footprint (lines laid by it): its coverage is what the photos image
     /// ([`crate::metrics::covered`]), not the swath the vehicle sweeps.
-    pub fn photographed(&self) -> bool {
-        self.footprint.is_some()
+    pub fn photographed(&self) -> Option<Footprint> {
+        self.footprint
     }
 
     /// Half the width a sweep images, for the coverage measure.
     pub fn half_swath(&self) -> f64 {
-        self.footprint.unwrap_or(self.spacing) / 2.0
+        self.footprint.map_or(self.spacing, |f| f.across_m) / 2.0
     }
 }
 
@@ -336,7 +345,7 @@ mod tests {
             let square = |(cx, cy, h): (f64, f64, f64)| LineString::from(vec![(cx - h, cy - h), (cx + h, cy - h), (cx + h, cy + h), (cx - h, cy + h), (cx - h, cy - h)]);
             let region = MultiPolygon(vec![Polygon::new(LineString::from(outer), vec![square(hole)])]);
             let keep_out = MultiPolygon(vec![Polygon::new(square(zone), vec![])]);
-            let layout = if footprint { LineLayout { footprint: Some(spacing * 1.4), ..LineLayout::centered(spacing) } } else { LineLayout::centered(spacing) };
+            let layout = if footprint { LineLayout { footprint: Some(Footprint { across_m: spacing * 1.4, along_m: spacing, photo_spacing_m: spacing }), ..LineLayout::centered(spacing) } } else { LineLayout::centered(spacing) };
             let pattern = sweep(&region, &keep_out, angle, layout);
             // one intersection per band, as lines were found before
             let rotated = rotate(&region, angle);
@@ -409,13 +418,13 @@ mod tests {
     #[test]
     fn footprint_layout_refits_the_lines() {
         // docs/methods.md, camera §7 E2 and E3: line counts and re-fitted spacing across a cell
-        let e2 = LineLayout { footprint: Some(109.44), ..LineLayout::centered(109.44 * 0.3) };
+        let e2 = LineLayout { footprint: Some(Footprint { across_m: 109.44, along_m: 109.44, photo_spacing_m: 109.44 }), ..LineLayout::centered(109.44 * 0.3) };
         assert_eq!(e2.count(500.0), 13);
         let l = e2.lines(0.0, 500.0);
         assert!((l[1].0 - l[0].0 - 32.5467).abs() < 1e-4);
         assert!((l[0].0 - 109.44 / 2.0).abs() < 1e-9 && (l[12].0 - (500.0 - 109.44 / 2.0)).abs() < 1e-9);
         assert_eq!((l[0].1, l[12].2), (0.0, 500.0));
-        let e3 = LineLayout { footprint: Some(107.99), ..LineLayout::centered(107.99 * 0.8) };
+        let e3 = LineLayout { footprint: Some(Footprint { across_m: 107.99, along_m: 107.99, photo_spacing_m: 107.99 }), ..LineLayout::centered(107.99 * 0.8) };
         assert_eq!((e3.count(500.0), e3.count(450.0), e3.count(100.0)), (6, 5, 1));
         let l = e3.lines(0.0, 500.0);
         assert!((l[1].0 - l[0].0 - 78.402).abs() < 1e-3);

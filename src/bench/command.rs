@@ -40,6 +40,9 @@ pub struct BenchArgs {
     /// Instead: E-Spiral against E-BF energy on generated polygons, and EG-CPP time by grid size.
     #[arg(long)]
     pub energy: bool,
+    /// The generator's seed for `--energy`'s polygons (another seed, other polygons of the same classes).
+    #[arg(long, default_value_t = 0x5eed_0002)]
+    pub seed: u64,
     /// Instead: the patrolling experiments of seed 002 §5.3 (30 seeds a row) beside the published means.
     #[arg(long)]
     pub patrol: bool,
@@ -84,7 +87,7 @@ pub fn run_command(args: BenchArgs) -> anyhow::Result<()> {
 
 fn table(args: BenchArgs) -> anyhow::Result<String> {
     Ok(match args {
-        BenchArgs { energy: true, repeats, .. } => energy::run(repeats.max(1) * 4),
+        BenchArgs { energy: true, repeats, seed, .. } => energy::run(repeats.max(1) * 4, seed),
         BenchArgs { queue: Some(admin), .. } => tokio::runtime::Runtime::new()?.block_on(queue::run(&admin))?,
         BenchArgs { patrol: true, .. } => patrol::run(),
         BenchArgs { inspection: true, repeats, .. } => inspection::run(repeats),

@@ -1,7 +1,8 @@
 //! `coverplan bench --energy`: E-Spiral against E-BF on generated polygons as in seed 002
 //! §5.1 (6 to 10 vertices, 200 to 600 m across, convex and concave), priced by the IRIS
-//! model, with coverage and energy per covered hectare; then EG-CPP's planning time, energy and
-//! optimality on rectangular grids of 16 to 100 cells.
+//! model, lines 20 m apart and with the camera of its flights, with coverage and energy per
+//! covered hectare; then EG-CPP's planning time, energy and optimality on rectangular grids of
+//! 16 to 100 cells.
 
 use std::fmt::Write;
 use std::time::Instant;
@@ -45,8 +46,21 @@ fn geojson(points: &[[f64; 2]]) -> Value {
     json!({"type": "Polygon", "coordinates": [ring]})
 }
 
-fn plan(area: &Value, planner: &str, profiles: &[planner::vehicle::Vehicle]) -> Result<planner::PlanOutput, planner::PlanError> {
-    let params: PlanParams = serde_json::from_value(json!({"planner": planner, "line_spacing_m": 20, "vehicle": {"profile": "iris"}})).expect("params");
+/// How the polygons are flown: lines 20 m apart (seed 002 §5.1's simulations), or the camera
+/// and overlaps of its flights (§5.1.2: 10 m up, a 100° lens of 2386 × 2386 px, 10 % side
+/// overlap, none in front), where coverage is what the photos image.
+const SET_UPS: [(&str, &str); 2] = [
+    ("lines 20 m apart", r#"{"line_spacing_m": 20}"#),
+    (
+        "the flights' camera (10 m, 100°, 2386 × 2386 px, side overlap 0.1, front 0)",
+        r#"{"camera": {"hfov_deg": 100, "image_width_px": 2386, "image_height_px": 2386}, "altitude_m": 10, "side_overlap": 0.1, "front_overlap": 0}"#,
+    ),
+];
+
+fn plan(area: &Value, planner: &str, set_up: &Value, profiles: &[planner::vehicle::Vehicle]) -> Result<planner::PlanOutput, planner::PlanError> {
+    let mut params = json!({"planner": planner, "vehicle": {"profile": "iris"}});
+    params.as_object_mut().expect("an object").extend(set_up.as_object().expect("an object").clone());
+    let params: PlanParams = serde_json::from_value(params).expect("params");
     let mission = MissionGeometry::area(area);
     planner::plan(&mission, &params, profiles, &FieldLimits::default(), &|_| true, &Stop::never())
 }
@@ -55,6 +69,11 @@ fn plan(area: &Value, planner: &str, profiles: &[planner::vehicle::Vehicle]) -> 
 fn area_m2(points: &[[f64; 2]]) -> f64 {
     let n = points.len();
     (0..n).map(|i| points[i][0] * points[(i + 1) % n][1] - points[(i + 1) % n][0] * points[i][1]).sum::<f64>().abs() / 2.0
+}
+
+/// Share of the area a plan covers: what its photos image, with a camera.
+fn coverage(p: &planner::PlanOutput) -> f64 {
+    p.stats.photo_coverage_ratio.unwrap_or(p.stats.coverage_ratio)
 }
 
 /// One planner's results over a row of fields.
@@ -76,8 +95,8 @@ impl Tally {
                 self.planned += 1;
                 self.energy_j += p.stats.energy_j;
                 self.duration_s += p.stats.duration_s;
-                self.covered_ha += p.stats.coverage_ratio * area_m2 / 1e4;
-                self.least_coverage = Some(self.least_coverage.map_or(p.stats.coverage_ratio, |c| c.min(p.stats.coverage_ratio)));
+                self.covered_ha += coverage(p) * area_m2 / 1e4;
+                self.least_coverage = Some(self.least_coverage.map_or(coverage(p), |c| c.min(coverage(p))));
             }
             Err(e) => {
                 self.refusal.get_or_insert_with(|| e.to_string());
@@ -90,63 +109,70 @@ impl Tally {
     }
 }
 
-pub fn run(fields_per_row: usize) -> String {
+pub fn run(fields_per_row: usize, seed: u64) -> String {
     let mut profiles = planner::vehicle::builtin_profiles();
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5); // no sorties
-    let mut out = format!(
-        "E-Spiral against E-BF: IRIS model, lines 20 m apart, {fields_per_row} generated polygons per row, irregularity 0..0.5; \
-         energy and time are means over the fields both planned, kJ/ha is energy per hectare covered\n\n\
-         | vertices | shape | diameter m | planned E-BF | planned E-Spiral | E-BF kJ | E-Spiral kJ | E-BF kJ/ha | E-Spiral kJ/ha | spiral saves per ha | spiral cheaper per ha | E-BF s | E-Spiral s | least coverage E-BF | least coverage E-Spiral |\n\
-         |---------:|:------|-----------:|-------------:|-----------------:|--------:|------------:|-----------:|---------------:|--------------------:|----------------------:|-------:|-----------:|-----------------:|--------------------:|\n"
-    );
+    let mut out = String::new();
     let mut refusals = Vec::new();
-    let mut rng = Rng(0x5eed_0002);
-    for n in 6..=10 {
-        for (shape, spikiness) in [("convex", 0.0), ("concave", 0.4)] {
-            for diameter in [200.0, 600.0] {
-                let (mut bf, mut sp) = (Tally::default(), Tally::default());
-                // over the fields both planned
-                let (mut both_bf, mut both_sp) = (Tally::default(), Tally::default());
-                let mut cheaper = 0;
-                for _ in 0..fields_per_row {
-                    let irregularity = 0.5 * rng.next();
-                    let points = polygon(&mut rng, n, diameter, irregularity, spikiness);
-                    let (area, m2) = (geojson(&points), area_m2(&points));
-                    let (b, s) = (plan(&area, "e_bf", &profiles), plan(&area, "e_spiral", &profiles));
-                    bf.add(&b, m2);
-                    sp.add(&s, m2);
-                    if let (Ok(bo), Ok(so)) = (&b, &s) {
-                        both_bf.add(&b, m2);
-                        both_sp.add(&s, m2);
-                        let per_ha = |o: &planner::PlanOutput| o.stats.energy_j / (o.stats.coverage_ratio * m2);
-                        cheaper += usize::from(per_ha(so) < per_ha(bo));
+    for (name, set_up) in SET_UPS {
+        let set_up: Value = serde_json::from_str(set_up).expect("a set-up");
+        let _ = write!(
+            out,
+            "E-Spiral against E-BF: IRIS model, {name}, {fields_per_row} generated polygons per row (seed {seed}), irregularity 0..0.5; \
+             energy and time are means over the fields both planned, kJ/ha is energy per hectare covered\n\n\
+             | vertices | shape | diameter m | planned E-BF | planned E-Spiral | E-BF kJ | E-Spiral kJ | E-BF kJ/ha | E-Spiral kJ/ha | spiral saves per ha | spiral cheaper per ha | E-BF s | E-Spiral s | least coverage E-BF | least coverage E-Spiral |\n\
+             |---------:|:------|-----------:|-------------:|-----------------:|--------:|------------:|-----------:|---------------:|--------------------:|----------------------:|-------:|-----------:|-----------------:|--------------------:|\n"
+        );
+        // the same polygons for every set-up (xorshift needs a seed other than 0)
+        let mut rng = Rng(seed.max(1));
+        for n in 6..=10 {
+            for (shape, spikiness) in [("convex", 0.0), ("concave", 0.4)] {
+                for diameter in [200.0, 600.0] {
+                    let (mut bf, mut sp) = (Tally::default(), Tally::default());
+                    // over the fields both planned
+                    let (mut both_bf, mut both_sp) = (Tally::default(), Tally::default());
+                    let mut cheaper = 0;
+                    for _ in 0..fields_per_row {
+                        let irregularity = 0.5 * rng.next();
+                        let points = polygon(&mut rng, n, diameter, irregularity, spikiness);
+                        let (area, m2) = (geojson(&points), area_m2(&points));
+                        let (b, s) = (plan(&area, "e_bf", &set_up, &profiles), plan(&area, "e_spiral", &set_up, &profiles));
+                        bf.add(&b, m2);
+                        sp.add(&s, m2);
+                        if let (Ok(bo), Ok(so)) = (&b, &s) {
+                            both_bf.add(&b, m2);
+                            both_sp.add(&s, m2);
+                            let per_ha = |o: &planner::PlanOutput| o.stats.energy_j / (coverage(o) * m2);
+                            cheaper += usize::from(per_ha(so) < per_ha(bo));
+                        }
                     }
-                }
-                let both = both_bf.planned.max(1) as f64;
-                let coverage = |t: &Tally| t.least_coverage.map_or("-".to_string(), |c| format!("{c:.4}"));
-                let _ = writeln!(
-                    out,
-                    "| {n:8} | {shape:7} | {diameter:10.0} | {:>6} of {fields_per_row:<3} | {:>8} of {fields_per_row:<5} | {:7.1} | {:11.1} | {:10.1} | {:14.1} | {:18.1} % | {cheaper:>10} of {:<8} | {:6.0} | {:10.0} | {:>16} | {:>19} |",
-                    bf.planned,
-                    sp.planned,
-                    both_bf.energy_j / both / 1000.0,
-                    both_sp.energy_j / both / 1000.0,
-                    both_bf.kj_per_ha(),
-                    both_sp.kj_per_ha(),
-                    100.0 * (1.0 - both_sp.kj_per_ha() / both_bf.kj_per_ha()),
-                    both_bf.planned,
-                    both_bf.duration_s / both,
-                    both_sp.duration_s / both,
-                    coverage(&bf),
-                    coverage(&sp),
-                );
-                for (planner, t) in [("e_bf", &bf), ("e_spiral", &sp)] {
-                    if let Some(why) = &t.refusal {
-                        refusals.push(format!("- {planner}, {n} vertices, {shape}, {diameter:.0} m: {why}"));
+                    let both = both_bf.planned.max(1) as f64;
+                    let least = |t: &Tally| t.least_coverage.map_or("-".to_string(), |c| format!("{c:.4}"));
+                    let _ = writeln!(
+                        out,
+                        "| {n:8} | {shape:7} | {diameter:10.0} | {:>6} of {fields_per_row:<3} | {:>8} of {fields_per_row:<5} | {:7.1} | {:11.1} | {:10.1} | {:14.1} | {:18.1} % | {cheaper:>10} of {:<8} | {:6.0} | {:10.0} | {:>16} | {:>19} |",
+                        bf.planned,
+                        sp.planned,
+                        both_bf.energy_j / both / 1000.0,
+                        both_sp.energy_j / both / 1000.0,
+                        both_bf.kj_per_ha(),
+                        both_sp.kj_per_ha(),
+                        100.0 * (1.0 - both_sp.kj_per_ha() / both_bf.kj_per_ha()),
+                        both_bf.planned,
+                        both_bf.duration_s / both,
+                        both_sp.duration_s / both,
+                        least(&bf),
+                        least(&sp),
+                    );
+                    for (planner, t) in [("e_bf", &bf), ("e_spiral", &sp)] {
+                        if let Some(why) = &t.refusal {
+                            refusals.push(format!("- {name}: {planner}, {n} vertices, {shape}, {diameter:.0} m: {why}"));
+                        }
                     }
                 }
             }
         }
+        out.push('\n');
     }
     if !refusals.is_empty() {
         out.push_str("\nFirst refusal per row and planner:\n\n");
@@ -161,7 +187,7 @@ pub fn run(fields_per_row: usize) -> String {
         let (w, h) = (20.0 * (cells / 4) as f64 - 10.0, 70.0);
         let area = geojson(&[[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]]);
         let t = Instant::now();
-        let result = plan(&area, "eg_cpp", &profiles);
+        let result = plan(&area, "eg_cpp", &json!({"line_spacing_m": 20}), &profiles);
         let ms = t.elapsed().as_secs_f64() * 1000.0;
         let (energy, note, gap) = match result.as_ref().map(|p| (&p.stats, p.stats.optimality)) {
             Ok((st, Some(o))) => (format!("{:.1}", st.energy_j / 1000.0), format!("{} ({} cells)", o.status.as_str(), st.cells), format!("{:.1} %", 100.0 * o.gap)),

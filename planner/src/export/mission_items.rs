@@ -286,7 +286,9 @@ pub(super) fn line_triggers(piece: &FlownPiece, index: usize, photos: &RTree<[f6
         .map(|p| frame.to_local(p[0], p[1]))
         .filter(|p| (p.x * along.y - p.y * along.x).abs() < ON_LINE_M)
         .map(|p| p.x * along.x + p.y * along.y)
-        .filter(|t| (-ON_LINE_M..=len + ON_LINE_M).contains(t))
+        // a photo at the line's end is the next line's first, where the path bends (a ring's
+        // corner): the camera keeps triggering through it
+        .filter(|t| (-ON_LINE_M..len - ON_LINE_M).contains(t))
         .collect();
     offsets.sort_by(f64::total_cmp);
     offsets.dedup_by(|x, y| (*x - *y).abs() < ON_LINE_M);

@@ -3,8 +3,10 @@
 use geo::algorithm::buffer::{BufferStyle, LineCap};
 use geo::{Area, BooleanOps, Buffer, Coord, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon, Simplify};
 
+use super::photos::{photo_positions, photo_strips};
 use crate::geom::distance;
 use crate::path::{FlightPath, PieceKind};
+use crate::sweep::Footprint;
 
 /// The swath of a sweep piece as a polygon.
 fn swath(points: &[Coord], half: f64) -> Option<Polygon> {
@@ -189,15 +191,18 @@ pub(super) fn covered_by(shapes: &[Polygon], region: &MultiPolygon) -> (f64, f64
     under(&union_of(shapes), region)
 }
 
-/// The area of `region` under the swaths of `path`, in m²; with `photos` (a camera plan), under
-/// what its photos image at least (see [`photographed`]).
-pub fn covered_area(path: &FlightPath, region: &MultiPolygon, photos: bool) -> f64 {
+/// The area of `region` under the swaths of `path`, in m²; with a camera's `photos`, under what
+/// its photos image (see [`photographed`]).
+pub fn covered_area(path: &FlightPath, region: &MultiPolygon, photos: Option<Footprint>) -> f64 {
     under(&covered(path, photos), region).0
 }
 
-/// The ground `path` covers: its swaths, or with `photos` what its photos image at least.
-pub fn covered(path: &FlightPath, photos: bool) -> MultiPolygon {
-    if photos { photographed(path) } else { swept(path) }
+/// The ground `path` covers: its swaths, or with a camera's `photos` what its photos image.
+pub fn covered(path: &FlightPath, photos: Option<Footprint>) -> MultiPolygon {
+    match photos {
+        Some(footprint) => photographed(path, &footprint),
+        None => swept(path),
+    }
 }
 
 /// Pieces of uncovered ground smaller than this are rounding between swaths, not gaps.
@@ -215,11 +220,10 @@ pub fn swept_and_strip_area(path: &FlightPath) -> (MultiPolygon, f64) {
     cover(sweep_strips(path))
 }
 
-/// The ground photos on the sweeps of `path` image at least: each sweep's own rectangle, as
-/// photos fitted flush with a sweep's ends image it (camera §6), with nothing at the bends.
-pub fn photographed(path: &FlightPath) -> MultiPolygon {
-    let strips: Vec<Polygon> = path.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).filter_map(|p| swath(&p.points, p.half_swath_m)).collect();
-    union_of(&strips)
+/// The ground the photos on the sweeps of `path` image ([`photo_positions`]; those of sweeps of
+/// no length left out).
+pub fn photographed(path: &FlightPath, footprint: &Footprint) -> MultiPolygon {
+    union_of(&photo_strips(&photo_positions(path, footprint, None), footprint.across_m, footprint.along_m))
 }
 
 /// The part of `target` outside `swept` (see [`swept`]): the clearance band around no-fly
@@ -353,10 +357,10 @@ mod tests {
         let region = MultiPolygon(vec![polygon![(x: 0., y: 0.), (x: 100., y: 0.), (x: 100., y: 20.), (x: 0., y: 20.)]]);
         let mut path = FlightPath::default();
         path.push(PieceKind::Sweep, vec![c(0.0, 5.0), c(100.0, 5.0)], 5.0);
-        assert!((covered_area(&path, &region, false) - 1000.0).abs() < 1e-6);
+        assert!((covered_area(&path, &region, None) - 1000.0).abs() < 1e-6);
         path.push(PieceKind::Turn, vec![c(100.0, 5.0), c(100.0, 15.0)], 0.0);
         path.push(PieceKind::Sweep, vec![c(100.0, 15.0), c(50.0, 15.0)], 5.0);
-        assert!((covered_area(&path, &region, false) - 1500.0).abs() < 1e-6);
+        assert!((covered_area(&path, &region, None) - 1500.0).abs() < 1e-6);
         let zone = MultiPolygon(vec![polygon![(x: 40., y: 0.), (x: 60., y: 0.), (x: 60., y: 10.), (x: 40., y: 10.)]]);
         assert!((length_inside(&path, &zone) - 20.0).abs() < 1e-9);
     }

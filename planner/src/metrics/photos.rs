@@ -2,11 +2,39 @@
 
 use geo::{Coord, LineString, Polygon};
 
+use crate::camera::{fitted_photo_offsets, photo_offsets_through_bends};
+use crate::geom::polyline_length;
+use crate::path::{FlightPath, PieceKind};
+use crate::sweep::Footprint;
+
 /// A photo: where it is taken, and the direction of flight (math radians).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Photo {
     pub at: Coord,
     pub heading: f64,
+}
+
+/// Photo positions on every sweep of `path` (docs/methods.md, camera §6, fitted mode), with the
+/// line's direction; through a bend between two sweeps, one photo at the bend
+/// ([`photo_offsets_through_bends`]). A sweep of no length (a grid of one cell) is one photo,
+/// facing `still_heading`, or none without it.
+pub fn photo_positions(path: &FlightPath, footprint: &Footprint, still_heading: Option<f64>) -> Vec<Photo> {
+    let mut out = Vec::new();
+    for (k, p) in path.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep) {
+        let (a, b) = (p.start(), p.end());
+        let len = polyline_length(&p.points);
+        if len == 0.0 {
+            out.extend(still_heading.map(|heading| Photo { at: a, heading }));
+            continue;
+        }
+        let heading = (b.y - a.y).atan2(b.x - a.x);
+        let offsets = match (path.bends_into(k), path.bends_into(k + 1)) {
+            (false, false) => fitted_photo_offsets(len, footprint.along_m, footprint.photo_spacing_m),
+            (after, before) => photo_offsets_through_bends(len, footprint.along_m, footprint.photo_spacing_m, after, before),
+        };
+        out.extend(offsets.into_iter().map(|t| Photo { at: a + (b - a) * (t / len), heading }));
+    }
+    out
 }
 
 pub fn photo_points(photos: &[Photo]) -> Vec<Coord> {
@@ -53,6 +81,30 @@ mod tests {
     use crate::metrics::coverage::union_of;
     use geo::Area;
     use proptest::prelude::*;
+
+    /// A ring flown round a square field half a footprint in, entered mid-side: the photo at
+    /// each corner, taken as the ring turns, images the field's corner, which photos flush with
+    /// the sides' ends leave out.
+    #[test]
+    fn a_rings_corner_photos_image_the_fields_corners() {
+        use crate::path::{FlightPath, PieceKind};
+        use geo::{Contains, Point};
+        let footprint = Footprint { across_m: 20.0, along_m: 20.0, photo_spacing_m: 20.0 };
+        let at = |x: f64, y: f64| Coord { x, y };
+        let ring_points = [at(50.0, 10.0), at(90.0, 10.0), at(90.0, 90.0), at(10.0, 90.0), at(10.0, 10.0), at(50.0, 10.0)];
+        let mut ring = FlightPath::default();
+        for side in ring_points.windows(2) {
+            ring.push(PieceKind::Sweep, side.to_vec(), 10.0);
+        }
+        let photos = photo_positions(&ring, &footprint, None);
+        for corner in &ring_points[1..5] {
+            assert_eq!(photos.iter().filter(|p| p.at == *corner).count(), 1, "one photo at {corner:?}");
+        }
+        let imaged = union_of(&photo_strips(&photos, footprint.across_m, footprint.along_m));
+        for (x, y) in [(1.0, 1.0), (99.0, 1.0), (99.0, 99.0), (1.0, 99.0)] {
+            assert!(imaged.contains(&Point::new(x, y)), "the field's corner near ({x}, {y}) is imaged");
+        }
+    }
 
     proptest! {
         /// Runs of photos along lines image the same ground as their footprints one by one.

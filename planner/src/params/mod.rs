@@ -487,7 +487,7 @@ impl PlanParams {
         Ok(Resolved {
             line_spacing_m,
             camera,
-            layout: LineLayout { spacing: line_spacing_m, footprint: camera.map(|c| c.footprint_across_m), ends: aircraft_ends },
+            layout: LineLayout { spacing: line_spacing_m, footprint: camera.map(|c| c.footprint()), ends: aircraft_ends },
             optimal_direction,
             altitude_m,
             sweep_angle: self.heading_deg.map(bearing_to_math),

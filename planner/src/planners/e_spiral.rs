@@ -21,6 +21,7 @@ use crate::error::{InputError, PlanError};
 use crate::geom::distance;
 use crate::metrics;
 use crate::path::{FlightPath, PieceKind};
+use crate::sweep::Footprint;
 use crate::vehicle::VehicleKind;
 
 pub struct ESpiral;
@@ -228,9 +229,9 @@ fn opened(unswept: &MultiPolygon) -> impl Iterator<Item = Polygon> {
 }
 
 /// The ground `path` leaves unswept, in pieces of a square metre or more, largest first.
-/// With a camera, what the photos image counts: their footprints stop flush with each sweep's
-/// ends, so corners are measured without the turning swath.
-fn unswept(path: &FlightPath, region: &MultiPolygon, camera: bool) -> Vec<Polygon> {
+/// With a camera, what the photos image counts: the photo at each ring corner reaches over the
+/// corner (see [`metrics::photo_positions`]).
+fn unswept(path: &FlightPath, region: &MultiPolygon, camera: Option<Footprint>) -> Vec<Polygon> {
     let mut pieces: Vec<Polygon> = opened(&metrics::uncovered(&metrics::covered(path, camera), region)).filter(|p| p.unsigned_area() >= 1.0).collect();
     pieces.sort_by(|a, b| b.unsigned_area().total_cmp(&a.unsigned_area()));
     pieces

@@ -110,7 +110,7 @@ impl Grid {
         let (lo, hi) = pts.iter().fold((Coord { x: f64::MAX, y: f64::MAX }, Coord { x: f64::MIN, y: f64::MIN }), |(lo, hi), p| {
             (Coord { x: lo.x.min(p.x), y: lo.y.min(p.y) }, Coord { x: hi.x.max(p.x), y: hi.y.max(p.y) })
         });
-        let footprint = problem.layout.footprint.unwrap_or(problem.layout.spacing);
+        let footprint = problem.layout.footprint.map_or(problem.layout.spacing, |f| f.across_m);
         // docs/methods.md, camera §4a: outer footprints flush with the box, spacing re-fitted
         let axis = |width: f64| -> (usize, f64) {
             let n = ((width - footprint).max(0.0) / problem.layout.spacing).ceil() as usize + 1;

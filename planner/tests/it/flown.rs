@@ -271,6 +271,26 @@ fn the_two_simulated_missions_fly_as_planned() {
     assert_eq!(copter.landed, copter.duration_ratio.len());
 }
 
+/// A spiral keeps its camera triggering through its rings' corners (a photo at each corner):
+/// over seed 002's polygon near Pisa with the camera its authors flew (IRIS, 10 m, 100°,
+/// 2386 × 2386 px, side overlap 0.1), each firmware's file takes the plan's photos within one a
+/// leg, flies in the plan's time within 5 % and lands.
+#[test]
+fn a_spiral_takes_its_photos_through_its_corners() {
+    let fixture = fixture("seed002/pisa-polygon.json");
+    let home: [f64; 2] = serde_json::from_value(fixture["home"].clone()).unwrap();
+    let camera = json!({"hfov_deg": 100, "image_width_px": 2386, "image_height_px": 2386});
+    for firmware in [Firmware::Ardupilot, Firmware::Px4] {
+        let params = json!({"planner": "e_spiral", "vehicle": {"profile": "iris"}, "camera": camera, "altitude_m": 10, "side_overlap": 0.1, "front_overlap": 0, "landing": "auto"});
+        let f = figures(&fly_case(&fixture["area"], home, params, firmware));
+        eprintln!("spiral, {firmware:?}: photos {} of {}, time {:.3} of the plan's", f.photos.0, f.photos.1, f.total_duration_ratio);
+        // counted in all (a corner's photo lies on two legs, which the count by leg cannot share)
+        assert!(f.photos.0.abs_diff(f.photos.1) <= f.line_start_off_m.len(), "{firmware:?}: {f:?}");
+        assert!((f.total_duration_ratio - 1.0).abs() < 0.05, "{firmware:?}: {f:?}");
+        assert_eq!(f.landed, f.duration_ratio.len(), "{firmware:?}: {f:?}");
+    }
+}
+
 /// Over the random fields (holes as no-fly zones), a fixed wing and a multirotor with a camera,
 /// each firmware, landing `auto` and not: the follower flies every line from its start, stays
 /// near the plan and out of every zone, takes the plan's photos within one a line, lands when

@@ -60,9 +60,15 @@ fn check(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str) -> bool 
 pub(crate) fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, name: &str, min_coverage: f64) -> Option<PlanOutput> {
     let out = try_plan(area, nfz, p)?;
     let s = &out.stats;
-    assert!(s.coverage_ratio >= min_coverage, "{name}: coverage {}", s.coverage_ratio);
-    if let Some(photo) = s.photo_coverage_ratio {
-        assert!(photo >= min_coverage - 0.01, "{name}: photo coverage {photo}");
+    // with a camera, what the photos image counts (docs/methods.md, multirotor planners §4); its
+    // swaths may differ either way: photos stop flush with a line's ends, and image the square
+    // round a bend where a swath turns in a round fan (0.97 of a small spiralled pentagon)
+    match s.photo_coverage_ratio {
+        Some(photo) => {
+            assert!(photo >= min_coverage - 0.01, "{name}: photo coverage {photo}");
+            assert!(s.coverage_ratio >= min_coverage - 0.03, "{name}: coverage {}", s.coverage_ratio);
+        }
+        None => assert!(s.coverage_ratio >= min_coverage, "{name}: coverage {}", s.coverage_ratio),
     }
     // efficiency may pass 1 when one line covers a narrow field, or a camera images wider than
     // the spacing; a plan of one photo (a one-cell grid) has no length, hence no efficiency

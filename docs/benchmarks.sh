@@ -31,6 +31,7 @@ HEAD
   }
   section "Every planner, multirotor (holes as no-fly zones)" --repeats 1
   section "Fixed wing, 20 m spacing, turning on 10 m" --planner line_gtsp --vehicle fixed_wing --spacing 20 --repeats 1
+  section "Beside Fields2Cover, fixed wing, its rules (holes flown over, centre-line ends)" --fields2cover --overfly-holes --ends centre_line --repeats 1
   section "Beside Fields2Cover, fixed wing, holes flown over" --fields2cover --overfly-holes --repeats 1
   section "Beside Fields2Cover, fixed wing, holes as no-fly zones" --fields2cover --repeats 1
   section "Line-level routing" --routing

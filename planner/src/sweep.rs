@@ -152,18 +152,37 @@ pub fn candidate_directions(hull: &[Coord]) -> Vec<f64> {
 /// The direction that needs the fewest lines; ties go to the smaller width, then the smaller
 /// angle.
 pub fn fewest_lines_direction(region: &MultiPolygon, layout: LineLayout) -> f64 {
+    fewest_lines_directions(region, layout, 1).first().copied().unwrap_or(0.0)
+}
+
+/// Up to `most` directions with the fewest lines, fewest first (ties: the smaller width, then
+/// the smaller angle), each at least [`DISTINCT_DIRECTIONS_DEG`] from those before it.
+pub fn fewest_lines_directions(region: &MultiPolygon, layout: LineLayout, most: usize) -> Vec<f64> {
     let hull: Vec<Coord> = region.convex_hull().exterior().0.clone();
     let key = |a: f64| {
         let w = width_across(&hull, a);
         (layout.count(w), w)
     };
-    candidate_directions(&hull)
-        .into_iter()
-        .map(|a| (key(a), a))
-        .min_by(|(ka, aa), (kb, ab)| ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then(aa.total_cmp(ab)))
-        .map(|(_, a)| a)
-        .unwrap_or(0.0)
+    let mut ranked: Vec<((usize, f64), f64)> = candidate_directions(&hull).into_iter().map(|a| (key(a), a)).collect();
+    ranked.sort_by(|(ka, aa), (kb, ab)| ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then(aa.total_cmp(ab)));
+    let apart = |a: f64, b: f64| {
+        let d = (a - b).rem_euclid(std::f64::consts::PI);
+        d.min(std::f64::consts::PI - d) >= DISTINCT_DIRECTIONS_DEG.to_radians()
+    };
+    let mut chosen: Vec<f64> = Vec::new();
+    for (_, a) in ranked {
+        if chosen.len() == most {
+            break;
+        }
+        if chosen.iter().all(|&c| apart(a, c)) {
+            chosen.push(a);
+        }
+    }
+    chosen
 }
+
+/// Directions closer than this sweep nearly the same lines.
+pub const DISTINCT_DIRECTIONS_DEG: f64 = 3.0;
 
 /// Lines across `region`, each segment covering the connected part of the region within its
 /// band, minus the parts of the centre line inside `keep_out`.

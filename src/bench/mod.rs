@@ -6,6 +6,7 @@
 
 mod command;
 pub mod energy;
+mod fields2cover;
 pub mod fleet;
 pub mod ground;
 pub mod inspection;
@@ -164,6 +165,7 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
                 transits_m: vec![],
             })
             .collect();
+        let mut beside: Vec<fields2cover::Planned> = Vec::new();
         for &e in &entries {
             let file = e["file"].as_str().context("file")?;
             let holes = e["holes"].as_u64().context("holes")? as usize;
@@ -194,7 +196,10 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
                     row.refused += 1;
                     continue;
                 };
-                row.times_ms.push(t.elapsed().as_secs_f64() * 1000.0);
+                let ms = t.elapsed().as_secs_f64() * 1000.0;
+                row.times_ms.push(ms);
+                let s = &plan.stats;
+                beside.push(fields2cover::Planned { field: file.to_string(), holes, efficiency: s.coverage_ratio * s.area_to_cover_m2 / spacing / s.length_m, ms });
                 row.peak_mb.extend(peak_mb());
                 row.lengths_m.push(plan.stats.length_m);
                 if p.id() == registry()[0].id() {
@@ -245,6 +250,9 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
             ));
         }
         out.push('\n');
+        if options.fields2cover && !beside.is_empty() {
+            out.push_str(&fields2cover::beside(dir, &beside)?);
+        }
     }
     Ok(out)
 }

@@ -1,11 +1,15 @@
 //! Decomposition planners: a [`Decomposition`] makes swept cells, a [`CellOrder`] orders them,
 //! and [`fly`] joins them into a path with turns and transits around no-fly zones.
 
+use geo::{Area, MultiPolygon};
+
 use super::{PlannedPath, Planner, Problem, Progress, connect, no_sweep_lines};
 use crate::decompose::{Cell, CoverageArea, Decomposition, boustrophedon::Boustrophedon, eecd::Eecd, energy_aware::EnergyAware, naive::Naive};
 use crate::error::{InputError, PlanError};
 use crate::path::{FlightPath, PieceKind};
+use crate::route::connect::Connector;
 use crate::route::line_tour::Line;
+use crate::route::visibility::TransitPlanner;
 use crate::route::{CellOrder, CellVisit, RouteContext, cell_tour::CellTour, nearest_cell::NearestCell};
 use crate::turn::TurnModel;
 use crate::vehicle::VehicleKind;
@@ -30,7 +34,8 @@ pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
     description: "Boustrophedon cellular decomposition around holes and no-fly zones; each cell swept in its \
         own best direction; cells, directions and entry points ordered as one generalised travelling-salesman \
         problem, with transits around no-fly zones. The recommended planner for hard fields.",
-    direction_rule: "the direction with the fewest lines for the decomposition, then each cell's own fewest-lines direction where shorter",
+    direction_rule: "the direction with the fewest lines for the decomposition, then each cell's own fewest-lines direction where shorter; \
+        for a fixed wing, also the six directions with the fewest lines, the shortest route kept",
     decomposition: &Boustrophedon,
     order: &CellTour,
     multirotor_only: None,
@@ -118,6 +123,76 @@ impl Planner for CellPlanner {
         if let (Some(why), TurnModel::Dubins(_)) = (self.multirotor_only, problem.connector.turn) {
             return Err(InputError::new("planner_not_applicable", "/vehicle/kind", why).into());
         }
+        if matches!(problem.connector.turn, TurnModel::Dubins(_)) && problem.sweep_angle.is_none() {
+            return self.plan_fixed_wing(problem, progress);
+        }
+        self.plan_at(problem, progress)
+    }
+}
+
+/// Headings a fixed wing's plan is also tried at, besides the decomposition's own choice: those
+/// with the fewest lines, each swept by one heading throughout.
+const FIXED_WING_HEADINGS: usize = 6;
+
+/// A plan tried at a heading (`None`: the decomposition's own), with the share it covers.
+type Tried = (Option<f64>, f64, PlannedPath);
+
+impl CellPlanner {
+    /// A fixed wing's lines are ordered on Dubins costs, which the fewest lines do not settle:
+    /// the decomposition's own plan and plans at the [`FIXED_WING_HEADINGS`] headings with the
+    /// fewest lines, in parallel, the shortest per covered share kept
+    /// ([`crate::metrics::best_covering`]). Around no-fly zones, where pricing a connection
+    /// means routing round them, the headings are ranked with connections over open sky and
+    /// only the best of them is planned again beside the decomposition's own.
+    fn plan_fixed_wing(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
+        let headings = crate::sweep::fewest_lines_directions(problem.region, problem.layout, FIXED_WING_HEADINGS);
+        let mut tries: Vec<Option<f64>> = std::iter::once(None).chain(headings.into_iter().map(Some)).collect();
+        if problem.transit.has_walls() {
+            let open_sky = TransitPlanner::new(&MultiPolygon(vec![]), &MultiPolygon(vec![]));
+            let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).stopping_on(&problem.connector.stop());
+            let ranked = self.best_of(&Problem { transit: &open_sky, connector: &ranking_connector, ..*problem }, &tries)?;
+            tries = vec![None, ranked.0];
+            tries.dedup();
+        }
+        if !progress.report(0.5) {
+            return Err(PlanError::Cancelled);
+        }
+        Ok(self.best_of(problem, &tries)?.1)
+    }
+
+    /// The plan at each of `angles` (`None`: the decomposition's own), in parallel, and the
+    /// shortest per covered share with its angle. An angle whose lines cannot be flown (no way
+    /// round a zone at the turning radius) is passed over; its error stands when no angle plans.
+    fn best_of(&self, problem: &Problem<'_>, angles: &[Option<f64>]) -> Result<(Option<f64>, PlannedPath), PlanError> {
+        use rayon::prelude::*;
+        let area = problem.region.unsigned_area();
+        let results: Vec<Result<Tried, PlanError>> = angles
+            .par_iter()
+            .map(|&angle| {
+                let planned = self.plan_at(&Problem { sweep_angle: angle, ..*problem }, &|_| true)?;
+                let coverage = crate::metrics::covered_area(&planned.path, problem.region, problem.layout.photographed()) / area;
+                Ok((angle, coverage, planned))
+            })
+            .collect();
+        let mut planned = Vec::new();
+        let mut first_error = None;
+        for result in results {
+            match result {
+                Ok(p) => planned.push(p),
+                Err(PlanError::Cancelled) => return Err(PlanError::Cancelled),
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                }
+            }
+        }
+        let Some(best) = crate::metrics::best_covering(&planned, |p| p.1, |p| p.2.path.length()) else {
+            return Err(first_error.expect("an angle was tried"));
+        };
+        let (angle, _, plan) = planned.into_iter().nth(best).expect("an index of the plans");
+        Ok((angle, plan))
+    }
+
+    fn plan_at(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
         let area = CoverageArea { region: problem.region, keep_out: problem.keep_out, layout: problem.layout, angle: problem.sweep_angle };
         let cells = self.decomposition.cells(&area);
         if cells.is_empty() {

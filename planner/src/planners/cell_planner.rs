@@ -26,6 +26,9 @@ pub struct CellPlanner {
     pub multirotor_only: Option<&'static str>,
     /// The vehicle kinds it is the default planner for.
     pub default_for: &'static [VehicleKind],
+    /// For a fixed wing: how many headings with the fewest lines its plan is also tried at
+    /// (see [`CellPlanner::plan_fixed_wing`]); 0 keeps the method's own rule.
+    pub fixed_wing_headings: usize,
 }
 
 pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
@@ -40,6 +43,7 @@ pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
     order: &CellTour,
     multirotor_only: None,
     default_for: &[VehicleKind::Multirotor, VehicleKind::FixedWing],
+    fixed_wing_headings: 6,
 };
 
 pub static NAIVE: CellPlanner = CellPlanner {
@@ -52,6 +56,7 @@ pub static NAIVE: CellPlanner = CellPlanner {
     order: &NearestCell,
     multirotor_only: None,
     default_for: &[],
+    fixed_wing_headings: 0,
 };
 
 pub static EECD: CellPlanner = CellPlanner {
@@ -65,6 +70,7 @@ pub static EECD: CellPlanner = CellPlanner {
     order: &CellTour,
     multirotor_only: None,
     default_for: &[],
+    fixed_wing_headings: 0,
 };
 
 pub static ENERGY_AWARE: CellPlanner = CellPlanner {
@@ -77,6 +83,7 @@ pub static ENERGY_AWARE: CellPlanner = CellPlanner {
     order: &CellTour,
     multirotor_only: None,
     default_for: &[],
+    fixed_wing_headings: 0,
 };
 
 pub static E_BF: CellPlanner = CellPlanner {
@@ -92,6 +99,7 @@ pub static E_BF: CellPlanner = CellPlanner {
         "e_bf is seed 002's multirotor method (a fixed nearest-first order); for a fixed-wing aircraft use energy_aware: the same lines, ordered on Dubins turns",
     ),
     default_for: &[],
+    fixed_wing_headings: 0,
 };
 
 impl Planner for CellPlanner {
@@ -123,29 +131,25 @@ impl Planner for CellPlanner {
         if let (Some(why), TurnModel::Dubins(_)) = (self.multirotor_only, problem.connector.turn) {
             return Err(InputError::new("planner_not_applicable", "/vehicle/kind", why).into());
         }
-        if matches!(problem.connector.turn, TurnModel::Dubins(_)) && problem.sweep_angle.is_none() {
+        if matches!(problem.connector.turn, TurnModel::Dubins(_)) && problem.sweep_angle.is_none() && self.fixed_wing_headings > 0 {
             return self.plan_fixed_wing(problem, progress);
         }
         self.plan_at(problem, progress)
     }
 }
 
-/// Headings a fixed wing's plan is also tried at, besides the decomposition's own choice: those
-/// with the fewest lines, each swept by one heading throughout.
-const FIXED_WING_HEADINGS: usize = 6;
-
 /// A plan tried at a heading (`None`: the decomposition's own), with the share it covers.
 type Tried = (Option<f64>, f64, PlannedPath);
 
 impl CellPlanner {
     /// A fixed wing's lines are ordered on Dubins costs, which the fewest lines do not settle:
-    /// the decomposition's own plan and plans at the [`FIXED_WING_HEADINGS`] headings with the
-    /// fewest lines, in parallel, the shortest per covered share kept
+    /// the decomposition's own plan and plans at the [`CellPlanner::fixed_wing_headings`]
+    /// headings with the fewest lines (each swept by one heading throughout), in parallel, the shortest per covered share kept
     /// ([`crate::metrics::best_covering`]). Around no-fly zones, where pricing a connection
     /// means routing round them, the headings are ranked with connections over open sky and
     /// only the best of them is planned again beside the decomposition's own.
     fn plan_fixed_wing(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
-        let headings = crate::sweep::fewest_lines_directions(problem.region, problem.layout, FIXED_WING_HEADINGS);
+        let headings = crate::sweep::fewest_lines_directions(problem.region, problem.layout, self.fixed_wing_headings);
         let mut tries: Vec<Option<f64>> = std::iter::once(None).chain(headings.into_iter().map(Some)).collect();
         if problem.transit.has_walls() {
             let open_sky = TransitPlanner::new(&MultiPolygon(vec![]), &MultiPolygon(vec![]));

@@ -10,8 +10,8 @@ use serde_json::Value;
 /// Bins of hole counts.
 const BINS: [(usize, usize); 4] = [(0, 0), (1, 5), (6, 10), (11, 15)];
 
-/// One field as a planner planned it: its file name, holes, efficiency per covered area
-/// ((covered area / w) / length) and planning time.
+/// One run of a field as a planner planned it: its file name, holes, efficiency per covered
+/// area ((covered area / w) / length) and planning time.
 pub struct Planned {
     pub field: String,
     pub holes: usize,
@@ -34,11 +34,22 @@ pub fn beside(data: &Path, planned: &[Planned]) -> anyhow::Result<String> {
         "beside Fields2Cover, efficiency per covered area ((covered area / w) / length), means by bin of hole counts; speed-up: Fields2Cover's time over ours, per field\n\n\
          | holes | fields | ours | Fields2Cover | median speed-up | least speed-up |\n|------:|-------:|-----:|-------------:|----------------:|---------------:|\n",
     );
+    // one row per field: its runs' median time
+    let mut fields: Vec<&str> = planned.iter().map(|p| p.field.as_str()).collect();
+    fields.dedup();
+    let per_field: Vec<(usize, f64, &str, f64)> = fields
+        .iter()
+        .map(|&f| {
+            let runs: Vec<&Planned> = planned.iter().filter(|p| p.field == f).collect();
+            let mut ms: Vec<f64> = runs.iter().map(|p| p.ms).collect();
+            (runs[0].holes, runs[0].efficiency, f, super::quantile(&mut ms, 0.5))
+        })
+        .collect();
     for (lo, hi) in BINS {
-        let rows: Vec<(f64, f64, f64)> = planned
+        let rows: Vec<(f64, f64, f64)> = per_field
             .iter()
-            .filter(|p| (lo..=hi).contains(&p.holes))
-            .filter_map(|p| peer(&peers, p.field.trim_end_matches(".json")).map(|(eff, s)| (p.efficiency, eff, s * 1000.0 / p.ms)))
+            .filter(|p| (lo..=hi).contains(&p.0))
+            .filter_map(|&(_, efficiency, field, ms)| peer(&peers, field.trim_end_matches(".json")).map(|(eff, s)| (efficiency, eff, s * 1000.0 / ms)))
             .collect();
         if rows.is_empty() {
             continue;

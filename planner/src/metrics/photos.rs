@@ -2,7 +2,7 @@
 
 use geo::{Coord, LineString, Polygon};
 
-use crate::camera::{fitted_photo_offsets, photo_offsets_through_bends};
+use crate::camera::photo_offsets_through_bends;
 use crate::geom::polyline_length;
 use crate::path::{FlightPath, PieceKind};
 use crate::sweep::Footprint;
@@ -28,10 +28,7 @@ pub fn photo_positions(path: &FlightPath, footprint: &Footprint, still_heading: 
             continue;
         }
         let heading = (b.y - a.y).atan2(b.x - a.x);
-        let offsets = match (path.bends_into(k), path.bends_into(k + 1)) {
-            (false, false) => fitted_photo_offsets(len, footprint.along_m, footprint.photo_spacing_m),
-            (after, before) => photo_offsets_through_bends(len, footprint.along_m, footprint.photo_spacing_m, after, before),
-        };
+        let offsets = photo_offsets_through_bends(len, footprint.along_m, footprint.photo_spacing_m, path.bends_into(k), path.bends_into(k + 1));
         out.extend(offsets.into_iter().map(|t| Photo { at: a + (b - a) * (t / len), heading }));
     }
     out

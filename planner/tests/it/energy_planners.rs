@@ -45,7 +45,7 @@ fn energy(area: &[(f64, f64)], planner: &str) -> PlanOutput {
 
 /// Seed 002 §5.1.2's flights: IRIS 10 m up, a 100° lens of 2386 × 2386 px, 10 % side overlap,
 /// none in front.
-fn flights_camera(planner: &str) -> Value {
+pub(crate) fn flights_camera(planner: &str) -> Value {
     json!({"planner": planner, "vehicle": {"profile": "iris"}, "camera": {"hfov_deg": 100, "image_width_px": 2386, "image_height_px": 2386}, "altitude_m": 10, "side_overlap": 0.1, "front_overlap": 0})
 }
 

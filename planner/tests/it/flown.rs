@@ -279,9 +279,9 @@ fn the_two_simulated_missions_fly_as_planned() {
 fn a_spiral_takes_its_photos_through_its_corners() {
     let fixture = fixture("seed002/pisa-polygon.json");
     let home: [f64; 2] = serde_json::from_value(fixture["home"].clone()).unwrap();
-    let camera = json!({"hfov_deg": 100, "image_width_px": 2386, "image_height_px": 2386});
     for firmware in [Firmware::Ardupilot, Firmware::Px4] {
-        let params = json!({"planner": "e_spiral", "vehicle": {"profile": "iris"}, "camera": camera, "altitude_m": 10, "side_overlap": 0.1, "front_overlap": 0, "landing": "auto"});
+        let mut params = crate::energy_planners::flights_camera("e_spiral");
+        params["landing"] = json!("auto");
         let f = figures(&fly_case(&fixture["area"], home, params, firmware));
         eprintln!("spiral, {firmware:?}: photos {} of {}, time {:.3} of the plan's", f.photos.0, f.photos.1, f.total_duration_ratio);
         // counted in all (a corner's photo lies on two legs, which the count by leg cannot share)

@@ -287,8 +287,9 @@ pub(super) fn line_triggers(piece: &FlownPiece, index: usize, photos: &RTree<[f6
         .filter(|p| (p.x * along.y - p.y * along.x).abs() < ON_LINE_M)
         .map(|p| p.x * along.x + p.y * along.y)
         // a photo at the line's end is the next line's first, where the path bends (a ring's
-        // corner): the camera keeps triggering through it
-        .filter(|t| (-ON_LINE_M..len - ON_LINE_M).contains(t))
+        // corner): the camera keeps triggering through it; on a line of a few centimetres the
+        // photo nearer its start is its own
+        .filter(|t| *t >= -ON_LINE_M && !(len - t < ON_LINE_M && len - t < *t))
         .collect();
     offsets.sort_by(f64::total_cmp);
     offsets.dedup_by(|x, y| (*x - *y).abs() < ON_LINE_M);
@@ -422,13 +423,14 @@ mod tests {
 
     /// The flight file triggers where the plan's photos are, line by line: as many, within the
     /// distance flown between two checks of the autopilot along the line, for lines of any
-    /// length, footprints and steps, in either autopilot's metric.
+    /// length (a clipped line of a few centimetres too), footprints and steps, in either
+    /// autopilot's metric.
     #[test]
     fn an_autopilot_triggering_by_distance_takes_the_plans_photos() {
         let frame = LocalFrame::new(8.5, 47.3);
         let deg = |x: f64, y: f64| frame.to_wgs84(geo::Coord { x, y });
         let mut checked = 0;
-        for len in [9.0, 31.0, 64.5, 120.0, 257.3, 801.0, 1_637.9] {
+        for len in [0.02, 0.035, 9.0, 31.0, 64.5, 120.0, 257.3, 801.0, 1_637.9] {
             for (footprint, spacing) in [(20.0, 4.0), (35.0, 8.4), (60.0, 25.0), (12.0, 12.0)] {
                 let firmware = if checked % 2 == 0 { Firmware::Ardupilot } else { Firmware::Px4 };
                 let s = FlightSettings { trigger_distance_m: Some(spacing), firmware, ..settings(None) };
@@ -453,7 +455,7 @@ mod tests {
                 checked += 1;
             }
         }
-        assert_eq!(checked, 28);
+        assert_eq!(checked, 36);
     }
 
     #[test]

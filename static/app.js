@@ -1,12 +1,13 @@
 // coverplan's map page: draw a mission, plan it, look at the result. ES modules, no build step:
 // api.js (the server), map.js (the map and its state), mission.js, terrain.js, plan.js, result.js,
-// patrol.js.
+// resume.js, patrol.js.
 
 import { $, api, status } from './js/api.js';
 import { map } from './js/map.js';
 import { clearMission, drawMission, listMissions } from './js/mission.js';
 import { fillForm, restoreParams } from './js/plan.js';
 import { clearResult, showPlan } from './js/result.js';
+import './js/resume.js';
 import { clearPatrol } from './js/patrol.js';
 
 // map tiles: only when the server is configured with a tile URL (works offline without)

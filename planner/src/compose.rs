@@ -44,6 +44,17 @@ pub(crate) struct Ends {
     pub start: Option<Coord>,
     pub end: Option<Coord>,
     pub home: Option<Coord>,
+    /// The flight starts in the air at `start` (a resumed plan's): no take-off.
+    pub airborne: bool,
+    /// Share of its capacity the first battery has (1: a fresh one).
+    pub first_battery: f64,
+}
+
+impl Ends {
+    /// A flight from `start` to `end` with fresh batteries, returning to `home` between sorties.
+    pub fn new(start: Option<Coord>, end: Option<Coord>, home: Option<Coord>) -> Self {
+        Ends { start, end, home, airborne: false, first_battery: 1.0 }
+    }
 }
 
 /// What a fleet fixes for each drone's part: every part is swept along the bands it was cut
@@ -114,7 +125,24 @@ impl Stages<'_> {
     /// Plans `region` for `vehicle` and cuts the path into sorties from `ends.home`; a fleet's
     /// `part` fixes the sweep direction and the altitude of transits.
     pub fn fly(&self, vehicle: &vehicle::Vehicle, ends: Ends, region: &MultiPolygon, part: Option<FleetPart>, progress: &dyn Progress) -> Result<Flight, PlanError> {
-        let Prepared { resolved, planner, field, keep_out, walls, .. } = self.prepared;
+        let planner = self.prepared.planner;
+        let plan = |problem: &Problem<'_>| {
+            if self.prepared.resolved.optimal_direction { plan_every_direction(planner, problem, progress) } else { planner.plan(problem, progress) }
+        };
+        self.fly_route(vehicle, ends, region, part, &plan)
+    }
+
+    /// Flies the route `route` makes from the problem (its connector joins what it needs), cut
+    /// into sorties from `ends.home` like a planned one.
+    pub fn fly_route(
+        &self,
+        vehicle: &vehicle::Vehicle,
+        ends: Ends,
+        region: &MultiPolygon,
+        part: Option<FleetPart>,
+        route: &dyn Fn(&Problem<'_>) -> Result<planners::PlannedPath, PlanError>,
+    ) -> Result<Flight, PlanError> {
+        let Prepared { resolved, field, keep_out, walls, .. } = self.prepared;
         let turn = vehicle.turn_model();
         // fixed wing: corners far enough from the zones to turn around them
         let detour = match turn {
@@ -140,7 +168,7 @@ impl Stages<'_> {
             objective: resolved.objective,
             ground: self.prepared.ground.as_ref(),
         };
-        let planned = if resolved.optimal_direction { plan_every_direction(*planner, &problem, progress)? } else { planner.plan(&problem, progress)? };
+        let planned = route(&problem)?;
         // climbs over obstacles are flown by every sortie, so they are priced when splitting
         let flown = |p: &FlightPath| {
             let (mut path, lost) = self.obstacles.map_or((p.clone(), 0.0), |obs| obs.raise(p));
@@ -164,8 +192,33 @@ impl Stages<'_> {
             model.estimate(&path, resolved.altitude_m).energy_j()
         };
         let connect = |a: turn::dubins::Pose, b: turn::dubins::Pose| connector.path(a, b);
-        let budget = sortie::Budget { home: ends.home, usable_j: vehicle.battery.usable_j(), max_sorties: resolved.max_sorties, connect: &connect, energy: &energy_of };
-        let split = budget.split(&planned.path)?;
+        let battery = &vehicle.battery;
+        let budget = sortie::Budget {
+            home: ends.home,
+            first_from: ends.start.filter(|_| ends.airborne),
+            usable_j: battery.usable_j(),
+            first_usable_j: battery.energy_wh * 3600.0 * (ends.first_battery - battery.reserve),
+            max_sorties: resolved.max_sorties,
+            connect: &connect,
+            energy: &energy_of,
+        };
+        let split = if planned.sortie_breaks.is_empty() {
+            budget.split(&planned.path)?
+        } else {
+            // a resumed plan: split anew, or at the original's sortie ends, whichever is shorter
+            let length = |s: &sortie::Split| s.sorties.iter().map(FlightPath::length).sum::<f64>();
+            match (budget.split(&planned.path), budget.split_between(&planned.path, &planned.sortie_breaks)) {
+                (Ok(anew), Ok(kept)) => {
+                    if length(&kept) < length(&anew) {
+                        kept
+                    } else {
+                        anew
+                    }
+                }
+                (Ok(split), Err(_)) | (Err(_), Ok(split)) => split,
+                (Err(e), Err(_)) => return Err(e),
+            }
+        };
         let mut lost_coverage_m = 0.0;
         let mut laid_sorties = Vec::new();
         let mut sorties: Vec<FlightPath> = Vec::with_capacity(split.sorties.len());
@@ -180,7 +233,10 @@ impl Stages<'_> {
                 None => sorties.push(path),
             }
         }
-        let estimates = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
+        let mut estimates: Vec<PathEstimate> = sorties.iter().map(|s| model.estimate(s, resolved.altitude_m)).collect();
+        if let Some(first) = estimates.first_mut().filter(|_| ends.airborne) {
+            first.takeoff = Default::default();
+        }
         Ok(Flight { vehicle: vehicle.clone(), planned, sorties, estimates, battery_swaps: split.battery_swaps, needed_j: split.needed_j, lost_coverage_m, laid: laid_sorties })
     }
 
@@ -223,7 +279,7 @@ impl Stages<'_> {
             .collect();
         let angle = resolved.sweep_angle.unwrap_or_else(|| sweep::fewest_lines_direction(region, resolved.layout));
         let plan_part = |k: usize, part: &MultiPolygon| -> Result<(Flight, fleet::PartTimes), PlanError> {
-            let ends = Ends { start: homes[k], end: homes[k], home: homes[k] };
+            let ends = Ends::new(homes[k], homes[k], homes[k]);
             let flight = self.fly(&resolved.fleet[k].vehicle, ends, part, Some(FleetPart { sweep_angle: angle, transit_altitude_m: layers[k] }), &|_| true)?;
             let times = fleet::PartTimes { duration_s: flight.duration_s(), fixed_s: flight.fixed_s() };
             Ok((flight, times))

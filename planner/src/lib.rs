@@ -33,7 +33,9 @@
 //! - `routing_study` (feature `routing-study`): routing kept for comparison in the benchmark,
 //!   not used by planners;
 //! - `compose`: one vehicle's flight from the stages (plan, obstacles, sorties, estimate), and a
-//!   fleet's; this root validates the request and writes the result.
+//!   fleet's; `report`: the finished plan's statistics and trajectory;
+//! - `resume`: what a plan has left once its flight stopped, flown like a plan ([`resume`]);
+//!   this root validates the request and composes the stages.
 //!
 //! The crate exports what the service and the CLI use; the stages in plain text are private.
 
@@ -57,6 +59,8 @@ pub mod params;
 pub mod path;
 pub mod patrol;
 pub mod planners;
+mod report;
+mod resume;
 mod route;
 #[cfg(any(test, feature = "routing-study"))]
 pub mod routing_study;
@@ -83,10 +87,9 @@ pub use params::PlanParams;
 pub use planners::Progress;
 pub use stop::Stop;
 
-use compose::{Ends, Flight, Prepared, Stages};
+use compose::{Ends, Prepared, Stages};
 use field::Field;
 use geom::grow;
-use path::FlightPath;
 use route::visibility::TransitPlanner;
 use turn::TurnModel;
 use turn::climb::Obstacles;
@@ -448,104 +451,107 @@ fn plan_until(
     if !progress.report(0.1) {
         return Err(PlanError::Cancelled);
     }
-    let Prepared { resolved, field, region, keep_out, walls, .. } = &prepared;
+    let Prepared { resolved, field, region, .. } = &prepared;
+    let (mut stats, trajectory) = with_stages(mission, &prepared, stop, |stages| {
+        let (flights, fleet) = if resolved.fleet.is_empty() {
+            let flight = stages.fly(&resolved.vehicle, Ends::new(prepared.start, prepared.end, field.home), region, None, progress)?;
+            (vec![Some(flight)], None)
+        } else {
+            let (flights, fleet) = stages.fly_fleet(progress)?;
+            (flights, Some(fleet))
+        };
+        report::finish(&prepared, &flights, fleet, stages.terrain.is_some())
+    })?;
+    stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
+    progress.report(1.0);
+    Ok(PlanOutput { stats, trajectory })
+}
+
+/// Hands `fly` the stages every flight of `prepared` shares: transits round the zones, climbs
+/// over obstacles, the ground under a plan over terrain.
+fn with_stages<T>(mission: &MissionGeometry<'_>, prepared: &Prepared, stop: &Stop, fly: impl FnOnce(&Stages<'_>) -> T) -> T {
+    let Prepared { resolved, field, keep_out, walls, .. } = prepared;
     let transit = TransitPlanner::new(keep_out, walls);
     let obstacles = resolved
         .altitude_m
         .filter(|_| !field.obstacles.is_empty())
         .map(|altitude| Obstacles::new(&field.obstacles, altitude, resolved.obstacle_clearance_m, resolved.max_climb_deg, resolved.coverage_penalty));
-    let terrain = terrain_stage(mission, &prepared);
-    let stages = Stages { prepared: &prepared, transit: &transit, obstacles: obstacles.as_ref(), terrain: terrain.as_ref(), stop };
-    let (flights, fleet) = if resolved.fleet.is_empty() {
-        let flight = stages.fly(&resolved.vehicle, Ends { start: prepared.start, end: prepared.end, home: field.home }, region, None, progress)?;
-        (vec![Some(flight)], None)
-    } else {
-        let (flights, fleet) = stages.fly_fleet(progress)?;
-        (flights, Some(fleet))
-    };
-    let flown: Vec<&Flight> = flights.iter().flatten().collect();
-    let sorties: Vec<FlightPath> = flown.iter().flat_map(|f| f.sorties.iter().cloned()).collect();
-    let estimates: Vec<energy::PathEstimate> = flown.iter().flat_map(|f| f.estimates.iter().cloned()).collect();
-    let usable_j: Vec<f64> = flown.iter().flat_map(|f| std::iter::repeat_n(f.vehicle.battery.usable_j(), f.sorties.len())).collect();
-    let path = FlightPath { pieces: sorties.iter().flat_map(|s| s.pieces.iter().cloned()).collect() };
-    let photos = resolved
-        .camera
-        .map(|c| flown.iter().flat_map(|f| f.sorties.iter().flat_map(move |s| metrics::photo_positions(s, &c.footprint(), Some(f.planned.sweep_angle)))).collect::<Vec<_>>());
-    // measured by the planner when its one sortie is its path as planned
-    let measured = match flown.as_slice() {
-        [f] if f.sorties.len() == 1 && f.sorties[0] == f.planned.path => f.planned.swept.clone(),
-        _ => None,
-    };
-    let (swept, strip_area_m2) = measured.unwrap_or_else(|| metrics::swept_and_strip_area(&path));
-    let main = flown.first().ok_or_else(|| PlanError::Infeasible("no drone of the fleet has a part to fly".into()))?;
-    let input = metrics::MeasureInput {
-        path: &path,
-        swept: &swept,
-        strip_area_m2,
-        sorties: &sorties,
-        estimates: &estimates,
-        usable_j: &usable_j,
-        batteries_needed: flown.iter().map(|f| f.batteries_needed()).sum(),
-        region,
-        no_fly_zones: &field.no_fly_zones,
-        spacing: resolved.line_spacing_m,
-        sweep_heading_deg: params::math_to_bearing(main.planned.sweep_angle) % 180.0,
-        cells: flown.iter().map(|f| f.planned.cells).sum(),
-        photos: photos.as_ref().map(|p| (p.as_slice(), resolved.camera.expect("camera"))),
-    };
-    // three measures of the same swept ground, each a few set operations: side by side
-    let ground_stats = || {
-        prepared.ground.as_ref().map(|ground| {
-            let h = &ground.headland;
-            metrics::ground_stats(&path, &swept, &ground.spec, (&h.mainland, &h.band), &field.area, keep_out)
-        })
-    };
-    let ((mut stats, uncovered), ground_stats) =
-        rayon::join(|| rayon::join(|| metrics::measure(&input), || metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones))), ground_stats);
-    stats.ground = ground_stats;
-    if terrain.is_some() {
-        compose::report_terrain(&flown, &mut stats);
+    let terrain = terrain_stage(mission, prepared);
+    fly(&Stages { prepared, transit: &transit, obstacles: obstacles.as_ref(), terrain: terrain.as_ref(), stop })
+}
+
+/// What `original` (a plan of `mission` with `params`, as its trajectory) has left once its
+/// flight stopped where `request` says, planned as a plan: the lines not flown (the cut one
+/// from `photos_back` trigger distances before the cut), from home or from the aircraft in the
+/// air, split into sorties again (docs/methods.md, resume).
+#[allow(clippy::too_many_arguments)]
+pub fn resume(
+    mission: &MissionGeometry<'_>,
+    params: &PlanParams,
+    profiles: &[vehicle::Vehicle],
+    limits: &FieldLimits,
+    original: &geojson::FeatureCollection,
+    request: &params::resume::Resume,
+    progress: &dyn Progress,
+    stop: &Stop,
+) -> Result<PlanOutput, PlanError> {
+    let started = Instant::now();
+    let (prepared, remainder) = prepare_resume(mission, params, profiles, limits, original, request)?;
+    if !progress.report(0.1) {
+        return Err(PlanError::Cancelled);
     }
-    let photo_points = photos.as_deref().map(metrics::photo_points);
-    let vehicle_flights: Vec<export::geojson::VehicleFlight<'_>> = flights
-        .iter()
-        .enumerate()
-        .filter_map(|(k, f)| f.as_ref().map(|f| (k, f)))
-        .map(|(k, f)| export::geojson::VehicleFlight {
-            sorties: &f.sorties,
-            estimates: &f.estimates,
-            usable_j: f.vehicle.battery.usable_j(),
-            battery_swaps: &f.battery_swaps,
-            vehicle: fleet.is_some().then_some(k),
-            laid: &f.laid,
-        })
-        .collect();
-    let marks = export::geojson::Marks { photos: photo_points.as_deref(), uncovered: &uncovered };
-    let trajectory = export::geojson::feature_collection(&field.frame, &vehicle_flights, resolved.altitude_m, &marks);
-    for (k, f) in flights.iter().enumerate() {
-        let Some(f) = f else { continue };
-        if f.battery_swaps.is_empty() {
-            continue;
-        }
-        let batteries = f.battery_swaps.len() + 1;
-        let whose = if fleet.is_some() { format!("drone {k}'s part") } else { "this plan".to_string() };
-        stats.warnings.push(format!(
-            "{whose} needs {batteries} batteries ({:.0} kJ; {:.0} kJ usable per battery): without a home it is one route, with a battery_swap point where each \
-             battery runs out; give the mission a home to fly it in sorties with return flights",
-            f.needed_j / 1000.0,
-            f.vehicle.battery.usable_j() / 1000.0
-        ));
-    }
-    if let Some(fleet) = fleet {
-        fleet.report(&flights, &field.frame, &mut stats);
-    }
-    stats.lost_coverage_m = flown.iter().map(|f| f.lost_coverage_m).sum();
-    stats.planner = main.planned.planner.unwrap_or(prepared.planner.id()).to_string();
-    stats.alternatives = main.planned.alternatives.clone();
-    stats.optimality = main.planned.optimality;
+    let Prepared { resolved, field, region, .. } = &prepared;
+    let airborne = request.airborne_at.map(|[lon, lat]| field.frame.to_local(lon, lat));
+    let ends = Ends { airborne: airborne.is_some(), first_battery: request.battery_remaining, ..Ends::new(airborne.or(prepared.start), prepared.end, field.home) };
+    let (mut stats, trajectory) = with_stages(mission, &prepared, stop, |stages| {
+        let flight = stages.fly_route(&resolved.vehicle, ends, region, None, &|problem| remainder.route(problem))?;
+        report::finish(&prepared, &[Some(flight)], None, stages.terrain.is_some())
+    })?;
+    stats.resume = Some(remainder.stats(&field.frame));
     stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     progress.report(1.0);
     Ok(PlanOutput { stats, trajectory })
+}
+
+/// Checks a resume request without planning: what [`resume`] would refuse as input (the kind
+/// of plan, the cut), this refuses.
+pub fn check_resume(
+    mission: &MissionGeometry<'_>,
+    params: &PlanParams,
+    profiles: &[vehicle::Vehicle],
+    limits: &FieldLimits,
+    original: &geojson::FeatureCollection,
+    request: &params::resume::Resume,
+) -> Result<(), InputError> {
+    prepare_resume(mission, params, profiles, limits, original, request).map(|_| ())
+}
+
+fn prepare_resume(
+    mission: &MissionGeometry<'_>,
+    params: &PlanParams,
+    profiles: &[vehicle::Vehicle],
+    limits: &FieldLimits,
+    original: &geojson::FeatureCollection,
+    request: &params::resume::Resume,
+) -> Result<(Prepared, resume::Remainder), InputError> {
+    if params.planner.as_deref() == Some(INSPECTION) {
+        return Err(InputError::new("not_resumable", "/at", "an inspection is not resumed: plan it again with the viewpoints left as its targets"));
+    }
+    let prepared = prepare(mission, params, profiles, limits)?;
+    let resolved = &prepared.resolved;
+    if !resolved.fleet.is_empty() || prepared.ground.is_some() {
+        let what = if prepared.ground.is_some() { "a ground vehicle's plan" } else { "a fleet's plan" };
+        return Err(InputError::new("not_resumable", "/at", format!("{what} is not resumed yet: plan the part left again")));
+    }
+    if let Some([lon, lat]) = request.airborne_at
+        && prepared.walls.contains(&prepared.field.frame.to_local(lon, lat))
+    {
+        return Err(InputError::new("point_in_no_fly_zone", "/position", "the aircraft is inside a no-fly zone or its margin: fly it out, then resume"));
+    }
+    // without a camera, half a line's width stands for the trigger distance
+    let trigger_m = resolved.camera.map_or(resolved.line_spacing_m / 2.0, |c| c.footprint().photo_spacing_m);
+    let remainder = resume::Remainder::new(original, &prepared.field.frame, request, trigger_m)?;
+    Ok((prepared, remainder))
 }
 
 /// The planner a request names, or the registry's default for its vehicle's kind.
@@ -613,7 +619,7 @@ mod tests {
                 let transit = TransitPlanner::new(&prepared.keep_out, &prepared.walls);
                 let stop = Stop::never();
                 let stages = Stages { prepared: &prepared, transit: &transit, obstacles: None, terrain: None, stop: &stop };
-                let ends = Ends { start: prepared.start, end: prepared.end, home: None };
+                let ends = Ends::new(prepared.start, prepared.end, None);
                 let flight = stages.fly(&prepared.resolved.vehicle, ends, &prepared.region, None, &|_| true).unwrap();
                 let planned = &flight.planned;
                 let measured = planned.swept.as_ref().expect("the headland planner measures its swept ground");

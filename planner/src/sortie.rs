@@ -38,8 +38,13 @@ pub struct SortieTotals {
 /// What splitting needs from the rest of the planner.
 pub struct Budget<'a> {
     pub home: Option<Coord>,
+    /// Where the first sortie starts when it does not leave home: an aircraft still in the air
+    /// (a resumed plan's).
+    pub first_from: Option<Coord>,
     /// Energy one sortie may use, J.
     pub usable_j: f64,
+    /// Energy the first sortie may use (its battery part spent), J.
+    pub first_usable_j: f64,
     pub max_sorties: usize,
     /// A clear connection between two poses (turn arcs included for a fixed-wing aircraft).
     pub connect: &'a dyn Fn(Pose, Pose) -> Option<Vec<Coord>>,
@@ -81,8 +86,15 @@ fn last_fitting(from: usize, last: usize, fits: impl Fn(usize) -> Result<bool, P
 impl Budget<'_> {
     /// The route split into sorties (or, without a home, marked where batteries run out).
     pub fn split(&self, route: &FlightPath) -> Result<Split, PlanError> {
+        self.split_between(route, &[])
+    }
+
+    /// The route split into sorties that each end before one of `breaks` (piece indices: a
+    /// resumed plan keeps its original's sortie ends), each stretch between them split as
+    /// [`Budget::split`] splits a route; no breaks: that split.
+    pub fn split_between(&self, route: &FlightPath, breaks: &[usize]) -> Result<Split, PlanError> {
         let needed_j = (self.energy)(route);
-        if needed_j <= self.usable_j {
+        if needed_j <= self.first_usable_j {
             return Ok(Split { sorties: vec![route.clone()], battery_swaps: vec![], needed_j });
         }
         let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();
@@ -90,16 +102,35 @@ impl Budget<'_> {
             let battery_swaps = self.swaps(route, &sweeps)?.into_iter().map(|k| route.pieces[k].end()).collect();
             return Ok(Split { sorties: vec![route.clone()], battery_swaps, needed_j });
         };
-        let m = sweeps.len();
         let mut sorties = Vec::new();
+        let mut first = 0;
+        for end in breaks.iter().copied().chain([route.pieces.len()]) {
+            let stretch: Vec<usize> = sweeps.iter().copied().filter(|&k| first <= k && k < end).collect();
+            self.greedy(route, home, &stretch, needed_j, &mut sorties)?;
+            first = end;
+        }
+        Ok(Split { sorties, battery_swaps: vec![], needed_j })
+    }
+
+    /// Adds the sorties that fly the lines `sweeps` (piece indices, in order) to `sorties`, each
+    /// with as many lines as its battery allows.
+    fn greedy(&self, route: &FlightPath, home: Coord, sweeps: &[usize], needed_j: f64, sorties: &mut Vec<FlightPath>) -> Result<(), PlanError> {
+        let m = sweeps.len();
         let mut i = 0;
         while i < m {
-            let block = |j: usize| self.sortie(route, home, sweeps[i], sweeps[j - 1]);
-            let fits = |j: usize| -> Result<bool, PlanError> { Ok((self.energy)(&block(j)?) <= self.usable_j) };
-            if !fits(i + 1)? {
+            let (from, allowed_j) = if sorties.is_empty() { (self.first_from.unwrap_or(home), self.first_usable_j) } else { (home, self.usable_j) };
+            let block = |j: usize| self.sortie(route, from, home, sweeps[i], sweeps[j - 1]);
+            let fits = |j: usize| -> Result<bool, PlanError> { Ok((self.energy)(&block(j)?) <= allowed_j) };
+            if sorties.is_empty() && allowed_j < self.usable_j && !fits(i + 1)? {
                 return Err(PlanError::Infeasible(format!(
-                    "sweep line {} alone, flown from home and back, needs more than one battery's {:.0} kJ above its reserve: use a vehicle with a larger battery or a smaller field",
-                    i + 1,
+                    "the battery left ({:.0} kJ above the reserve) does not fly the next line and back home: change the battery and resume from home",
+                    allowed_j.max(0.0) / 1000.0
+                )));
+            }
+            if !fits(i + 1)? {
+                let line = route.pieces[..sweeps[i]].iter().filter(|p| p.kind == PieceKind::Sweep).count() + 1;
+                return Err(PlanError::Infeasible(format!(
+                    "sweep line {line} alone, flown from home and back, needs more than one battery's {:.0} kJ above its reserve: use a vehicle with a larger battery or a smaller field",
                     self.usable_j / 1000.0
                 )));
             }
@@ -115,17 +146,18 @@ impl Budget<'_> {
             sorties.push(block(good)?);
             i = good;
         }
-        Ok(Split { sorties, battery_swaps: vec![], needed_j })
+        Ok(())
     }
 
     /// Without a home: each battery flies on from where the last one ran out, as far as it can;
     /// the result is the piece after which each battery but the last is changed.
     fn swaps(&self, route: &FlightPath, sweeps: &[usize]) -> Result<Vec<usize>, PlanError> {
-        let mut swaps = Vec::new();
+        let mut swaps: Vec<usize> = Vec::new();
         let (mut start, mut i) = (0, 0);
         let stretch = |from: usize, to: usize| FlightPath { pieces: route.pieces[from..=to].to_vec() };
-        while (self.energy)(&stretch(start, route.pieces.len() - 1)) > self.usable_j {
-            let fits = |j: usize| -> Result<bool, PlanError> { Ok((self.energy)(&stretch(start, sweeps[j - 1])) <= self.usable_j) };
+        let allowed_j = |swaps: &[usize]| if swaps.is_empty() { self.first_usable_j } else { self.usable_j };
+        while (self.energy)(&stretch(start, route.pieces.len() - 1)) > allowed_j(&swaps) {
+            let fits = |j: usize| -> Result<bool, PlanError> { Ok((self.energy)(&stretch(start, sweeps[j - 1])) <= allowed_j(&swaps)) };
             if i == sweeps.len() || !fits(i + 1)? {
                 return Err(PlanError::Infeasible(format!(
                     "the flight to sweep line {} and along it needs more than one battery's {:.0} kJ above its reserve: use a vehicle with a larger battery or a smaller field",
@@ -143,13 +175,13 @@ impl Budget<'_> {
         Ok(swaps)
     }
 
-    /// Home → the route's pieces `first..=last` → home.
-    fn sortie(&self, route: &FlightPath, home: Coord, first: usize, last: usize) -> Result<FlightPath, PlanError> {
+    /// `from` (home) → the route's pieces `first..=last` → home.
+    fn sortie(&self, route: &FlightPath, from: Coord, home: Coord, first: usize, last: usize) -> Result<FlightPath, PlanError> {
         let (a, b) = (&route.pieces[first], &route.pieces[last]);
         let entry = Pose::at(a.start(), heading(a.points[0], a.points[1]));
         let exit_dir = heading(b.points[b.points.len() - 2], b.end());
         let unreachable = || PlanError::Infeasible(format!("no clear path joins home to sweep line at ({:.1}, {:.1}) in the local frame", a.start().x, a.start().y));
-        let out = (self.connect)(Pose::at(home, heading(home, entry.coord())), entry).ok_or_else(unreachable)?;
+        let out = (self.connect)(Pose::at(from, heading(from, entry.coord())), entry).ok_or_else(unreachable)?;
         let back = (self.connect)(Pose::at(b.end(), exit_dir), Pose::at(home, heading(b.end(), home))).ok_or_else(unreachable)?;
         let mut path = FlightPath::default();
         path.push(PieceKind::Transit, out, 0.0);
@@ -182,7 +214,8 @@ mod tests {
         let route = lines(40, 300.0);
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0; // 10 J/m
-        let budget = Budget { home: Some(Coord { x: -50.0, y: 0.0 }), usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget =
+            Budget { home: Some(Coord { x: -50.0, y: 0.0 }), first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
         let sorties = budget.split(&route).unwrap().sorties;
         assert!(sorties.len() > 1);
         for s in &sorties {
@@ -198,12 +231,60 @@ mod tests {
         let mut first = 0;
         for s in &sorties[..sorties.len() - 1] {
             let n = s.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).count();
-            let longer = budget.sortie(&route, Coord { x: -50.0, y: 0.0 }, sweeps[first], sweeps[first + n]).unwrap();
+            let home = Coord { x: -50.0, y: 0.0 };
+            let longer = budget.sortie(&route, home, home, sweeps[first], sweeps[first + n]).unwrap();
             assert!(energy(&longer) > 30_000.0);
             first += n;
         }
-        let tiny = Budget { usable_j: 1_000.0, home: None, ..budget };
+        let tiny = Budget { usable_j: 1_000.0, first_usable_j: 1_000.0, home: None, ..budget };
         assert_eq!(tiny.split(&lines(1, 10.0)).unwrap().battery_swaps, vec![], "a plan that fits needs no home");
+    }
+
+    /// Sorties end before every break (a resumed plan's original sortie ends), and split the
+    /// stretches between them as a route is split.
+    #[test]
+    fn no_sortie_flies_over_a_break() {
+        let route = lines(40, 300.0);
+        let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
+        let energy = |p: &FlightPath| p.length() * 10.0;
+        let budget =
+            Budget { home: Some(Coord { x: -50.0, y: 0.0 }), first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        // pieces 2k are the lines, 2k + 1 the turns: breaks before lines 5 and 21
+        let breaks = [9, 41];
+        let sorties = budget.split_between(&route, &breaks).unwrap().sorties;
+        let starts: Vec<Coord> = route.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).map(|p| p.start()).collect();
+        let mut line = 0;
+        for s in &sorties {
+            let n = s.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).count();
+            assert!(energy(s) <= 30_000.0);
+            let crosses = |b: usize| line < b && line + n > b;
+            assert!(!crosses(5) && !crosses(21), "a sortie flies lines {line} to {} over a break", line + n - 1);
+            assert_eq!(s.pieces.iter().find(|p| p.kind == PieceKind::Sweep).unwrap().start(), starts[line]);
+            line += n;
+        }
+        assert_eq!(line, 40);
+        assert!(sorties.len() > budget.split(&route).unwrap().sorties.len(), "the breaks cost sorties here");
+    }
+
+    /// A resumed plan's first sortie starts where the aircraft is, on the battery it has left;
+    /// the next ones leave home on fresh ones.
+    #[test]
+    fn a_first_sortie_in_the_air_flies_on_the_battery_left() {
+        let route = lines(40, 300.0);
+        let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
+        let energy = |p: &FlightPath| p.length() * 10.0;
+        let (home, aircraft) = (Coord { x: -50.0, y: 0.0 }, Coord { x: 150.0, y: -40.0 });
+        let budget = Budget { home: Some(home), first_from: Some(aircraft), usable_j: 30_000.0, first_usable_j: 10_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let sorties = budget.split(&route).unwrap().sorties;
+        assert_eq!(sorties[0].pieces[0].start(), aircraft);
+        assert!(energy(&sorties[0]) <= 10_000.0 && sorties[0].pieces.iter().any(|p| p.kind == PieceKind::Sweep));
+        for s in &sorties[1..] {
+            assert!(s.pieces[0].start() == home && energy(s) <= 30_000.0);
+        }
+        let flown = sorties.iter().flat_map(|s| &s.pieces).filter(|p| p.kind == PieceKind::Sweep).count();
+        assert_eq!(flown, 40);
+        let empty = Budget { first_usable_j: 500.0, ..budget };
+        assert!(matches!(empty.split(&route), Err(PlanError::Infeasible(why)) if why.contains("battery left")));
     }
 
     #[test]
@@ -211,7 +292,7 @@ mod tests {
         let route = lines(40, 300.0);
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget = Budget { home: None, usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget = Budget { home: None, first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
         let split = budget.split(&route).unwrap();
         assert_eq!(split.sorties, vec![route.clone()], "flown as planned");
         let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();
@@ -233,7 +314,7 @@ mod tests {
         }
         // fewest batteries: the total energy over one battery, rounded up, at least
         assert!(swaps.len() + 1 >= (energy(&route) / 30_000.0).ceil() as usize);
-        let hopeless = Budget { usable_j: 1_000.0, ..budget };
+        let hopeless = Budget { usable_j: 1_000.0, first_usable_j: 1_000.0, ..budget };
         assert!(matches!(hopeless.split(&route), Err(PlanError::Infeasible(_))));
     }
 }

@@ -61,7 +61,7 @@ async fn queue(db: &store::Db, n: usize) -> anyhow::Result<()> {
             .await?;
     let snapshot = json!({"area": area});
     for _ in 0..n {
-        plans::create(db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20}), &snapshot, i64::MAX).await?;
+        plans::create(db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20}), &snapshot), i64::MAX).await?;
     }
     Ok(())
 }

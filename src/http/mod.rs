@@ -59,6 +59,7 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(plans::list, plans::create))
         .routes(routes!(plans::get, plans::cancel))
         .routes(routes!(plans::trajectory))
+        .routes(routes!(plans::resume))
         .routes(routes!(patrols::create))
         .routes(routes!(patrols::get, patrols::cancel))
         .routes(routes!(patrols::trajectory))

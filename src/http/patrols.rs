@@ -72,7 +72,7 @@ pub async fn create(
     let (_, vehicle) = params.resolve(&profiles)?;
     let snapshot = super::plans::snapshot(&mission, &profiles, &[&vehicle]);
     let stored = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
-    let patrol = super::plans::enqueue(&state, &caller, JobKind::Patrol, &mission_id, &stored, &snapshot).await?;
+    let patrol = super::plans::enqueue(&state, &caller, &crate::store::plans::NewJob::new(JobKind::Patrol, &mission_id, &stored, &snapshot)).await?;
     Ok((StatusCode::ACCEPTED, Json(patrol.into())))
 }
 

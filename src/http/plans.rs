@@ -15,6 +15,7 @@ use crate::jobs;
 use crate::planner::export::{self, AltitudeFrame, ExportFile, ExportOptions, ExportRequest, Firmware};
 use crate::planner::geojson::FeatureCollection;
 use crate::planner::params::AltitudeReference;
+use crate::planner::params::resume::ResumeParams;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, MissionGeometry, PlanParams};
@@ -52,7 +53,43 @@ pub async fn create(
     let flown = planner::vehicles_flown(&params, &profiles)?;
     let snapshot = snapshot(&mission, &profiles, &flown.iter().collect::<Vec<_>>());
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
-    Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, JobKind::Plan, &mission_id, &params, &snapshot).await?)))
+    Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &plans::NewJob::new(JobKind::Plan, &mission_id, &params, &snapshot)).await?)))
+}
+
+#[utoipa::path(post, operation_id = "resume_plan", path = "/api/v1/plans/{id}/resume", tag = "plans", params(("id" = String, Path)), request_body = ResumeParams,
+    responses((status = 202, body = Plan, description = "the plan of what is left, queued; `resumed_from` names this plan"), (status = 404, body = Problem),
+              (status = 409, body = Problem, description = "the plan has not succeeded"), (status = 422, body = Problem, description = "the cut is not on this plan, or the plan is not resumed"),
+              (status = 429, body = Problem, description = "too many plans of this tenant's are queued or running (see `Retry-After`)")))]
+pub async fn resume(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiJson(request): ApiJson<ResumeParams>) -> Result<(StatusCode, Json<Plan>), ApiError> {
+    let checked = request.check()?;
+    let original = find(&state, &caller, &id).await?;
+    let mut source = plans::export_source(&state.db, &caller.tenant, JobKind::Plan, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
+    let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
+        let status = json!(source.status);
+        return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a plan is resumed once it has succeeded", status.as_str().unwrap_or("?"))));
+    };
+    let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
+    let trajectory: serde_json::Value = serde_json::from_str(&geojson).map_err(|e| internal(&e))?;
+    let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
+    let model = match params.altitude_reference {
+        Some(AltitudeReference::Terrain) => terrain::model(&state.db, &caller.tenant, &original.mission_id).await?,
+        _ => None,
+    };
+    let limits = state.config.limits;
+    let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
+    // the cut is found on the trajectory now, so that a wrong one is refused here
+    let trajectory = off_the_async_threads(move || {
+        let collection: FeatureCollection = serde_json::from_value(trajectory.clone()).map_err(|e| ApiError::Internal(e.to_string()))?;
+        let model = model.map(|(name, bytes)| ElevationModel::read(&bytes, &name)).transpose()?;
+        let geometry = MissionGeometry { terrain: model.as_ref(), ..MissionGeometry::of(&source.mission) };
+        planner::check_resume(&geometry, &params, &profiles, &limits, &collection, &checked)?;
+        Ok::<_, ApiError>((trajectory, source.mission, source.params))
+    })
+    .await?;
+    let (trajectory, mut snapshot, params) = trajectory;
+    snapshot["resume"] = json!({"request": request, "trajectory": trajectory});
+    let job = plans::NewJob { resumed_from: Some(&id), ..plans::NewJob::new(JobKind::Plan, &original.mission_id, &params, &snapshot) };
+    Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &job).await?)))
 }
 
 /// What a job runs on: the mission's geometry and the stored profiles of its vehicles as they
@@ -63,16 +100,9 @@ pub(super) fn snapshot(mission: &missions::Mission, profiles: &[Vehicle], flown:
 }
 
 /// Queues a job (a plan or a patrol) of the caller's, within the tenant's cap, and wakes a worker.
-pub(super) async fn enqueue(
-    state: &AppState,
-    caller: &Caller,
-    kind: JobKind,
-    mission_id: &str,
-    params: &serde_json::Value,
-    snapshot: &serde_json::Value,
-) -> Result<Plan, ApiError> {
+pub(super) async fn enqueue(state: &AppState, caller: &Caller, job: &plans::NewJob<'_>) -> Result<Plan, ApiError> {
     let most = state.config.max_queued;
-    let plan = plans::create(&state.db, &caller.tenant, kind, mission_id, params, snapshot, most).await?.ok_or_else(|| ApiError::TooMany {
+    let plan = plans::create(&state.db, &caller.tenant, job, most).await?.ok_or_else(|| ApiError::TooMany {
         code: "too_many_plans",
         detail: format!("{most} plans and patrols of yours are queued or running, the most this server takes at once: wait for one to finish or cancel one"),
         retry_after_s: 10,

@@ -17,7 +17,9 @@ use tokio::sync::{Notify, watch};
 use tokio::task::JoinHandle;
 use tracing::Instrument;
 
+use crate::planner::geojson::FeatureCollection;
 use crate::planner::params::AltitudeReference;
+use crate::planner::params::resume::{Resume, ResumeParams};
 use crate::planner::patrol::PatrolParams;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
@@ -36,6 +38,8 @@ pub type Runner = Arc<dyn Fn(&plans::Job, &JobRequest, &dyn planner::Progress, &
 pub struct JobRequest {
     pub params: JobParams,
     pub profiles: Vec<Vehicle>,
+    /// A resumed plan: where the original's flight stopped, and the original's trajectory.
+    pub resume: Option<(Resume, FeatureCollection)>,
 }
 
 // one per running job: boxing would save nothing worth an allocation
@@ -54,7 +58,7 @@ impl JobRequest {
             plans::JobKind::Patrol => JobParams::Patrol(serde_json::from_value(job.params.clone()).map_err(unreadable)?),
             plans::JobKind::Plan => JobParams::Plan(serde_json::from_value(job.params.clone()).map_err(unreadable)?),
         };
-        Ok(JobRequest { params, profiles: snapshot_profiles(&job.mission)? })
+        Ok(JobRequest { params, profiles: snapshot_profiles(&job.mission)?, resume: snapshot_resume(&job.mission)? })
     }
 
     /// The method it is planned with, for log lines and metrics.
@@ -106,6 +110,15 @@ pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
     }
 }
 
+/// The resume a snapshot holds (`resume`: the request and the original's trajectory), checked.
+pub fn snapshot_resume(mission: &Value) -> Result<Option<(Resume, FeatureCollection)>, String> {
+    let Some(resume) = mission.get("resume") else { return Ok(None) };
+    let request: ResumeParams = serde_json::from_value(resume["request"].clone()).map_err(|e| format!("stored resume request is unreadable: {e}"))?;
+    let request = request.check().map_err(|e| format!("stored resume request: {e}"))?;
+    let trajectory = serde_json::from_value(resume["trajectory"].clone()).map_err(|e| format!("stored trajectory to resume is unreadable: {e}"))?;
+    Ok(Some((request, trajectory)))
+}
+
 /// Runs a stored job with the real planner.
 pub fn plan_job(job: &plans::Job, request: &JobRequest, limits: &FieldLimits, progress: &dyn planner::Progress, stop: &Stop) -> Result<JobOutput, PlanError> {
     let geometry = MissionGeometry::of(&job.mission);
@@ -118,7 +131,10 @@ pub fn plan_job(job: &plans::Job, request: &JobRequest, limits: &FieldLimits, pr
         JobParams::Plan(params) => {
             let model = job.terrain.as_ref().map(|(name, bytes)| ElevationModel::read(bytes, name)).transpose()?;
             let geometry = MissionGeometry { terrain: model.as_ref(), ..geometry };
-            let out = planner::plan(&geometry, params, profiles, limits, progress, stop)?;
+            let out = match &request.resume {
+                Some((resume, original)) => planner::resume(&geometry, params, profiles, limits, original, resume, progress, stop)?,
+                None => planner::plan(&geometry, params, profiles, limits, progress, stop)?,
+            };
             (json!(out.stats), serde_json::to_string(&out.trajectory).unwrap_or_default())
         }
     };

@@ -52,6 +52,8 @@ pub struct Plan {
     pub created_at: String,
     pub started_at: Option<String>,
     pub finished_at: Option<String>,
+    /// A resumed plan: the plan whose flight it finishes (`POST /api/v1/plans/{id}/resume`).
+    pub resumed_from: Option<String>,
 }
 
 /// A row of `plans`, as listed.
@@ -68,6 +70,7 @@ struct PlanRow {
     created_at: String,
     started_at: Option<String>,
     finished_at: Option<String>,
+    resumed_from: Option<String>,
 }
 
 impl From<PlanRow> for Plan {
@@ -84,13 +87,14 @@ impl From<PlanRow> for Plan {
             created_at: r.created_at,
             started_at: r.started_at,
             finished_at: r.finished_at,
+            resumed_from: r.resumed_from,
         }
     }
 }
 
 macro_rules! columns {
     () => {
-        "id, mission_id, status, progress, params, stats, error, error_code, created_at, started_at, finished_at"
+        "id, mission_id, status, progress, params, stats, error, error_code, created_at, started_at, finished_at, resumed_from"
     };
 }
 
@@ -106,11 +110,27 @@ pub enum JobKind {
 /// The channel on which PostgreSQL announces newly queued plans to every replica.
 pub const QUEUED_CHANNEL: &str = "coverplan_queued";
 
+/// What a queued job is: its kind, mission, parameters and the snapshot it runs on, and the
+/// plan it resumes.
+pub struct NewJob<'a> {
+    pub kind: JobKind,
+    pub mission_id: &'a str,
+    pub params: &'a Value,
+    pub mission: &'a Value,
+    pub resumed_from: Option<&'a str>,
+}
+
+impl<'a> NewJob<'a> {
+    pub fn new(kind: JobKind, mission_id: &'a str, params: &'a Value, mission: &'a Value) -> Self {
+        NewJob { kind, mission_id, params, mission, resumed_from: None }
+    }
+}
+
 /// Queues a plan of `tenant`'s mission (a snapshot of its geometry) with `params`; `None` when
 /// the tenant has `most_active` plans queued or running already (counted in the same write
 /// transaction, so concurrent requests cannot pass the cap together: SQLite's write lock, or on
 /// PostgreSQL a lock on the tenant held to the commit).
-pub async fn create(db: &Db, tenant: &str, kind: JobKind, mission_id: &str, params: &Value, mission: &Value, most_active: i64) -> Result<Option<Plan>, sqlx::Error> {
+pub async fn create(db: &Db, tenant: &str, job: &NewJob<'_>, most_active: i64) -> Result<Option<Plan>, sqlx::Error> {
     let id = new_id();
     let row: Option<PlanRow> = on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
@@ -129,13 +149,13 @@ pub async fn create(db: &Db, tenant: &str, kind: JobKind, mission_id: &str, para
         }
         let row = sqlx::query_as(sql(Statement {
             sqlite: concat!(
-                "INSERT INTO plans (id, tenant, mission_id, params, mission, kind, status, created_at) VALUES (?, ?, ?, ?, ?, ?, 'queued', ",
+                "INSERT INTO plans (id, tenant, mission_id, params, mission, kind, resumed_from, status, created_at) VALUES (?, ?, ?, ?, ?, ?, ?, 'queued', ",
                 crate::sqlite_now!(),
                 ") RETURNING ",
                 columns!()
             ),
             postgres: concat!(
-                "INSERT INTO plans (id, tenant, mission_id, params, mission, kind, status, created_at) VALUES ($1, $2, $3, $4, $5, $6, 'queued', ",
+                "INSERT INTO plans (id, tenant, mission_id, params, mission, kind, resumed_from, status, created_at) VALUES ($1, $2, $3, $4, $5, $6, $7, 'queued', ",
                 crate::postgres_now!(),
                 ") RETURNING ",
                 columns!()
@@ -143,10 +163,11 @@ pub async fn create(db: &Db, tenant: &str, kind: JobKind, mission_id: &str, para
         }))
         .bind(&id)
         .bind(tenant)
-        .bind(mission_id)
-        .bind(Json(params))
-        .bind(Json(mission))
-        .bind(kind)
+        .bind(job.mission_id)
+        .bind(Json(job.params))
+        .bind(Json(job.mission))
+        .bind(job.kind)
+        .bind(job.resumed_from)
         .fetch_one(&mut *tx)
         .await?;
         if db.is_postgres() {

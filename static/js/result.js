@@ -36,6 +36,8 @@ function drawTrajectory(fc, faded) {
       const shape = p.turn_type ? ` (${p.turn_type === 'u' ? 'U' : p.turn_type})` : '';
       const sortie = p.sortie === undefined ? '' : `, sortie ${p.sortie}`;
       layer.bindTooltip(`${drone(p)}${p.kind}${shape} ${p.length_m} m, ${p.speed_mps} m/s${sortie}`);
+      // a click says where a flight stopped (resume.js offers to plan the rest)
+      if (!faded) layer.on('click', (e) => document.dispatchEvent(new CustomEvent('coverplan:piece-click', { detail: { feature: f, latlng: e.latlng } })));
     },
   }).addTo(group);
   if (!faded) {
@@ -162,6 +164,7 @@ const figureRows = [
   ['last landing', (s) => (s.makespan_s == null ? '' : `${(s.makespan_s / 60).toFixed(1)} min`)],
   ['conflicts', (s) => (s.conflicts == null ? '' : s.conflicts.length)],
   ['photos', (s) => (s.photos ? s.photos : '')],
+  ['resumed at', (s) => (s.resume ? `piece ${s.resume.seq}, ${Math.round(100 * s.resume.fraction)} % along (${(s.resume.original_left_m / 1000).toFixed(2)} km were left)` : '')],
   ['mainland worked', (s) => (s.ground ? `${(100 * s.ground.mainland_coverage).toFixed(1)} %` : '')],
   ['headland worked', (s) => (s.ground ? `${(100 * s.ground.headland_coverage).toFixed(1)} % (${s.ground.headland_passes} passes, ${s.ground.headland_width_m.toFixed(1)} m)` : '')],
   ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail, ${s.ground.headland_drives} along a pass` : '')],

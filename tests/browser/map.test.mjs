@@ -5,7 +5,8 @@
 // the mission from its link with every parameter, plans a tractor, shows an error beside its
 // input, plans by keyboard alone, and fits 1366×768 and a 390×844 phone. The server runs from
 // a folder of its own, serving the page built into the binary. Run by tests/run_all.sh after
-// the build. Draws a barn and inspects it, with its 3D view. Screenshots of each step are left
+// the build. Draws a barn and inspects it, with its 3D view. Resumes a plan from a click on its
+// path. Screenshots of each step are left
 // in the temporary folder (coverplan-*.png).
 import { spawn } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -436,6 +437,28 @@ try {
   assert.deepEqual([sent.side_overlap, sent.front_overlap], [0.6, 0.75], 'the API gets fractions');
   assert.match(await page.textContent('td[data-figure=altitude]'), /^60\.0 m above home · GSD [\d.]+ cm\/px$/, 'the altitude flown and its GSD');
   await page.screenshot({ path: path.join(os.tmpdir(), 'coverplan-page.png') });
+
+  // the flight stopped a third of the way along a line: a click there plans the rest, shown
+  // over the original, which stays faded beside it
+  const stopped = await state(() => {
+    const { map, state: s } = window.coverplan;
+    const sweeps = s.result.fc.features.filter((f) => f.properties.kind === 'sweep');
+    const c = sweeps[Math.floor(sweeps.length / 2)].geometry.coordinates;
+    const [a, b] = [c[0], c[c.length - 1]];
+    const at = L.latLng(a[1] + 0.3 * (b[1] - a[1]), a[0] + 0.3 * (b[0] - a[0]));
+    map.setView(at, map.getZoom(), { animate: false });
+    const p = map.latLngToContainerPoint(at);
+    const r = map.getContainer().getBoundingClientRect();
+    return [r.left + p.x, r.top + p.y];
+  });
+  await page.mouse.click(...stopped);
+  await page.waitForSelector('.resume-here');
+  assert.match(await page.textContent('.resume-box'), /stop here \(sweep, (29|30|31) % along\)/);
+  await page.click('.resume-here');
+  await waitFor(async () => /resumed:/.test(await page.textContent('#status')), 'the resumed plan', 60000);
+  assert.match(await page.textContent('td[data-figure="resumed at"]'), /(29|30|31) % along/);
+  assert.ok(await state(() => !!window.coverplan.state.compared), 'the original stays, faded');
+  await shot('resumed');
 
   // a hilly field: its elevation model from the file picker, shaded under the field; planned at
   // 60 m above the ground, with the profile of ground, altitude and band

@@ -97,5 +97,6 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         inspection_coverage: None,
         inspection: None,
         terrain: None,
+        resume: None,
     }
 }

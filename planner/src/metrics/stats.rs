@@ -82,6 +82,27 @@ pub struct Stats {
     pub inspection: Option<InspectionStats>,
     /// With `altitude_reference` `terrain`: the height above ground flown, the climbs.
     pub terrain: Option<crate::terrain::TerrainStats>,
+    /// A resumed plan: where the flight it resumes stopped, and what was left.
+    pub resume: Option<ResumeStats>,
+}
+
+/// Where a resumed plan's original flight stopped, and what it had left.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct ResumeStats {
+    /// The piece of the original trajectory the flight stopped on (its `seq`), and the share
+    /// of it flown.
+    pub seq: usize,
+    pub fraction: f64,
+    /// Where the flight stopped, `[lon, lat]`.
+    pub position: [f64; 2],
+    /// The original's flight after the cut, m (its returns home included).
+    pub original_left_m: f64,
+    /// The original's sweep lines after the cut, m; this plan's `sweep_length_m` is that and
+    /// the stretch flown again before the cut.
+    pub original_sweep_left_m: f64,
+    /// The stretch of the cut line flown again (`photos_back` trigger distances), m.
+    pub overlap_m: f64,
 }
 
 /// Whether a planner's search proved its plan the cheapest under the method's rules.

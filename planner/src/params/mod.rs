@@ -1,6 +1,7 @@
 //! Plan parameters as clients send them, and their validated form.
 
 pub mod inspection;
+pub mod resume;
 
 use serde::{Deserialize, Serialize};
 

@@ -74,11 +74,14 @@ pub struct PlannedPath {
     /// [`crate::metrics::swept_and_strip_area`] of `path`, when the planner measured it beside
     /// its search.
     pub swept: Option<(MultiPolygon, f64)>,
+    /// Pieces a sortie may end before instead of where the battery runs out (a resumed plan's:
+    /// its original's sortie ends); the split that flies shorter is kept.
+    pub sortie_breaks: Vec<usize>,
 }
 
 impl PlannedPath {
     pub fn new(path: FlightPath, sweep_angle: f64, cells: usize) -> Self {
-        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new(), optimality: None, swept: None }
+        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new(), optimality: None, swept: None, sortie_breaks: Vec::new() }
     }
 }
 

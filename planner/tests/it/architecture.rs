@@ -37,6 +37,8 @@ const LAYERS: &[&str] = &[
     "estimate",
     "routing_study",
     "compose",
+    "report",
+    "resume",
 ];
 
 /// Module path of a source file relative to the crate root (`route/gtsp/mod.rs` → route, gtsp).

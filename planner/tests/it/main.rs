@@ -7,6 +7,7 @@ mod flown;
 mod inspection;
 mod obstacles;
 mod patrolling;
+mod resume;
 mod seed004;
 mod several_fields;
 mod terrain;

@@ -34,7 +34,8 @@ async fn a_stored_request_that_cannot_be_read_fails_as_internal() {
     let (db, mission, snapshot) = fresh_mission().await;
     let runner: Runner = Arc::new(|job, request, progress, stop| jobs::plan_job(job, request, &FieldLimits::default(), progress, stop));
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
-    let damaged = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": "twenty"}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let damaged =
+        plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": "twenty"}), &snapshot), i64::MAX).await.unwrap().unwrap();
     queue.notify();
     let mut done = None;
     for _ in 0..600 {
@@ -61,8 +62,10 @@ async fn a_panicking_job_fails_with_a_message_and_the_worker_goes_on() {
         jobs::plan_job(job, request, &FieldLimits::default(), progress, stop)
     });
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
-    let bad = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 13.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
-    let good = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let bad =
+        plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 13.0}), &snapshot), i64::MAX).await.unwrap().unwrap();
+    let good =
+        plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot), i64::MAX).await.unwrap().unwrap();
     queue.notify();
     let mut finished = None;
     for _ in 0..600 {
@@ -90,8 +93,13 @@ async fn queued_plans_are_claimed_in_the_order_they_were_created() {
     let (db, mission, snapshot) = fresh_mission().await;
     let mut created = Vec::new();
     for k in 0..40 {
-        created
-            .push(plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot, i64::MAX).await.unwrap().unwrap().id);
+        created.push(
+            plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0 + k as f64}), &snapshot), i64::MAX)
+                .await
+                .unwrap()
+                .unwrap()
+                .id,
+        );
     }
     let mut claimed = Vec::new();
     while let Some(job) = plans::claim_next(&db, "test-replica", 30.0).await.unwrap() {
@@ -137,10 +145,14 @@ async fn plans_past_their_time_limit_fail_and_the_worker_takes_the_next_job() {
     };
     let limit = Duration::from_secs(1);
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings { time_limit: limit, ..QueueSettings::default() });
-    let polite = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 1.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
-    let deaf =
-        plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 2.0, "time_limit_s": 0.5}), &snapshot, i64::MAX).await.unwrap().unwrap();
-    let good = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let polite =
+        plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 1.0}), &snapshot), i64::MAX).await.unwrap().unwrap();
+    let deaf = plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 2.0, "time_limit_s": 0.5}), &snapshot), i64::MAX)
+        .await
+        .unwrap()
+        .unwrap();
+    let good =
+        plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20.0}), &snapshot), i64::MAX).await.unwrap().unwrap();
     let started = Instant::now();
     queue.notify();
     let (polite, polite_done) = wait_final(&db, &polite.id).await;
@@ -171,8 +183,8 @@ async fn cancelling_a_running_plan_frees_its_worker_at_once() {
     let runner: Runner = Arc::new(|job, request, progress, stop| jobs::plan_job(job, request, &FieldLimits::default(), progress, stop));
     let (queue, handles) = JobQueue::start(db.clone(), 1, runner, QueueSettings::default());
     let fixed_wing = json!({"planner": "line_gtsp", "line_spacing_m": 20, "sweep_direction": "optimal", "vehicle": {"kind": "fixed_wing", "turn_radius_m": 10}});
-    let long = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &fixed_wing, &snapshot, i64::MAX).await.unwrap().unwrap();
-    let next = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 40}), &snapshot, i64::MAX).await.unwrap().unwrap();
+    let long = plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &fixed_wing, &snapshot), i64::MAX).await.unwrap().unwrap();
+    let next = plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 40}), &snapshot), i64::MAX).await.unwrap().unwrap();
     queue.notify();
     tokio::time::sleep(Duration::from_secs(2)).await;
     assert_eq!(plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Running);

@@ -13,6 +13,7 @@ mod openapi;
 mod patrols;
 mod process;
 mod replicas;
+mod resume;
 mod tenancy;
 mod terrain;
 mod vehicles;

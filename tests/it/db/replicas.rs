@@ -22,7 +22,10 @@ async fn db_with_a_plan() -> (store::Db, String) {
     )
     .await
     .unwrap();
-    let plan = plans::create(&db, OPEN_TENANT, plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20}), &json!({"area": mission.area}), 100).await.unwrap().unwrap();
+    let plan = plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({"line_spacing_m": 20}), &json!({"area": mission.area})), 100)
+        .await
+        .unwrap()
+        .unwrap();
     (db, plan.id)
 }
 

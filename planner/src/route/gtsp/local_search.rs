@@ -192,18 +192,21 @@ impl Tour<'_, '_> {
         let (a, b) = (self.seq[i], self.seq[j]);
         let gone = inst.link(p, Some(a)) + inst.link(Some(b), q);
         let ends_floor = inst.link_floor(p, Some(rev[b])) + inst.link_floor(Some(rev[a]), q) - gone;
-        if ends_floor >= -EPS {
+        // written so that a move priced NaN (links of infinite cost on both sides: no way at
+        // all) is never taken, which would loop for ever
+        if ends_floor.is_nan() || ends_floor >= -EPS {
             return None;
         }
         let stretch = &self.seq[i..=j];
         let flown: f64 = stretch.iter().map(|&v| inst.node_cost[rev[v]] - inst.node_cost[v]).sum::<f64>() - stretch.windows(2).map(|w| inst.c(w[0], w[1])).sum::<f64>();
         let reversed = |link: &dyn Fn(usize, usize) -> f64| stretch.windows(2).map(|w| link(rev[w[1]], rev[w[0]])).sum::<f64>();
-        if ends_floor + flown + reversed(&|u, v| inst.floor(u, v)) >= -EPS {
+        let floor = ends_floor + flown + reversed(&|u, v| inst.floor(u, v));
+        if floor.is_nan() || floor >= -EPS {
             return None;
         }
         let ends = inst.link(p, Some(rev[b])) + inst.link(Some(rev[a]), q) - gone;
         let delta = ends + flown + reversed(&|u, v| inst.c(u, v));
-        if delta >= -EPS {
+        if delta.is_nan() || delta >= -EPS {
             return None;
         }
         self.seq[i..=j].reverse();
@@ -261,14 +264,15 @@ impl Tour<'_, '_> {
                     }
                     let (u, w) = (rest_at(k as isize - 1), rest_at(k as isize));
                     let split = inst.link(u, w);
-                    if inst.link_floor(u, Some(f)) + inst.link_floor(Some(l), w) - split + added_inner_floor - removed_at_most >= -EPS {
+                    let floor = inst.link_floor(u, Some(f)) + inst.link_floor(Some(l), w) - split + added_inner_floor - removed_at_most;
+                    if floor.is_nan() || floor >= -EPS {
                         continue;
                     }
                     // the new links exactly before the one that closes the gap: p → q often
                     // spans the field (a turn's other end), costly to price and seldom worth it
                     let added_inner = *added_inner.get_or_insert_with(|| inner(moved));
                     let added = inst.link(u, Some(f)) + inst.link(Some(l), w) - split + added_inner;
-                    if added - removed_at_most >= -EPS {
+                    if (added - removed_at_most).is_nan() || added - removed_at_most >= -EPS {
                         continue;
                     }
                     let removed = *removed.get_or_insert_with(|| kept - inst.link(p, q));

@@ -1,0 +1,157 @@
+//! Resuming a plan whose flight stopped: over the random fields (holes as no-fly zones), for a
+//! multirotor and a fixed wing, at random cuts (in sweeps, turns, transits, at sortie ends),
+//! the part flown and the resumed plan cover what the original covers, the resumed plan is no
+//! longer than what the original had left but for the way to its first line and the stretch
+//! flown again, and it never enters a no-fly zone.
+
+use coverplan_planner::frame::LocalFrame;
+use coverplan_planner::geojson::{FeatureCollection, GeometryValue};
+use coverplan_planner::params::resume::ResumeParams;
+use coverplan_planner::path::{FlightPath, Piece, PieceKind};
+use coverplan_planner::vehicle::builtin_profiles;
+use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop, metrics, plan, resume};
+use geo::{BooleanOps, Coord, Intersects, LineString, MultiPolygon};
+use proptest::prelude::*;
+use serde::Deserialize;
+use serde_json::{Value, json};
+
+fn fixture(path: &str) -> Value {
+    serde_json::from_slice(&std::fs::read(format!("{}/../tests/fixtures/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap()).unwrap()
+}
+
+/// The flown pieces of a trajectory in the local frame: kind, points and seq.
+fn pieces(trajectory: &FeatureCollection, frame: &LocalFrame) -> Vec<(PieceKind, Vec<Coord>, usize)> {
+    trajectory
+        .features
+        .iter()
+        .filter_map(|f| {
+            let props = f.properties.as_ref()?;
+            let kind = PieceKind::deserialize(props.get("kind")?).ok()?;
+            let GeometryValue::LineString { coordinates } = &f.geometry.as_ref()?.value else { return None };
+            Some((kind, coordinates.iter().map(|p| frame.to_local(p[0], p[1])).collect(), props["seq"].as_u64()? as usize))
+        })
+        .collect()
+}
+
+/// A path of the sweeps among `pieces`, each covering `half` either side.
+fn sweeps(pieces: impl IntoIterator<Item = (PieceKind, Vec<Coord>)>, half: f64) -> FlightPath {
+    let pieces =
+        pieces.into_iter().filter(|(k, p)| *k == PieceKind::Sweep && p.len() >= 2).map(|(kind, points)| Piece { kind, points, half_swath_m: half, z: Vec::new(), shape: None });
+    FlightPath { pieces: pieces.collect() }
+}
+
+/// `points` up to `along` metres.
+fn up_to(points: &[Coord], along: f64) -> Vec<Coord> {
+    let mut out = vec![points[0]];
+    let mut walked = 0.0;
+    for w in points.windows(2) {
+        let step = (w[1] - w[0]).x.hypot((w[1] - w[0]).y);
+        if walked + step >= along {
+            out.push(w[0] + (w[1] - w[0]) * ((along - walked) / step).clamp(0.0, 1.0));
+            return out;
+        }
+        walked += step;
+        out.push(w[1]);
+    }
+    out
+}
+
+/// A GeoJSON Polygon or MultiPolygon.
+fn multipolygon(v: &Value) -> MultiPolygon {
+    match geo::Geometry::try_from(serde_json::from_value::<geojson::Geometry>(v.clone()).unwrap()).unwrap() {
+        geo::Geometry::Polygon(p) => MultiPolygon(vec![p]),
+        geo::Geometry::MultiPolygon(m) => m,
+        other => panic!("not polygons: {other:?}"),
+    }
+}
+
+struct Case {
+    mission_area: Value,
+    zones: Value,
+    home: [f64; 2],
+    params: PlanParams,
+}
+
+/// The random field `k` with a home 40 m beyond its first corner, and a battery for a part of
+/// the plan; `None` where no plan flies from that home (it is cut off by a zone).
+fn case(k: usize, fixed_wing: bool) -> Option<Case> {
+    let index = fixture("random-fields/index.json");
+    let names: Vec<String> =
+        index.as_array().unwrap().iter().map(|e| e["file"].as_str().unwrap().to_owned()).filter(|f| f.ends_with("_00.json") || f.ends_with("_01.json")).collect();
+    let field = fixture(&format!("random-fields/{}", names[k % names.len()]));
+    let ring = field["area"]["coordinates"][0].as_array().unwrap();
+    let corner = [ring[0][0].as_f64().unwrap(), ring[0][1].as_f64().unwrap()];
+    let frame = LocalFrame::new(corner[0], corner[1]);
+    let home = frame.to_wgs84(Coord { x: -40.0, y: -40.0 });
+    let vehicle = if fixed_wing { "generic_fixed_wing" } else { "iris" };
+    let params = |battery_wh: Option<f64>| -> PlanParams {
+        serde_json::from_value(json!({"vehicle": {"profile": vehicle, "battery_wh": battery_wh}, "line_spacing_m": 30, "altitude_m": 60})).unwrap()
+    };
+    // a battery for a third of the plan or a half, so that it flies in sorties (one line and
+    // the legs to it and back may need more on a small field)
+    let mission = MissionGeometry { home: Some(home), no_fly_zones: Some(&field["no_fly_zones"]), ..MissionGeometry::area(&field["area"]) };
+    let try_plan = |p: &PlanParams| plan(&mission, p, &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never());
+    let whole = try_plan(&params(None)).ok()?;
+    let params = [2.6, 1.6].into_iter().map(|share| params(Some(whole.stats.energy_wh / 0.75 / share))).find(|p| try_plan(p).is_ok()).unwrap_or_else(|| params(None));
+    Some(Case { mission_area: field["area"].clone(), zones: field["no_fly_zones"].clone(), home, params })
+}
+
+fn check_resume(k: usize, fixed_wing: bool, cut_at: f64, fraction: f64, photos_back: u32) -> Result<(), TestCaseError> {
+    let Some(c) = case(k, fixed_wing) else { return Err(TestCaseError::reject("no plan flies from this home")) };
+    let mission = MissionGeometry { home: Some(c.home), no_fly_zones: Some(&c.zones), ..MissionGeometry::area(&c.mission_area) };
+    let profiles = builtin_profiles();
+    let original: PlanOutput = plan(&mission, &c.params, &profiles, &FieldLimits::default(), &|_| true, &Stop::never()).map_err(|e| TestCaseError::fail(e.to_string()))?;
+    let frame = LocalFrame::new(c.home[0], c.home[1]);
+    let flown = pieces(&original.trajectory, &frame);
+    let cut = ((cut_at * flown.len() as f64) as usize).min(flown.len() - 1);
+    let request: ResumeParams = serde_json::from_value(json!({"at": {"seq": flown[cut].2, "fraction": fraction}, "photos_back": photos_back})).unwrap();
+    let request = request.check().unwrap();
+    let what = format!("case {k}, fixed wing {fixed_wing}, cut at piece {cut} of {} ({:?}) × {fraction:.2}", flown.len(), flown[cut].0);
+
+    let resumed = match resume(&mission, &c.params, &profiles, &FieldLimits::default(), &original.trajectory, &request, &|_| true, &Stop::never()) {
+        Ok(r) => r,
+        // a cut after the last line leaves nothing, and says so
+        Err(e) if e.to_string().contains("nothing is left") => {
+            prop_assert!(flown[cut..].iter().skip(1).all(|p| p.0 != PieceKind::Sweep), "{what}: {e}");
+            return Ok(());
+        }
+        Err(e) => return Err(TestCaseError::fail(format!("{what}: {e}"))),
+    };
+    let stats = resumed.stats.resume.clone().expect("a resumed plan says where it resumed");
+    let left = pieces(&resumed.trajectory, &frame);
+    // coverage: the part flown and the resumed plan together cover what the original covers
+    let zones = multipolygon(&c.zones);
+    let local = |mp: &MultiPolygon| geo::MapCoords::map_coords(mp, |p| frame.to_local(p.x, p.y));
+    let area = multipolygon(&c.mission_area);
+    let region = local(&area).difference(&local(&zones));
+    let half = 15.0;
+    let along = fraction * flown[cut].1.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum::<f64>();
+    let done = flown[..cut].iter().map(|p| (p.0, p.1.clone())).chain([(flown[cut].0, up_to(&flown[cut].1, along))]);
+    let original_cover = metrics::covered_area(&sweeps(flown.iter().map(|p| (p.0, p.1.clone())), half), &region, None);
+    let both = metrics::covered_area(&sweeps(done.chain(left.iter().map(|p| (p.0, p.1.clone()))), half), &region, None);
+    prop_assert!(both >= original_cover - 0.001 * geo::Area::unsigned_area(&region), "{what}: {both:.0} m² against the original's {original_cover:.0} m²");
+    // length: what the original had left, the way to the first line and the stretch again
+    let to_first_line: f64 = left.iter().take_while(|p| p.0 != PieceKind::Sweep).map(|p| p.1.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum::<f64>()).sum();
+    prop_assert!(
+        resumed.stats.length_m <= stats.original_left_m + to_first_line + stats.overlap_m + 1.0,
+        "{what}: {:.0} m against {:.0} m left, {to_first_line:.0} m to the first line and {:.0} m again",
+        resumed.stats.length_m,
+        stats.original_left_m,
+        stats.overlap_m
+    );
+    prop_assert!(stats.overlap_m <= photos_back as f64 * 15.0 + 1e-6, "{what}: {stats:?}");
+    // never into a zone
+    let zones = local(&zones);
+    for (kind, points, seq) in &left {
+        prop_assert!(!zones.intersects(&LineString::from(points.clone())), "{what}: piece {seq} ({kind:?}) enters a no-fly zone");
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+    #[test]
+    fn a_resumed_plan_covers_what_was_left_and_no_more(k in 0usize..64, fixed_wing in any::<bool>(), cut_at in 0.0f64..1.0, fraction in 0.0f64..=1.0, photos_back in 0u32..4) {
+        check_resume(k, fixed_wing, cut_at, fraction, photos_back)?;
+    }
+}

@@ -1,0 +1,69 @@
+// Resume: a click on the plan's path says where the flight stopped; the server plans what is
+// left (POST /api/v1/plans/{id}/resume), shown over the original, which stays faded beside it.
+
+import { $, api, escapeHtml, status } from './api.js';
+import { map, state } from './map.js';
+import { keepForComparison, showPlan } from './result.js';
+
+/** The share of the polyline `coords` ([lon, lat]) up to its point nearest `latlng`. */
+export function fractionAlong(coords, latlng) {
+  const k = Math.cos((latlng.lat * Math.PI) / 180);
+  const xy = (c) => [c[0] * k, c[1]];
+  const p = [latlng.lng * k, latlng.lat];
+  let total = 0;
+  let best = { d: Infinity, at: 0 };
+  for (let i = 1; i < coords.length; i++) {
+    const a = xy(coords[i - 1]), b = xy(coords[i]);
+    const dx = b[0] - a[0], dy = b[1] - a[1], len = Math.hypot(dx, dy);
+    const t = len > 0 ? Math.max(0, Math.min(1, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (len * len))) : 0;
+    const d = Math.hypot(a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
+    if (d < best.d) best = { d, at: total + t * len };
+    total += len;
+  }
+  return total > 0 ? best.at / total : 1;
+}
+
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+async function resume(seq, fraction, photosBack) {
+  try {
+    const queued = await api('POST', `/api/v1/plans/${state.result.planId}/resume`, { at: { seq, fraction }, photos_back: photosBack });
+    $('progress').hidden = false;
+    let plan = queued;
+    while (['queued', 'running'].includes(plan.status)) {
+      $('progress').value = plan.progress || 0;
+      status(`resuming: ${plan.status}…`);
+      await sleep(300);
+      plan = await api('GET', `/api/v1/plans/${queued.id}`);
+    }
+    if (plan.status !== 'succeeded') return status(plan.status === 'failed' ? `resuming failed: ${plan.error}` : plan.status, true);
+    // the original stays on the map, faded: what was flown and what is left side by side
+    keepForComparison();
+    await showPlan(plan);
+    const r = plan.stats.resume;
+    status(`resumed: ${(plan.stats.sweep_length_m / 1000).toFixed(2)} km of lines left (the original had ${(r.original_sweep_left_m / 1000).toFixed(2)} km after the stop, ${Math.round(r.overlap_m)} m flown again)`);
+    $('result-heading').focus();
+  } catch (e) {
+    status(e.message, true);
+  } finally {
+    $('progress').hidden = true;
+  }
+}
+
+// a piece of the shown plan clicked: offer to plan the rest from there
+document.addEventListener('coverplan:piece-click', (e) => {
+  const { feature, latlng } = e.detail;
+  const p = feature.properties;
+  if (!state.result || !state.result.planId || state.result.stats.inspection || p.vehicle !== undefined || p.seq === undefined) return;
+  const fraction = fractionAlong(feature.geometry.coordinates, latlng);
+  const box = document.createElement('div');
+  box.className = 'resume-box';
+  box.innerHTML = `<p>Did the flight stop here (${escapeHtml(p.kind)}, ${Math.round(100 * fraction)} % along)?</p>`
+    + '<label>photos flown again <input class="photos-back" type="number" min="0" max="20" value="2"></label> '
+    + '<button class="resume-here" type="button">Plan the rest</button>';
+  const popup = L.popup().setLatLng(latlng).setContent(box).openOn(map);
+  box.querySelector('.resume-here').onclick = () => {
+    map.closePopup(popup);
+    resume(p.seq, fraction, Number(box.querySelector('.photos-back').value));
+  };
+});

@@ -1,0 +1,122 @@
+//! `POST /api/v1/plans/{id}/resume`: the plan of what a stopped flight left, from a piece of
+//! the trajectory or the aircraft's position, queued like a plan and linked to its original;
+//! wrong cuts are refused with the place that is wrong, and nothing is stored.
+
+use crate::common::{TestApp, mission_body};
+use serde_json::{Value, json};
+
+async fn trajectory(app: &TestApp, plan: &str, format: &str) -> (u16, Vec<u8>) {
+    let r = app.client.get(app.url(&format!("/api/v1/plans/{plan}/trajectory?format={format}"))).send().await.unwrap();
+    (r.status().as_u16(), r.bytes().await.unwrap().to_vec())
+}
+
+/// The sweeps of a trajectory: seq, first and last point.
+fn sweeps(fc: &Value) -> Vec<(u64, [f64; 2], [f64; 2])> {
+    fc["features"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["properties"]["kind"] == "sweep")
+        .map(|f| {
+            let c = f["geometry"]["coordinates"].as_array().unwrap();
+            let at = |p: &Value| [p[0].as_f64().unwrap(), p[1].as_f64().unwrap()];
+            (f["properties"]["seq"].as_u64().unwrap(), at(&c[0]), at(&c[c.len() - 1]))
+        })
+        .collect()
+}
+
+#[tokio::test]
+async fn a_stopped_flight_is_resumed_from_a_piece_or_a_position() {
+    let app = TestApp::spawn().await;
+    let mut body = mission_body("real-fields/nl-parcel-b.json");
+    body["home"] = json!(body["area"]["coordinates"][0][0]);
+    let mission = app.create_mission(&body).await;
+    let (status, plan) = app.post(&format!("/api/v1/missions/{mission}/plans"), &json!({"camera": {"preset": "dji_mavic3_enterprise"}, "altitude_m": 60})).await;
+    assert_eq!(status, 202, "{plan}");
+    let original = app.wait_finished(plan["id"].as_str().unwrap()).await;
+    assert_eq!(original["status"], "succeeded", "{original}");
+    let id = original["id"].as_str().unwrap();
+    let fc: Value = serde_json::from_slice(&trajectory(&app, id, "geojson").await.1).unwrap();
+    let lines = sweeps(&fc);
+    assert!(lines.len() >= 4, "{} lines", lines.len());
+    let (seq, a, b) = lines[lines.len() / 2];
+    let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    // the compass heading the line is flown on
+    let heading = ((b[0] - a[0]) * a[1].to_radians().cos()).atan2(b[1] - a[1]).to_degrees().rem_euclid(360.0);
+    for request in [json!({"at": {"seq": seq, "fraction": 0.5}}), json!({"position": mid, "heading_deg": heading})] {
+        let (status, queued) = app.post(&format!("/api/v1/plans/{id}/resume"), &request).await;
+        assert_eq!(status, 202, "{request}: {queued}");
+        assert_eq!((queued["resumed_from"].as_str(), queued["mission_id"].as_str()), (Some(id), Some(mission.as_str())));
+        let resumed = app.wait_finished(queued["id"].as_str().unwrap()).await;
+        assert_eq!(resumed["status"], "succeeded", "{request}: {resumed}");
+        let (stats, before) = (&resumed["stats"], &original["stats"]);
+        let cut = &stats["resume"];
+        assert_eq!(cut["seq"].as_u64(), Some(seq), "{request}: {cut}");
+        assert!((cut["fraction"].as_f64().unwrap() - 0.5).abs() < 0.01, "{request}: {cut}");
+        // two photos back on the cut line, then the lines after it
+        assert!(cut["overlap_m"].as_f64().unwrap() > 0.0, "{cut}");
+        let left = cut["original_sweep_left_m"].as_f64().unwrap() + cut["overlap_m"].as_f64().unwrap();
+        assert!((stats["sweep_length_m"].as_f64().unwrap() - left).abs() < 1.0, "{stats}");
+        assert!(stats["photos"].as_u64().unwrap() < before["photos"].as_u64().unwrap());
+        let resumed_id = resumed["id"].as_str().unwrap();
+        let again: Value = serde_json::from_slice(&trajectory(&app, resumed_id, "geojson").await.1).unwrap();
+        let first = sweeps(&again)[0];
+        assert!((first.2[0] - b[0]).abs() < 1e-6 && (first.2[1] - b[1]).abs() < 1e-6, "the first line flown is the cut one, to its end: {first:?}");
+        // and it exports like any plan
+        for format in ["waypoints", "plan", "kml", "wpml", "isoxml"] {
+            let (status, bytes) = trajectory(&app, resumed_id, format).await;
+            assert_eq!(status, 200, "{format}: {}", String::from_utf8_lossy(&bytes));
+        }
+    }
+    let plans_before = app.get(&format!("/api/v1/missions/{mission}/plans")).await.1.as_array().unwrap().len();
+    let far = [mid[0] + 0.05, mid[1]];
+    for (request, status, code, pointer) in [
+        (json!({"at": {"seq": 100_000, "fraction": 0.5}}), 422, "unknown_seq", "/at/seq"),
+        (json!({"position": far}), 422, "cut_off_path", "/position"),
+        (json!({}), 422, "cut_missing", "/at"),
+        (json!({"at": {"seq": seq, "fraction": 0.5}, "position": mid}), 422, "cut_ambiguous", "/position"),
+        (json!({"at": {"seq": seq, "fraction": 0.5}, "from": "position"}), 422, "position_missing", "/from"),
+        (json!({"at": {"seq": seq, "fraction": 2}}), 422, "parameter_out_of_range", "/at/fraction"),
+        (json!({"at": {"seq": lines[lines.len() - 1].0, "fraction": 1}}), 422, "nothing_left", "/at"),
+    ] {
+        let (got, problem) = app.post(&format!("/api/v1/plans/{id}/resume"), &request).await;
+        assert_eq!((got, problem["code"].as_str(), problem["pointer"].as_str()), (status, Some(code), Some(pointer)), "{request}: {problem}");
+    }
+    let (status, problem) = app.post("/api/v1/plans/no-such-plan/resume", &json!({"at": {"seq": 1, "fraction": 0.5}})).await;
+    assert_eq!((status, problem["code"].as_str()), (404, Some("not_found")), "{problem}");
+    let plans_after = app.get(&format!("/api/v1/missions/{mission}/plans")).await.1.as_array().unwrap().len();
+    assert_eq!(plans_after, plans_before, "nothing is queued on refusal");
+    app.stop().await;
+}
+
+/// An aircraft still in the air resumes from where it is, on the battery it has left: its first
+/// sortie starts there and takes no take-off; a battery too low to fly the next line and back
+/// is refused by the job in words.
+#[tokio::test]
+async fn an_aircraft_in_the_air_resumes_from_its_position_on_its_battery() {
+    let app = TestApp::spawn().await;
+    let mut body = mission_body("real-fields/nl-parcel-b.json");
+    body["home"] = json!(body["area"]["coordinates"][0][0]);
+    let mission = app.create_mission(&body).await;
+    let (_, plan) = app.post(&format!("/api/v1/missions/{mission}/plans"), &json!({"line_spacing_m": 25, "altitude_m": 50})).await;
+    let original = app.wait_finished(plan["id"].as_str().unwrap()).await;
+    let id = original["id"].as_str().unwrap();
+    let fc: Value = serde_json::from_slice(&trajectory(&app, id, "geojson").await.1).unwrap();
+    let lines = sweeps(&fc);
+    let (_, a, b) = lines[1];
+    let aircraft = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+    let (status, queued) = app.post(&format!("/api/v1/plans/{id}/resume"), &json!({"position": aircraft, "from": "position", "battery_remaining": 0.9})).await;
+    assert_eq!(status, 202, "{queued}");
+    let resumed = app.wait_finished(queued["id"].as_str().unwrap()).await;
+    assert_eq!(resumed["status"], "succeeded", "{resumed}");
+    let again: Value = serde_json::from_slice(&trajectory(&app, resumed["id"].as_str().unwrap(), "geojson").await.1).unwrap();
+    let first = &again["features"][0]["geometry"]["coordinates"][0];
+    let off = ((first[0].as_f64().unwrap() - aircraft[0]).abs(), (first[1].as_f64().unwrap() - aircraft[1]).abs());
+    assert!(off.0 < 1e-6 && off.1 < 1e-6, "the flight starts where the aircraft is: {first} against {aircraft:?}");
+    let (status, queued) = app.post(&format!("/api/v1/plans/{id}/resume"), &json!({"position": aircraft, "from": "position", "battery_remaining": 0.26})).await;
+    assert_eq!(status, 202, "{queued}");
+    let low = app.wait_finished(queued["id"].as_str().unwrap()).await;
+    assert_eq!((low["status"].as_str(), low["error_code"].as_str()), (Some("failed"), Some("infeasible")), "{low}");
+    assert!(low["error"].as_str().unwrap().contains("battery left"), "{low}");
+    app.stop().await;
+}

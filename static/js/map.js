@@ -2,6 +2,9 @@
 
 export const map = L.map('map', { zoomControl: true }).setView([51.5, 6.06], 15);
 L.control.scale({ imperial: false }).addTo(map);
+// the plan's path above the mission's shapes (the overlay pane), so that its pieces answer the
+// pointer inside a field: a tooltip, a click to resume from
+map.createPane('result').style.zIndex = 450;
 
 export const state = {
   missionId: null,

@@ -30,6 +30,7 @@ function drawTrajectory(fc, faded) {
   const style = (p) => (p.vehicle === undefined ? kindStyle[p.kind] : { ...kindStyle[p.kind], color: droneColour(p.vehicle) });
   const drone = (p) => (p.vehicle === undefined ? '' : `drone ${p.vehicle + 1}, `);
   L.geoJSON({ type: 'FeatureCollection', features: lines }, {
+    pane: 'result',
     style: (f) => ({ ...style(f.properties), opacity: faded ? 0.35 : 0.9, className: `kind-${f.properties.kind}` }),
     onEachFeature: (f, layer) => {
       const p = f.properties;
@@ -80,7 +81,7 @@ function drawTrajectory(fc, faded) {
   }
   const photos = L.featureGroup();
   for (const f of fc.features.filter((f) => f.properties.kind === 'photos')) {
-    f.geometry.coordinates.forEach((c) => L.circleMarker([c[1], c[0]], { radius: 2, color: '#37474f' }).addTo(photos));
+    f.geometry.coordinates.forEach((c) => L.circleMarker([c[1], c[0]], { radius: 2, color: '#37474f', interactive: false }).addTo(photos));
   }
   return { layer: notForDrawing(group).addTo(map), photos: notForDrawing(photos) };
 }
@@ -199,6 +200,7 @@ function altitudeFlown(s, p, fc) {
  * parameters that differ. */
 export function columnLabels(a, b) {
   if (!b) return ['this plan', ''];
+  if (a.stats.resume) return ['what is left', 'the original (kept)'];
   const planner = (r) => r.stats.planner || r.params.planner;
   const vehicle = (r) => (r.params.vehicles > 1 ? `${r.params.vehicles} × ` : '') + ((r.params.vehicle && r.params.vehicle.profile) || 'default');
   const parts = [[planner(a), planner(b)], [vehicle(a), vehicle(b)]].filter(([x, y]) => x !== y);

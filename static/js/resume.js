@@ -55,6 +55,8 @@ document.addEventListener('coverplan:piece-click', (e) => {
   const { feature, latlng } = e.detail;
   const p = feature.properties;
   if (!state.result || !state.result.planId || state.result.stats.inspection || p.vehicle !== undefined || p.seq === undefined) return;
+  // a click while drawing is the drawing's
+  if (map.pm && (map.pm.globalDrawModeEnabled() || map.pm.globalEditModeEnabled())) return;
   const fraction = fractionAlong(feature.geometry.coordinates, latlng);
   const box = document.createElement('div');
   box.className = 'resume-box';

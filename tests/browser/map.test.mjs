@@ -458,6 +458,7 @@ try {
   await waitFor(async () => /resumed:/.test(await page.textContent('#status')), 'the resumed plan', 60000);
   assert.match(await page.textContent('td[data-figure="resumed at"]'), /(29|30|31) % along/);
   assert.ok(await state(() => !!window.coverplan.state.compared), 'the original stays, faded');
+  assert.deepEqual([await page.textContent('#col-a'), await page.textContent('#col-b')], ['what is left', 'the original (kept)']);
   await shot('resumed');
 
   // a hilly field: its elevation model from the file picker, shaded under the field; planned at

@@ -39,6 +39,7 @@ HEAD
   section "Ground vehicles" --ground --repeats 3
   section "Fleets" --fleet
   section "Over terrain" --terrain --repeats 3
+  section "Resuming a plan" --resume
   printf 'Measured on: %s, %s cores, %s.\n' "$(uname -m)" "$(nproc)" "$(date -u +%Y-%m-%d)"
 } >"$out.new"
 mv "$out.new" "$out"

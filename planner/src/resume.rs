@@ -75,6 +75,22 @@ fn from_along(points: &[Coord], from: f64) -> Vec<Coord> {
     vec![points[points.len() - 1]; 2]
 }
 
+/// The stretch of a polyline from its start to `along` metres along.
+fn up_to(points: &[Coord], along: f64) -> Vec<Coord> {
+    let mut out = vec![points[0]];
+    let mut walked = 0.0;
+    for w in points.windows(2) {
+        let step = distance(w[0], w[1]);
+        if walked + step >= along {
+            out.push(w[0] + (w[1] - w[0]) * ((along - walked) / step).clamp(0.0, 1.0));
+            return out;
+        }
+        walked += step;
+        out.push(w[1]);
+    }
+    out
+}
+
 /// The point `along` metres along a polyline.
 fn point_along(points: &[Coord], along: f64) -> Coord {
     from_along(points, along)[0]
@@ -138,19 +154,19 @@ impl Remainder {
         if cut_piece.kind.works() && along < len - 0.01 {
             let from = (along - self.back_m).max(0.0);
             overlap = along - from;
-            left.push(Left { piece: piece(cut_piece.kind, from_along(&cut_piece.points, from)), sortie: cut_piece.sortie });
+            left.push(Left { piece: piece(cut_piece.kind, from_along(&cut_piece.points, from)), sortie: cut_piece.sortie, index: c, from_m: from });
         }
-        for p in self.pieces.iter().enumerate().skip(c + 1).filter(|&(k, _)| in_span(k)).map(|(_, p)| p) {
+        for (k, p) in self.pieces.iter().enumerate().skip(c + 1).filter(|&(k, _)| in_span(k)) {
             // what is left starts at a line: the rest of a turn or transit is flown to it anew
             if left.is_empty() && !p.kind.works() {
                 continue;
             }
-            left.push(Left { piece: piece(p.kind, p.points.clone()), sortie: p.sortie });
+            left.push(Left { piece: piece(p.kind, p.points.clone()), sortie: p.sortie, index: k, from_m: 0.0 });
         }
         // the original's way from its last line to its end, as it was
         if let (Some(&(_, last)), false) = (spans.last(), left.is_empty()) {
-            let tail = self.pieces.iter().skip(last.max(c) + 1).take_while(|p| p.sortie == self.pieces[last].sortie);
-            left.extend(tail.map(|p| Left { piece: piece(p.kind, p.points.clone()), sortie: p.sortie }));
+            let tail = self.pieces.iter().enumerate().skip(last.max(c) + 1).take_while(|(_, p)| p.sortie == self.pieces[last].sortie);
+            left.extend(tail.map(|(k, p)| Left { piece: piece(p.kind, p.points.clone()), sortie: p.sortie, index: k, from_m: 0.0 }));
         }
         (left, overlap)
     }
@@ -185,21 +201,52 @@ impl Remainder {
         };
         let start_pose = |p: &Piece| Pose::at(p.start(), direction_at(&p.points, 0.0));
         let end_pose = |p: &Piece| Pose::at(p.end(), direction_at(&p.points, f64::INFINITY));
+        // where the vehicle finds no connection of its own (a fixed wing beside a zone), it
+        // flies the original's way there, its camera off
+        let as_flown = |path: &mut FlightPath, pieces: &[Stored]| {
+            for p in pieces.iter().filter(|p| p.points.len() >= 2) {
+                path.pieces.push(piece(if p.kind.works() { PieceKind::Transit } else { p.kind }, p.points.clone()));
+            }
+        };
+        let first = &left[0];
         if let Some(start) = problem.start {
-            let entry = start_pose(&left[0].piece);
-            join(&mut path, Pose::at(start, (entry.y - start.y).atan2(entry.x - start.x)), entry)?;
+            let entry = start_pose(&first.piece);
+            if join(&mut path, Pose::at(start, (entry.y - start.y).atan2(entry.x - start.x)), entry).is_err() {
+                // the original's own way from its sortie's start, if it started there
+                let opened = self.pieces.iter().position(|p| p.sortie == first.sortie).unwrap_or(first.index);
+                if distance(self.pieces[opened].points[0], start) >= STORED_ROUNDING_M {
+                    join(&mut path, Pose::at(start, (entry.y - start.y).atan2(entry.x - start.x)), entry)?;
+                }
+                as_flown(&mut path, &self.pieces[opened..first.index]);
+                if first.from_m > 0.0 {
+                    let cut = &self.pieces[first.index];
+                    let flown = up_to(&cut.points, first.from_m);
+                    as_flown(&mut path, &[Stored { points: flown, ..cut.clone() }]);
+                }
+                if let Some(p) = path.pieces.first_mut() {
+                    p.points[0] = start;
+                }
+            }
         }
         let mut breaks = Vec::new();
-        let mut sortie = left[0].sortie;
-        for Left { piece: mut p, sortie: of } in left {
+        let mut sortie = first.sortie;
+        let mut previous: Option<usize> = None;
+        for Left { piece: mut p, sortie: of, index, .. } in left {
             if of != sortie {
                 breaks.push(path.pieces.len());
                 sortie = of;
             }
             if let Some(last) = path.pieces.last().filter(|last| last.end() != p.start()) {
                 let from = end_pose(last);
-                join(&mut path, from, start_pose(&p))?;
+                let joined = join(&mut path, from, start_pose(&p));
+                match (joined, previous) {
+                    (Ok(()), _) => {}
+                    // the original's way between them (home and back)
+                    (Err(_), Some(k)) if k < index => as_flown(&mut path, &self.pieces[k + 1..index]),
+                    (Err(e), _) => return Err(e),
+                }
             }
+            previous = Some(index);
             if p.kind.works() {
                 p.half_swath_m = half_swath;
             }
@@ -241,6 +288,9 @@ struct Left {
     piece: Piece,
     /// The original's sortie it was flown in.
     sortie: usize,
+    /// The original's piece it is, from `from_m` metres along.
+    index: usize,
+    from_m: f64,
 }
 
 /// Farther than this, a point read back from the stored trajectory is another point (its

@@ -120,21 +120,32 @@ impl Budget<'_> {
         while i < m {
             let (from, allowed_j) = if sorties.is_empty() { (self.first_from.unwrap_or(home), self.first_usable_j) } else { (home, self.usable_j) };
             let block = |j: usize| self.sortie(route, from, home, sweeps[i], sweeps[j - 1]);
-            let fits = |j: usize| -> Result<bool, PlanError> { Ok((self.energy)(&block(j)?) <= allowed_j) };
-            if sorties.is_empty() && allowed_j < self.usable_j && !fits(i + 1)? {
-                return Err(PlanError::Infeasible(format!(
-                    "the battery left ({:.0} kJ above the reserve) does not fly the next line and back home: change the battery and resume from home",
-                    allowed_j.max(0.0) / 1000.0
-                )));
-            }
-            if !fits(i + 1)? {
+            // a block whose last line has no clear way home (a fixed wing beside a zone) does
+            // not fit; a longer one may
+            let fits = |j: usize| -> Result<bool, PlanError> { Ok(block(j).is_ok_and(|b| (self.energy)(&b) <= allowed_j)) };
+            let shortest = if fits(i + 1)? {
+                Some(i + 1)
+            } else if block(i + 1).is_err() {
+                (i + 2..=m).find(|&j| fits(j).unwrap_or(false))
+            } else {
+                None
+            };
+            let Some(shortest) = shortest else {
+                let alone = block(i + 1)?;
                 let line = route.pieces[..sweeps[i]].iter().filter(|p| p.kind == PieceKind::Sweep).count() + 1;
-                return Err(PlanError::Infeasible(format!(
-                    "sweep line {line} alone, flown from home and back, needs more than one battery's {:.0} kJ above its reserve: use a vehicle with a larger battery or a smaller field",
-                    self.usable_j / 1000.0
-                )));
-            }
-            let good = last_fitting(i, m, fits)?;
+                return Err(PlanError::Infeasible(if sorties.is_empty() && allowed_j < self.usable_j && (self.energy)(&alone) <= self.usable_j {
+                    format!(
+                        "the battery left ({:.0} kJ above the reserve) does not fly the next line and back home: change the battery and resume from home",
+                        allowed_j.max(0.0) / 1000.0
+                    )
+                } else {
+                    format!(
+                        "sweep line {line} alone, flown from home and back, needs more than one battery's {:.0} kJ above its reserve: use a vehicle with a larger battery or a smaller field",
+                        self.usable_j / 1000.0
+                    )
+                }));
+            };
+            let good = last_fitting(shortest - 1, m, fits)?;
             if sorties.len() == self.max_sorties {
                 return Err(PlanError::Infeasible(format!(
                     "the plan needs more than max_sorties = {} sorties ({:.0} kJ in all, {:.0} kJ per battery)",

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use super::{Options, energy, fleet, ground, inspection, patrol, queue, routing, run, terrain};
+use super::{Options, energy, fleet, ground, inspection, patrol, queue, resume, routing, run, terrain};
 
 /// Time the planners on the generated fields and print a table.
 #[derive(clap::Args)]
@@ -60,6 +60,10 @@ pub struct BenchArgs {
     /// energy.
     #[arg(long)]
     pub terrain: bool,
+    /// Instead: resuming each plan of the generated fields (multirotor and fixed wing) at ten
+    /// cuts along its path: time, and length against what the original had left.
+    #[arg(long)]
+    pub resume: bool,
     /// Instead: the shared job queue on the PostgreSQL server at this admin URL
     /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
     /// the time of one claim at 10 000 queued plans.
@@ -94,6 +98,7 @@ fn table(args: BenchArgs) -> anyhow::Result<String> {
         BenchArgs { ground: true, data, repeats, fields, .. } => ground::run(&data, repeats, &fields)?,
         BenchArgs { fleet: true, data, fields, .. } => fleet::run(&data, &fields)?,
         BenchArgs { routing: true, .. } => routing(),
+        BenchArgs { resume: true, data, fields, .. } => resume::run(&data, &fields)?,
         BenchArgs { terrain: true, repeats, .. } => terrain::run(std::path::Path::new("tests/fixtures/terrain"), repeats)?,
         BenchArgs { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, overfly_holes, .. } => {
             let options = Options {

@@ -12,6 +12,7 @@ pub mod ground;
 pub mod inspection;
 pub mod patrol;
 pub mod queue;
+pub mod resume;
 pub mod terrain;
 
 pub use command::{BenchArgs, run_command};

@@ -61,8 +61,9 @@ pub async fn create(
               (status = 409, body = Problem, description = "the plan has not succeeded"), (status = 422, body = Problem, description = "the cut is not on this plan, or the plan is not resumed"),
               (status = 429, body = Problem, description = "too many plans of this tenant's are queued or running (see `Retry-After`)")))]
 pub async fn resume(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiJson(request): ApiJson<ResumeParams>) -> Result<(StatusCode, Json<Plan>), ApiError> {
-    let checked = request.check()?;
+    // another tenant's plan is one that does not exist, whatever the body says
     let original = find(&state, &caller, &id).await?;
+    let checked = request.check()?;
     let mut source = plans::export_source(&state.db, &caller.tenant, JobKind::Plan, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
     let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
         let status = json!(source.status);

@@ -126,6 +126,7 @@ pub fn apply(schemas: &mut Value) {
         ("EstimateRequest", "route", reference("GeoRoute")),
         ("EstimateRequest", "waypoints", waypoints()),
         ("PoseParam", "position", point()),
+        ("ResumeParams", "position", point()),
     ];
     for (owner, member, schema) in members {
         let old = schemas[owner]["properties"][member].take();

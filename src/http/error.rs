@@ -270,17 +270,8 @@ pub mod beyond_schema {
     ];
     /// The plan a request resumes (its trajectory, its kind, its no-fly zones), and which of the
     /// request's members go together (one cut, `from: position` with a position).
-    pub const RESUMED: &[&str] = &[
-        "cut_ambiguous",
-        "cut_missing",
-        "cut_off_path",
-        "not_resumable",
-        "not_with_at",
-        "nothing_left",
-        "point_in_no_fly_zone",
-        "position_missing",
-        "unknown_seq",
-    ];
+    pub const RESUMED: &[&str] =
+        &["cut_ambiguous", "cut_missing", "cut_off_path", "not_resumable", "not_with_at", "nothing_left", "point_in_no_fly_zone", "position_missing", "unknown_seq"];
     /// Given only where the request names a stored vehicle profile (`profile`): its kind and
     /// figures, which the overrides and the other members must suit.
     pub const PROFILE: &[&str] = &[

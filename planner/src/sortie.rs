@@ -123,15 +123,14 @@ impl Budget<'_> {
             // a block whose last line has no clear way home (a fixed wing beside a zone) does
             // not fit; a longer one may
             let fits = |j: usize| -> Result<bool, PlanError> { Ok(block(j).is_ok_and(|b| (self.energy)(&b) <= allowed_j)) };
-            let shortest = if fits(i + 1)? {
-                Some(i + 1)
-            } else if block(i + 1).is_err() {
-                (i + 2..=m).find(|&j| fits(j).unwrap_or(false))
-            } else {
-                None
+            let alone = block(i + 1);
+            let shortest = match &alone {
+                Ok(b) if (self.energy)(b) <= allowed_j => Some(i + 1),
+                Ok(_) => None,
+                Err(_) => (i + 2..=m).find(|&j| fits(j).unwrap_or(false)),
             };
             let Some(shortest) = shortest else {
-                let alone = block(i + 1)?;
+                let alone = alone?;
                 let line = route.pieces[..sweeps[i]].iter().filter(|p| p.kind == PieceKind::Sweep).count() + 1;
                 return Err(PlanError::Infeasible(if sorties.is_empty() && allowed_j < self.usable_j && (self.energy)(&alone) <= self.usable_j {
                     format!(

@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::Context;
 use serde_json::Value;
 
-use super::{bench_spacing, quantile};
+use super::{bench_spacing, home_south_west_of, quantile};
 use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams, Stop};
 
 const FLEETS: [u32; 4] = [1, 2, 4, 8];
@@ -57,11 +57,7 @@ pub fn run(dir: &Path, fields: &[String]) -> anyhow::Result<String> {
         let file = e["file"].as_str().context("file")?;
         let m: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(file))?)?;
         let spacing = bench_spacing(e["area_m2"].as_f64().context("area_m2")?);
-        // home 50 m outside the south-west corner of the field's bounding box
-        let ring = m["area"]["coordinates"][0].as_array().context("a polygon")?;
-        let (lon, lat) = ring.iter().fold((f64::INFINITY, f64::INFINITY), |(x, y), p| (x.min(p[0].as_f64().unwrap_or(x)), y.min(p[1].as_f64().unwrap_or(y))));
-        let home = [lon - 50.0 / (111_320.0 * lat.to_radians().cos()), lat - 50.0 / 110_574.0];
-        let mission = MissionGeometry { home: Some(home), ..MissionGeometry::of(&m) };
+        let mission = MissionGeometry { home: Some(home_south_west_of(&m)?), ..MissionGeometry::of(&m) };
         let mut one = None;
         for (k, &n) in FLEETS.iter().enumerate() {
             let params = PlanParams { line_spacing_m: Some(spacing), vehicles: (n > 1).then_some(n), ..PlanParams::default() };

@@ -59,6 +59,15 @@ fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
+/// A home 50 m outside the south-west corner of the bounding box of a field file's first
+/// polygon, `[lon, lat]`.
+pub fn home_south_west_of(field: &serde_json::Value) -> anyhow::Result<[f64; 2]> {
+    use anyhow::Context;
+    let ring = field["area"]["coordinates"][0].as_array().context("a polygon")?;
+    let (lon, lat) = ring.iter().fold((f64::INFINITY, f64::INFINITY), |(x, y), p| (x.min(p[0].as_f64().unwrap_or(x)), y.min(p[1].as_f64().unwrap_or(y))));
+    Ok([lon - 50.0 / (111_320.0 * lat.to_radians().cos()), lat - 50.0 / 110_574.0])
+}
+
 /// Line spacing for a field: a twentieth of the square root of its area, 5 to 60 m (about 20
 /// lines across a square field), so that fields of 1 to 200 ha get comparable plans.
 pub fn bench_spacing(area_m2: f64) -> f64 {

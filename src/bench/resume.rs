@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::Context;
 use serde_json::{Value, json};
 
-use super::{bench_spacing, quantile};
+use super::{bench_spacing, home_south_west_of, quantile};
 use crate::planner::params::resume::ResumeParams;
 use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams, Stop};
 
@@ -37,11 +37,7 @@ pub fn run(dir: &Path, fields: &[String]) -> anyhow::Result<String> {
         let file = e["file"].as_str().context("file")?;
         let m: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(file))?)?;
         let spacing = bench_spacing(e["area_m2"].as_f64().context("area_m2")?);
-        // home 50 m outside the south-west corner of the field's bounding box
-        let ring = m["area"]["coordinates"][0].as_array().context("a polygon")?;
-        let (lon, lat) = ring.iter().fold((f64::INFINITY, f64::INFINITY), |(x, y), p| (x.min(p[0].as_f64().unwrap_or(x)), y.min(p[1].as_f64().unwrap_or(y))));
-        let home = [lon - 50.0 / (111_320.0 * lat.to_radians().cos()), lat - 50.0 / 110_574.0];
-        let mission = MissionGeometry { home: Some(home), ..MissionGeometry::of(&m) };
+        let mission = MissionGeometry { home: Some(home_south_west_of(&m)?), ..MissionGeometry::of(&m) };
         for (row, vehicle) in rows.iter_mut().zip(vehicles) {
             let params: PlanParams = serde_json::from_value(json!({"vehicle": {"profile": vehicle}, "line_spacing_m": spacing, "altitude_m": 60}))?;
             let Ok(original) = planner::plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true, &Stop::never()) else { continue };

@@ -62,34 +62,35 @@ pub async fn create(
               (status = 429, body = Problem, description = "too many plans of this tenant's are queued or running (see `Retry-After`)")))]
 pub async fn resume(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiJson(request): ApiJson<ResumeParams>) -> Result<(StatusCode, Json<Plan>), ApiError> {
     // another tenant's plan is one that does not exist, whatever the body says
-    let original = find(&state, &caller, &id).await?;
-    let checked = request.check()?;
     let mut source = plans::export_source(&state.db, &caller.tenant, JobKind::Plan, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
+    let checked = request.check()?;
     let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
         let status = json!(source.status);
         return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a plan is resumed once it has succeeded", status.as_str().unwrap_or("?"))));
     };
     let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
-    let trajectory: serde_json::Value = serde_json::from_str(&geojson).map_err(|e| internal(&e))?;
     let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
     let model = match params.altitude_reference {
-        Some(AltitudeReference::Terrain) => terrain::model(&state.db, &caller.tenant, &original.mission_id).await?,
+        Some(AltitudeReference::Terrain) => terrain::model(&state.db, &caller.tenant, &source.mission_id).await?,
         _ => None,
     };
     let limits = state.config.limits;
     let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
-    // the cut is found on the trajectory now, so that a wrong one is refused here
-    let trajectory = off_the_async_threads(move || {
-        let collection: FeatureCollection = serde_json::from_value(trajectory.clone()).map_err(|e| ApiError::Internal(e.to_string()))?;
+    // the trajectory is read once, off the async threads; the cut is found on it now, so that
+    // a wrong one is refused here
+    let (trajectory, source) = off_the_async_threads(move || {
+        let unreadable = |e: serde_json::Error| ApiError::Internal(format!("stored trajectory: {e}"));
+        let trajectory: serde_json::Value = serde_json::from_str(&geojson).map_err(unreadable)?;
+        let collection = FeatureCollection::deserialize(&trajectory).map_err(unreadable)?;
         let model = model.map(|(name, bytes)| ElevationModel::read(&bytes, &name)).transpose()?;
         let geometry = MissionGeometry { terrain: model.as_ref(), ..MissionGeometry::of(&source.mission) };
         planner::check_resume(&geometry, &params, &profiles, &limits, &collection, &checked)?;
-        Ok::<_, ApiError>((trajectory, source.mission, source.params))
+        Ok::<_, ApiError>((trajectory, source))
     })
     .await?;
-    let (trajectory, mut snapshot, params) = trajectory;
+    let mut snapshot = source.mission;
     snapshot["resume"] = json!({"request": request, "trajectory": trajectory});
-    let job = plans::NewJob { resumed_from: Some(&id), ..plans::NewJob::new(JobKind::Plan, &original.mission_id, &params, &snapshot) };
+    let job = plans::NewJob { resumed_from: Some(&id), ..plans::NewJob::new(JobKind::Plan, &source.mission_id, &source.params, &snapshot) };
     Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &job).await?)))
 }
 

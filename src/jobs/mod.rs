@@ -12,6 +12,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use serde::Deserialize;
 use serde_json::{Value, json};
 use tokio::sync::{Notify, watch};
 use tokio::task::JoinHandle;
@@ -113,9 +114,9 @@ pub fn snapshot_profiles(mission: &Value) -> Result<Vec<Vehicle>, String> {
 /// The resume a snapshot holds (`resume`: the request and the original's trajectory), checked.
 pub fn snapshot_resume(mission: &Value) -> Result<Option<(Resume, FeatureCollection)>, String> {
     let Some(resume) = mission.get("resume") else { return Ok(None) };
-    let request: ResumeParams = serde_json::from_value(resume["request"].clone()).map_err(|e| format!("stored resume request is unreadable: {e}"))?;
+    let request = ResumeParams::deserialize(&resume["request"]).map_err(|e| format!("stored resume request is unreadable: {e}"))?;
     let request = request.check().map_err(|e| format!("stored resume request: {e}"))?;
-    let trajectory = serde_json::from_value(resume["trajectory"].clone()).map_err(|e| format!("stored trajectory to resume is unreadable: {e}"))?;
+    let trajectory = FeatureCollection::deserialize(&resume["trajectory"]).map_err(|e| format!("stored trajectory to resume is unreadable: {e}"))?;
     Ok(Some((request, trajectory)))
 }
 

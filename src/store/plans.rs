@@ -209,8 +209,9 @@ pub async fn list_for_mission(db: &Db, tenant: &str, kind: JobKind, mission_id: 
     Ok(rows.into_iter().map(Into::into).collect())
 }
 
-/// What a plan's files are written from: its status, trajectory (GeoJSON text), parameters,
-/// the mission snapshot it was planned on, and the mission's name.
+/// What a plan's files are written from (and a resumed plan planned from): its status,
+/// trajectory (GeoJSON text), parameters, the mission snapshot it was planned on, and the
+/// mission's id and name.
 #[derive(Debug, Clone, FromRow)]
 pub struct ExportSource {
     pub status: PlanStatus,
@@ -219,19 +220,22 @@ pub struct ExportSource {
     pub params: Value,
     #[sqlx(json)]
     pub mission: Value,
+    pub mission_id: String,
     pub name: String,
 }
 
 pub async fn export_source(db: &Db, tenant: &str, kind: JobKind, id: &str) -> Result<Option<ExportSource>, sqlx::Error> {
-    on_db!(db, |pool, sql| sqlx::query_as(sql(Statement {
-        sqlite: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ? AND p.kind = ?",
-        postgres: "SELECT p.status, p.trajectory, p.params, p.mission, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = $1 AND p.tenant = $2 AND p.kind = $3"
+    on_db!(db, |pool, sql| {
+        sqlx::query_as(sql(Statement {
+        sqlite: "SELECT p.status, p.trajectory, p.params, p.mission, p.mission_id, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = ? AND p.tenant = ? AND p.kind = ?",
+        postgres: "SELECT p.status, p.trajectory, p.params, p.mission, p.mission_id, m.name FROM plans p JOIN missions m ON m.id = p.mission_id WHERE p.id = $1 AND p.tenant = $2 AND p.kind = $3"
     }))
     .bind(id)
     .bind(tenant)
     .bind(kind)
     .fetch_optional(pool)
-    .await)
+    .await
+    })
 }
 
 /// A job taken off the queue.

@@ -15,7 +15,7 @@ use geo::Coord;
 use serde::{Deserialize, Serialize};
 
 use super::error::PlanError;
-use super::path::{FlightPath, PieceKind};
+use super::path::{FlightPath, Piece, PieceKind};
 use super::turn::dubins::Pose;
 
 /// The figures of one sortie.
@@ -114,23 +114,22 @@ impl Budget<'_> {
 
     /// Adds the sorties that fly the lines `sweeps` (piece indices, in order) to `sorties`, each
     /// with as many lines as its battery allows.
+    ///
+    /// Whether a block fits is not monotone in its length: a block whose last line ends far
+    /// from home, or with no clear way home (a fixed wing beside a zone), may not fit where a
+    /// longer one does. The block without its way home is monotone (each line adds energy), so
+    /// it bounds the search, and the blocks below that bound are tried from the longest down.
     fn greedy(&self, route: &FlightPath, home: Coord, sweeps: &[usize], needed_j: f64, sorties: &mut Vec<FlightPath>) -> Result<(), PlanError> {
         let m = sweeps.len();
         let mut i = 0;
         while i < m {
             let (from, allowed_j) = if sorties.is_empty() { (self.first_from.unwrap_or(home), self.first_usable_j) } else { (home, self.usable_j) };
             let block = |j: usize| self.sortie(route, from, home, sweeps[i], sweeps[j - 1]);
-            // a block whose last line has no clear way home (a fixed wing beside a zone) does
-            // not fit; a longer one may
-            let fits = |j: usize| -> Result<bool, PlanError> { Ok(block(j).is_ok_and(|b| (self.energy)(&b) <= allowed_j)) };
-            let alone = block(i + 1);
-            let shortest = match &alone {
-                Ok(b) if (self.energy)(b) <= allowed_j => Some(i + 1),
-                Ok(_) => None,
-                Err(_) => (i + 2..=m).find(|&j| fits(j).unwrap_or(false)),
-            };
-            let Some(shortest) = shortest else {
-                let alone = alone?;
+            let fits = |j: usize| block(j).is_ok_and(|b| (self.energy)(&b) <= allowed_j);
+            let reaches = |j: usize| -> Result<bool, PlanError> { Ok((self.energy)(&self.outbound(route, from, sweeps[i], sweeps[j - 1])?) <= allowed_j) };
+            let bound = if reaches(i + 1)? { last_fitting(i, m, reaches)? } else { i };
+            let Some(good) = (i + 1..=bound).rev().find(|&j| fits(j)) else {
+                let alone = block(i + 1)?;
                 let line = route.pieces[..sweeps[i]].iter().filter(|p| p.kind == PieceKind::Sweep).count() + 1;
                 return Err(PlanError::Infeasible(if sorties.is_empty() && allowed_j < self.usable_j && (self.energy)(&alone) <= self.usable_j {
                     format!(
@@ -144,7 +143,6 @@ impl Budget<'_> {
                     )
                 }));
             };
-            let good = last_fitting(shortest - 1, m, fits)?;
             if sorties.len() == self.max_sorties {
                 return Err(PlanError::Infeasible(format!(
                     "the plan needs more than max_sorties = {} sorties ({:.0} kJ in all, {:.0} kJ per battery)",
@@ -187,18 +185,28 @@ impl Budget<'_> {
 
     /// `from` (home) → the route's pieces `first..=last` → home.
     fn sortie(&self, route: &FlightPath, from: Coord, home: Coord, first: usize, last: usize) -> Result<FlightPath, PlanError> {
-        let (a, b) = (&route.pieces[first], &route.pieces[last]);
-        let entry = Pose::at(a.start(), heading(a.points[0], a.points[1]));
+        let mut path = self.outbound(route, from, first, last)?;
+        let b = &route.pieces[last];
         let exit_dir = heading(b.points[b.points.len() - 2], b.end());
-        let unreachable = || PlanError::Infeasible(format!("no clear path joins home to sweep line at ({:.1}, {:.1}) in the local frame", a.start().x, a.start().y));
-        let out = (self.connect)(Pose::at(from, heading(from, entry.coord())), entry).ok_or_else(unreachable)?;
-        let back = (self.connect)(Pose::at(b.end(), exit_dir), Pose::at(home, heading(b.end(), home))).ok_or_else(unreachable)?;
-        let mut path = FlightPath::default();
-        path.push(PieceKind::Transit, out, 0.0);
-        path.pieces.extend_from_slice(&route.pieces[first..=last]);
+        let back = (self.connect)(Pose::at(b.end(), exit_dir), Pose::at(home, heading(b.end(), home))).ok_or_else(|| unreachable(&route.pieces[first]))?;
         path.push(PieceKind::Transit, back, 0.0);
         Ok(path)
     }
+
+    /// `from` (home) → the route's pieces `first..=last`, without the way back.
+    fn outbound(&self, route: &FlightPath, from: Coord, first: usize, last: usize) -> Result<FlightPath, PlanError> {
+        let a = &route.pieces[first];
+        let entry = Pose::at(a.start(), heading(a.points[0], a.points[1]));
+        let out = (self.connect)(Pose::at(from, heading(from, entry.coord())), entry).ok_or_else(|| unreachable(a))?;
+        let mut path = FlightPath::default();
+        path.push(PieceKind::Transit, out, 0.0);
+        path.pieces.extend_from_slice(&route.pieces[first..=last]);
+        Ok(path)
+    }
+}
+
+fn unreachable(line: &Piece) -> PlanError {
+    PlanError::Infeasible(format!("no clear path joins home to sweep line at ({:.1}, {:.1}) in the local frame", line.start().x, line.start().y))
 }
 
 #[cfg(test)]
@@ -248,6 +256,31 @@ mod tests {
         }
         let tiny = Budget { usable_j: 1_000.0, first_usable_j: 1_000.0, home: None, ..budget };
         assert_eq!(tiny.split(&lines(1, 10.0)).unwrap().battery_swaps, vec![], "a plan that fits needs no home");
+    }
+
+    /// A block whose last line has no way home does not fit, and a longer one may: each sortie
+    /// still takes the most lines that fit.
+    #[test]
+    fn a_line_with_no_way_home_does_not_end_the_sortie_early() {
+        let route = lines(40, 300.0);
+        let home = Coord { x: -50.0, y: 0.0 };
+        // no way home from the lines' far ends (x = 300: every other line)
+        let connect = |a: Pose, b: Pose| (b.coord() != home || a.x < 1.0).then(|| vec![a.coord(), b.coord()]);
+        let energy = |p: &FlightPath| p.length() * 10.0;
+        let budget = Budget { home: Some(home), first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let sorties = budget.split(&route).unwrap().sorties;
+        let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();
+        let mut first = 0;
+        for s in &sorties {
+            assert!(energy(s) <= 30_000.0 && s.end() == Some(home));
+            let n = s.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).count();
+            for more in first + n..sweeps.len() {
+                let longer = budget.sortie(&route, home, home, sweeps[first], sweeps[more]);
+                assert!(longer.is_err() || energy(&longer.unwrap()) > 30_000.0, "a sortie of lines {first}..{} could have flown to line {more}", first + n - 1);
+            }
+            first += n;
+        }
+        assert_eq!(first, 40);
     }
 
     /// Sorties end before every break (a resumed plan's original sortie ends), and split the

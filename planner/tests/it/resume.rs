@@ -132,14 +132,10 @@ fn check_resume(k: usize, fixed_wing: bool, cut_at: f64, fraction: f64, photos_b
     let original_cover = metrics::covered_area(&sweeps(flown.iter().map(|p| (p.0, p.1.clone())), half), &region, None);
     let both = metrics::covered_area(&sweeps(done.chain(left.iter().map(|p| (p.0, p.1.clone()))), half), &region, None);
     prop_assert!(both >= original_cover - 0.001 * geo::Area::unsigned_area(&region), "{what}: {both:.0} m² against the original's {original_cover:.0} m²");
-    // length: what the original had left, the way to the first line and the stretch again.
-    // A fixed wing's remainder split anew may move a sortie's end (a way home and back another
-    // length; docs/methods.md, resume §3): it is held to never being longer than the whole plan
-    // flown again from there
+    // length: what the original had left, the way to the first line and the stretch again
     let to_first_line: f64 = left.iter().take_while(|p| p.0 != PieceKind::Sweep).map(|p| p.1.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum::<f64>()).sum();
-    let rest = if fixed_wing { original.stats.length_m } else { stats.original_left_m };
     prop_assert!(
-        resumed.stats.length_m <= rest + to_first_line + stats.overlap_m + 1.0,
+        resumed.stats.length_m <= stats.original_left_m + to_first_line + stats.overlap_m + 1.0,
         "{what}: {:.0} m in {} sorties against {:.0} m left (of {} sorties), {to_first_line:.0} m to the first line and {:.0} m again",
         resumed.stats.length_m,
         resumed.stats.sorties,

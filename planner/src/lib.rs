@@ -549,8 +549,13 @@ fn prepare_resume(
         return Err(InputError::new("point_in_no_fly_zone", "/position", "the aircraft is inside a no-fly zone or its margin: fly it out, then resume"));
     }
     // without a camera, half a line's width stands for the trigger distance
-    let trigger_m = resolved.camera.map_or(resolved.line_spacing_m / 2.0, |c| c.footprint().photo_spacing_m);
-    let remainder = resume::Remainder::new(original, &prepared.field.frame, request, trigger_m)?;
+    let footprint = resolved.camera.map(|c| c.footprint());
+    let sampling = resume::Sampling {
+        trigger_m: footprint.map_or(resolved.line_spacing_m / 2.0, |f| f.photo_spacing_m),
+        footprint_along_m: footprint.map(|f| f.along_m),
+        tolerance_m: (resolved.line_spacing_m / 4.0).max(1.0),
+    };
+    let remainder = resume::Remainder::new(original, &prepared.field.frame, request, &sampling)?;
     Ok((prepared, remainder))
 }
 

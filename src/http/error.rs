@@ -84,6 +84,10 @@ pub const ERROR_CODES: &[&str] = &[
     "invalid_xml",
     "invalid_zip",
     "leg_too_long",
+    "log_off_path",
+    "log_other_vehicle",
+    "log_unreadable",
+    "log_without_position",
     "malformed_json",
     "missing_file_part",
     "missing_geometry",
@@ -268,10 +272,25 @@ pub mod beyond_schema {
         "too_many_zone_corners",
         "unknown_target",
     ];
-    /// The plan a request resumes (its trajectory, its kind, its no-fly zones), and which of the
-    /// request's members go together (one cut, `from: position` with a position).
-    pub const RESUMED: &[&str] =
-        &["cut_ambiguous", "cut_missing", "cut_off_path", "not_resumable", "not_with_at", "nothing_left", "point_in_no_fly_zone", "position_missing", "unknown_seq"];
+    /// The plan a request resumes (its trajectory, its kind, its no-fly zones), which of the
+    /// request's members go together (one cut, `from: position` with a position), and what a
+    /// flight log holds.
+    pub const RESUMED: &[&str] = &[
+        "cut_ambiguous",
+        "cut_missing",
+        "cut_off_path",
+        "log_off_path",
+        "log_other_vehicle",
+        "log_unreadable",
+        "log_without_position",
+        "not_resumable",
+        "not_with_at",
+        "nothing_left",
+        "point_in_no_fly_zone",
+        "position_missing",
+        "too_many_points",
+        "unknown_seq",
+    ];
     /// Given only where the request names a stored vehicle profile (`profile`): its kind and
     /// figures, which the overrides and the other members must suit.
     pub const PROFILE: &[&str] = &[
@@ -390,8 +409,7 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
     type Rejection = ApiError;
 
     async fn from_request(req: Request, state: &S) -> Result<Self, Self::Rejection> {
-        let is_json = req.headers().get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).map(|v| v.starts_with("application/json") || v.contains("+json")).unwrap_or(false);
-        if !is_json {
+        if !is_json(req.headers()) {
             return Err(ApiError::Client {
                 status: StatusCode::UNSUPPORTED_MEDIA_TYPE,
                 code: "unsupported_media_type",
@@ -399,14 +417,7 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
                 pointer: None,
             });
         }
-        let bytes = axum::body::Bytes::from_request(req, state).await.map_err(|e| {
-            let status = e.status();
-            if status == StatusCode::PAYLOAD_TOO_LARGE {
-                ApiError::Client { status, code: "body_too_large", detail: "the request body is larger than the server accepts".into(), pointer: None }
-            } else {
-                ApiError::Client { status: StatusCode::BAD_REQUEST, code: "unreadable_body", detail: e.body_text(), pointer: None }
-            }
-        })?;
+        let bytes = read_body(req, state).await?;
         // JSON first, then its shape: read in one pass, an array longer than a fixed-size
         // field would be reported as "trailing characters", a syntax error it is not
         let json: serde_json::Value = serde_json::from_slice(&bytes).map_err(|e| ApiError::Client {
@@ -425,6 +436,23 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for ApiJson<T> {
         })?;
         Ok(ApiJson(value))
     }
+}
+
+/// The request's body, within the server's limit.
+pub async fn read_body<S: Send + Sync>(req: Request, state: &S) -> Result<axum::body::Bytes, ApiError> {
+    axum::body::Bytes::from_request(req, state).await.map_err(|e| {
+        let status = e.status();
+        if status == StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::Client { status, code: "body_too_large", detail: "the request body is larger than the server accepts".into(), pointer: None }
+        } else {
+            ApiError::Client { status: StatusCode::BAD_REQUEST, code: "unreadable_body", detail: e.body_text(), pointer: None }
+        }
+    })
+}
+
+/// True when the request says its body is JSON.
+pub fn is_json(headers: &axum::http::HeaderMap) -> bool {
+    headers.get(header::CONTENT_TYPE).and_then(|v| v.to_str().ok()).is_some_and(|v| v.starts_with("application/json") || v.contains("+json"))
 }
 
 /// Writes every whole number of `value` as an integer: JSON has one number type and JSON Schema's

@@ -14,6 +14,7 @@ pub mod openapi;
 pub mod patrols;
 pub mod planners;
 pub mod plans;
+pub mod resume;
 pub mod terrain;
 pub mod ui;
 pub mod vehicles;
@@ -59,7 +60,7 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(plans::list, plans::create))
         .routes(routes!(plans::get, plans::cancel))
         .routes(routes!(plans::trajectory))
-        .routes(routes!(plans::resume))
+        .routes(routes!(resume::resume))
         .routes(routes!(patrols::create))
         .routes(routes!(patrols::get, patrols::cancel))
         .routes(routes!(patrols::trajectory))

@@ -15,7 +15,6 @@ use crate::jobs;
 use crate::planner::export::{self, AltitudeFrame, ExportFile, ExportOptions, ExportRequest, Firmware};
 use crate::planner::geojson::FeatureCollection;
 use crate::planner::params::AltitudeReference;
-use crate::planner::params::resume::ResumeParams;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, MissionGeometry, PlanParams};
@@ -54,44 +53,6 @@ pub async fn create(
     let snapshot = snapshot(&mission, &profiles, &flown.iter().collect::<Vec<_>>());
     let params = serde_json::to_value(&params).map_err(|e| ApiError::Internal(e.to_string()))?;
     Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &plans::NewJob::new(JobKind::Plan, &mission_id, &params, &snapshot)).await?)))
-}
-
-#[utoipa::path(post, operation_id = "resume_plan", path = "/api/v1/plans/{id}/resume", tag = "plans", params(("id" = String, Path)), request_body = ResumeParams,
-    responses((status = 202, body = Plan, description = "the plan of what is left, queued; `resumed_from` names this plan"), (status = 404, body = Problem),
-              (status = 409, body = Problem, description = "the plan has not succeeded"), (status = 422, body = Problem, description = "the cut is not on this plan, or the plan is not resumed"),
-              (status = 429, body = Problem, description = "too many plans of this tenant's are queued or running (see `Retry-After`)")))]
-pub async fn resume(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiJson(request): ApiJson<ResumeParams>) -> Result<(StatusCode, Json<Plan>), ApiError> {
-    // another tenant's plan is one that does not exist, whatever the body says
-    let mut source = plans::export_source(&state.db, &caller.tenant, JobKind::Plan, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
-    let checked = request.check()?;
-    let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
-        let status = json!(source.status);
-        return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a plan is resumed once it has succeeded", status.as_str().unwrap_or("?"))));
-    };
-    let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
-    let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
-    let model = match params.altitude_reference {
-        Some(AltitudeReference::Terrain) => terrain::model(&state.db, &caller.tenant, &source.mission_id).await?,
-        _ => None,
-    };
-    let limits = state.config.limits;
-    let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
-    // the trajectory is read once, off the async threads; the cut is found on it now, so that
-    // a wrong one is refused here
-    let (trajectory, source) = off_the_async_threads(move || {
-        let unreadable = |e: serde_json::Error| ApiError::Internal(format!("stored trajectory: {e}"));
-        let trajectory: serde_json::Value = serde_json::from_str(&geojson).map_err(unreadable)?;
-        let collection = FeatureCollection::deserialize(&trajectory).map_err(unreadable)?;
-        let model = model.map(|(name, bytes)| ElevationModel::read(&bytes, &name)).transpose()?;
-        let geometry = MissionGeometry { terrain: model.as_ref(), ..MissionGeometry::of(&source.mission) };
-        planner::check_resume(&geometry, &params, &profiles, &limits, &collection, &checked)?;
-        Ok::<_, ApiError>((trajectory, source))
-    })
-    .await?;
-    let mut snapshot = source.mission;
-    snapshot["resume"] = json!({"request": request, "trajectory": trajectory});
-    let job = plans::NewJob { resumed_from: Some(&id), ..plans::NewJob::new(JobKind::Plan, &source.mission_id, &source.params, &snapshot) };
-    Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &job).await?)))
 }
 
 /// What a job runs on: the mission's geometry and the stored profiles of its vehicles as they

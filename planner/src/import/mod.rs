@@ -6,6 +6,7 @@
 //! Archives and XML are read through [`crate::archive`], which refuses zip bombs and XML
 //! entities before a parser sees them.
 
+pub mod flight_log;
 mod geojson;
 mod isoxml;
 mod kml;

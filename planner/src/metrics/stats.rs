@@ -87,6 +87,7 @@ pub struct Stats {
 }
 
 /// Where a resumed plan's original flight stopped, and what it had left.
+#[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 pub struct ResumeStats {
@@ -103,6 +104,10 @@ pub struct ResumeStats {
     pub original_sweep_left_m: f64,
     /// The stretch of the cut line flown again (`photos_back` trigger distances), m.
     pub overlap_m: f64,
+    /// Resumed from a log: the stretches of lines before the cut flown again because the log
+    /// shows them not imaged, m.
+    #[serde(default)]
+    pub redone_m: Option<f64>,
 }
 
 /// Whether a planner's search proved its plan the cheapest under the method's rules.

@@ -30,8 +30,38 @@ pub enum ResumeFrom {
     Position,
 }
 
-/// `POST /api/v1/plans/{id}/resume`: exactly one of `at` and `position` says where the flight
-/// stopped.
+/// What a flight log says of a flight: the server reads it from an uploaded log (`.tlog`,
+/// `.ulg`, `.bin`); a client may send it as JSON instead.
+#[serde_with::skip_serializing_none]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(deny_unknown_fields)]
+pub struct Flown {
+    /// The aircraft's positions in flight order, `[lon, lat]`, at least two.
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 500000))]
+    pub track: Vec<[f64; 2]>,
+    /// Where the camera took its photos, `[lon, lat]`; empty (or a plan without a camera): the
+    /// track within `tolerance_m` of a line is taken for its work.
+    #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(max_items = 100000))]
+    pub photos: Vec<[f64; 2]>,
+    /// The battery left at the log's end, 0 to 1.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1.0))]
+    pub battery_remaining: Option<f64>,
+    /// Farthest across a line a photo (or the track) may lie to count as the line's, 0.1 to
+    /// 100 m (default a quarter of the line spacing, at least 1 m).
+    #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 100.0))]
+    pub tolerance_m: Option<f64>,
+}
+
+/// Most positions of a flown track.
+pub const MAX_TRACK_POINTS: usize = 500_000;
+
+/// Most photos of a flight.
+pub const MAX_FLOWN_PHOTOS: usize = 100_000;
+
+/// `POST /api/v1/plans/{id}/resume`: exactly one of `at`, `position` and `flown` says where
+/// the flight stopped.
 #[serde_with::skip_serializing_none]
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
@@ -39,6 +69,9 @@ pub enum ResumeFrom {
 pub struct ResumeParams {
     /// The piece of the trajectory the flight stopped on, and how far along it.
     pub at: Option<CutAt>,
+    /// What the flight's log says (the body of an uploaded log fills it): the lines it did not
+    /// image are left, wherever they lie.
+    pub flown: Option<Flown>,
     /// The aircraft's last position, `[lon, lat]`: the nearest point of the plan's path is
     /// where it stopped (at most [`MAX_CUT_OFF_PATH_M`] away).
     #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
@@ -51,9 +84,10 @@ pub struct ResumeParams {
     /// spacing) before the cut the resumed line starts, 0 to 20 (default 2).
     #[cfg_attr(feature = "schema", schema(minimum = 0, maximum = 20))]
     pub photos_back: Option<u32>,
-    /// `home` (default) or `position` (needs `position`).
+    /// `home` (default) or `position` (needs `position`, or `flown`: its track's last point).
     pub from: Option<ResumeFrom>,
-    /// The battery left for the first sortie, 0 to 1 of its capacity (default: a fresh one).
+    /// The battery left for the first sortie, 0 to 1 of its capacity (default: a fresh one; from
+    /// a flown `position`, what the log says is left).
     #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1.0))]
     pub battery_remaining: Option<f64>,
 }
@@ -65,15 +99,17 @@ pub const MAX_CUT_OFF_PATH_M: f64 = 250.0;
 pub const MAX_PHOTOS_BACK: u32 = 20;
 
 /// Where the flight stopped, checked.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Cut {
     At(CutAt),
     /// `[lon, lat]`, and the compass heading.
     Position([f64; 2], Option<f64>),
+    /// What the log says was flown.
+    Flown(Flown),
 }
 
 /// A resume request, checked and with its defaults.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Resume {
     pub cut: Cut,
     pub photos_back: u32,
@@ -85,41 +121,82 @@ pub struct Resume {
 impl ResumeParams {
     /// The request checked: one cut, values in range, `from: position` with a position.
     pub fn check(&self) -> Result<Resume, InputError> {
-        let cut = match (self.at, self.position) {
-            (Some(at), None) => {
-                check_range(at.fraction, 0.0, 1.0, "/at/fraction", "of the piece")?;
-                if self.heading_deg.is_some() {
-                    return Err(InputError::new("not_with_at", "/heading_deg", "heading_deg goes with position, not with at"));
-                }
-                Cut::At(at)
+        let given = [self.at.is_some(), self.position.is_some(), self.flown.is_some()];
+        if given.iter().filter(|g| **g).count() > 1 {
+            let second = ["/at", "/position", "/flown"].into_iter().zip(given).filter(|(_, g)| *g).nth(1).map_or("/position", |(p, _)| p);
+            return Err(InputError::new("cut_ambiguous", second, "give one of at, position and flown"));
+        }
+        if self.heading_deg.is_some() && self.position.is_none() {
+            return Err(InputError::new("not_with_at", "/heading_deg", "heading_deg goes with position, not with at or flown"));
+        }
+        let cut = if let Some(at) = self.at {
+            check_range(at.fraction, 0.0, 1.0, "/at/fraction", "of the piece")?;
+            Cut::At(at)
+        } else if let Some(p) = self.position {
+            check_position(p, "/position")?;
+            if let Some(h) = self.heading_deg {
+                check_range(h, 0.0, 360.0, "/heading_deg", "°")?;
             }
-            (None, Some(p)) => {
-                check_range(p[0], -180.0, 180.0, "/position/0", "°")?;
-                check_range(p[1], -90.0, 90.0, "/position/1", "°")?;
-                if let Some(h) = self.heading_deg {
-                    check_range(h, 0.0, 360.0, "/heading_deg", "°")?;
-                }
-                Cut::Position(p, self.heading_deg)
-            }
-            (Some(_), Some(_)) => return Err(InputError::new("cut_ambiguous", "/position", "give either at or position, not both")),
-            (None, None) => {
-                return Err(InputError::new("cut_missing", "/at", "say where the flight stopped: at {seq, fraction} (a piece of the trajectory) or position [lon, lat]"));
-            }
+            Cut::Position(p, self.heading_deg)
+        } else if let Some(flown) = &self.flown {
+            flown.check()?;
+            Cut::Flown(flown.clone())
+        } else {
+            return Err(InputError::new(
+                "cut_missing",
+                "/at",
+                "say where the flight stopped: at {seq, fraction} (a piece of the trajectory), position [lon, lat], or the flight's log",
+            ));
         };
         let photos_back = self.photos_back.unwrap_or(2);
         if photos_back > MAX_PHOTOS_BACK {
             return Err(InputError::new("parameter_out_of_range", "/photos_back", format!("{photos_back} is more than the {MAX_PHOTOS_BACK} photos back accepted")));
         }
-        let battery_remaining = self.battery_remaining.unwrap_or(1.0);
-        check_range(battery_remaining, 0.0, 1.0, "/battery_remaining", "of the battery")?;
-        let airborne_at = match (self.from.unwrap_or_default(), self.position) {
+        let last_tracked = self.flown.as_ref().and_then(|f| f.track.last().copied());
+        let airborne_at = match (self.from.unwrap_or_default(), self.position.or(last_tracked)) {
             (ResumeFrom::Home, _) => None,
             (ResumeFrom::Position, Some(p)) => Some(p),
             (ResumeFrom::Position, None) => {
                 return Err(InputError::new("position_missing", "/from", "from position resumes from where the aircraft is: give its position"));
             }
         };
+        // still in the air, the aircraft flies on the battery its log says it has
+        let logged = self.flown.as_ref().and_then(|f| f.battery_remaining).filter(|_| airborne_at.is_some());
+        let battery_remaining = self.battery_remaining.or(logged).unwrap_or(1.0);
+        check_range(battery_remaining, 0.0, 1.0, "/battery_remaining", "of the battery")?;
         Ok(Resume { cut, photos_back, airborne_at, battery_remaining })
+    }
+}
+
+fn check_position(p: [f64; 2], pointer: &str) -> Result<(), InputError> {
+    check_range(p[0], -180.0, 180.0, &format!("{pointer}/0"), "°")?;
+    check_range(p[1], -90.0, 90.0, &format!("{pointer}/1"), "°")
+}
+
+impl Flown {
+    fn check(&self) -> Result<(), InputError> {
+        if self.track.len() < 2 {
+            return Err(InputError::new("log_without_position", "/flown/track", "the log has fewer than two positions of the aircraft: was its GPS on?"));
+        }
+        if self.track.len() > MAX_TRACK_POINTS {
+            return Err(InputError::new("too_many_points", "/flown/track", format!("{} positions; at most {MAX_TRACK_POINTS} are read", self.track.len())));
+        }
+        if self.photos.len() > MAX_FLOWN_PHOTOS {
+            return Err(InputError::new("too_many_points", "/flown/photos", format!("{} photos; at most {MAX_FLOWN_PHOTOS} are read", self.photos.len())));
+        }
+        for (k, p) in self.track.iter().enumerate() {
+            check_position(*p, &format!("/flown/track/{k}"))?;
+        }
+        for (k, p) in self.photos.iter().enumerate() {
+            check_position(*p, &format!("/flown/photos/{k}"))?;
+        }
+        if let Some(b) = self.battery_remaining {
+            check_range(b, 0.0, 1.0, "/flown/battery_remaining", "of the battery")?;
+        }
+        if let Some(t) = self.tolerance_m {
+            check_range(t, 0.1, 100.0, "/flown/tolerance_m", "m")?;
+        }
+        Ok(())
     }
 }
 

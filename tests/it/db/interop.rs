@@ -24,7 +24,7 @@ use crate::common::{self, TestApp};
 const ONE_CM_DEG: f64 = 1e-7;
 const FLOWN: [&str; 3] = ["sweep", "turn", "transit"];
 
-fn python() -> PathBuf {
+pub fn python() -> PathBuf {
     let path = std::env::var_os("COVERPLAN_PYTHON").map(PathBuf::from).unwrap_or_else(|| {
         let home = std::env::var_os("HOME").map(PathBuf::from).unwrap_or_default();
         home.join(".cache/coverplan-venv/bin/python")
@@ -45,7 +45,7 @@ fn run(command: &mut Command) {
     assert!(out.status.success(), "{command:?} failed:\n{text}");
 }
 
-fn temp_dir() -> PathBuf {
+pub fn temp_dir() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("coverplan-interop-{}", uuid::Uuid::new_v4()));
     std::fs::create_dir_all(&dir).unwrap();
     dir

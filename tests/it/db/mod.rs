@@ -6,7 +6,7 @@
 mod api;
 mod ground_plans;
 mod inspection;
-mod interop;
+pub mod interop;
 mod jobs;
 mod observability;
 mod openapi;

@@ -120,3 +120,96 @@ async fn an_aircraft_in_the_air_resumes_from_its_position_on_its_battery() {
     assert!(low["error"].as_str().unwrap().contains("battery left"), "{low}");
     app.stop().await;
 }
+
+/// Writes a telemetry log of `plan` flown up to `seq` × `fraction` with pymavlink
+/// (tests/interop/make_tlog.py), with the script's other options.
+fn flown_log(plan: &Value, seq: u64, fraction: f64, options: &[&str]) -> Vec<u8> {
+    let dir = crate::db::interop::temp_dir();
+    let (geojson, tlog) = (dir.join("plan.geojson"), dir.join("flight.tlog"));
+    std::fs::write(&geojson, plan.to_string()).unwrap();
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop/make_tlog.py");
+    let out = std::process::Command::new(crate::db::interop::python())
+        .arg(script)
+        .arg(&geojson)
+        .arg(&tlog)
+        .args(["--seq", &seq.to_string(), "--fraction", &fraction.to_string()])
+        .args(options)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let log = std::fs::read(tlog).unwrap();
+    std::fs::remove_dir_all(dir).ok();
+    log
+}
+
+async fn post_log(app: &TestApp, plan: &str, query: &str, log: Vec<u8>) -> (u16, Value) {
+    let url = app.url(&format!("/api/v1/plans/{plan}/resume{query}"));
+    let r = app.client.post(url).header("content-type", "application/octet-stream").body(log).send().await.unwrap();
+    (r.status().as_u16(), r.json().await.unwrap_or(Value::Null))
+}
+
+/// A flight's own log as the body: the cut is where its photos stop, a line it flew off its
+/// track is flown again, and logs that are not this plan's flight are refused in words.
+#[tokio::test]
+async fn a_flight_log_resumes_what_the_flight_did_not_image() {
+    let app = TestApp::spawn().await;
+    let mut body = mission_body("real-fields/nl-parcel-b.json");
+    body["home"] = json!(body["area"]["coordinates"][0][0]);
+    let mission = app.create_mission(&body).await;
+    let (_, plan) = app.post(&format!("/api/v1/missions/{mission}/plans"), &json!({"camera": {"preset": "dji_mavic3_enterprise"}, "altitude_m": 60})).await;
+    let original = app.wait_finished(plan["id"].as_str().unwrap()).await;
+    let id = original["id"].as_str().unwrap();
+    let fc: Value = serde_json::from_slice(&trajectory(&app, id, "geojson").await.1).unwrap();
+    let lines = sweeps(&fc);
+    let (seq, a, b) = lines[lines.len() / 2];
+    let line_m = ((b[0] - a[0]) * 111_320.0 * a[1].to_radians().cos()).hypot((b[1] - a[1]) * 111_320.0);
+    let spacing = original["stats"]["line_spacing_m"].as_f64().unwrap();
+    // stopped halfway along a line: resumed at its last photo there, two photos back
+    let (status, queued) = post_log(&app, id, "", flown_log(&fc, seq, 0.5, &[])).await;
+    assert_eq!(status, 202, "{queued}");
+    let resumed = app.wait_finished(queued["id"].as_str().unwrap()).await;
+    assert_eq!(resumed["status"], "succeeded", "{resumed}");
+    let cut = &resumed["stats"]["resume"];
+    assert_eq!(cut["seq"].as_u64(), Some(seq), "{cut}");
+    let fraction = cut["fraction"].as_f64().unwrap();
+    assert!(fraction <= 0.5 + 1e-6 && fraction > 0.5 - 30.0 / line_m, "the last photo before the stop: {cut}");
+    assert!(cut.get("redone_m").is_none(), "every line before the cut was imaged: {cut}");
+    // a line flown half a spacing off its track is flown again
+    let (first_seq, ..) = lines[1];
+    let offset = format!("{}", spacing / 2.0);
+    let (status, queued) = post_log(&app, id, "?photos_back=1", flown_log(&fc, seq, 0.5, &["--offset-seq", &first_seq.to_string(), "--offset-m", &offset])).await;
+    assert_eq!(status, 202, "{queued}");
+    let resumed = app.wait_finished(queued["id"].as_str().unwrap()).await;
+    let cut = &resumed["stats"]["resume"];
+    assert_eq!(cut["seq"].as_u64(), Some(seq), "{cut}");
+    assert!(
+        cut["redone_m"]
+            .as_f64()
+            .is_some_and(|m| m > 0.9 * ((lines[1].2[0] - lines[1].1[0]) * 111_320.0 * a[1].to_radians().cos()).hypot((lines[1].2[1] - lines[1].1[1]) * 111_320.0)),
+        "{cut}"
+    );
+    // the same log without photos: the track stands for them
+    let (status, queued) = post_log(&app, id, "", flown_log(&fc, seq, 0.5, &["--no-photos"])).await;
+    assert_eq!(status, 202, "{queued}");
+    let resumed = app.wait_finished(queued["id"].as_str().unwrap()).await;
+    assert_eq!(resumed["stats"]["resume"]["seq"].as_u64(), Some(seq), "{resumed}");
+    // logs that are not this plan's flight, or not readable
+    let plans_before = app.get(&format!("/api/v1/missions/{mission}/plans")).await.1.as_array().unwrap().len();
+    for (options, code) in [
+        (&["--truncate"][..], "log_unreadable"),
+        (&["--vehicle", "plane"][..], "log_other_vehicle"),
+        (&["--no-position"][..], "log_without_position"),
+        (&["--shift-m", "5000"][..], "log_off_path"),
+    ] {
+        let (status, problem) = post_log(&app, id, "", flown_log(&fc, seq, 0.5, options)).await;
+        assert_eq!((status, problem["code"].as_str()), (422, Some(code)), "{options:?}: {problem}");
+        assert!(problem["detail"].as_str().is_some_and(|d| d.len() > 20), "{problem}");
+    }
+    let (status, problem) = post_log(&app, id, "", b"this is not a flight log at all".to_vec()).await;
+    assert_eq!((status, problem["code"].as_str()), (422, Some("log_unreadable")), "{problem}");
+    let r = app.client.post(app.url(&format!("/api/v1/plans/{id}/resume"))).header("content-type", "text/plain").body("hello").send().await.unwrap();
+    assert_eq!(r.status().as_u16(), 415);
+    let plans_after = app.get(&format!("/api/v1/missions/{mission}/plans")).await.1.as_array().unwrap().len();
+    assert_eq!(plans_after, plans_before, "nothing is queued on refusal");
+    app.stop().await;
+}

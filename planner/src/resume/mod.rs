@@ -5,6 +5,10 @@
 //! back of the original's sorties (the sorties are split again for what remains), the gaps
 //! those leave joined by the vehicle's connections.
 
+mod flown;
+
+pub use flown::Sampling;
+use flown::{Redo, cut_from_log};
 use geo::Coord;
 use geojson::{FeatureCollection, GeometryValue};
 use serde::Deserialize;
@@ -44,6 +48,8 @@ pub(crate) struct Remainder {
     cut: (usize, f64),
     /// Metres flown again before the cut on its line.
     back_m: f64,
+    /// Stretches before the cut flown again: a log shows them not done.
+    redo: Vec<Redo>,
 }
 
 /// A piece's direction at `along` metres, math radians.
@@ -97,11 +103,13 @@ fn point_along(points: &[Coord], along: f64) -> Coord {
 }
 
 impl Remainder {
-    /// Reads `trajectory` (a coverage plan's, one vehicle's) and finds the cut; `trigger_m` is
-    /// the distance between two photos (or what stands for it without a camera).
-    pub fn new(trajectory: &FeatureCollection, frame: &LocalFrame, resume: &Resume, trigger_m: f64) -> Result<Remainder, InputError> {
+    /// Reads `trajectory` (a coverage plan's, one vehicle's) and finds the cut; `sampling` says how
+    /// the lines are sampled against a log (and the trigger distance flown again before a cut).
+    pub fn new(trajectory: &FeatureCollection, frame: &LocalFrame, resume: &Resume, sampling: &Sampling) -> Result<Remainder, InputError> {
         let pieces = read(trajectory, frame)?;
-        let cut = match resume.cut {
+        let back_m = resume.photos_back as f64 * sampling.trigger_m;
+        let mut redo = Vec::new();
+        let cut = match &resume.cut {
             Cut::At(at) => {
                 let k = pieces.iter().position(|p| p.seq == at.seq).ok_or_else(|| {
                     let seqs: Vec<String> = pieces.iter().map(|p| p.seq.to_string()).collect();
@@ -110,12 +118,21 @@ impl Remainder {
                 })?;
                 (k, at.fraction * polyline_length(&pieces[k].points))
             }
-            Cut::Position([lon, lat], heading_deg) => nearest(&pieces, frame.to_local(lon, lat), heading_deg.map(bearing_to_math))?,
+            &Cut::Position([lon, lat], heading_deg) => nearest(&pieces, frame.to_local(lon, lat), heading_deg.map(bearing_to_math))?,
+            Cut::Flown(flown) => {
+                let (cut, stretches) = cut_from_log(&pieces, frame, flown, sampling, back_m)?;
+                redo = stretches;
+                cut
+            }
         };
-        let remainder = Remainder { pieces, cut, back_m: resume.photos_back as f64 * trigger_m };
+        let remainder = Remainder { pieces, cut, back_m, redo };
         if remainder.left().0.is_empty() {
-            let pointer = if matches!(resume.cut, Cut::At(_)) { "/at" } else { "/position" };
-            return Err(InputError::new("nothing_left", pointer, "the flight stopped after the plan's last line: nothing is left to fly"));
+            let (pointer, why) = match resume.cut {
+                Cut::At(_) => ("/at", "the flight stopped after the plan's last line: nothing is left to fly"),
+                Cut::Position(..) => ("/position", "the flight stopped after the plan's last line: nothing is left to fly"),
+                Cut::Flown(_) => ("/flown", "the log shows every line done: nothing is left to fly"),
+            };
+            return Err(InputError::new("nothing_left", pointer, why));
         }
         Ok(remainder)
     }
@@ -147,7 +164,17 @@ impl Remainder {
         let (c, along) = self.cut;
         let spans = self.spans();
         let in_span = |k: usize| spans.iter().any(|&(a, b)| a <= k && k <= b);
-        let mut left: Vec<Left> = Vec::new();
+        // the stretches before the cut a log shows not done, first
+        let mut left: Vec<Left> = self
+            .redo
+            .iter()
+            .map(|r| {
+                let p = &self.pieces[r.index];
+                let points = up_to(&from_along(&p.points, r.from_m), r.to_m - r.from_m);
+                Left { piece: piece(p.kind, points), sortie: p.sortie, index: r.index, from_m: r.from_m }
+            })
+            .collect();
+        let redone = left.len();
         let mut overlap = 0.0;
         let cut_piece = &self.pieces[c];
         let len = polyline_length(&cut_piece.points);
@@ -158,7 +185,7 @@ impl Remainder {
         }
         for (k, p) in self.pieces.iter().enumerate().skip(c + 1).filter(|&(k, _)| in_span(k)) {
             // what is left starts at a line: the rest of a turn or transit is flown to it anew
-            if left.is_empty() && !p.kind.works() {
+            if left.len() == redone && !p.kind.works() {
                 continue;
             }
             left.push(Left { piece: piece(p.kind, p.points.clone()), sortie: p.sortie, index: k, from_m: 0.0 });
@@ -279,6 +306,7 @@ impl Remainder {
             original_left_m: round(original_left_m),
             original_sweep_left_m: round(original_sweep_left_m),
             overlap_m: round(self.left().1),
+            redone_m: (!self.redo.is_empty()).then(|| round(self.redo.iter().map(|r| r.to_m - r.from_m).sum())),
         }
     }
 }
@@ -392,7 +420,7 @@ mod tests {
 
     #[test]
     fn what_is_left_starts_back_on_the_cut_line_and_skips_the_legs_home() {
-        let r = Remainder { pieces: two_sorties(), cut: (3, 60.0), back_m: 15.0 };
+        let r = Remainder { pieces: two_sorties(), cut: (3, 60.0), back_m: 15.0, redo: Vec::new() };
         let (left, overlap) = r.left();
         assert_eq!(overlap, 15.0);
         // the cut line from 45 m along (x = 55), then the second sortie's working run
@@ -409,11 +437,11 @@ mod tests {
     #[test]
     fn a_cut_in_a_turn_or_at_a_lines_end_resumes_at_the_next_line() {
         for cut in [(2, 4.0), (1, 100.0)] {
-            let r = Remainder { pieces: two_sorties(), cut, back_m: 15.0 };
+            let r = Remainder { pieces: two_sorties(), cut, back_m: 15.0, redo: Vec::new() };
             let (left, overlap) = r.left();
             assert_eq!((left[0].piece.points[0], overlap), (c(100.0, 10.0), 0.0), "{cut:?}");
         }
-        let done = Remainder { pieces: two_sorties(), cut: (9, 3.0), back_m: 15.0 };
+        let done = Remainder { pieces: two_sorties(), cut: (9, 3.0), back_m: 15.0, redo: Vec::new() };
         assert!(done.left().0.is_empty());
     }
 

@@ -1,0 +1,216 @@
+//! What a flight log shows done (docs/methods.md, resume §4): each sweep line is sampled where
+//! the plan takes its photos (without a camera, every trigger distance), and a sample is done
+//! where the log has a photo beside it (within the tolerance across the line and a little over
+//! half a trigger distance along it), or, without photos, where the track passes along the line
+//! within the tolerance; samples are matched in flight order (each by a mark no earlier in the
+//! log than the last sample's), so that the way out over lines not yet flown is not their work.
+//! The cut is the last sample done in flight order; before it, the runs of samples not done
+//! that leave ground unimaged are flown again.
+
+use std::collections::HashMap;
+
+use geo::Coord;
+
+use super::{MAX_CUT_OFF_PATH_M, Stored};
+use crate::camera::photo_offsets_through_bends;
+use crate::error::InputError;
+use crate::frame::LocalFrame;
+use crate::geom::{distance, polyline_length};
+use crate::params::resume::Flown;
+use crate::path::{FlightPath, Piece, PieceKind};
+
+/// How a line's work is sampled and matched.
+#[derive(Debug, Clone, Copy)]
+pub struct Sampling {
+    /// The distance between two photos (without a camera, what stands for it).
+    pub trigger_m: f64,
+    /// The camera's footprint along the line, where the plan has a camera.
+    pub footprint_along_m: Option<f64>,
+    /// Farthest across a line a photo or the track counts as the line's, unless the log says.
+    pub tolerance_m: f64,
+}
+
+/// A stretch of a line flown again: the piece, and metres along it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Redo {
+    pub index: usize,
+    pub from_m: f64,
+    pub to_m: f64,
+}
+
+/// A sweep (its piece), its samples (metres along, done) and its length.
+type SampledLine = (usize, Vec<(f64, bool)>, f64);
+
+/// The track turns by less than this from a line's direction (either way) to count as flying it.
+const ALONG_LINE_DEG: f64 = 30.0;
+
+/// A track segment longer than this is a gap in the log (a lost link, a GPS jump), not work.
+const LONGEST_TRACK_STEP_M: f64 = 100.0;
+
+/// What the log matches samples against: photos, or the track's segments.
+enum Marks {
+    Photos(Vec<Coord>),
+    Track(Vec<(Coord, Coord)>),
+}
+
+/// Marks bucketed on a square grid.
+struct Grid {
+    cell: f64,
+    buckets: HashMap<(i64, i64), Vec<usize>>,
+}
+
+impl Grid {
+    fn key(&self, p: Coord) -> (i64, i64) {
+        ((p.x / self.cell).floor() as i64, (p.y / self.cell).floor() as i64)
+    }
+
+    fn new(cell: f64, boxes: impl Iterator<Item = (Coord, Coord)>) -> Grid {
+        let mut grid = Grid { cell, buckets: HashMap::new() };
+        for (k, (lo, hi)) in boxes.enumerate() {
+            let (a, b) = (grid.key(lo), grid.key(hi));
+            for i in a.0..=b.0 {
+                for j in a.1..=b.1 {
+                    grid.buckets.entry((i, j)).or_default().push(k);
+                }
+            }
+        }
+        grid
+    }
+
+    /// The marks in the cells within `reach` of `p`.
+    fn near(&self, p: Coord, reach: f64) -> impl Iterator<Item = usize> + '_ {
+        let lo = self.key(p - Coord { x: reach, y: reach });
+        let hi = self.key(p + Coord { x: reach, y: reach });
+        (lo.0..=hi.0).flat_map(move |i| (lo.1..=hi.1).flat_map(move |j| self.buckets.get(&(i, j)).into_iter().flatten().copied()))
+    }
+}
+
+/// The cut (piece, metres along) and the stretches before it to fly again, from what `flown`
+/// shows done on `pieces`; `back_m` is flown again before each stretch, as before a cut.
+pub fn cut_from_log(pieces: &[Stored], frame: &LocalFrame, flown: &Flown, sampling: &Sampling, back_m: f64) -> Result<((usize, f64), Vec<Redo>), InputError> {
+    let track: Vec<Coord> = flown.track.iter().map(|&[lon, lat]| frame.to_local(lon, lat)).collect();
+    check_near(pieces, &track)?;
+    let tolerance = flown.tolerance_m.unwrap_or(sampling.tolerance_m);
+    let with_photos = !flown.photos.is_empty() && sampling.footprint_along_m.is_some();
+    let along_tolerance = 0.6 * sampling.trigger_m;
+    let marks = if with_photos {
+        Marks::Photos(flown.photos.iter().map(|&[lon, lat]| frame.to_local(lon, lat)).collect())
+    } else {
+        Marks::Track(track.windows(2).map(|w| (w[0], w[1])).filter(|(a, b)| distance(*a, *b) <= LONGEST_TRACK_STEP_M).collect())
+    };
+    let cell = tolerance.max(along_tolerance).max(5.0);
+    let grid = match &marks {
+        Marks::Photos(p) => Grid::new(cell, p.iter().map(|&c| (c, c))),
+        Marks::Track(s) => Grid::new(cell, s.iter().map(|(a, b)| (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) }))),
+    };
+    let cos_along = ALONG_LINE_DEG.to_radians().cos();
+    // the first mark at or after `floor` (in log order) beside `p` on a line going `u`
+    let done = |p: Coord, u: Coord, floor: usize| -> Option<usize> {
+        let beside = |k: &usize| match &marks {
+            Marks::Photos(photos) => {
+                let d = photos[*k] - p;
+                (d.x * u.x + d.y * u.y).abs() <= along_tolerance && (d.y * u.x - d.x * u.y).abs() <= tolerance
+            }
+            Marks::Track(segments) => {
+                let (a, b) = segments[*k];
+                let d = b - a;
+                let len = d.x.hypot(d.y);
+                len > 0.0 && ((d.x * u.x + d.y * u.y) / len).abs() >= cos_along && point_to_segment(p, a, b) <= tolerance
+            }
+        };
+        grid.near(p, cell).filter(|&k| k >= floor).filter(beside).min()
+    };
+    let path = FlightPath { pieces: pieces.iter().map(|p| Piece { kind: p.kind, points: p.points.clone(), half_swath_m: 0.0, z: Vec::new(), shape: None }).collect() };
+    // the samples of every sweep, and whether each is done: matched in flight order, so that
+    // the way to the first line or home over lines not yet flown is not taken for their work
+    let mut floor = 0;
+    let mut lines: Vec<SampledLine> = Vec::new();
+    for (k, p) in pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep) {
+        let len = polyline_length(&p.points);
+        let offsets = match sampling.footprint_along_m {
+            Some(along) => photo_offsets_through_bends(len, along, sampling.trigger_m, path.bends_into(k), path.bends_into(k + 1)),
+            None => {
+                let n = (len / sampling.trigger_m).ceil().max(1.0) as usize;
+                (0..=n).map(|i| len * i as f64 / n as f64).collect()
+            }
+        };
+        let samples = offsets
+            .into_iter()
+            .map(|t| {
+                let matched = done(point_at(&p.points, t), direction_at(&p.points, t), floor);
+                floor = matched.unwrap_or(floor);
+                (t, matched.is_some())
+            })
+            .collect();
+        lines.push((k, samples, len));
+    }
+    let last_done = lines.iter().enumerate().rev().find_map(|(l, (_, samples, _))| samples.iter().rposition(|s| s.1).map(|i| (l, i)));
+    let Some((l_cut, i_cut)) = last_done else {
+        let first = lines.first().map_or(0, |l| l.0);
+        return Ok(((first, 0.0), Vec::new()));
+    };
+    let (k_cut, samples, len) = &lines[l_cut];
+    let cut_along = if i_cut + 1 == samples.len() { *len } else { samples[i_cut].0 };
+    let mut redo = Vec::new();
+    for (l, (k, samples, len)) in lines.iter().enumerate().take(l_cut + 1) {
+        let before_cut = if l == l_cut { i_cut } else { samples.len() };
+        let mut i = 0;
+        while i < before_cut {
+            if samples[i].1 {
+                i += 1;
+                continue;
+            }
+            let first = i;
+            while i < before_cut && !samples[i].1 {
+                i += 1;
+            }
+            let last = i - 1;
+            let (at_start, at_end) = (first == 0, last + 1 == samples.len());
+            // a photo or two missed inside a line whose neighbours' footprints still meet
+            let unimaged = match sampling.footprint_along_m.filter(|_| with_photos) {
+                Some(along) if !at_start && !at_end => samples[last + 1].0 - samples[first - 1].0 > along,
+                _ => true,
+            };
+            if unimaged {
+                let from_m = if at_start { 0.0 } else { (samples[first].0 - back_m).max(0.0) };
+                let to_m = if at_end { *len } else { (samples[last].0 + sampling.trigger_m / 2.0).min(*len) };
+                redo.push(Redo { index: *k, from_m, to_m });
+            }
+        }
+    }
+    Ok(((*k_cut, cut_along), redo))
+}
+
+/// A log whose track never comes near the plan is another flight's.
+fn check_near(pieces: &[Stored], track: &[Coord]) -> Result<(), InputError> {
+    let step = (track.len() / 500).max(1);
+    let mut nearest = f64::INFINITY;
+    for &t in track.iter().step_by(step) {
+        nearest = nearest.min(pieces.iter().flat_map(|p| p.points.windows(2)).map(|w| point_to_segment(t, w[0], w[1])).fold(f64::INFINITY, f64::min));
+        if nearest <= MAX_CUT_OFF_PATH_M {
+            return Ok(());
+        }
+    }
+    Err(InputError::new(
+        "log_off_path",
+        "/flown/track",
+        format!("the log's track comes no nearer than {nearest:.0} m to the plan's path (at most {MAX_CUT_OFF_PATH_M} m): is it this plan's flight?"),
+    ))
+}
+
+fn point_to_segment(p: Coord, a: Coord, b: Coord) -> f64 {
+    let d = b - a;
+    let l2 = d.x * d.x + d.y * d.y;
+    let t = if l2 > 0.0 { (((p - a).x * d.x + (p - a).y * d.y) / l2).clamp(0.0, 1.0) } else { 0.0 };
+    distance(p, a + d * t)
+}
+
+fn point_at(points: &[Coord], along: f64) -> Coord {
+    super::from_along(points, along)[0]
+}
+
+/// The unit direction of a polyline at `along`.
+fn direction_at(points: &[Coord], along: f64) -> Coord {
+    let angle = super::direction_at(points, along);
+    Coord { x: angle.cos(), y: angle.sin() }
+}

@@ -55,6 +55,11 @@ pub async fn create(
     Ok((StatusCode::ACCEPTED, Json(enqueue(&state, &caller, &plans::NewJob::new(JobKind::Plan, &mission_id, &params, &snapshot)).await?)))
 }
 
+/// A plan that is not the caller's, or not there.
+pub(super) fn not_found(id: &str) -> ApiError {
+    ApiError::not_found("plan", id)
+}
+
 /// What a job runs on: the mission's geometry and the stored profiles of its vehicles as they
 /// are now, so that editing either later does not change a queued job.
 pub(super) fn snapshot(mission: &missions::Mission, profiles: &[Vehicle], flown: &[&Vehicle]) -> serde_json::Value {

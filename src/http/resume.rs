@@ -11,7 +11,7 @@ use utoipa::IntoParams;
 use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiJson, ApiQuery, Problem, is_json, off_the_async_threads, read_body};
-use super::plans::enqueue;
+use super::plans::{enqueue, not_found};
 use crate::jobs;
 use crate::planner::geojson::FeatureCollection;
 use crate::planner::import::flight_log;
@@ -66,15 +66,10 @@ pub async fn resume(
     body: Request,
 ) -> Result<(StatusCode, Json<Plan>), ApiError> {
     // another tenant's plan is one that does not exist, whatever the body says
-    let mut source = plans::export_source(&state.db, &caller.tenant, JobKind::Plan, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
+    let mut source = plans::export_source(&state.db, &caller.tenant, JobKind::Plan, &id).await?.ok_or_else(|| not_found(&id))?;
     let request = if is_json(body.headers()) {
         if options.given() {
-            return Err(ApiError::Client {
-                status: StatusCode::BAD_REQUEST,
-                code: "invalid_query",
-                detail: "with a JSON body the options are its members, not query parameters".into(),
-                pointer: None,
-            });
+            return Err(ApiError::invalid("options_in_query", "/photos_back", "with a JSON body the options are its members, not query parameters"));
         }
         Sent::Json(ApiJson::<ResumeParams>::from_request(body, &state).await?.0)
     } else if body.headers().get(axum::http::header::CONTENT_TYPE).is_none_or(|v| v == "application/octet-stream") {

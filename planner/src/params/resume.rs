@@ -12,6 +12,7 @@ use crate::error::{InputError, check_range};
 #[serde(deny_unknown_fields)]
 pub struct CutAt {
     /// The `seq` of a flown piece (sweep, turn, transit, headland) of the plan's trajectory.
+    #[cfg_attr(feature = "schema", schema(maximum = 1_000_000_000_u64))]
     pub seq: usize,
     /// 0 to 1: how much of that piece was flown.
     #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1.0))]

@@ -145,8 +145,10 @@ pub fn apply(schemas: &mut Value) {
         "description": "[longitude, latitude] this drone takes off from and lands at; default: the mission's home."});
     member["description"] = schemas["FleetMember"]["description"].clone();
     schemas["FleetMember"] = member;
-    // start positions: points
+    // start positions, a flown track and its photos: points
     schemas["PatrolParams"]["properties"]["starts"]["items"] = point();
+    schemas["Flown"]["properties"]["track"]["items"] = point();
+    schemas["Flown"]["properties"]["photos"]["items"] = point();
     // a route or its waypoints, one of them
     schemas["EstimateRequest"]["oneOf"] = json!([
         {"required": ["route"], "properties": {"route": {"type": "object"}, "waypoints": {"type": "null"}}},

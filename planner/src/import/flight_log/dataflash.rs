@@ -2,7 +2,7 @@
 //! `ardupilot-binlog` crate (the log describes its own messages in `FMT` records). Positions
 //! come from `POS` (the estimate), or `GPS` where a log has no `POS`; photos from `CAM`
 //! (`TRIG` where the camera's feedback pin is not wired); the battery from `BAT`; the vehicle
-//! from the firmware's name in the first `MSG`s.
+//! from the firmware's name in the first `MSG`s; the mission flown from `MODE` (AUTO).
 
 use std::io::Cursor;
 
@@ -40,7 +40,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<FlightLog, InputError> {
     let mut reader = Reader::new(Cursor::new(bytes));
     let (mut estimated, mut fixes) = (Gathered::default(), Gathered::default());
     let mut consumed = 0usize;
-    let mut photos_by_trigger = Vec::new();
+    let mut triggers = Gathered::default();
     let mut vehicle = None;
     while let Some(entry) = reader.next() {
         let Ok(entry) = entry else { continue };
@@ -58,13 +58,22 @@ pub(super) fn read(bytes: &[u8]) -> Result<FlightLog, InputError> {
                 }
             }
             "CAM" => estimated.photo(at(&entry)),
-            "TRIG" => photos_by_trigger.extend(at(&entry).map(|(lon, lat)| [lon, lat])),
+            "TRIG" => triggers.photo(at(&entry)),
             "BAT" => {
                 if let Some(pct) = entry.get_f64("RemPct").filter(|p| *p > 0.0) {
                     estimated.battery(pct / 100.0);
                 }
             }
             "MSG" => vehicle = vehicle.or_else(|| entry.get_str("Message").and_then(firmware_kind)),
+            "MODE" => {
+                // AUTO: 3 on a copter, 10 on a plane or rover
+                let auto = if vehicle == Some(VehicleKind::Multirotor) { 3.0 } else { 10.0 };
+                if let Some(mode) = entry.get_f64("ModeNum").or_else(|| entry.get_f64("Mode")) {
+                    estimated.mission(mode == auto);
+                    fixes.mission(mode == auto);
+                    triggers.mission(mode == auto);
+                }
+            }
             _ => {}
         }
     }
@@ -79,7 +88,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<FlightLog, InputError> {
     }
     let mut gathered = if estimated.track.len() >= 2 { estimated } else { Gathered { photos: estimated.photos, battery_remaining: estimated.battery_remaining, ..fixes } };
     if gathered.photos.is_empty() {
-        gathered.photos = photos_by_trigger;
+        gathered.photos = triggers.photos;
     }
     gathered.vehicle = vehicle;
     gathered.finish(LogFormat::Dataflash)

@@ -82,7 +82,9 @@ pub(super) fn read(bytes: &[u8]) -> Result<FlightLog, InputError> {
                 }
                 if vehicle_system == Some(header.system_id) {
                     gathered.vehicle = gathered.vehicle.or(kind(h.mavtype));
-                    gathered.in_mission = flies_mission(h.autopilot, h.mavtype, h.custom_mode);
+                    if let Some(flying) = flies_mission(h.autopilot, h.mavtype, h.custom_mode) {
+                        gathered.mission(flying);
+                    }
                 }
             }
             _ if vehicle_system.is_some_and(|s| s != header.system_id) => {}

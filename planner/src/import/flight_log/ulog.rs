@@ -1,7 +1,7 @@
 //! PX4 logs (`.ulg`), read with the `yule_log` crate: the log describes its own topics.
 //! Positions come from `vehicle_global_position`, photos from `camera_capture` (with their
 //! place) or `camera_trigger` (at the last position), the battery from `battery_status`, the
-//! vehicle from `vehicle_status`.
+//! vehicle and whether it flies its mission from `vehicle_status`.
 
 use std::io::Cursor;
 
@@ -14,6 +14,8 @@ use crate::error::InputError;
 use crate::vehicle::VehicleKind;
 
 const MAGIC: [u8; 7] = [0x55, 0x4c, 0x6f, 0x67, 0x01, 0x12, 0x35];
+/// `vehicle_status.nav_state` while the mission is flown.
+const AUTO_MISSION: f64 = 3.0;
 const TOPICS: [&str; 5] = ["vehicle_global_position", "camera_capture", "camera_trigger", "battery_status", "vehicle_status"];
 
 pub(super) fn is_ulog(bytes: &[u8]) -> bool {
@@ -71,8 +73,13 @@ pub(super) fn read(bytes: &[u8]) -> Result<FlightLog, InputError> {
                     gathered.battery(r);
                 }
             }
-            "vehicle_status" if gathered.vehicle.is_none() => {
-                gathered.vehicle = number(data, "vehicle_type").and_then(|t| kind(t, number(data, "is_vtol").is_some_and(|v| v != 0.0)));
+            "vehicle_status" => {
+                if gathered.vehicle.is_none() {
+                    gathered.vehicle = number(data, "vehicle_type").and_then(|t| kind(t, number(data, "is_vtol").is_some_and(|v| v != 0.0)));
+                }
+                if let Some(state) = number(data, "nav_state") {
+                    gathered.mission(state == AUTO_MISSION);
+                }
             }
             _ => {}
         }

@@ -503,10 +503,13 @@ pub fn resume(
     let Prepared { resolved, field, region, .. } = &prepared;
     let airborne = request.airborne_at.map(|[lon, lat]| field.frame.to_local(lon, lat));
     let ends = Ends { airborne: airborne.is_some(), first_battery: request.battery_remaining, ..Ends::new(airborne.or(prepared.start), prepared.end, field.home) };
-    let (mut stats, trajectory) = with_stages(mission, &prepared, stop, |stages| {
+    let (mut stats, mut trajectory) = with_stages(mission, &prepared, stop, |stages| {
         let flight = stages.fly_route(&resolved.vehicle, ends, region, None, &|problem| remainder.route(problem))?;
         report::finish(&prepared, &[Some(flight)], None, stages.terrain.is_some())
     })?;
+    if let params::resume::Cut::Flown(flown) = &request.cut {
+        trajectory.features.push(resume::track_feature(flown));
+    }
     stats.resume = Some(remainder.stats(&field.frame));
     stats.planning_time_ms = started.elapsed().as_secs_f64() * 1000.0;
     progress.report(1.0);

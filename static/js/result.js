@@ -58,6 +58,10 @@ function drawTrajectory(fc, faded) {
       L.circleMarker([last[1], last[0]], { radius: 7, color: '#b71c1c', fillOpacity: 1 }).bindTooltip('end').addTo(group);
     }
   }
+  // what a flight log shows flown, beside what is left (a resumed plan's)
+  for (const f of fc.features.filter((f) => f.properties.kind === 'flown')) {
+    L.geoJSON(f, { pane: 'result', interactive: false, style: { color: '#616161', weight: 2, dashArray: '2 5', opacity: faded ? 0.35 : 0.8, className: 'kind-flown' } }).addTo(group);
+  }
   // ground no sweep covers: mostly the clearance kept around no-fly zones
   for (const f of fc.features.filter((f) => f.properties.kind === 'uncovered')) {
     // amber, unlike the no-fly zones' red
@@ -130,6 +134,7 @@ export async function showPlan(plan) {
   drawProfile();
   if (plan.stats.inspection) show3d(fc);
   else hide3d();
+  document.dispatchEvent(new CustomEvent('coverplan:plan-shown'));
 }
 
 function togglePhotos() {

@@ -1,7 +1,8 @@
-// Resume: a click on the plan's path says where the flight stopped; the server plans what is
-// left (POST /api/v1/plans/{id}/resume), shown over the original, which stays faded beside it.
+// Resume: a click on the plan's path, or the flight's log (chosen or dropped on the map), says
+// where the flight stopped; the server plans what is left (POST /api/v1/plans/{id}/resume),
+// shown over the original, which stays faded beside it (with the track the log flew).
 
-import { $, api, escapeHtml, status } from './api.js';
+import { $, api, authorisedFetch, escapeHtml, status } from './api.js';
 import { map, state } from './map.js';
 import { keepForComparison, showPlan } from './result.js';
 
@@ -25,9 +26,17 @@ export function fractionAlong(coords, latlng) {
 
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
-async function resume(seq, fraction, photosBack) {
+/** Sends a flight log as the body; the answer as `api` gives it. */
+async function postLog(file) {
+  const r = await authorisedFetch(`/api/v1/plans/${state.result.planId}/resume`, { method: 'POST', headers: { 'Content-Type': 'application/octet-stream' }, body: await file.arrayBuffer() });
+  const data = await r.json().catch(() => null);
+  if (!r.ok) throw new Error(data && data.detail ? `the log: ${data.detail}` : `the log: ${r.status}`);
+  return data;
+}
+
+async function resume(request) {
   try {
-    const queued = await api('POST', `/api/v1/plans/${state.result.planId}/resume`, { at: { seq, fraction }, photos_back: photosBack });
+    const queued = await request();
     $('progress').hidden = false;
     let plan = queued;
     while (['queued', 'running'].includes(plan.status)) {
@@ -41,7 +50,8 @@ async function resume(seq, fraction, photosBack) {
     keepForComparison();
     await showPlan(plan);
     const r = plan.stats.resume;
-    status(`resumed: ${(plan.stats.sweep_length_m / 1000).toFixed(2)} km of lines left (the original had ${(r.original_sweep_left_m / 1000).toFixed(2)} km after the stop, ${Math.round(r.overlap_m)} m flown again)`);
+    const redone = r.redone_m ? `, ${Math.round(r.redone_m)} m the log shows not imaged flown again` : '';
+    status(`resumed: ${(plan.stats.sweep_length_m / 1000).toFixed(2)} km of lines left (the original had ${(r.original_sweep_left_m / 1000).toFixed(2)} km after the stop, ${Math.round(r.overlap_m)} m flown again${redone})`);
     $('result-heading').focus();
   } catch (e) {
     status(e.message, true);
@@ -66,6 +76,27 @@ document.addEventListener('coverplan:piece-click', (e) => {
   const popup = L.popup().setLatLng(latlng).setContent(box).openOn(map);
   box.querySelector('.resume-here').onclick = () => {
     map.closePopup(popup);
-    resume(p.seq, fraction, Number(box.querySelector('.photos-back').value));
+    const photosBack = Number(box.querySelector('.photos-back').value);
+    resume(() => api('POST', `/api/v1/plans/${state.result.planId}/resume`, { at: { seq: p.seq, fraction }, photos_back: photosBack }));
   };
+});
+
+// a flight log: chosen, or dropped on the map while a plan is shown
+const resumable = () => state.result && state.result.planId && !state.result.stats.inspection;
+$('resume-log').addEventListener('change', (e) => {
+  const file = e.target.files[0];
+  e.target.value = '';
+  if (file && resumable()) resume(() => postLog(file));
+});
+// a dropped field file is the import's (mission.js); a log is told by its name
+const isLog = (file) => /\.(tlog|ulg|bin)$/i.test(file.name);
+map.getContainer().addEventListener('drop', (e) => {
+  const file = e.dataTransfer.files[0];
+  if (!file || !isLog(file) || !resumable()) return;
+  e.preventDefault();
+  e.stopImmediatePropagation();
+  resume(() => postLog(file));
+}, true);
+document.addEventListener('coverplan:plan-shown', () => {
+  $('resume-log-box').hidden = !resumable();
 });

@@ -8,7 +8,7 @@
 // the build. Draws a barn and inspects it, with its 3D view. Resumes a plan from a click on its
 // path. Screenshots of each step are left
 // in the temporary folder (coverplan-*.png).
-import { spawn } from 'node:child_process';
+import { execFileSync, spawn } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import net from 'node:net';
 import os from 'node:os';
@@ -460,6 +460,25 @@ try {
   assert.ok(await state(() => !!window.coverplan.state.compared), 'the original stays, faded');
   assert.deepEqual([await page.textContent('#col-a'), await page.textContent('#col-b')], ['what is left', 'the original (kept)']);
   await shot('resumed');
+
+  // the flight of that plan stopped halfway along a line, its telemetry log (written with
+  // pymavlink, tests/interop/make_tlog.py) chosen on the page: the rest is planned, the track
+  // flown drawn beside it
+  const resumedId = await state(() => window.coverplan.state.result.planId);
+  const fc = await (await fetch(`${base}/api/v1/plans/${resumedId}/trajectory`)).json();
+  const lines = fc.features.filter((f) => f.properties.kind === 'sweep');
+  const logDir = mkdtempSync(path.join(os.tmpdir(), 'coverplan-log-'));
+  writeFileSync(path.join(logDir, 'plan.geojson'), JSON.stringify(fc));
+  const python = process.env.COVERPLAN_PYTHON || path.join(os.homedir(), '.cache/coverplan-venv/bin/python');
+  const seq = String(lines[Math.floor(lines.length / 2)].properties.seq);
+  execFileSync(python, [path.join(root, 'tests/interop/make_tlog.py'), path.join(logDir, 'plan.geojson'), path.join(logDir, 'flight.tlog'), '--seq', seq, '--fraction', '0.5']);
+  assert.ok(await page.isVisible('#resume-log'), 'a shown plan offers to read its flight log');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.setInputFiles('#resume-log', path.join(logDir, 'flight.tlog'));
+  await waitFor(async () => /resumed:/.test(await page.textContent('#status')), 'the plan resumed from the log', 60000);
+  assert.ok(await page.locator('path.kind-flown').count() > 0, 'the track flown is drawn');
+  rmSync(logDir, { recursive: true, force: true });
+  await shot('resumed-from-log');
 
   // a hilly field: its elevation model from the file picker, shaded under the field; planned at
   // 60 m above the ground, with the profile of ground, altitude and band

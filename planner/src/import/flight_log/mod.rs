@@ -87,7 +87,7 @@ impl Gathered {
         let mut track: Vec<[f64; 2]> = Vec::new();
         let mut last: Option<LocalFrame> = None;
         for p in self.track.iter().filter_map(counted) {
-            if last.as_ref().is_some_and(|f| f.to_local(p[0], p[1]).x.hypot(f.to_local(p[0], p[1]).y) < TRACK_STEP_M) {
+            if last.as_ref().map(|f| f.to_local(p[0], p[1])).is_some_and(|d| d.x.hypot(d.y) < TRACK_STEP_M) {
                 continue;
             }
             last = Some(LocalFrame::new(p[0], p[1]));

@@ -10,7 +10,7 @@ use super::field::Field;
 use super::frame::LocalFrame;
 use super::geom::{distance, grow, polyline_length};
 use super::metrics::{self, Stats};
-use super::params::Landing;
+use super::params::{Landing, Objective};
 use super::path::{FlightPath, Piece, PieceKind};
 use super::planners::{self, Problem, Progress};
 use super::route::connect::{Connector, FlightEnds};
@@ -79,6 +79,8 @@ pub(crate) struct Flight {
     pub lost_coverage_m: f64,
     /// Over terrain: how each sortie lies over the ground (empty: flown above home).
     pub laid: Vec<profile::Laid>,
+    /// In wind: the duration and energy of the plan made as in still air, flown in the wind.
+    pub still_air_in_wind: Option<(f64, f64)>,
 }
 
 impl Flight {
@@ -126,10 +128,36 @@ impl Stages<'_> {
     /// `part` fixes the sweep direction and the altitude of transits.
     pub fn fly(&self, vehicle: &vehicle::Vehicle, ends: Ends, region: &MultiPolygon, part: Option<FleetPart>, progress: &dyn Progress) -> Result<Flight, PlanError> {
         let planner = self.prepared.planner;
-        let plan = |problem: &Problem<'_>| {
-            if self.prepared.resolved.optimal_direction { plan_every_direction(planner, problem, progress) } else { planner.plan(problem, progress) }
-        };
-        self.fly_route(vehicle, ends, region, part, &plan)
+        let resolved = &self.prepared.resolved;
+        let by_length = |p: &planners::PlannedPath| p.path.length();
+        let plan = |problem: &Problem<'_>| if resolved.optimal_direction { plan_every_direction(planner, problem, progress, &by_length) } else { planner.plan(problem, progress) };
+        let still_air = self.fly_route(vehicle, ends, region, part, &plan)?;
+        let wind = resolved.wind.filter(|w| w.speed_mps > 0.0 && resolved.objective != Objective::Length);
+        let (Some(wind), None, None) = (wind, resolved.sweep_angle, part) else { return Ok(still_air) };
+        // in wind: the still-air plan against plans swept along and across the wind, or, with
+        // `sweep_direction` `optimal`, the direction its model ranks first (docs/methods.md, wind §3)
+        let score = |p: &planners::PlannedPath| objective_figure(resolved.objective, &p.path, &vehicle.energy_model_in(Some(&wind)).estimate(&p.path, resolved.altitude_m));
+        let mut flights = vec![still_air];
+        if resolved.optimal_direction {
+            let plan = |problem: &Problem<'_>| plan_every_direction(planner, problem, &|_| true, &score);
+            flights.push(self.fly_route(vehicle, ends, region, part, &plan)?);
+        } else {
+            let v = wind.velocity();
+            let downwind = v.y.atan2(v.x).rem_euclid(std::f64::consts::PI);
+            for angle in [downwind, (downwind + std::f64::consts::FRAC_PI_2) % std::f64::consts::PI] {
+                let plan = |problem: &Problem<'_>| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true);
+                if self.stop.requested() {
+                    return Err(PlanError::Cancelled);
+                }
+                match self.fly_route(vehicle, ends, region, part, &plan) {
+                    Ok(f) => flights.push(f),
+                    Err(PlanError::Cancelled) => return Err(PlanError::Cancelled),
+                    // a direction that cannot be flown is no candidate
+                    Err(_) => {}
+                }
+            }
+        }
+        Ok(least_in_wind(flights, region, resolved))
     }
 
     /// Flies the route `route` makes from the problem (its connector joins what it needs), cut
@@ -166,6 +194,7 @@ impl Stages<'_> {
             coverage_penalty: resolved.coverage_penalty,
             vehicle,
             objective: resolved.objective,
+            wind: resolved.wind,
             ground: self.prepared.ground.as_ref(),
         };
         let planned = route(&problem)?;
@@ -185,7 +214,7 @@ impl Stages<'_> {
         if self.terrain.is_some() {
             laid(&flown(&planned.path).0)?;
         }
-        let model = vehicle.energy_model();
+        let model = vehicle.energy_model_in(resolved.wind.as_ref());
         let energy_of = |p: &FlightPath| {
             let path = flown(p).0;
             let path = laid(&path).ok().flatten().map_or(path, |l| l.0);
@@ -237,7 +266,17 @@ impl Stages<'_> {
         if let Some(first) = estimates.first_mut().filter(|_| ends.airborne) {
             first.takeoff = Default::default();
         }
-        Ok(Flight { vehicle: vehicle.clone(), planned, sorties, estimates, battery_swaps: split.battery_swaps, needed_j: split.needed_j, lost_coverage_m, laid: laid_sorties })
+        Ok(Flight {
+            vehicle: vehicle.clone(),
+            planned,
+            sorties,
+            estimates,
+            battery_swaps: split.battery_swaps,
+            needed_j: split.needed_j,
+            lost_coverage_m,
+            laid: laid_sorties,
+            still_air_in_wind: None,
+        })
     }
 
     /// A fixed wing's straights: a lead-in before every line, a climb-out from the launch point
@@ -297,6 +336,32 @@ impl Stages<'_> {
             .collect();
         Ok((flights, FleetPlan { departures, layers, areas, altitude_m: resolved.altitude_m }))
     }
+}
+
+/// The figure `objective` ranks a path and its estimate by.
+fn objective_figure(objective: Objective, path: &FlightPath, e: &PathEstimate) -> f64 {
+    match objective {
+        Objective::Energy => e.energy_j(),
+        Objective::Time => e.duration_s(),
+        Objective::Length => path.length(),
+    }
+}
+
+/// Of flights planned in the same wind, the first (the still-air plan) unless another covers as
+/// much and costs less by the objective.
+fn least_in_wind(flights: Vec<Flight>, region: &MultiPolygon, resolved: &params::Resolved) -> Flight {
+    let area = region.unsigned_area().max(1e-9);
+    let figure = |f: &Flight| -> (f64, f64) {
+        let cost = f.sorties.iter().zip(&f.estimates).map(|(s, e)| objective_figure(resolved.objective, s, e)).sum();
+        (cost, metrics::covered_area(&f.planned.path, region, resolved.layout.photographed()) / area)
+    };
+    let figures: Vec<(f64, f64)> = flights.iter().map(figure).collect();
+    let (cost0, coverage0) = figures[0];
+    let best = (1..flights.len()).filter(|&k| figures[k].1 >= coverage0 - 1e-6 && figures[k].0 < cost0).min_by(|&a, &b| figures[a].0.total_cmp(&figures[b].0)).unwrap_or(0);
+    let still_air_in_wind = Some((flights[0].duration_s(), flights[0].energy_j()));
+    let mut chosen = flights.into_iter().nth(best).expect("an index of the flights");
+    chosen.still_air_in_wind = still_air_in_wind;
+    chosen
 }
 
 /// Flies a transit in its drone's layer: it climbs from the survey altitude to `layer` over its
@@ -455,10 +520,16 @@ const DIRECTION_STEP_DEG: f64 = 2.0;
 /// covers, and the plan.
 type Tried = (f64, f64, planners::PlannedPath);
 
-/// Plans with every sweep direction and keeps the shortest plan by [`metrics::best_covering`],
-/// the rule `auto` chooses planners by (a fixed wing's shortest plan is often the one whose
-/// lines stop short of a no-fly zone); ties: the smaller angle.
-fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, progress: &dyn Progress) -> Result<planners::PlannedPath, PlanError> {
+/// Plans with every sweep direction and keeps the least costly plan by `cost` (its length in
+/// still air) by [`metrics::best_covering`], the rule `auto` chooses planners by (a fixed wing's
+/// shortest plan is often the one whose lines stop short of a no-fly zone); ties: the smaller
+/// angle.
+fn plan_every_direction(
+    planner: &dyn planners::Planner,
+    problem: &Problem<'_>,
+    progress: &dyn Progress,
+    cost: &(dyn Fn(&planners::PlannedPath) -> f64 + Sync),
+) -> Result<planners::PlannedPath, PlanError> {
     use rayon::prelude::*;
     let area = problem.region.unsigned_area();
     let run = |angle: f64| {
@@ -466,7 +537,7 @@ fn plan_every_direction(planner: &dyn planners::Planner, problem: &Problem<'_>, 
             .plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true)
             .map(|p| (angle, metrics::covered_area(&p.path, problem.region, problem.layout.photographed()) / area, p))
     };
-    let best = |tried: &[Tried]| metrics::best_covering(tried, |t| t.1, |t| t.2.path.length()).expect("at least one direction was tried");
+    let best = |tried: &[Tried]| metrics::best_covering(tried, |t| t.1, |t| cost(&t.2)).expect("at least one direction was tried");
     let grid: Vec<f64> = (0..(180.0 / DIRECTION_STEP_DEG) as usize).map(|k| (k as f64 * DIRECTION_STEP_DEG).to_radians()).collect();
     let mut tried: Vec<Tried> = Vec::with_capacity(grid.len() + 6);
     // a chunk per progress report, so that a cancelled job stops soon

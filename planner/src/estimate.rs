@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::energy::PathEstimate;
+use super::energy::wind::{Triangle, Wind};
 use super::error::InputError;
 use super::field::check_position;
 use super::frame::LocalFrame;
@@ -28,6 +29,9 @@ pub struct EstimateRequest {
     pub waypoints: Option<Vec<Vec<f64>>>,
     #[serde(default)]
     pub vehicle: VehicleParams,
+    /// A steady wind the route is flown in (with `height_m`, carried to the route's mean
+    /// altitude).
+    pub wind: Option<Wind>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -41,6 +45,9 @@ pub struct LegEstimate {
     pub v_out_mps: f64,
     pub duration_s: f64,
     pub energy_j: f64,
+    /// In wind: the leg's ground speed, airspeed and crab angle.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wind: Option<Triangle>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -116,7 +123,17 @@ pub fn estimate_route(req: &EstimateRequest, profiles: &[Vehicle]) -> Result<Rou
         // a zero-length leg (a pure climb) is kept as such: FlightPath drops it, so push by hand
         path.pieces.push(super::path::Piece { kind: PieceKind::Transit, points: vec![a, b], half_swath_m: 0.0, z: vec![w[0].1, w[1].1], shape: None });
     }
-    let model = vehicle.energy_model();
+    let wind = match &req.wind {
+        Some(w) => {
+            w.check("/wind")?;
+            let mean_altitude = positions.iter().map(|p| p.1).sum::<f64>() / positions.len() as f64;
+            let w = w.at_altitude(Some(mean_altitude));
+            vehicle.check_wind(&w, "/wind", "/vehicle")?;
+            Some(w)
+        }
+        None => None,
+    };
+    let model = vehicle.energy_model_in(wind.as_ref());
     // climb to the first waypoint's altitude, descend from the last one's
     let [takeoff, landing] = model.flight_ends(positions[0].1.max(0.0), positions[positions.len() - 1].1.max(0.0));
     let estimate = PathEstimate { pieces: model.pieces(&path), takeoff, landing };
@@ -133,6 +150,7 @@ pub fn estimate_route(req: &EstimateRequest, profiles: &[Vehicle]) -> Result<Rou
             v_out_mps: e.v_out_mps,
             duration_s: e.duration_s,
             energy_j: e.energy_j,
+            wind: e.wind,
         })
         .collect();
     let energy_j = estimate.energy_j();

@@ -54,6 +54,11 @@ pub(crate) fn finish(prepared: &Prepared, flights: &[Option<Flight>], fleet: Opt
     let ((mut stats, uncovered), ground_stats) =
         rayon::join(|| rayon::join(|| metrics::measure(&input), || metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones))), ground_stats);
     stats.ground = ground_stats;
+    stats.wind = resolved.wind.map(|w| {
+        let still_air: Option<Vec<(f64, f64)>> = flown.iter().map(|f| f.still_air_in_wind).collect();
+        let total = |pick: fn(&(f64, f64)) -> f64| still_air.as_ref().map(|s| s.iter().map(pick).sum());
+        metrics::WindStats { speed_mps: w.speed_mps, from_deg: w.from_deg, still_air_plan_duration_s: total(|s| s.0), still_air_plan_energy_j: total(|s| s.1) }
+    });
     if terrain {
         compose::report_terrain(&flown, &mut stats);
     }

@@ -6,7 +6,8 @@ use super::energy::constant_power::PowerFigures;
 use super::energy::fixed_wing::Airframe;
 use super::energy::ground::GroundPower;
 use super::energy::iem::IemCoefficients;
-use super::energy::{EnergyModel, EnergyParams, Motion};
+use super::energy::wind::{MAX_WIND_MPS, Wind};
+use super::energy::{EnergyModel, EnergyParams, InWind, Motion};
 use super::error::{InputError, check_range};
 use super::turn::TurnModel;
 use super::turn::continuous_curvature::cc_circle_radius;
@@ -154,6 +155,11 @@ pub struct Vehicle {
     pub battery: Battery,
     /// Ground vehicles only.
     pub ground: Option<GroundFigures>,
+    /// An aircraft's strongest wind to plan in (a fixed wing's is below its airspeed); none:
+    /// up to the airspeed.
+    #[serde(default)]
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 60.0))]
+    pub max_wind_mps: Option<f64>,
 }
 
 /// Built-in profiles. `iris` carries measured coefficients; the others' figures are assumed
@@ -173,6 +179,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             energy: EnergyParams::MultirotorIem(IemCoefficients::iris()),
             battery: li_ion(56.6),
             ground: None,
+            max_wind_mps: Some(10.0),
         },
         Vehicle {
             profile: "maja".into(),
@@ -184,6 +191,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             energy: EnergyParams::FixedWing(Airframe::default()),
             battery: li_ion(74.0),
             ground: None,
+            max_wind_mps: Some(9.0),
         },
         Vehicle {
             profile: "generic_multirotor".into(),
@@ -195,6 +203,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             energy: EnergyParams::ConstantPower(PowerFigures { cruise_power_w: 400.0, vertical_speed_mps: 2.0 }),
             battery: li_ion(548.0),
             ground: None,
+            max_wind_mps: Some(12.0),
         },
         Vehicle {
             profile: "tractor_sprayer".into(),
@@ -209,6 +218,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             // 200 l of diesel at 10 kWh per litre
             battery: Battery { energy_wh: 2_000_000.0, reserve: 0.1 },
             ground: Some(GroundFigures { working_width_m: 6.0, reverse_allowed: false, max_curvature_rate: None, headland_speed_mps: 1.5 }),
+            max_wind_mps: None,
         },
         Vehicle {
             profile: "generic_fixed_wing".into(),
@@ -220,6 +230,7 @@ pub fn builtin_profiles() -> Vec<Vehicle> {
             energy: EnergyParams::FixedWing(Airframe::default()),
             battery: li_ion(74.0),
             ground: None,
+            max_wind_mps: Some(9.0),
         },
     ]
 }
@@ -273,6 +284,9 @@ pub struct VehicleParams {
     /// Ground vehicle: speed of turns and transits.
     #[cfg_attr(feature = "schema", schema(minimum = 0.1, maximum = 30.0))]
     pub headland_speed_mps: Option<f64>,
+    /// An aircraft's strongest wind to plan in.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 60.0))]
+    pub max_wind_mps: Option<f64>,
 }
 
 impl VehicleParams {
@@ -300,6 +314,9 @@ impl VehicleParams {
         }
         if let Some(r) = self.battery_reserve {
             v.battery.reserve = r;
+        }
+        if let Some(w) = self.max_wind_mps {
+            v.max_wind_mps = Some(w);
         }
         self.apply_ground(&mut v, at)?;
         v.validate(at)?;
@@ -375,6 +392,50 @@ impl Vehicle {
         })
     }
 
+    /// [`Self::energy_model`] flown in `wind` (none, or a calm: exactly the still-air model).
+    pub fn energy_model_in(&self, wind: Option<&Wind>) -> Box<dyn EnergyModel + '_> {
+        match wind.filter(|w| w.speed_mps > 0.0) {
+            Some(w) => Box::new(InWind { model: self.energy_model(), wind: w.velocity() }),
+            None => self.energy_model(),
+        }
+    }
+
+    /// Refuses a `wind` (at the flight altitude) this vehicle cannot plan in: a ground vehicle
+    /// (wind changes nothing of its work), a wind above its `max_wind_mps`, or, for a fixed
+    /// wing, at least its airspeed. `at` is the JSON pointer of the wind, `vehicle_at` the
+    /// vehicle's.
+    pub fn check_wind(&self, wind: &Wind, at: &str, vehicle_at: &str) -> Result<(), InputError> {
+        if self.kind == VehicleKind::Ground {
+            return Err(InputError::new("not_for_ground_vehicles", at, "a ground vehicle's work does not change with the wind: leave out wind"));
+        }
+        let limit = match (self.kind, self.max_wind_mps) {
+            (VehicleKind::FixedWing, Some(m)) => m.min(self.cruise_speed_mps),
+            (VehicleKind::FixedWing, None) => self.cruise_speed_mps,
+            (_, Some(m)) => m,
+            (_, None) => self.cruise_speed_mps,
+        };
+        let strongest = if self.kind == VehicleKind::FixedWing && limit >= self.cruise_speed_mps { wind.speed_mps >= limit } else { wind.speed_mps > limit };
+        if strongest {
+            return Err(InputError::new(
+                "wind_too_strong",
+                format!("{at}/speed_mps"),
+                format!(
+                    "a wind of {:.1} m/s at the flight altitude is beyond what `{}` plans in ({limit:.1} m/s{}): {}",
+                    wind.speed_mps,
+                    self.profile,
+                    if self.kind == VehicleKind::FixedWing { ", below its airspeed" } else { "" },
+                    "fly another day, lower, or give the vehicle's own max_wind_mps"
+                ),
+            ));
+        }
+        // a multirotor holding its ground speed into the wind flies at up to both together
+        if let EnergyParams::MultirotorIem(c) = &self.energy {
+            c.check(self.cruise_speed_mps + wind.speed_mps, &format!("{vehicle_at}/energy/parameters"))
+                .map_err(|e| InputError::new("wind_too_strong", format!("{at}/speed_mps"), format!("the energy model cannot price flight into this wind: {}", e.detail)))?;
+        }
+        Ok(())
+    }
+
     /// Checks every figure; `at` is the JSON pointer of the profile in the request.
     pub fn validate(&self, at: &str) -> Result<(), InputError> {
         let id_ok = !self.profile.is_empty() && self.profile.len() <= 64 && self.profile.bytes().all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_' || b == b'-');
@@ -391,6 +452,9 @@ impl Vehicle {
             return Err(InputError::new("battery_too_large", format!("{at}/battery/energy_wh"), format!("an aircraft's battery holds at most {MAX_BATTERY_WH} Wh")));
         }
         range(self.battery.reserve, 0.0, 0.9, "battery/reserve", "")?;
+        if let Some(w) = self.max_wind_mps {
+            range(w, 0.0, MAX_WIND_MPS, "max_wind_mps", "m/s")?;
+        }
         if self.kind == VehicleKind::FixedWing && self.turn_radius_m < 1.0 {
             return Err(InputError::new("turn_radius_too_small", format!("{at}/turn_radius_m"), "a fixed-wing aircraft needs a turning radius of at least 1 m"));
         }

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use super::{Options, energy, fleet, ground, inspection, patrol, queue, resume, routing, run, terrain};
+use super::{Options, energy, fleet, ground, inspection, patrol, queue, resume, routing, run, terrain, wind};
 
 /// Time the planners on the generated fields and print a table.
 #[derive(clap::Args)]
@@ -64,6 +64,10 @@ pub struct BenchArgs {
     /// cuts along its path: time, and length against what the original had left.
     #[arg(long)]
     pub resume: bool,
+    /// Instead: plans made for the wind (0.3 and 0.5 of the airspeed, 8 directions) against
+    /// the still-air plan flown in the same wind, multirotor and fixed wing.
+    #[arg(long)]
+    pub wind: bool,
     /// Instead: the shared job queue on the PostgreSQL server at this admin URL
     /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
     /// the time of one claim at 10 000 queued plans.
@@ -99,6 +103,7 @@ fn table(args: BenchArgs) -> anyhow::Result<String> {
         BenchArgs { fleet: true, data, fields, .. } => fleet::run(&data, &fields)?,
         BenchArgs { routing: true, .. } => routing(),
         BenchArgs { resume: true, data, fields, .. } => resume::run(&data, &fields)?,
+        BenchArgs { wind: true, data, fields, .. } => wind::run(&data, &fields)?,
         BenchArgs { terrain: true, repeats, .. } => terrain::run(std::path::Path::new("tests/fixtures/terrain"), repeats)?,
         BenchArgs { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, overfly_holes, .. } => {
             let options = Options {

@@ -1,7 +1,8 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
-//! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground`, `--inspection` and `--queue` run the
-//! routing, energy, patrolling, fleet, ground-vehicle, inspection and shared-queue benchmarks
+//! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground`, `--inspection`, `--terrain`,
+//! `--resume`, `--wind` and `--queue` run the routing, energy, patrolling, fleet, ground-vehicle,
+//! inspection, terrain, resume, wind and shared-queue benchmarks
 //! instead.
 
 mod command;
@@ -14,6 +15,7 @@ pub mod patrol;
 pub mod queue;
 pub mod resume;
 pub mod terrain;
+pub mod wind;
 
 pub use command::{BenchArgs, run_command};
 

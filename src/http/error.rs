@@ -177,6 +177,7 @@ pub const ERROR_CODES: &[&str] = &[
     "vehicle_exists",
     "vehicle_kind_mismatch",
     "waypoint_count",
+    "wind_too_strong",
     "wrong_winding",
     "xml_entities_refused",
 ];
@@ -252,6 +253,9 @@ pub mod beyond_schema {
         "spacing_out_of_range",
         "state_mismatch",
     ];
+    /// A wind beyond the vehicle: its `max_wind_mps`, a fixed wing's airspeed, a ground
+    /// vehicle's (which refuses any).
+    pub const WIND: &[&str] = &["not_for_ground_vehicles", "wind_too_strong"];
     /// The mission a request plans, and the server's own limits.
     pub const MISSION: &[&str] = &[
         "altitude_missing",
@@ -308,6 +312,7 @@ pub mod beyond_schema {
         "turn_radius_too_small",
         "unknown_vehicle_profile",
         "vehicle_kind_mismatch",
+        "wind_too_strong",
     ];
 }
 

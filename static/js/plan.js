@@ -88,10 +88,23 @@ function syncForm() {
   $('lead-in-box').hidden = !fixedWing();
   $('landing-heading-box').hidden = !fixedWing() || $('landing').value !== 'auto';
   $('reference-box').hidden = ground || inspection;
+  // wind changes an aircraft's coverage flight, not a tractor's work or an inspection
+  $('wind-box').hidden = ground || inspection;
+  showWindArrow();
   $('tolerance-box').hidden = $('altitude-reference').value !== 'terrain';
   preview();
 }
 ['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference', 'landing'].forEach((id) => $(id).addEventListener('change', syncForm));
+
+/** The form's arrow points where the wind blows (downwind), grey in a calm. */
+function showWindArrow() {
+  const arrow = $('wind-arrow');
+  const from = num('wind-from') ?? 0;
+  // ➤ points east (90°): turn it to the downwind bearing
+  arrow.style.transform = `rotate(${from + 180 - 90}deg)`;
+  arrow.classList.toggle('calm', !(num('wind-speed') > 0));
+}
+for (const id of ['wind-speed', 'wind-from']) $(id).addEventListener('input', showWindArrow);
 
 // GSD and altitude say the same thing with a camera: typing one empties the other
 $('altitude').addEventListener('input', () => { if ($('altitude').value !== '') $('gsd').value = ''; });
@@ -226,6 +239,7 @@ export function planParams() {
     if (num('altitude-separation') !== undefined) p.altitude_separation_m = num('altitude-separation');
   }
   if ($('landing').value === 'auto') p.landing = 'auto';
+  if (!groundVehicle() && !$('wind-box').hidden && num('wind-speed') > 0) p.wind = { speed_mps: num('wind-speed'), from_deg: num('wind-from') ?? 0 };
   if (fixedWing()) {
     if (num('lead-in') !== undefined) p.lead_in_m = num('lead-in');
     if (p.landing === 'auto' && num('landing-heading') !== undefined) p.landing_heading_deg = num('landing-heading');
@@ -274,6 +288,8 @@ export function restoreParams(p) {
   $('landing').value = p.landing || 'return';
   $('landing-heading').value = p.landing_heading_deg ?? '';
   $('lead-in').value = p.lead_in_m ?? '';
+  $('wind-speed').value = p.wind ? p.wind.speed_mps : '';
+  $('wind-from').value = p.wind ? p.wind.from_deg : 270;
   $('altitude-separation').value = p.altitude_separation_m ?? '';
   if (p.budget) {
     const [kind, value] = Object.entries(p.budget)[0];
@@ -309,6 +325,7 @@ const inputOf = [
   ['/altitude_separation_m', 'altitude-separation'], ['/budget', 'budget'], ['/inspection/range_m', 'range-min'], ['/inspection/safety_margin_m', 'safety-margin'], ['/seed', 'inspection-seed'],
   ['/targets', 'target-names'], ['/terrain_tolerance_m', 'terrain-tolerance'], ['/camera', 'camera'], ['/planner', 'planner'], ['/swath_ends', 'line-ends'],
   ['/landing', 'landing'], ['/landing_heading_deg', 'landing-heading'], ['/lead_in_m', 'lead-in'],
+  ['/wind/speed_mps', 'wind-speed'], ['/wind/from_deg', 'wind-from'], ['/wind', 'wind-speed'],
 ];
 
 export function clearFieldErrors() {

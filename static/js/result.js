@@ -36,7 +36,9 @@ function drawTrajectory(fc, faded) {
       const p = f.properties;
       const shape = p.turn_type ? ` (${p.turn_type === 'u' ? 'U' : p.turn_type})` : '';
       const sortie = p.sortie === undefined ? '' : `, sortie ${p.sortie}`;
-      layer.bindTooltip(`${drone(p)}${p.kind}${shape} ${p.length_m} m, ${p.speed_mps} m/s${sortie}`);
+      // in wind: over the ground and through the air, and the nose's angle to the track
+      const air = p.ground_speed_mps === undefined ? `${p.speed_mps} m/s` : `${p.ground_speed_mps} m/s over the ground, ${p.airspeed_mps} m/s airspeed, crab ${p.crab_deg}°`;
+      layer.bindTooltip(`${drone(p)}${p.kind}${shape} ${p.length_m} m, ${air}${sortie}`);
       // a click says where a flight stopped (resume.js offers to plan the rest)
       if (!faded) layer.on('click', (e) => document.dispatchEvent(new CustomEvent('coverplan:piece-click', { detail: { feature: f, latlng: e.latlng } })));
     },
@@ -170,12 +172,24 @@ const figureRows = [
   ['last landing', (s) => (s.makespan_s == null ? '' : `${(s.makespan_s / 60).toFixed(1)} min`)],
   ['conflicts', (s) => (s.conflicts == null ? '' : s.conflicts.length)],
   ['photos', (s) => (s.photos ? s.photos : '')],
+  ['wind', (s) => (s.wind ? windFigure(s) : '')],
   ['resumed at', (s) => (s.resume ? `piece ${s.resume.seq}, ${Math.round(100 * s.resume.fraction)} % along (${(s.resume.original_left_m / 1000).toFixed(2)} km were left)` : '')],
   ['mainland worked', (s) => (s.ground ? `${(100 * s.ground.mainland_coverage).toFixed(1)} %` : '')],
   ['headland worked', (s) => (s.ground ? `${(100 * s.ground.headland_coverage).toFixed(1)} % (${s.ground.headland_passes} passes, ${s.ground.headland_width_m.toFixed(1)} m)` : '')],
   ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail, ${s.ground.headland_drives} along a pass` : '')],
   ['turns leaving the field', (s) => (s.ground ? s.ground.turns_leaving_field + s.ground.turns_crossing_holes : '')],
 ];
+
+/** The wind a plan was made for (an arrow pointing downwind), and what planning for it saved
+ * against the plan made as in still air, flown in the same wind. */
+function windFigure(s) {
+  const w = s.wind;
+  const arrow = `<span class="wind-arrow" style="transform: rotate(${w.from_deg + 90}deg)">➤</span>`;
+  const less = (mine, theirs, what) => (theirs > 0 ? `${(100 * (1 - mine / theirs)).toFixed(1)} % ${what}` : '');
+  const saved = [less(s.energy_j, w.still_air_plan_energy_j, 'energy'), less(s.duration_s, w.still_air_plan_duration_s, 'time')].filter(Boolean);
+  const against = saved.length ? ` · saves ${saved.join(', ')} against the still-air plan in this wind` : '';
+  return `${arrow} ${w.speed_mps.toFixed(1)} m/s from ${Math.round(w.from_deg)}°${against}`;
+}
 
 /** A fleet's drones, one row each, in their colours. */
 function renderFleet(stats) {

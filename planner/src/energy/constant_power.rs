@@ -69,9 +69,14 @@ impl EnergyModel for ConstantPower<'_> {
             .map(|(p, s)| {
                 let duration_s = p.length() / v + s * stop_s;
                 let v_ends = if stop_s > 0.0 { 0.0 } else { v };
-                PieceEstimate { speed_mps: v, duration_s, energy_j: duration_s * power, v_in_mps: v_ends, v_out_mps: v_ends }
+                PieceEstimate { speed_mps: v, duration_s, energy_j: duration_s * power, v_in_mps: v_ends, v_out_mps: v_ends, wind: None }
             })
             .collect()
+    }
+
+    /// A fixed wing holds its airspeed; a multirotor its ground speed, at the same power.
+    fn holds_airspeed(&self) -> Option<f64> {
+        (!self.multirotor).then_some(self.speed_mps)
     }
 
     fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64) {

@@ -47,7 +47,7 @@ impl EnergyModel for Ground<'_> {
                 let (speed, power) = if p.kind.works() { (self.working_speed_mps, self.power.working_power_w) } else { (self.headland_speed_mps, self.power.travel_power_w) };
                 let reversals = if p.shape == Some(TurnShape::Fishtail) { 2.0 } else { 0.0 };
                 let duration_s = p.length() / speed + reversals * self.reversal_s;
-                PieceEstimate { speed_mps: speed, duration_s, energy_j: duration_s * power, v_in_mps: speed, v_out_mps: speed }
+                PieceEstimate { speed_mps: speed, duration_s, energy_j: duration_s * power, v_in_mps: speed, v_out_mps: speed, wind: None }
             })
             .collect()
     }

@@ -7,6 +7,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use geo::Coord;
+
+use super::wind::components;
 use super::{EnergyModel, Leg, PieceEstimate, Vertical, legs, multirotor_landing, spread_over_pieces};
 use crate::error::{InputError, check_range};
 use crate::path::FlightPath;
@@ -182,9 +185,10 @@ impl IemCoefficients {
         if to >= from { integral(&self.accel_power, from, to) } else { integral(&self.decel_power, r - from, r - to) }
     }
 
-    /// Energy and time of a leg of length `d` entered at `v_in`, cruised at `v` and left at
-    /// `p·v`; `None` when no cruise phase fits.
-    fn at_speed(&self, d: f64, v_in: f64, v: f64, p: f64) -> Option<(f64, f64)> {
+    /// Energy and time of a leg of length `d` entered at `v_in`, cruised at `v` over the ground
+    /// and left at `p·v`, in a wind `(along, across)` the leg (m/s; level power at the airspeed
+    /// the wind makes of `v`); `None` when no cruise phase fits.
+    fn at_speed(&self, d: f64, v_in: f64, v: f64, p: f64, (along, across): (f64, f64)) -> Option<(f64, f64)> {
         let d1 = (v * v - v_in * v_in).abs() / 2.0;
         let d3 = (1.0 - p * p) * v * v / 2.0;
         let d2 = d - d1 - d3;
@@ -192,17 +196,25 @@ impl IemCoefficients {
             return None;
         }
         let d2 = d2.max(0.0);
-        let energy = self.speed_change(v_in, v) + polyval(&self.level_power, v) * d2 / v + self.speed_change(v, p * v);
+        // with no wind the airspeed is exactly v
+        let airspeed = (v - along).hypot(across);
+        let energy = self.speed_change(v_in, v) + polyval(&self.level_power, airspeed) * d2 / v + self.speed_change(v, p * v);
         Some((energy, (v - v_in).abs() + d2 / v + v * (1.0 - p)))
     }
 
     /// The leg at its energy-optimal cruise speed, at most `cap` (docs/methods.md, energy §3).
     pub fn leg(&self, d: f64, v_in: f64, p: f64, cap: f64) -> LegFlight {
+        self.leg_in_wind(d, v_in, p, cap, (0.0, 0.0))
+    }
+
+    /// [`Self::leg`] with a wind `(along, across)` the leg: the ground speed that costs least,
+    /// the level power at its airspeed (docs/methods.md, wind §2).
+    pub fn leg_in_wind(&self, d: f64, v_in: f64, p: f64, cap: f64, wind: (f64, f64)) -> LegFlight {
         if d < (1.0 - p * p) * v_in * v_in / 2.0 {
             let v_out = (v_in * v_in - 2.0 * d).max(0.0).sqrt();
             return LegFlight { cruise_mps: v_in, v_out, energy_j: self.speed_change(v_in, v_out), duration_s: v_in - v_out, short: true };
         }
-        let energy = |v: f64| self.at_speed(d, v_in, v, p).map(|(e, _)| e);
+        let energy = |v: f64| self.at_speed(d, v_in, v, p, wind).map(|(e, _)| e);
         // the fastest feasible speed on the accelerating branch is a candidate of its own
         let bound = ((2.0 * d + v_in * v_in) / (2.0 - p * p)).sqrt();
         let hi = if bound >= v_in { cap.min(bound) } else { cap };
@@ -234,7 +246,7 @@ impl IemCoefficients {
         if f(refined) < e {
             (v, e) = (refined, f(refined));
         }
-        let (_, t) = self.at_speed(d, v_in, v, p).expect("feasible");
+        let (_, t) = self.at_speed(d, v_in, v, p, wind).expect("feasible");
         LegFlight { cruise_mps: v, v_out: p * v, energy_j: e, duration_s: t, short: false }
     }
 }
@@ -255,13 +267,18 @@ impl Iem<'_> {
 
     /// Flies `legs` in order from rest to rest.
     pub fn fly(&self, legs: &[Leg]) -> Vec<LegFlight> {
+        self.fly_in_wind(legs, Coord { x: 0.0, y: 0.0 })
+    }
+
+    /// Flies `legs` in order from rest to rest in a wind blowing at `wind` (m/s, local frame).
+    pub fn fly_in_wind(&self, legs: &[Leg], wind: Coord) -> Vec<LegFlight> {
         let c = self.coefficients;
         let mut v_in = 0.0;
         legs.iter()
             .enumerate()
             .map(|(i, leg)| {
                 let p = if i + 1 == legs.len() { 0.0 } else { c.exit_fraction(leg.turn_after_deg) };
-                let mut f = c.leg(leg.length_m, v_in, p, self.max_speed_mps);
+                let mut f = c.leg_in_wind(leg.length_m, v_in, p, self.max_speed_mps, components(wind, leg.direction));
                 v_in = f.v_out;
                 // the corner: yaw towards the next waypoint, and any hold
                 let yaw_s = if c.yaw_at_waypoints { leg.turn_after_deg.abs() / c.yaw_rate_deg_s } else { 0.0 };
@@ -279,9 +296,22 @@ impl Iem<'_> {
 
 impl EnergyModel for Iem<'_> {
     fn pieces(&self, path: &FlightPath) -> Vec<PieceEstimate> {
+        self.pieces_in_wind(path, Coord { x: 0.0, y: 0.0 })
+    }
+
+    /// The autopilot holds each leg's ground speed; the wind changes the airspeed, and so the
+    /// level power and the speed that costs least.
+    fn pieces_in_wind(&self, path: &FlightPath, wind: Coord) -> Vec<PieceEstimate> {
         let legs = legs(path);
-        let flown = self.fly(&legs);
-        spread_over_pieces(path, &legs, &flown, |f| PieceEstimate { speed_mps: f.cruise_mps, duration_s: f.duration_s, energy_j: f.energy_j, v_in_mps: 0.0, v_out_mps: f.v_out })
+        let flown = self.fly_in_wind(&legs, wind);
+        spread_over_pieces(path, &legs, &flown, |f| PieceEstimate {
+            speed_mps: f.cruise_mps,
+            duration_s: f.duration_s,
+            energy_j: f.energy_j,
+            v_in_mps: 0.0,
+            v_out_mps: f.v_out,
+            wind: None,
+        })
     }
 
     fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64) {

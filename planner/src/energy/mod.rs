@@ -1,7 +1,8 @@
 //! Energy/time stage: speed, duration and energy of every piece of a flight path, one model
 //! per file: [`iem`] (measured multirotor), [`fixed_wing`] (physics of steady flight),
 //! [`constant_power`] (a single power figure), [`ground`] (a tractor's fuel, working and
-//! turning). [`EnergyParams::model`] builds a profile's.
+//! turning). [`EnergyParams::model`] builds a profile's; [`InWind`] flies any of them in a
+//! steady [`wind`].
 //!
 //! The models take plain numbers (their own figures and the speed, turning radius and corner
 //! stop of the flight) and check their own figures, so that they know nothing of vehicles.
@@ -10,6 +11,7 @@ pub mod constant_power;
 pub mod fixed_wing;
 pub mod ground;
 pub mod iem;
+pub mod wind;
 
 use serde::{Deserialize, Serialize};
 
@@ -87,6 +89,8 @@ pub struct PieceEstimate {
     /// Speed entering and leaving the piece.
     pub v_in_mps: f64,
     pub v_out_mps: f64,
+    /// In wind: the piece's wind triangle ([`wind::piece_triangle`]).
+    pub wind: Option<wind::Triangle>,
 }
 
 /// A path's estimate: one per piece, plus take-off to the flight altitude and landing.
@@ -163,11 +167,59 @@ pub trait EnergyModel {
         [Vertical::new(self.takeoff_landing(up_m, 0.0)), Vertical::new(self.takeoff_landing(0.0, down_m))]
     }
 
+    /// The airspeed the vehicle holds whatever the wind (its ground speed then follows the
+    /// wind); `None`: it holds its ground speed.
+    fn holds_airspeed(&self) -> Option<f64> {
+        None
+    }
+
+    /// [`Self::pieces`] in a wind blowing at `wind` (m/s, local frame). By default a vehicle
+    /// holding its airspeed is priced over the path as the air sees it, one holding its ground
+    /// speed as in still air.
+    fn pieces_in_wind(&self, path: &FlightPath, wind: geo::Coord) -> Vec<PieceEstimate> {
+        match self.holds_airspeed() {
+            Some(airspeed) => self.pieces(&wind::air_path(path, wind, airspeed)),
+            None => self.pieces(path),
+        }
+    }
+
     /// The whole flight at `altitude_m` (or at ground level).
     fn estimate(&self, path: &FlightPath, altitude_m: Option<f64>) -> PathEstimate {
         let h = altitude_m.unwrap_or(0.0).max(0.0);
         let [takeoff, landing] = self.flight_ends(h, h);
         PathEstimate { pieces: self.pieces(path), takeoff, landing }
+    }
+}
+
+/// A model flown in a steady wind: its pieces priced by [`EnergyModel::pieces_in_wind`], each
+/// with its wind triangle; take-off and landing as in still air.
+pub struct InWind<'a> {
+    pub model: Box<dyn EnergyModel + 'a>,
+    /// The air's velocity, m/s, local frame.
+    pub wind: geo::Coord,
+}
+
+impl EnergyModel for InWind<'_> {
+    fn pieces(&self, path: &FlightPath) -> Vec<PieceEstimate> {
+        let mut pieces = self.model.pieces_in_wind(path, self.wind);
+        let holds_airspeed = self.model.holds_airspeed();
+        for (e, piece) in pieces.iter_mut().zip(&path.pieces) {
+            let speed = holds_airspeed.unwrap_or(e.speed_mps);
+            e.wind = wind::piece_triangle(&piece.points, self.wind, speed, holds_airspeed.is_some());
+        }
+        pieces
+    }
+
+    fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64) {
+        self.model.takeoff_landing(up_m, down_m)
+    }
+
+    fn flight_ends(&self, up_m: f64, down_m: f64) -> [Vertical; 2] {
+        self.model.flight_ends(up_m, down_m)
+    }
+
+    fn holds_airspeed(&self) -> Option<f64> {
+        self.model.holds_airspeed()
     }
 }
 
@@ -190,6 +242,8 @@ pub struct Leg {
     pub descent_m: f64,
     /// Metres of the leg in each piece it crosses: (piece index, metres).
     pub spans: Vec<(usize, f64)>,
+    /// Unit vector along the leg's first segment.
+    pub direction: geo::Coord,
 }
 
 /// Joints straighter than this are flown through: the legs merge (docs/methods.md, energy §4).
@@ -221,6 +275,9 @@ pub fn legs(path: &FlightPath) -> Vec<Leg> {
                 }
             }
             last_dir = Some(d);
+            if current.length_m == 0.0 {
+                current.direction = d / len;
+            }
             current.length_m += len;
             match current.spans.last_mut() {
                 Some((p, m)) if *p == i => *m += len,

@@ -165,6 +165,11 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
             if let Some(z) = altitude_m {
                 props["altitude_m"] = json!(round(z, 2));
             }
+            if let Some(w) = e.wind {
+                props["ground_speed_mps"] = json!(round(w.ground_speed_mps, 2));
+                props["airspeed_mps"] = json!(round(w.airspeed_mps, 2));
+                props["crab_deg"] = json!(round(w.crab_deg, 1));
+            }
             if let Some(shape) = piece.shape {
                 props["turn_type"] = json!(shape);
             }

@@ -166,7 +166,7 @@ mod tests {
     fn straight(a: Coord, b: Coord, seconds: f64) -> (FlightPath, PathEstimate) {
         let mut path = FlightPath::default();
         path.push(PieceKind::Transit, vec![a, b], 0.0);
-        let e = PieceEstimate { speed_mps: distance(a, b) / seconds, duration_s: seconds, energy_j: 0.0, v_in_mps: 0.0, v_out_mps: 0.0 };
+        let e = PieceEstimate { speed_mps: distance(a, b) / seconds, duration_s: seconds, energy_j: 0.0, v_in_mps: 0.0, v_out_mps: 0.0, wind: None };
         (path, PathEstimate { pieces: vec![e], ..PathEstimate::default() })
     }
 

@@ -98,5 +98,6 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         inspection: None,
         terrain: None,
         resume: None,
+        wind: None,
     }
 }

@@ -22,4 +22,4 @@ pub use inspection::{InspectionStats, TargetCoverage};
 pub use measure::{MeasureInput, measure};
 pub use photos::{Photo, photo_points, photo_positions};
 pub use select::{COVERAGE_SLACK, COVERAGE_TARGET, best_covering};
-pub use stats::{Alternative, Optimality, OptimalityStatus, ResumeStats, Stats};
+pub use stats::{Alternative, Optimality, OptimalityStatus, ResumeStats, Stats, WindStats};

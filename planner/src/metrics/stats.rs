@@ -84,6 +84,23 @@ pub struct Stats {
     pub terrain: Option<crate::terrain::TerrainStats>,
     /// A resumed plan: where the flight it resumes stopped, and what was left.
     pub resume: Option<ResumeStats>,
+    /// The wind the plan was made for, at the flight altitude.
+    pub wind: Option<WindStats>,
+}
+
+/// The wind a plan was made for, and what planning for it saved.
+#[serde_with::skip_serializing_none]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct WindStats {
+    /// At the flight altitude.
+    pub speed_mps: f64,
+    pub from_deg: f64,
+    /// The plan made as in still air, flown in this wind: what the wind-aware choice was
+    /// weighed against (absent where nothing was chosen: a fixed heading, a fleet, objective
+    /// `length`).
+    pub still_air_plan_duration_s: Option<f64>,
+    pub still_air_plan_energy_j: Option<f64>,
 }
 
 /// Where a resumed plan's original flight stopped, and what it had left.

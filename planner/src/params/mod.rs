@@ -6,6 +6,7 @@ pub mod resume;
 use serde::{Deserialize, Serialize};
 
 use super::camera::{Camera, CameraPlan};
+use super::energy::wind::Wind;
 use super::error::{InputError, check_range};
 use super::sweep::LineLayout;
 pub use super::sweep::ends::SwathEnds;
@@ -32,7 +33,7 @@ pub struct PoseParam {
 pub const INSPECTION_ONLY_MEMBERS: [&str; 4] = ["targets", "budget", "inspection", "seed"];
 
 /// The members planner `inspection` refuses: they shape coverage plans.
-pub const COVERAGE_ONLY_MEMBERS: [&str; 13] = [
+pub const COVERAGE_ONLY_MEMBERS: [&str; 14] = [
     "line_spacing_m",
     "altitude_m",
     "heading_deg",
@@ -46,6 +47,7 @@ pub const COVERAGE_ONLY_MEMBERS: [&str; 13] = [
     "lead_in_m",
     "landing",
     "landing_heading_deg",
+    "wind",
 ];
 
 /// Members only a ground vehicle's plan reads.
@@ -157,6 +159,9 @@ pub struct PlanParams {
     pub landing_heading_deg: Option<f64>,
     /// What planner `auto` minimises (default `energy`).
     pub objective: Option<Objective>,
+    /// A steady wind: headings, turns, times, energies and sorties account for it
+    /// (docs/methods.md, wind).
+    pub wind: Option<Wind>,
     /// Most sorties a plan may be split into when one battery is not enough, 1 to 100
     /// (default 20); splitting needs the mission's home.
     #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 100))]
@@ -350,6 +355,8 @@ pub struct Resolved {
     pub max_climb_deg: f64,
     pub coverage_penalty: f64,
     pub objective: Objective,
+    /// The wind at the flight altitude.
+    pub wind: Option<Wind>,
     pub max_sorties: usize,
     /// The drones of a fleet, in the request's order; empty for one vehicle (`vehicle`).
     pub fleet: Vec<FleetVehicle>,
@@ -485,6 +492,7 @@ impl PlanParams {
         }
         let terrain = self.terrain(&vehicle, altitude_m, max_climb_deg)?;
         let (lead_in_m, landing, landing_heading) = self.flight_ends(&vehicle, &fleet)?;
+        let wind = self.wind(&vehicle, &fleet, altitude_m)?;
         Ok(Resolved {
             line_spacing_m,
             camera,
@@ -503,6 +511,7 @@ impl PlanParams {
             max_climb_deg,
             coverage_penalty,
             objective: self.objective.unwrap_or_default(),
+            wind,
             max_sorties: max_sorties as usize,
             fleet,
             altitude_separation_m,
@@ -512,6 +521,20 @@ impl PlanParams {
             landing,
             landing_heading,
         })
+    }
+
+    /// The wind carried to the flight altitude, checked against every vehicle flying in it.
+    fn wind(&self, vehicle: &Vehicle, fleet: &[FleetVehicle], altitude_m: Option<f64>) -> Result<Option<Wind>, InputError> {
+        let Some(given) = &self.wind else { return Ok(None) };
+        given.check("/wind")?;
+        let wind = given.at_altitude(altitude_m);
+        if fleet.is_empty() {
+            vehicle.check_wind(&wind, "/wind", "/vehicle")?;
+        }
+        for (k, member) in fleet.iter().enumerate() {
+            member.vehicle.check_wind(&wind, "/wind", &format!("/fleet/{k}/vehicle"))?;
+        }
+        Ok(Some(wind))
     }
 
     /// The lead-in, the landing and its heading, checked against the vehicles they are for.
@@ -592,6 +615,7 @@ impl PlanParams {
             self.lead_in_m.is_some(),
             self.landing.is_some(),
             self.landing_heading_deg.is_some(),
+            self.wind.is_some(),
         ];
         if let Some(pointer) = first_given(&COVERAGE_ONLY_MEMBERS, &given) {
             return Err(InputError::new("not_for_inspection", pointer, "an inspection flies to viewpoints around structures: this member is for coverage plans"));

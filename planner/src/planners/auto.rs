@@ -40,7 +40,7 @@ impl Planner for Auto {
     }
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
-        let model = problem.vehicle.energy_model();
+        let model = problem.vehicle.energy_model_in(problem.wind.as_ref());
         let others: Vec<&'static dyn Planner> = registry().iter().copied().filter(|p| p.id() != self.id() && !p.for_ground_vehicles()).collect();
         let results: Vec<(&'static str, Result<PlannedPath, PlanError>)> = others.par_iter().map(|p| (p.id(), p.plan(problem, &|_| true))).collect();
         if !progress.report(0.8) {

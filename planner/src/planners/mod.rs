@@ -56,6 +56,8 @@ pub struct Problem<'a> {
     pub vehicle: &'a Vehicle,
     /// What planner `auto` minimises.
     pub objective: Objective,
+    /// The wind at the flight altitude, which planner `auto` weighs its planners' flights in.
+    pub wind: Option<crate::energy::wind::Wind>,
     /// A ground vehicle's headland; `None` for an aircraft.
     pub ground: Option<&'a GroundSetup>,
 }

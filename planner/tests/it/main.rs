@@ -11,3 +11,4 @@ mod resume;
 mod seed004;
 mod several_fields;
 mod terrain;
+mod wind;

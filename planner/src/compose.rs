@@ -18,8 +18,10 @@ use super::route::visibility::TransitPlanner;
 use super::stop::Stop;
 use super::terrain::profile::{self, Ground};
 use super::turn::climb::Obstacles;
+use super::turn::trochoid::Drift;
 use super::turn::{self, TurnModel};
 use super::vehicle::VehicleKind;
+use super::wind::Wind;
 use super::{fleet, params, sortie, sweep, vehicle};
 
 /// Everything a planner needs, validated and in the local frame.
@@ -131,33 +133,43 @@ impl Stages<'_> {
         let resolved = &self.prepared.resolved;
         let by_length = |p: &planners::PlannedPath| p.path.length();
         let plan = |problem: &Problem<'_>| if resolved.optimal_direction { plan_every_direction(planner, problem, progress, &by_length) } else { planner.plan(problem, progress) };
-        let still_air = self.fly_route(vehicle, ends, region, part, &plan)?;
+        let still_air = self.fly_route(vehicle, ends, region, part, &plan);
         let wind = resolved.wind.filter(|w| w.speed_mps > 0.0 && resolved.objective != Objective::Length);
-        let (Some(wind), None, None) = (wind, resolved.sweep_angle, part) else { return Ok(still_air) };
-        // in wind: the still-air plan against plans swept along and across the wind, or, with
-        // `sweep_direction` `optimal`, the direction its model ranks first (docs/methods.md, wind §3)
-        let score = |p: &planners::PlannedPath| objective_figure(resolved.objective, &p.path, &vehicle.energy_model_in(Some(&wind)).estimate(&p.path, resolved.altitude_m));
-        let mut flights = vec![still_air];
+        match (wind, resolved.sweep_angle, part) {
+            (Some(wind), None, None) => self.fly_in_wind(vehicle, ends, region, still_air, wind),
+            _ => still_air,
+        }
+    }
+
+    /// In wind: the still-air plan against plans swept along and across the wind, or, with
+    /// `sweep_direction` `optimal`, the direction the model in wind ranks first (docs/methods.md,
+    /// wind §3). In a strong wind a fixed wing may find no way to turn where it did in still
+    /// air: then another direction may.
+    fn fly_in_wind(&self, vehicle: &vehicle::Vehicle, ends: Ends, region: &MultiPolygon, still_air: Result<Flight, PlanError>, wind: Wind) -> Result<Flight, PlanError> {
+        let (planner, resolved) = (self.prepared.planner, &self.prepared.resolved);
+        let (mut flights, mut failed) = (Vec::new(), None);
+        let still_air_flown = still_air.is_ok();
+        keep(&mut flights, &mut failed, still_air)?;
         if resolved.optimal_direction {
+            let model = |p: &planners::PlannedPath| vehicle.energy_model_in(Some(&wind)).estimate(&p.path, resolved.altitude_m);
+            let score = |p: &planners::PlannedPath| objective_figure(resolved.objective, &p.path, &model(p));
             let plan = |problem: &Problem<'_>| plan_every_direction(planner, problem, &|_| true, &score);
-            flights.push(self.fly_route(vehicle, ends, region, part, &plan)?);
+            keep(&mut flights, &mut failed, self.fly_route(vehicle, ends, region, None, &plan))?;
         } else {
             let v = wind.velocity();
             let downwind = v.y.atan2(v.x).rem_euclid(std::f64::consts::PI);
             for angle in [downwind, (downwind + std::f64::consts::FRAC_PI_2) % std::f64::consts::PI] {
-                let plan = |problem: &Problem<'_>| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true);
                 if self.stop.requested() {
                     return Err(PlanError::Cancelled);
                 }
-                match self.fly_route(vehicle, ends, region, part, &plan) {
-                    Ok(f) => flights.push(f),
-                    Err(PlanError::Cancelled) => return Err(PlanError::Cancelled),
-                    // a direction that cannot be flown is no candidate
-                    Err(_) => {}
-                }
+                let plan = |problem: &Problem<'_>| planner.plan(&Problem { sweep_angle: Some(angle), ..*problem }, &|_| true);
+                keep(&mut flights, &mut failed, self.fly_route(vehicle, ends, region, None, &plan))?;
             }
         }
-        Ok(least_in_wind(flights, region, resolved))
+        match failed {
+            Some(e) if flights.is_empty() => Err(e),
+            _ => Ok(least_in_wind(flights, region, resolved, still_air_flown)),
+        }
     }
 
     /// Flies the route `route` makes from the problem (its connector joins what it needs), cut
@@ -172,12 +184,18 @@ impl Stages<'_> {
     ) -> Result<Flight, PlanError> {
         let Prepared { resolved, field, keep_out, walls, .. } = self.prepared;
         let turn = vehicle.turn_model();
-        // fixed wing: corners far enough from the zones to turn around them
+        // a fixed wing flies its turns in the wind
+        let drift = match (turn, resolved.wind) {
+            (TurnModel::Dubins(_), Some(w)) if w.speed_mps > 0.0 => Some(Drift { wind: w.velocity(), airspeed: vehicle.cruise_speed_mps }),
+            _ => None,
+        };
+        // fixed wing: corners far enough from the zones to turn around them (in wind too: the
+        // hops between them are trochoids, each checked against the zones)
         let detour = match turn {
             TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), walls)),
             TurnModel::Straight => None,
         };
-        let connector = Connector::new(turn, self.transit, detour.as_ref()).with_ends(self.flight_ends(vehicle, &ends)).stopping_on(self.stop);
+        let connector = Connector::new(turn, self.transit, detour.as_ref()).with_ends(self.flight_ends(vehicle, &ends)).in_wind(drift).stopping_on(self.stop);
         let problem = Problem {
             region,
             keep_out,
@@ -338,6 +356,19 @@ impl Stages<'_> {
     }
 }
 
+/// Keeps a candidate flight; one that cannot be flown is no candidate (its error is kept in
+/// `failed` if it is the first), but a cancellation ends the search.
+fn keep(flights: &mut Vec<Flight>, failed: &mut Option<PlanError>, flight: Result<Flight, PlanError>) -> Result<(), PlanError> {
+    match flight {
+        Ok(f) => flights.push(f),
+        Err(PlanError::Cancelled) => return Err(PlanError::Cancelled),
+        Err(e) => {
+            failed.get_or_insert(e);
+        }
+    }
+    Ok(())
+}
+
 /// The figure `objective` ranks a path and its estimate by.
 fn objective_figure(objective: Objective, path: &FlightPath, e: &PathEstimate) -> f64 {
     match objective {
@@ -347,9 +378,9 @@ fn objective_figure(objective: Objective, path: &FlightPath, e: &PathEstimate) -
     }
 }
 
-/// Of flights planned in the same wind, the first (the still-air plan) unless another covers as
-/// much and costs less by the objective.
-fn least_in_wind(flights: Vec<Flight>, region: &MultiPolygon, resolved: &params::Resolved) -> Flight {
+/// Of flights planned in the same wind, the first (the still-air plan, when `first_is_still_air`)
+/// unless another covers as much and costs less by the objective.
+fn least_in_wind(flights: Vec<Flight>, region: &MultiPolygon, resolved: &params::Resolved, first_is_still_air: bool) -> Flight {
     let area = region.unsigned_area().max(1e-9);
     let figure = |f: &Flight| -> (f64, f64) {
         let cost = f.sorties.iter().zip(&f.estimates).map(|(s, e)| objective_figure(resolved.objective, s, e)).sum();
@@ -358,7 +389,7 @@ fn least_in_wind(flights: Vec<Flight>, region: &MultiPolygon, resolved: &params:
     let figures: Vec<(f64, f64)> = flights.iter().map(figure).collect();
     let (cost0, coverage0) = figures[0];
     let best = (1..flights.len()).filter(|&k| figures[k].1 >= coverage0 - 1e-6 && figures[k].0 < cost0).min_by(|&a, &b| figures[a].0.total_cmp(&figures[b].0)).unwrap_or(0);
-    let still_air_in_wind = Some((flights[0].duration_s(), flights[0].energy_j()));
+    let still_air_in_wind = first_is_still_air.then(|| (flights[0].duration_s(), flights[0].energy_j()));
     let mut chosen = flights.into_iter().nth(best).expect("an index of the flights");
     chosen.still_air_in_wind = still_air_in_wind;
     chosen

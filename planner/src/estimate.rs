@@ -5,12 +5,12 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::energy::PathEstimate;
-use super::energy::wind::{Triangle, Wind};
 use super::error::InputError;
 use super::field::check_position;
 use super::frame::LocalFrame;
 use super::path::{FlightPath, PieceKind};
 use super::vehicle::{Vehicle, VehicleParams};
+use super::wind::{Triangle, Wind};
 
 /// Most waypoints one request may carry.
 pub const MAX_WAYPOINTS: usize = 100_000;
@@ -193,6 +193,33 @@ mod tests {
         let landing_j = (crate::energy::RTL_HOVER_S + 10.0 / crate::energy::LAND_SPEED_MPS) * hover_w;
         assert!((e.totals.takeoff_landing_energy_j - 10.0 * 119.08 - landing_j).abs() < 1.0, "{}", e.totals.takeoff_landing_energy_j);
         assert!(e.legs[1].v_in_mps > 0.0 && e.legs[2].v_out_mps == 0.0);
+    }
+
+    #[test]
+    fn a_calm_prices_exactly_as_still_air_and_a_wind_by_its_triangle() {
+        let profiles = builtin_profiles();
+        // 2 km east at 60 m, then 2 km north
+        let (dx, dy) = (2000.0 / 111_320.0, 2000.0 / 110_574.0);
+        let route = |vehicle: &str, wind: Value| request(json!({"waypoints": [[0, 0, 60], [dx, 0, 60], [dx, dy, 60]], "vehicle": {"profile": vehicle}, "wind": wind}));
+        for vehicle in ["iris", "generic_fixed_wing", "generic_multirotor"] {
+            let still = estimate_route(&request(json!({"waypoints": [[0, 0, 60], [dx, 0, 60], [dx, dy, 60]], "vehicle": {"profile": vehicle}})), &profiles).unwrap();
+            let calm = estimate_route(&route(vehicle, json!({"speed_mps": 0, "from_deg": 90})), &profiles).unwrap();
+            assert_eq!(serde_json::to_value(&still.totals).unwrap(), serde_json::to_value(&calm.totals).unwrap(), "{vehicle}");
+        }
+        // a fixed wing at 15 m/s in 6 m/s from the west: the leg east at 21 m/s, north at √189
+        let windy = estimate_route(&route("generic_fixed_wing", json!({"speed_mps": 6, "from_deg": 270})), &profiles).unwrap();
+        let still = estimate_route(&route("generic_fixed_wing", Value::Null), &profiles).unwrap();
+        for (leg, ground) in windy.legs.iter().zip([21.0, 189f64.sqrt()]) {
+            let w = leg.wind.expect("a leg in wind says its triangle");
+            assert!((w.ground_speed_mps - ground).abs() < 1e-6 && (w.airspeed_mps - 15.0).abs() < 1e-12, "{w:?}");
+        }
+        // the legs take their length over the ground speed, less what the still-air turn adds
+        let straight = |legs: &[LegEstimate], k: usize| legs[k].duration_s - legs[k].length_m / 15.0;
+        assert!((windy.legs[0].duration_s - windy.legs[0].length_m / 21.0 - straight(&still.legs, 0)).abs() < 0.5, "{:?}", windy.legs[0]);
+        // a multirotor holding 7.8 m/s over the ground flies north with a crab into the west wind
+        let iris = estimate_route(&route("iris", json!({"speed_mps": 6, "from_deg": 270})), &profiles).unwrap();
+        let north = iris.legs[1].wind.unwrap();
+        assert!(north.crab_deg < -30.0 && north.airspeed_mps > north.ground_speed_mps, "{north:?}");
     }
 
     #[test]

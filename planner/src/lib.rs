@@ -5,16 +5,17 @@
 //! them all):
 //!
 //! - [`error`], `archive` (zips and XML from outside, read with limits), [`geom`], [`frame`]
-//!   (WGS84 ⇄ local metres), [`path`] (the flight path), [`stop`] (cancellation and time
-//!   limits, asked by every long loop): the vocabulary every stage shares;
+//!   (WGS84 ⇄ local metres), [`path`] (the flight path), [`wind`] (the wind triangle),
+//!   [`stop`] (cancellation and time limits, asked by every long loop): the vocabulary every
+//!   stage shares;
 //! - [`mesh`]: Wavefront OBJ models of structures, read with limits;
 //! - [`terrain`]: the user's elevation model (GeoTIFF, SRTM), and the altitude profile that
 //!   keeps a path at its height above that ground;
 //! - `field`: parse, validate and normalise the mission;
 //! - `sweep`: parallel sweep lines over an area, and the width of a shape across a direction;
 //! - `decompose`: cells, each swept by `sweep`'s lines in its own direction;
-//! - `turn`: how the vehicle joins one line to the next (straight, Dubins), and climbs over
-//!   obstacles;
+//! - `turn`: how the vehicle joins one line to the next (straight, Dubins, trochoidal in wind),
+//!   and climbs over obstacles;
 //! - `route`: the order of cells and lines (GTSP) and transits around no-fly zones;
 //! - [`energy`]: time and energy of a path, one model per file;
 //! - [`vehicle`], [`camera`], [`params`]: the request's vehicle, camera and parameters;
@@ -70,6 +71,7 @@ mod sweep;
 pub mod terrain;
 mod turn;
 pub mod vehicle;
+pub mod wind;
 
 use std::time::Instant;
 

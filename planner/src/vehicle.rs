@@ -6,12 +6,12 @@ use super::energy::constant_power::PowerFigures;
 use super::energy::fixed_wing::Airframe;
 use super::energy::ground::GroundPower;
 use super::energy::iem::IemCoefficients;
-use super::energy::wind::{MAX_WIND_MPS, Wind};
 use super::energy::{EnergyModel, EnergyParams, InWind, Motion};
 use super::error::{InputError, check_range};
 use super::turn::TurnModel;
 use super::turn::continuous_curvature::cc_circle_radius;
 use super::turn::ground::Steering;
+use super::wind::{MAX_WIND_MPS, Wind};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
@@ -408,23 +408,17 @@ impl Vehicle {
         if self.kind == VehicleKind::Ground {
             return Err(InputError::new("not_for_ground_vehicles", at, "a ground vehicle's work does not change with the wind: leave out wind"));
         }
-        let limit = match (self.kind, self.max_wind_mps) {
-            (VehicleKind::FixedWing, Some(m)) => m.min(self.cruise_speed_mps),
-            (VehicleKind::FixedWing, None) => self.cruise_speed_mps,
-            (_, Some(m)) => m,
-            (_, None) => self.cruise_speed_mps,
-        };
-        let strongest = if self.kind == VehicleKind::FixedWing && limit >= self.cruise_speed_mps { wind.speed_mps >= limit } else { wind.speed_mps > limit };
-        if strongest {
+        let fixed_wing = self.kind == VehicleKind::FixedWing;
+        let own = self.max_wind_mps.unwrap_or(self.cruise_speed_mps);
+        // a fixed wing makes no headway against a wind as fast as its airspeed
+        if wind.speed_mps > own || (fixed_wing && wind.speed_mps >= self.cruise_speed_mps) {
+            let limit = if fixed_wing { format!("{:.1} m/s, below its airspeed", own.min(self.cruise_speed_mps)) } else { format!("{own:.1} m/s") };
             return Err(InputError::new(
                 "wind_too_strong",
                 format!("{at}/speed_mps"),
                 format!(
-                    "a wind of {:.1} m/s at the flight altitude is beyond what `{}` plans in ({limit:.1} m/s{}): {}",
-                    wind.speed_mps,
-                    self.profile,
-                    if self.kind == VehicleKind::FixedWing { ", below its airspeed" } else { "" },
-                    "fly another day, lower, or give the vehicle's own max_wind_mps"
+                    "a wind of {:.1} m/s at the flight altitude is beyond what `{}` plans in ({limit}): fly another day, lower, or give the vehicle's own max_wind_mps",
+                    wind.speed_mps, self.profile
                 ),
             ));
         }

@@ -25,6 +25,9 @@ struct Row {
     still_air_error: Vec<f64>,
     /// Plans where the wind-aware choice differs from the still-air plan.
     changed: usize,
+    /// Plans whose still-air lines a fixed wing could not turn between in this wind (another
+    /// direction's plan was given).
+    unflyable: usize,
     ms: Vec<f64>,
 }
 
@@ -55,13 +58,16 @@ pub fn run(dir: &Path, fields: &[String]) -> anyhow::Result<String> {
                     let windy = planner::plan(&mission, &params(Some(wind))?, &profiles, &FieldLimits::default(), &|_| true, &Stop::never())
                         .with_context(|| format!("{file}, {vehicle}, wind {strength} of the airspeed from {d}/8"))?;
                     row.ms.push(started.elapsed().as_secs_f64() * 1000.0);
-                    let w = windy.stats.wind.as_ref().context("the wind in the stats")?;
-                    let today = if objective == "time" { w.still_air_plan_duration_s } else { w.still_air_plan_energy_j }.context("the still-air plan's figure")?;
-                    row.saving.push(1.0 - pick(&windy.stats) / today);
-                    row.still_air_error.push(today / pick(&still.stats) - 1.0);
                     if (windy.stats.sweep_heading_deg - still.stats.sweep_heading_deg).abs() > 0.01 {
                         row.changed += 1;
                     }
+                    let w = windy.stats.wind.as_ref().context("the wind in the stats")?;
+                    let Some(today) = (if objective == "time" { w.still_air_plan_duration_s } else { w.still_air_plan_energy_j }) else {
+                        row.unflyable += 1;
+                        continue;
+                    };
+                    row.saving.push(1.0 - pick(&windy.stats) / today);
+                    row.still_air_error.push(today / pick(&still.stats) - 1.0);
                 }
             }
         }
@@ -71,12 +77,19 @@ pub fn run(dir: &Path, fields: &[String]) -> anyhow::Result<String> {
         out,
         "fields: {} from {}; spacing sqrt(area)/20 within 5..60 m, 60 m up, home 50 m off the south-west corner, holes as no-fly zones; winds from {DIRECTIONS} directions; \
          saving: 1 − the wind-aware plan's figure / the still-air plan's flown in the same wind (multirotor: energy, holding its ground speed; fixed wing: time, holding its airspeed); \
-         still-air error: how much more the still-air plan costs in the wind than its still-air estimate says\n",
+         still-air error: how much more the still-air plan costs in the wind than its still-air estimate says; \
+         still-air lines unflyable: a fixed wing found no turn clear of the zones between them in this wind (another direction's plan was given)\n",
         entries.len(),
         dir.display()
     )?;
-    writeln!(out, "| vehicle | figure | wind / airspeed | plans | heading changed | saving median | saving worst | saving best | still-air error median | (max) | median ms |")?;
-    writeln!(out, "|---------|--------|----------------:|------:|----------------:|--------------:|-------------:|------------:|-----------------------:|------:|----------:|")?;
+    writeln!(
+        out,
+        "| vehicle | figure | wind / airspeed | plans | heading changed | still-air lines unflyable | saving median | saving worst | saving best | still-air error median | (max) | median ms |"
+    )?;
+    writeln!(
+        out,
+        "|---------|--------|----------------:|------:|----------------:|--------------------------:|--------------:|-------------:|------------:|-----------------------:|------:|----------:|"
+    )?;
     for ((vehicle, objective), vehicle_rows) in vehicles.iter().zip(rows.iter_mut()) {
         for (strength, row) in STRENGTHS.iter().zip(vehicle_rows.iter_mut()) {
             let worst = row.saving.iter().copied().fold(f64::INFINITY, f64::min);
@@ -84,9 +97,10 @@ pub fn run(dir: &Path, fields: &[String]) -> anyhow::Result<String> {
             let error_max = row.still_air_error.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             writeln!(
                 out,
-                "| {vehicle} | {objective} | {strength:.1} | {} | {} | {:.2} % | {:.2} % | {:.2} % | {:+.1} % | {:+.1} % | {:.0} |",
-                row.saving.len(),
+                "| {vehicle} | {objective} | {strength:.1} | {} | {} | {} | {:.2} % | {:.2} % | {:.2} % | {:+.1} % | {:+.1} % | {:.0} |",
+                row.ms.len(),
                 row.changed,
+                row.unflyable,
                 100.0 * quantile(&mut row.saving, 0.5),
                 100.0 * worst,
                 100.0 * best,

@@ -105,6 +105,14 @@ function showWindArrow() {
   arrow.classList.toggle('calm', !(num('wind-speed') > 0));
 }
 for (const id of ['wind-speed', 'wind-from']) $(id).addEventListener('input', showWindArrow);
+// a click round the arrow points it there: the wind blows that way, so it comes from the opposite
+$('wind-dial').addEventListener('click', (e) => {
+  const box = $('wind-dial').getBoundingClientRect();
+  const towards = (Math.atan2(e.clientX - (box.left + box.width / 2), (box.top + box.height / 2) - e.clientY) * 180) / Math.PI;
+  // to 10°, as weather reports give it
+  $('wind-from').value = (Math.round((towards + 180 + 360) / 10) * 10) % 360;
+  showWindArrow();
+});
 
 // GSD and altitude say the same thing with a camera: typing one empties the other
 $('altitude').addEventListener('input', () => { if ($('altitude').value !== '') $('gsd').value = ''; });

@@ -298,11 +298,19 @@ try {
   assert.ok(await page.isVisible('#landing-heading-box'), 'the landing heading once it lands');
   await page.fill('#landing-heading', '270');
   await page.fill('#lead-in', '150');
+  // and a wind: a click on the dial's east side makes it blow east, from the west
+  await page.fill('#wind-speed', '5');
+  const dial = await page.locator('#wind-dial').boundingBox();
+  await page.mouse.click(dial.x + dial.width - 2, dial.y + dial.height / 2);
+  assert.equal(await page.inputValue('#wind-from'), '270', 'a click east of the dial: a west wind');
   await page.evaluate(() => { document.getElementById('status').textContent = ''; });
   await page.click('#plan');
   await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the fixed-wing plan', 90000);
   const wingSent = (await (await fetch(`${base}/api/v1/missions/${missionId}/plans`)).json()).find((p) => p.params.vehicle.profile === 'generic_fixed_wing').params;
   assert.deepEqual([wingSent.landing, wingSent.landing_heading_deg, wingSent.lead_in_m], ['auto', 270, 150], 'landing, heading and lead-in sent');
+  assert.deepEqual(wingSent.wind, { speed_mps: 5, from_deg: 270 }, 'the wind sent');
+  assert.match(await page.textContent('td[data-figure=wind]'), /5\.0 m\/s from 270°/, 'the wind the plan was made for');
+  await page.fill('#wind-speed', '');
   await page.selectOption('#landing', 'return');
 
   // a tractor: its implement's fields instead of a camera, the headland planner, passes drawn

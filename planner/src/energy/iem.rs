@@ -9,10 +9,10 @@ use serde::{Deserialize, Serialize};
 
 use geo::Coord;
 
-use super::wind::components;
 use super::{EnergyModel, Leg, PieceEstimate, Vertical, legs, multirotor_landing, spread_over_pieces};
 use crate::error::{InputError, check_range};
 use crate::path::FlightPath;
+use crate::wind::components;
 
 /// Measured polynomials and rates of a multirotor (polynomials highest power first).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -2,7 +2,7 @@
 //! per file: [`iem`] (measured multirotor), [`fixed_wing`] (physics of steady flight),
 //! [`constant_power`] (a single power figure), [`ground`] (a tractor's fuel, working and
 //! turning). [`EnergyParams::model`] builds a profile's; [`InWind`] flies any of them in a
-//! steady [`wind`].
+//! steady wind ([`crate::wind`]).
 //!
 //! The models take plain numbers (their own figures and the speed, turning radius and corner
 //! stop of the flight) and check their own figures, so that they know nothing of vehicles.
@@ -11,12 +11,12 @@ pub mod constant_power;
 pub mod fixed_wing;
 pub mod ground;
 pub mod iem;
-pub mod wind;
 
 use serde::{Deserialize, Serialize};
 
 use super::error::InputError;
 use super::path::FlightPath;
+use super::wind;
 use constant_power::PowerFigures;
 use fixed_wing::Airframe;
 use ground::GroundPower;

@@ -6,11 +6,11 @@ pub mod resume;
 use serde::{Deserialize, Serialize};
 
 use super::camera::{Camera, CameraPlan};
-use super::energy::wind::Wind;
 use super::error::{InputError, check_range};
 use super::sweep::LineLayout;
 pub use super::sweep::ends::SwathEnds;
 use super::vehicle::{Vehicle, VehicleKind, VehicleParams};
+use super::wind::Wind;
 use inspection::{Budget, InspectionOptions, InspectionRequest, InspectionSpec, Target};
 
 /// A position with a heading, as a compass bearing (degrees clockwise from north).

@@ -153,7 +153,7 @@ impl CellPlanner {
         let mut tries: Vec<Option<f64>> = std::iter::once(None).chain(headings.into_iter().map(Some)).collect();
         if problem.transit.has_walls() {
             let open_sky = TransitPlanner::new(&MultiPolygon(vec![]), &MultiPolygon(vec![]));
-            let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).stopping_on(&problem.connector.stop());
+            let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).in_wind(problem.connector.wind()).stopping_on(&problem.connector.stop());
             let ranked = self.best_of(&Problem { transit: &open_sky, connector: &ranking_connector, ..*problem }, &tries)?;
             tries = vec![None, ranked.0];
             tries.dedup();

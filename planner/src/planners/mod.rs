@@ -57,7 +57,7 @@ pub struct Problem<'a> {
     /// What planner `auto` minimises.
     pub objective: Objective,
     /// The wind at the flight altitude, which planner `auto` weighs its planners' flights in.
-    pub wind: Option<crate::energy::wind::Wind>,
+    pub wind: Option<crate::wind::Wind>,
     /// A ground vehicle's headland; `None` for an aircraft.
     pub ground: Option<&'a GroundSetup>,
 }

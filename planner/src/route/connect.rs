@@ -1,7 +1,10 @@
 //! Connections between poses that never enter a no-fly zone, turn arcs included (docs/methods.md, dubins
 //! §9): straight transits on the visibility graph for a multirotor; for a fixed-wing aircraft
 //! the shortest clear Dubins word, or else Dubins hops along a visibility path laid far
-//! enough from the zones to turn in.
+//! enough from the zones to turn in. In wind a fixed wing's words are trochoids over the
+//! ground ([`crate::turn::trochoid`]), and what is still drawn as ground arcs (hops, detours,
+//! the room to turn at a line's end) uses the radius any ground circle can be flown on in that
+//! wind.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
@@ -13,6 +16,7 @@ use geo::{Coord, Rect};
 use super::visibility::{TransitPlanner, Tree};
 use crate::stop::Stop;
 use crate::turn::dubins::{DubinsPath, Pose, all_words, lengths_arriving, lengths_leaving, shortest, to_point_lower_bound};
+use crate::turn::trochoid::{Drift, Trochoid};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel, half_circles, turnable_stretch};
 
 pub struct Connector<'a> {
@@ -39,6 +43,8 @@ pub struct Connector<'a> {
     via_corners: bool,
     /// Fixed wing: the straights flown at the ends of connections ([`Connector::with_ends`]).
     ends: FlightEnds,
+    /// Fixed wing in wind ([`Connector::in_wind`]).
+    wind: Option<Drift>,
 }
 
 /// The straights a fixed wing flies at the ends of its connections, each left out where it
@@ -105,6 +111,7 @@ impl<'a> Connector<'a> {
             stop: None,
             via_corners: true,
             ends: FlightEnds::default(),
+            wind: None,
         }
     }
 
@@ -122,6 +129,7 @@ impl<'a> Connector<'a> {
             stop: self.stop.clone(),
             via_corners: self.via_corners,
             ends: self.ends,
+            wind: self.wind,
         }
     }
 
@@ -139,6 +147,23 @@ impl<'a> Connector<'a> {
     pub fn with_ends(mut self, ends: FlightEnds) -> Self {
         self.ends = ends;
         self
+    }
+
+    /// A fixed wing's connections fly in `drift` (none: still air).
+    pub fn in_wind(mut self, drift: Option<Drift>) -> Self {
+        self.wind = drift;
+        self
+    }
+
+    /// The wind the connections are flown in.
+    pub fn wind(&self) -> Option<Drift> {
+        self.wind
+    }
+
+    /// The radius of the arcs drawn on the ground: in wind, one any ground circle can be
+    /// flown on within the bank of `r`.
+    fn ground_radius(&self, r: f64) -> f64 {
+        self.wind.map_or(r, |d| d.safe_radius(r))
     }
 
     /// Where a Dubins connection from `from` may start turning: the ends of the climb-outs
@@ -242,11 +267,12 @@ impl Connector<'_> {
                 return hops;
             }
             let limit = hops.as_deref().map_or(f64::INFINITY, crate::geom::polyline_length);
-            self.via_corner(from, to, r, limit).or(hops)
+            self.via_corner(from, to, self.ground_radius(r), limit).or(hops)
         })
     }
 
-    /// Length of [`Connector::path`]; infinite when there is none.
+    /// Length of [`Connector::path`]; infinite when there is none. In wind, the metres of air
+    /// it flies (its time × the airspeed), so that routes are ranked by time.
     pub fn length(&self, from: Pose, to: Pose) -> f64 {
         if self.stopped() {
             return f64::INFINITY;
@@ -258,6 +284,16 @@ impl Connector<'_> {
             },
             TurnModel::Dubins(r) => {
                 let (start, end) = (self.turn_starts(from).next().unwrap_or(from), self.turn_end(to));
+                if let Some(drift) = self.wind {
+                    // in wind, metres of air: the connections are ranked by time
+                    if !self.transit.any_wall_in(&self.reach(start, end)) {
+                        let quickest = drift.connections(start, end, r).first().map(|t| t.time_s * drift.airspeed);
+                        if let Some(turn) = quickest {
+                            return turn + drift.air_length(&[from.coord(), start.coord()]) + drift.air_length(&[end.coord(), to.coord()]);
+                        }
+                    }
+                    return self.with_straights(from, to, r).map_or(f64::INFINITY, |points| drift.air_length(&points));
+                }
                 if !self.transit.any_wall_in(&reach(start, end, r)) {
                     let straights = (start.x - from.x).hypot(start.y - from.y) + (to.x - end.x).hypot(to.y - end.y);
                     return TurnModel::Dubins(r).length(start, end) + straights;
@@ -277,6 +313,7 @@ impl Connector<'_> {
         if self.stopped() {
             return None;
         }
+        let r = self.ground_radius(r);
         turnable_stretch(a, b, r, 1e-6, |at, out| self.can_turn_at(at, out, r))
     }
 
@@ -289,18 +326,49 @@ impl Connector<'_> {
 
     /// A box that holds every connection between the two poses that has no detour.
     pub fn reach(&self, from: Pose, to: Pose) -> Rect {
-        reach(
-            from,
-            to,
-            match self.turn {
-                TurnModel::Dubins(r) => r,
-                TurnModel::Straight => 0.0,
-            },
-        )
+        let r = match self.turn {
+            TurnModel::Dubins(r) => r,
+            TurnModel::Straight => 0.0,
+        };
+        match self.wind {
+            // a trochoid is its air path (within 4r of the ends) carried by the wind for at
+            // most the longest time a word takes; the ground arcs are within 4 safe radii
+            Some(d) => {
+                let drifted = d.wind.x.hypot(d.wind.y) * d.longest_time(from, to, r);
+                let m = (4.0 * r + drifted).max(4.0 * d.safe_radius(r));
+                let bb = Rect::new(from.coord(), to.coord());
+                Rect::new(bb.min() - Coord { x: m, y: m }, bb.max() + Coord { x: m, y: m })
+            }
+            None => reach(from, to, r),
+        }
     }
 
-    /// The shortest Dubins word that stays clear of the walls, as points.
+    /// No connection from `from` to `to` in open sky is shorter ([`Connector::length`]'s
+    /// measure), cheap: the Dubins path in still air; in wind, the time of the straight distance
+    /// at the fastest ground speed, V_a + w, in metres of air.
+    pub fn open_sky_floor(&self, from: Pose, to: Pose) -> f64 {
+        match self.wind {
+            Some(d) => (to.x - from.x).hypot(to.y - from.y) * d.airspeed / (d.airspeed + d.wind.x.hypot(d.wind.y)),
+            None => self.turn.length(from, to),
+        }
+    }
+
+    /// The shortest Dubins word that stays clear of the walls, as points; in wind the quickest
+    /// clear trochoid, or else the shortest clear word of the ground radius.
     fn clear_dubins(&self, from: Pose, to: Pose, r: f64) -> Option<Vec<Coord>> {
+        if let Some(drift) = self.wind {
+            let clear = |t: &Trochoid| {
+                let mut points = t.ground_points(CHORD_TOLERANCE_M);
+                *points.last_mut().expect("points") = to.coord();
+                let bounds = crate::geom::bounding(&points).expect("points");
+                (!self.transit.any_wall_in(&bounds) || self.transit.is_polyline_clear(&points)).then_some(points)
+            };
+            let found = drift.connections(from, to, r).iter().find_map(clear).or_else(|| drift.all_connections(from, to, r).iter().find_map(clear));
+            if found.is_some() {
+                return found;
+            }
+        }
+        let r = self.ground_radius(r);
         let mut words = all_words(from, to, r);
         words.sort_by(|a, b| a.length().total_cmp(&b.length()));
         words.into_iter().find_map(|w| self.clear_points(w, to))

@@ -177,7 +177,7 @@ impl<'a> LineProblem<'a> {
         if self.obstacles.is_none() && !self.connector.transit.any_wall_in(&self.connector.reach(from, to)) {
             return (self.connection(u, v), true);
         }
-        (CHORDS_AT_LEAST * self.connector.turn.length(from, to), false)
+        (CHORDS_AT_LEAST * self.connector.open_sky_floor(from, to), false)
     }
 
     /// From the start to the entry of each node (`None` without a start).

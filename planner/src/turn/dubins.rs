@@ -253,6 +253,11 @@ pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
     Word::ALL.iter().filter_map(|&word| word_params(word, &n).map(|params| DubinsPath { start: q0, radius: r, word, params })).collect()
 }
 
+/// The path of `word` from `q0` to `q1` with radius `r > 0`, where it exists.
+pub fn word_path(q0: Pose, q1: Pose, r: f64, word: Word) -> Option<DubinsPath> {
+    word_params(word, &normalise(q0, q1, r)).map(|params| DubinsPath { start: q0, radius: r, word, params })
+}
+
 /// The shortest path from `q0` to `q1` with radius `r > 0`; ties go to the first word of
 /// [`Word::ALL`]. It is called millions of times by the route search, so the words are
 /// priced in place, without a list, and a word whose [`Normalised::floor`] is above the

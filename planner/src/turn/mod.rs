@@ -11,6 +11,7 @@ pub mod dubins;
 pub mod fishtail;
 pub mod ground;
 pub mod reeds_shepp;
+pub mod trochoid;
 
 use geo::Coord;
 

@@ -14,6 +14,7 @@ const LAYERS: &[&str] = &[
     "geom",
     "frame",
     "path",
+    "wind",
     "stop",
     "mesh",
     "terrain",

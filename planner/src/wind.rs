@@ -7,7 +7,7 @@
 //! speed instead, and its power follows the airspeed the wind makes of it ([`super::iem`]).
 //!
 //! ```
-//! use coverplan_planner::energy::wind::{Wind, holding_airspeed};
+//! use coverplan_planner::wind::{Wind, holding_airspeed};
 //! // 5 m/s from the west, a 15 m/s aircraft flying east: 20 m/s over the ground, no crab
 //! let w = Wind { speed_mps: 5.0, from_deg: 270.0, height_m: None }.velocity();
 //! let t = holding_airspeed(15.0, w, geo::Coord { x: 1.0, y: 0.0 });

@@ -218,7 +218,12 @@ fn check_log_resume(k: usize, fixed_wing: bool, cut_at: f64, fraction: f64, seed
     // the last sample done is within a sample spacing (half the line spacing) and the
     // tolerance of where the flight stopped; before the first sample, the line before
     let trigger = 15.0;
-    if fraction * len >= trigger + 8.0 {
+    let next_sweep = sweeps.iter().find(|&&i| i > cut).map(|&i| flown[i].2);
+    if fraction * len >= trigger + 8.0 && len - fraction * len <= trigger + 8.0 && Some(found.seq) == next_sweep {
+        // stopped within a trigger distance and the tolerance of the line's end: its last sample
+        // is done, so the line is finished and the cut is the next line's start
+        prop_assert!(found.fraction == 0.0, "{what}: {found:?}");
+    } else if fraction * len >= trigger + 8.0 {
         prop_assert_eq!(found.seq, flown[cut].2, "{}: {:?}", what, found);
         let at = found.fraction * len;
         prop_assert!(at <= fraction * len + 8.0 && at >= fraction * len - trigger - 8.0, "{what}: found at {at:.0} m: {found:?}");

@@ -202,7 +202,7 @@ mod tests {
         let (dx, dy) = (2000.0 / 111_320.0, 2000.0 / 110_574.0);
         let route = |vehicle: &str, wind: Value| request(json!({"waypoints": [[0, 0, 60], [dx, 0, 60], [dx, dy, 60]], "vehicle": {"profile": vehicle}, "wind": wind}));
         for vehicle in ["iris", "generic_fixed_wing", "generic_multirotor"] {
-            let still = estimate_route(&request(json!({"waypoints": [[0, 0, 60], [dx, 0, 60], [dx, dy, 60]], "vehicle": {"profile": vehicle}})), &profiles).unwrap();
+            let still = estimate_route(&route(vehicle, Value::Null), &profiles).unwrap();
             let calm = estimate_route(&route(vehicle, json!({"speed_mps": 0, "from_deg": 90})), &profiles).unwrap();
             assert_eq!(serde_json::to_value(&still.totals).unwrap(), serde_json::to_value(&calm.totals).unwrap(), "{vehicle}");
         }

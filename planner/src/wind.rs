@@ -106,9 +106,24 @@ pub fn holding_ground_speed(ground_speed: f64, wind: Coord, u: Coord) -> Triangl
     Triangle { ground_speed_mps: ground_speed, airspeed_mps: ahead.hypot(across), crab_deg: across.atan2(ahead).to_degrees() }
 }
 
-/// `path` as the air sees it, flown at `airspeed`: each segment becomes its ground displacement
-/// less the wind's drift over the segment's time. Vertical segments stay; pieces keep their
-/// points, so that estimates of the air path are the ground path's piece by piece.
+/// A ground displacement `d` flown at `airspeed`, as the air sees it: `d` less the wind's drift
+/// over its time; its length is the airspeed × that time. A vertical one (zero) stays.
+pub fn air_displacement(d: Coord, wind: Coord, airspeed: f64) -> Coord {
+    let length = d.x.hypot(d.y);
+    if length <= 1e-12 {
+        return d;
+    }
+    d - wind * (length / holding_airspeed(airspeed, wind, d / length).ground_speed_mps)
+}
+
+/// The metres of air flown along the ground `points` at `airspeed` (time × airspeed).
+pub fn air_length(points: &[Coord], wind: Coord, airspeed: f64) -> f64 {
+    points.windows(2).map(|w| air_displacement(w[1] - w[0], wind, airspeed)).map(|a| a.x.hypot(a.y)).sum()
+}
+
+/// `path` as the air sees it, flown at `airspeed`: each segment becomes its
+/// [`air_displacement`]. Pieces keep their points, so that estimates of the air path are the
+/// ground path's piece by piece.
 pub fn air_path(path: &FlightPath, wind: Coord, airspeed: f64) -> FlightPath {
     let mut out = path.clone();
     let Some(first) = path.pieces.first().map(|p| p.points[0]) else { return out };
@@ -116,12 +131,7 @@ pub fn air_path(path: &FlightPath, wind: Coord, airspeed: f64) -> FlightPath {
     for (piece, air) in path.pieces.iter().zip(&mut out.pieces) {
         air.points[0] = at;
         for k in 1..piece.points.len() {
-            let d = piece.points[k] - piece.points[k - 1];
-            let length = d.x.hypot(d.y);
-            if length > 1e-12 {
-                let t = length / holding_airspeed(airspeed, wind, d / length).ground_speed_mps;
-                at = at + d - wind * t;
-            }
+            at = at + air_displacement(piece.points[k] - piece.points[k - 1], wind, airspeed);
             air.points[k] = at;
         }
     }

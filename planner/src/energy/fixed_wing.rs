@@ -142,11 +142,11 @@ impl EnergyModel for FixedWing<'_> {
         pieces
     }
 
-    /// Climbing and descending at the airframe's climb rate while cruising.
     fn holds_airspeed(&self) -> Option<f64> {
         Some(self.speed_mps)
     }
 
+    /// Climbing and descending at the airframe's climb rate while cruising.
     fn takeoff_landing(&self, up_m: f64, down_m: f64) -> (f64, f64) {
         let (v, rate) = (self.speed_mps, self.airframe.climb_rate_mps);
         let up = self.airframe.power_w(v, 1.0, rate);

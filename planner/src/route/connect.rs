@@ -18,6 +18,7 @@ use crate::stop::Stop;
 use crate::turn::dubins::{DubinsPath, Pose, all_words, lengths_arriving, lengths_leaving, shortest, to_point_lower_bound};
 use crate::turn::trochoid::{Drift, Trochoid};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel, half_circles, turnable_stretch};
+use crate::wind::air_length;
 
 pub struct Connector<'a> {
     pub turn: TurnModel,
@@ -289,10 +290,12 @@ impl Connector<'_> {
                     if !self.transit.any_wall_in(&self.reach(start, end)) {
                         let quickest = drift.connections(start, end, r).first().map(|t| t.time_s * drift.airspeed);
                         if let Some(turn) = quickest {
-                            return turn + drift.air_length(&[from.coord(), start.coord()]) + drift.air_length(&[end.coord(), to.coord()]);
+                            return turn
+                                + air_length(&[from.coord(), start.coord()], drift.wind, drift.airspeed)
+                                + air_length(&[end.coord(), to.coord()], drift.wind, drift.airspeed);
                         }
                     }
-                    return self.with_straights(from, to, r).map_or(f64::INFINITY, |points| drift.air_length(&points));
+                    return self.with_straights(from, to, r).map_or(f64::INFINITY, |points| air_length(&points, drift.wind, drift.airspeed));
                 }
                 if !self.transit.any_wall_in(&reach(start, end, r)) {
                     let straights = (start.x - from.x).hypot(start.y - from.y) + (to.x - end.x).hypot(to.y - end.y);
@@ -334,7 +337,7 @@ impl Connector<'_> {
             // a trochoid is its air path (within 4r of the ends) carried by the wind for at
             // most the longest time a word takes; the ground arcs are within 4 safe radii
             Some(d) => {
-                let drifted = d.wind.x.hypot(d.wind.y) * d.longest_time(from, to, r);
+                let drifted = d.wind_speed() * d.longest_time(from, to, r);
                 let m = (4.0 * r + drifted).max(4.0 * d.safe_radius(r));
                 let bb = Rect::new(from.coord(), to.coord());
                 Rect::new(bb.min() - Coord { x: m, y: m }, bb.max() + Coord { x: m, y: m })
@@ -348,7 +351,7 @@ impl Connector<'_> {
     /// at the fastest ground speed, V_a + w, in metres of air.
     pub fn open_sky_floor(&self, from: Pose, to: Pose) -> f64 {
         match self.wind {
-            Some(d) => (to.x - from.x).hypot(to.y - from.y) * d.airspeed / (d.airspeed + d.wind.x.hypot(d.wind.y)),
+            Some(d) => (to.x - from.x).hypot(to.y - from.y) * d.airspeed / (d.airspeed + d.wind_speed()),
             None => self.turn.length(from, to),
         }
     }
@@ -361,7 +364,7 @@ impl Connector<'_> {
                 let mut points = t.ground_points(CHORD_TOLERANCE_M);
                 *points.last_mut().expect("points") = to.coord();
                 let bounds = crate::geom::bounding(&points).expect("points");
-                (!self.transit.any_wall_in(&bounds) || self.transit.is_polyline_clear(&points)).then_some(points)
+                self.is_clear_within(&bounds, &points).then_some(points)
             };
             let found = drift.connections(from, to, r).iter().find_map(clear).or_else(|| drift.all_connections(from, to, r).iter().find_map(clear));
             if found.is_some() {
@@ -381,7 +384,13 @@ impl Connector<'_> {
             return None;
         }
         let points = word_points(word, to);
-        (!self.transit.any_wall_in(&word.bounds()) || self.transit.is_polyline_clear(&points)).then_some(points)
+        self.is_clear_within(&word.bounds(), &points).then_some(points)
+    }
+
+    /// True when `points`, which lie within `bounds`, stay clear of the walls: points whose box
+    /// meets no wall are clear without testing them.
+    fn is_clear_within(&self, bounds: &Rect, points: &[Coord]) -> bool {
+        !self.transit.any_wall_in(bounds) || self.transit.is_polyline_clear(points)
     }
 
     /// True when `word` (ending at `to`) stays clear of the walls.

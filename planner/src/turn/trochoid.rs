@@ -9,7 +9,7 @@
 use geo::Coord;
 
 use super::dubins::{DubinsPath, Part, Pose, Word, advance, arc_step, word_path};
-use crate::wind::holding_airspeed;
+use crate::wind::air_displacement;
 
 /// The wind, and the airspeed the aircraft holds in it (faster than the wind).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,14 +31,18 @@ pub struct Trochoid {
 const SCAN_STEPS: usize = 96;
 
 impl Drift {
+    /// The wind's speed, m/s.
+    pub fn wind_speed(&self) -> f64 {
+        self.wind.x.hypot(self.wind.y)
+    }
+
     fn speed_ratio(&self) -> f64 {
-        self.wind.x.hypot(self.wind.y) / self.airspeed
+        self.wind_speed() / self.airspeed
     }
 
     /// The air heading that keeps the ground track `track` (math radians).
     pub fn heading_for_track(&self, track: f64) -> f64 {
-        let u = Coord { x: track.cos(), y: track.sin() };
-        let air = u * holding_airspeed(self.airspeed, self.wind, u).ground_speed_mps - self.wind;
+        let air = air_displacement(Coord { x: track.cos(), y: track.sin() }, self.wind, self.airspeed);
         air.y.atan2(air.x)
     }
 
@@ -126,18 +130,6 @@ impl Drift {
         found
     }
 
-    /// The metres of air flown along the ground `points` (time × airspeed).
-    pub fn air_length(&self, points: &[Coord]) -> f64 {
-        points
-            .windows(2)
-            .map(|w| {
-                let d = w[1] - w[0];
-                let l = d.x.hypot(d.y);
-                if l <= 1e-12 { 0.0 } else { l * self.airspeed / holding_airspeed(self.airspeed, self.wind, d / l).ground_speed_mps }
-            })
-            .sum()
-    }
-
     /// The root of `excess` between `lo` (positive) and `hi` (not), when it is one and not a
     /// jump of the word's length.
     fn bisect(&self, excess: &impl Fn(f64) -> Option<(DubinsPath, f64)>, mut lo: f64, mut hi: f64) -> Option<Trochoid> {
@@ -186,6 +178,7 @@ impl Trochoid {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::wind::holding_airspeed;
     use geo::{Distance, Euclidean};
     use std::f64::consts::{FRAC_PI_2, PI, TAU};
 

@@ -2,9 +2,11 @@
 //! it into sorties, estimate it), and a fleet's: the area shared out by `fleet`, each part
 //! flown by its drone, and what the fleet adds to the statistics.
 
+use std::sync::Arc;
+
 use geo::{Area, Coord, MultiPolygon};
 
-use super::energy::PathEstimate;
+use super::energy::{EnergyModel, PathEstimate};
 use super::error::PlanError;
 use super::field::Field;
 use super::frame::LocalFrame;
@@ -21,7 +23,7 @@ use super::turn::climb::Obstacles;
 use super::turn::trochoid::Drift;
 use super::turn::{self, TurnModel};
 use super::vehicle::VehicleKind;
-use super::wind::Wind;
+use super::wind::{Tariff, Wind};
 use super::{fleet, params, sortie, sweep, vehicle};
 
 /// Everything a planner needs, validated and in the local frame.
@@ -195,7 +197,12 @@ impl Stages<'_> {
             TurnModel::Dubins(r) => Some(TransitPlanner::new(&grow(&field.no_fly_zones, resolved.nfz_margin_m + r), walls)),
             TurnModel::Straight => None,
         };
-        let connector = Connector::new(turn, self.transit, detour.as_ref()).with_ends(self.flight_ends(vehicle, &ends)).in_wind(drift).stopping_on(self.stop);
+        // a multirotor's routes weigh each direction by what it costs in the wind
+        let tariff = match (turn, resolved.wind) {
+            (TurnModel::Straight, Some(w)) if w.speed_mps > 0.0 && resolved.objective != Objective::Length => Some(Arc::new(wind_tariff(vehicle, &w, resolved.objective))),
+            _ => None,
+        };
+        let connector = Connector::new(turn, self.transit, detour.as_ref()).with_ends(self.flight_ends(vehicle, &ends)).in_wind(drift).priced_by(tariff).stopping_on(self.stop);
         let problem = Problem {
             region,
             keep_out,
@@ -376,6 +383,23 @@ fn objective_figure(objective: Objective, path: &FlightPath, e: &PathEstimate) -
         Objective::Time => e.duration_s(),
         Objective::Length => path.length(),
     }
+}
+
+/// What a metre over the ground costs `vehicle` in `wind` by its direction, relative to still
+/// air: a long straight leg's time or energy (by `objective`) in the wind over the same leg's
+/// in still air (docs/methods.md, wind §3).
+fn wind_tariff(vehicle: &vehicle::Vehicle, wind: &Wind, objective: Objective) -> Tariff {
+    // long enough that starting and stopping weigh little against the cruise
+    const LEG_M: f64 = 5000.0;
+    let figure = |model: &dyn EnergyModel, u: Coord| {
+        let mut leg = FlightPath::default();
+        leg.push(PieceKind::Sweep, vec![Coord { x: 0.0, y: 0.0 }, u * LEG_M], 0.0);
+        let e = &model.pieces(&leg)[0];
+        if objective == Objective::Time { e.duration_s } else { e.energy_j }
+    };
+    let still_air = figure(vehicle.energy_model().as_ref(), Coord { x: 1.0, y: 0.0 });
+    let in_wind = vehicle.energy_model_in(Some(wind));
+    Tariff::sampled(|u| figure(in_wind.as_ref(), u) / still_air)
 }
 
 /// Of flights planned in the same wind, the first (the still-air plan, when `first_is_still_air`)

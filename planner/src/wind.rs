@@ -158,6 +158,61 @@ pub fn piece_triangle(points: &[Coord], wind: Coord, speed: f64, holds_airspeed:
     longest.map(|(_, t)| Triangle { ground_speed_mps: length / time, ..t })
 }
 
+/// Headings a [`Tariff`] is sampled at (every 5°).
+pub const TARIFF_HEADINGS: usize = 72;
+
+/// What a metre over the ground costs by its direction in a wind, relative to still air: a
+/// straight leg's time or energy in the wind over the same leg's in still air, sampled at
+/// [`TARIFF_HEADINGS`] headings and interpolated between them. Routes weigh a vehicle's legs
+/// by it where the vehicle's model, not the geometry, says what the wind costs (a multirotor
+/// holding its ground speed: the energy model lives above the routes).
+///
+/// ```
+/// use coverplan_planner::wind::Tariff;
+/// // a metre flown east costs half again what one flown west does
+/// let t = Tariff::sampled(|u| 1.0 + 0.25 * u.x);
+/// assert!((t.price(geo::Coord { x: 1.0, y: 0.0 }) - 1.25).abs() < 1e-12);
+/// assert!((t.length(&[geo::Coord { x: 0.0, y: 0.0 }, geo::Coord { x: -10.0, y: 0.0 }]) - 7.5).abs() < 1e-12);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tariff {
+    per_heading: Vec<f64>,
+}
+
+impl Tariff {
+    /// The tariff of `price` (of a unit direction, math angle from east), sampled.
+    pub fn sampled(price: impl Fn(Coord) -> f64) -> Self {
+        let step = std::f64::consts::TAU / TARIFF_HEADINGS as f64;
+        Tariff { per_heading: (0..TARIFF_HEADINGS).map(|k| price(Coord { x: (k as f64 * step).cos(), y: (k as f64 * step).sin() })).collect() }
+    }
+
+    /// The price of a metre along `d` (any length but zero).
+    pub fn price(&self, d: Coord) -> f64 {
+        let at = d.y.atan2(d.x).rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU * TARIFF_HEADINGS as f64;
+        let k = (at.floor() as usize).min(TARIFF_HEADINGS - 1);
+        let f = at - k as f64;
+        self.per_heading[k] * (1.0 - f) + self.per_heading[(k + 1) % TARIFF_HEADINGS] * f
+    }
+
+    /// The priced length of the polyline `points`.
+    pub fn length(&self, points: &[Coord]) -> f64 {
+        points
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .map(|d| {
+                let l = d.x.hypot(d.y);
+                if l <= 1e-12 { 0.0 } else { l * self.price(d) }
+            })
+            .sum()
+    }
+
+    /// The cheapest metre in any direction: no priced path is shorter than its straight
+    /// length times this.
+    pub fn cheapest(&self) -> f64 {
+        self.per_heading.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -153,7 +153,7 @@ impl CellPlanner {
         let mut tries: Vec<Option<f64>> = std::iter::once(None).chain(headings.into_iter().map(Some)).collect();
         if problem.transit.has_walls() {
             let open_sky = TransitPlanner::new(&MultiPolygon(vec![]), &MultiPolygon(vec![]));
-            let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).in_wind(problem.connector.wind()).stopping_on(&problem.connector.stop());
+            let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).in_wind_of(problem.connector).stopping_on(&problem.connector.stop());
             let ranked = self.best_of(&Problem { transit: &open_sky, connector: &ranking_connector, ..*problem }, &tries)?;
             tries = vec![None, ranked.0];
             tries.dedup();
@@ -165,7 +165,8 @@ impl CellPlanner {
     }
 
     /// The plan at each of `angles` (`None`: the decomposition's own), in parallel, and the
-    /// shortest per covered share with its angle. An angle whose lines cannot be flown (no way
+    /// shortest per covered share with its angle (in wind, the quickest: measured as the
+    /// connections are). An angle whose lines cannot be flown (no way
     /// round a zone at the turning radius) is passed over; its error stands when no angle plans.
     fn best_of(&self, problem: &Problem<'_>, angles: &[Option<f64>]) -> Result<(Option<f64>, PlannedPath), PlanError> {
         use rayon::prelude::*;
@@ -189,7 +190,7 @@ impl CellPlanner {
                 }
             }
         }
-        let Some(best) = crate::metrics::best_covering(&planned, |p| p.1, |p| p.2.path.length()) else {
+        let Some(best) = crate::metrics::best_covering(&planned, |p| p.1, |p| problem.connector.measure(&p.2.path)) else {
             return Err(first_error.expect("an angle was tried"));
         };
         let (angle, _, plan) = planned.into_iter().nth(best).expect("an index of the plans");

@@ -110,7 +110,7 @@ impl Planner for LineGtsp {
         let fields: Vec<MultiPolygon> = problem.region.0.iter().map(|p| MultiPolygon(vec![p.clone()])).collect();
         let open_sky = TransitPlanner::new(&MultiPolygon(vec![]), &MultiPolygon(vec![]));
         let around_zones = problem.transit.has_walls();
-        let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).in_wind(problem.connector.wind()).stopping_on(&problem.connector.stop());
+        let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).in_wind_of(problem.connector).stopping_on(&problem.connector.stop());
         let search = Search {
             problem,
             fields: &fields,

@@ -14,11 +14,12 @@ use std::sync::{Arc, OnceLock, RwLock};
 use geo::{Coord, Rect};
 
 use super::visibility::{TransitPlanner, Tree};
+use crate::path::FlightPath;
 use crate::stop::Stop;
 use crate::turn::dubins::{DubinsPath, Pose, all_words, lengths_arriving, lengths_leaving, shortest, to_point_lower_bound};
 use crate::turn::trochoid::{Drift, Trochoid};
 use crate::turn::{CHORD_TOLERANCE_M, TurnModel, half_circles, turnable_stretch};
-use crate::wind::air_length;
+use crate::wind::{Tariff, air_length};
 
 pub struct Connector<'a> {
     pub turn: TurnModel,
@@ -46,6 +47,8 @@ pub struct Connector<'a> {
     ends: FlightEnds,
     /// Fixed wing in wind ([`Connector::in_wind`]).
     wind: Option<Drift>,
+    /// Straight transits in wind: their metres priced by direction ([`Connector::priced_by`]).
+    tariff: Option<Arc<Tariff>>,
 }
 
 /// The straights a fixed wing flies at the ends of its connections, each left out where it
@@ -113,6 +116,7 @@ impl<'a> Connector<'a> {
             via_corners: true,
             ends: FlightEnds::default(),
             wind: None,
+            tariff: None,
         }
     }
 
@@ -131,6 +135,7 @@ impl<'a> Connector<'a> {
             via_corners: self.via_corners,
             ends: self.ends,
             wind: self.wind,
+            tariff: self.tariff.clone(),
         }
     }
 
@@ -159,6 +164,39 @@ impl<'a> Connector<'a> {
     /// The wind the connections are flown in.
     pub fn wind(&self) -> Option<Drift> {
         self.wind
+    }
+
+    /// Straight connections cost their metres priced by `tariff` (a multirotor in wind:
+    /// routes are ranked by what each direction costs it).
+    pub fn priced_by(mut self, tariff: Option<Arc<Tariff>>) -> Self {
+        self.tariff = tariff;
+        self
+    }
+
+    /// Flown in `other`'s wind, priced by its tariff.
+    pub fn in_wind_of(self, other: &Connector) -> Self {
+        self.in_wind(other.wind).priced_by(other.tariff.clone())
+    }
+
+    /// True where a straight's cost depends on its direction (in wind).
+    pub fn weighs_directions(&self) -> bool {
+        self.wind.is_some() || self.tariff.is_some()
+    }
+
+    /// What flying `path` costs in [`Connector::length`]'s measure: its metres, in wind its
+    /// metres of air or its priced metres; plans routed in a wind are compared on it.
+    pub fn measure(&self, path: &FlightPath) -> f64 {
+        path.pieces.iter().flat_map(|p| p.points.windows(2)).map(|w| self.straight_cost(w[0], w[1])).sum()
+    }
+
+    /// What flying the straight `a → b` costs in [`Connector::length`]'s measure: its metres,
+    /// in wind its metres of air (fixed wing) or its priced metres (by the tariff).
+    pub fn straight_cost(&self, a: Coord, b: Coord) -> f64 {
+        match (self.wind, &self.tariff) {
+            (Some(d), _) => air_length(&[a, b], d.wind, d.airspeed),
+            (None, Some(t)) => t.length(&[a, b]),
+            (None, None) => crate::geom::distance(a, b),
+        }
     }
 
     /// The radius of the arcs drawn on the ground: in wind, one any ground circle can be
@@ -279,9 +317,10 @@ impl Connector<'_> {
             return f64::INFINITY;
         }
         match self.turn {
-            TurnModel::Straight => match self.transit.path(from.coord(), to.coord()) {
-                Some(p) => crate::geom::polyline_length(&p),
-                None => f64::INFINITY,
+            TurnModel::Straight => match (self.transit.path(from.coord(), to.coord()), &self.tariff) {
+                (Some(p), Some(t)) => t.length(&p),
+                (Some(p), None) => crate::geom::polyline_length(&p),
+                (None, _) => f64::INFINITY,
             },
             TurnModel::Dubins(r) => {
                 let (start, end) = (self.turn_starts(from).next().unwrap_or(from), self.turn_end(to));
@@ -348,11 +387,13 @@ impl Connector<'_> {
 
     /// No connection from `from` to `to` in open sky is shorter ([`Connector::length`]'s
     /// measure), cheap: the Dubins path in still air; in wind, the time of the straight distance
-    /// at the fastest ground speed, V_a + w, in metres of air.
+    /// at the fastest ground speed, V_a + w, in metres of air, or the straight distance at the
+    /// tariff's cheapest metre.
     pub fn open_sky_floor(&self, from: Pose, to: Pose) -> f64 {
-        match self.wind {
-            Some(d) => (to.x - from.x).hypot(to.y - from.y) * d.airspeed / (d.airspeed + d.wind_speed()),
-            None => self.turn.length(from, to),
+        match (self.wind, &self.tariff) {
+            (Some(d), _) => (to.x - from.x).hypot(to.y - from.y) * d.airspeed / (d.airspeed + d.wind_speed()),
+            (None, Some(t)) => self.turn.length(from, to) * t.cheapest(),
+            (None, None) => self.turn.length(from, to),
         }
     }
 

@@ -247,7 +247,8 @@ impl<'a> LineProblem<'a> {
             let (floor, exact) = self.connection_floor(u, v);
             (self.priced(u, v, floor), exact)
         };
-        Costs::lazy(2 * self.lines.len(), known, price, floor)
+        let costs = Costs::lazy(2 * self.lines.len(), known, price, floor);
+        if self.connector.weighs_directions() { costs.directed() } else { costs }
     }
 
     /// The `k` cheapest connections from the exit of `u` to the entries of `near`, without
@@ -294,8 +295,12 @@ impl<'a> LineProblem<'a> {
         self.instance_with(Costs::Dense(raw), from_start, to_end)
     }
 
+    /// The instance on `cost`, each node costing its line flown in its direction as the
+    /// connections are measured: in wind a line flown upwind costs more than downwind.
     fn instance_with<'c>(&self, cost: Costs<'c>, from_start: Option<Vec<f64>>, to_end: Option<Vec<f64>>) -> Instance<'c> {
-        line_instance(self.lines, cost, from_start, to_end, self.connector.stop())
+        let mut inst = line_instance(self.lines, cost, from_start, to_end, self.connector.stop());
+        inst.node_cost = self.poses.iter().map(|[entry, exit]| self.connector.straight_cost(entry.coord(), exit.coord())).collect();
+        inst
     }
 
     /// The best node sequence found and its cost (without the region-change surcharge).
@@ -386,6 +391,55 @@ mod tests {
         // boustrophedon order for comparison: 5 bulbs of 527.5 m
         let bous: Vec<usize> = (0..6).map(|k| 2 * k + k % 2).collect();
         assert!((problem.cost_of(&inst, &bous) - 3000.0 - 2637.6).abs() < 0.1);
+    }
+
+    /// In a wind that makes a metre east cost twice one west, each line's two directions cost
+    /// what they do, and three lines are flown two westward, one eastward; in a fixed wing's
+    /// wind, a line flown upwind costs more metres of air than downwind.
+    #[test]
+    fn lines_cost_what_their_direction_costs_in_wind() {
+        let lines: Vec<Line> = (0..3).map(|i| Line { a: Coord { x: 0.0, y: 10.0 * i as f64 }, b: Coord { x: 100.0, y: 10.0 * i as f64 }, region: 0 }).collect();
+        let none = MultiPolygon(vec![]);
+        let transit = TransitPlanner::new(&none, &none);
+        let tariff = crate::wind::Tariff::sampled(|u| 1.5 + 0.5 * u.x);
+        let connector = Connector::new(TurnModel::Straight, &transit, None).priced_by(Some(std::sync::Arc::new(tariff)));
+        let problem = LineProblem::new(&lines, &connector);
+        let inst = problem.instance();
+        for k in 0..3 {
+            assert!((inst.node_cost[2 * k] - 200.0).abs() < 1e-9 && (inst.node_cost[2 * k + 1] - 100.0).abs() < 1e-9, "{:?}", inst.node_cost);
+        }
+        let (seq, cost) = problem.solve();
+        assert_eq!(seq.iter().filter(|&&v| v % 2 == 1).count(), 2, "{seq:?}");
+        assert!((cost - 400.0 - 2.0 * 15.0).abs() < 1e-6, "{cost}");
+        // 5 m/s from the west, 15 m/s airspeed: east at 20 m/s over the ground, west at 10
+        let drift = crate::turn::trochoid::Drift { wind: Coord { x: 5.0, y: 0.0 }, airspeed: 15.0 };
+        let connector = Connector::new(TurnModel::Dubins(20.0), &transit, None).in_wind(Some(drift));
+        let problem = LineProblem::new(&lines, &connector);
+        let inst = problem.instance();
+        assert!((inst.node_cost[0] - 75.0).abs() < 1e-9 && (inst.node_cost[1] - 150.0).abs() < 1e-9, "{:?}", inst.node_cost);
+    }
+
+    /// In wind a connection flown backwards (its twin) costs another time: priced lazily, each
+    /// costs its own, whichever the search asks for first.
+    #[test]
+    fn in_wind_a_connection_and_its_twin_are_priced_each_on_its_own() {
+        let lines: Vec<Line> = (0..24).map(|i| Line { a: Coord { x: 0.0, y: 30.0 * i as f64 }, b: Coord { x: 400.0, y: 30.0 * i as f64 }, region: 0 }).collect();
+        let none = MultiPolygon(vec![]);
+        let transit = TransitPlanner::new(&none, &none);
+        let drift = crate::turn::trochoid::Drift { wind: Coord { x: 6.0, y: 2.0 }, airspeed: 15.0 };
+        let connector = Connector::new(TurnModel::Dubins(40.0), &transit, None).in_wind(Some(drift));
+        let problem = LineProblem::new(&lines, &connector);
+        let inst = problem.instance();
+        assert!(matches!(inst.cost, Costs::Lazy(_)), "more lines than are priced in advance");
+        let mut differ = 0;
+        for (u, v) in [(0, 2), (1, 3), (4, 9), (10, 30), (7, 40)] {
+            let (tu, tv) = (v ^ 1, u ^ 1);
+            let twin = inst.c(tu, tv);
+            let cost = inst.c(u, v);
+            assert!((cost - problem.connection(u, v)).abs() < 1e-9 && (twin - problem.connection(tu, tv)).abs() < 1e-9, "{u} → {v}: {cost}, twin {twin}");
+            differ += usize::from((cost - twin).abs() > 1.0);
+        }
+        assert!(differ > 0, "the wind made no twin differ");
     }
 
     /// Pricing candidates in the order of their floors finds the neighbours pricing them all

@@ -253,6 +253,13 @@ pub fn all_words(q0: Pose, q1: Pose, r: f64) -> Vec<DubinsPath> {
     Word::ALL.iter().filter_map(|&word| word_params(word, &n).map(|params| DubinsPath { start: q0, radius: r, word, params })).collect()
 }
 
+/// Each word's path from `q0` to `q1` with radius `r > 0` where it exists, in the order of
+/// [`Word::ALL`]: the configuration normalised once for all six.
+pub fn each_word(q0: Pose, q1: Pose, r: f64) -> [Option<DubinsPath>; 6] {
+    let n = normalise(q0, q1, r);
+    Word::ALL.map(|word| word_params(word, &n).map(|params| DubinsPath { start: q0, radius: r, word, params }))
+}
+
 /// The path of `word` from `q0` to `q1` with radius `r > 0`, where it exists.
 pub fn word_path(q0: Pose, q1: Pose, r: f64, word: Word) -> Option<DubinsPath> {
     word_params(word, &normalise(q0, q1, r)).map(|params| DubinsPath { start: q0, radius: r, word, params })

@@ -56,6 +56,8 @@ pub struct LazyCosts<'a> {
     compute: Box<dyn Fn(usize, usize) -> f64 + Sync + 'a>,
     /// A lower bound of `compute`, and whether it is `compute`'s own cost (then kept as such).
     floor: Box<dyn Fn(usize, usize) -> (f64, bool) + Sync + 'a>,
+    /// A connection and its twin flown backwards cost differently (in wind): each is priced.
+    directed: bool,
 }
 
 /// A cost kept by its bits, NaN until it is known; threads may share it.
@@ -103,6 +105,7 @@ impl<'a> Costs<'a> {
             map: RwLock::default(),
             compute: Box::new(compute),
             floor: Box::new(floor),
+            directed: false,
         };
         for ((u, v), c) in known {
             lazy.keep(u, v, c);
@@ -111,7 +114,24 @@ impl<'a> Costs<'a> {
     }
 }
 
+impl Costs<'_> {
+    /// The same costs, a connection and its twin ([`twins`]) priced each on its own: flown
+    /// backwards in wind, a connection does not cost what it does forwards.
+    pub fn directed(self) -> Self {
+        match self {
+            Costs::Lazy(lazy) => Costs::Lazy(LazyCosts { directed: true, ..lazy }),
+            dense => dense,
+        }
+    }
+}
+
 impl LazyCosts<'_> {
+    /// The pair that names the connection from `u` to `v`, and its twin where the two share a
+    /// cost (else the pair again).
+    fn names(&self, u: usize, v: usize, reverse: &[usize]) -> ((usize, usize), (usize, usize)) {
+        if self.directed { ((u, v), (u, v)) } else { twins(u, v, reverse) }
+    }
+
     fn keep(&self, u: usize, v: usize, c: f64) {
         match self.table.get(u * self.n + v) {
             Some(cell) => cell.set(c),
@@ -152,7 +172,7 @@ impl LazyCosts<'_> {
     /// The cost from `u` to `v`, computed (as the pair naming the connection) unless known
     /// either way.
     fn get(&self, u: usize, v: usize, reverse: &[usize]) -> f64 {
-        let (name, twin) = twins(u, v, reverse);
+        let (name, twin) = self.names(u, v, reverse);
         self.known_either_way(name, twin).unwrap_or_else(|| {
             let c = (self.compute)(name.0, name.1);
             self.keep(name.0, name.1, c);
@@ -234,7 +254,7 @@ impl Instance<'_> {
         match &self.cost {
             Costs::Dense(cost) => cost[u * self.n() + v],
             Costs::Lazy(lazy) => {
-                let (name, twin) = twins(u, v, &self.reverse);
+                let (name, twin) = lazy.names(u, v, &self.reverse);
                 lazy.known_either_way(name, twin).unwrap_or_else(|| lazy.floor(name.0, name.1))
             }
         }

@@ -178,9 +178,12 @@ impl<'a> Connector<'a> {
         self.in_wind(other.wind).priced_by(other.tariff.clone())
     }
 
-    /// True where a straight's cost depends on its direction (in wind).
-    pub fn weighs_directions(&self) -> bool {
-        self.wind.is_some() || self.tariff.is_some()
+    /// True where a connection flown backwards (from the next line's start to the last one's
+    /// end, each flown the other way) may cost another length: in wind (upwind against
+    /// downwind), and where a fixed wing's lead-ins make the straight into a line's start,
+    /// which the way backwards flies out of the other end.
+    pub fn directed(&self) -> bool {
+        self.wind.is_some() || self.tariff.is_some() || (self.turn != TurnModel::Straight && self.ends.lead_in_m > 0.0)
     }
 
     /// What flying `path` costs in [`Connector::length`]'s measure: its metres, in wind its

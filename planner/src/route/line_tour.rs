@@ -248,7 +248,7 @@ impl<'a> LineProblem<'a> {
             (self.priced(u, v, floor), exact)
         };
         let costs = Costs::lazy(2 * self.lines.len(), known, price, floor);
-        if self.connector.weighs_directions() { costs.directed() } else { costs }
+        if self.connector.directed() { costs.directed() } else { costs }
     }
 
     /// The `k` cheapest connections from the exit of `u` to the entries of `near`, without

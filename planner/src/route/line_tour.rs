@@ -362,6 +362,7 @@ impl<'a> LineProblem<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::route::connect::FlightEnds;
     use crate::route::visibility::TransitPlanner;
     use crate::turn::TurnModel;
     use geo::MultiPolygon;
@@ -419,27 +420,34 @@ mod tests {
         assert!((inst.node_cost[0] - 75.0).abs() < 1e-9 && (inst.node_cost[1] - 150.0).abs() < 1e-9, "{:?}", inst.node_cost);
     }
 
-    /// In wind a connection flown backwards (its twin) costs another time: priced lazily, each
-    /// costs its own, whichever the search asks for first.
+    /// A connection flown backwards (its twin) costs another length in wind (upwind against
+    /// downwind), and with lead-ins between staggered line ends: priced lazily, each costs its
+    /// own, whichever the search asks for first.
     #[test]
-    fn in_wind_a_connection_and_its_twin_are_priced_each_on_its_own() {
-        let lines: Vec<Line> = (0..24).map(|i| Line { a: Coord { x: 0.0, y: 30.0 * i as f64 }, b: Coord { x: 400.0, y: 30.0 * i as f64 }, region: 0 }).collect();
+    fn a_connection_and_its_twin_are_priced_each_on_its_own_where_they_differ() {
         let none = MultiPolygon(vec![]);
         let transit = TransitPlanner::new(&none, &none);
         let drift = crate::turn::trochoid::Drift { wind: Coord { x: 6.0, y: 2.0 }, airspeed: 15.0 };
-        let connector = Connector::new(TurnModel::Dubins(40.0), &transit, None).in_wind(Some(drift));
-        let problem = LineProblem::new(&lines, &connector);
-        let inst = problem.instance();
-        assert!(matches!(inst.cost, Costs::Lazy(_)), "more lines than are priced in advance");
-        let mut differ = 0;
-        for (u, v) in [(0, 2), (1, 3), (4, 9), (10, 30), (7, 40)] {
-            let (tu, tv) = (v ^ 1, u ^ 1);
-            let twin = inst.c(tu, tv);
-            let cost = inst.c(u, v);
-            assert!((cost - problem.connection(u, v)).abs() < 1e-9 && (twin - problem.connection(tu, tv)).abs() < 1e-9, "{u} → {v}: {cost}, twin {twin}");
-            differ += usize::from((cost - twin).abs() > 1.0);
+        let in_wind = Connector::new(TurnModel::Dubins(40.0), &transit, None).in_wind(Some(drift));
+        let led_in = Connector::new(TurnModel::Dubins(40.0), &transit, None).with_ends(FlightEnds { lead_in_m: 120.0, ..FlightEnds::default() });
+        for (what, connector) in [("in wind", &in_wind), ("with lead-ins", &led_in)] {
+            // line ends staggered by up to 74 m
+            let lines: Vec<Line> = (0..24)
+                .map(|i| Line { a: Coord { x: 37.0 * (i % 3) as f64, y: 30.0 * i as f64 }, b: Coord { x: 400.0 - 37.0 * (i % 2) as f64, y: 30.0 * i as f64 }, region: 0 })
+                .collect();
+            let problem = LineProblem::new(&lines, connector);
+            let inst = problem.instance();
+            assert!(matches!(inst.cost, Costs::Lazy(_)), "more lines than are priced in advance");
+            let mut differ = 0;
+            for (u, v) in [(0, 2), (1, 3), (4, 9), (10, 30), (7, 40), (13, 15)] {
+                let (tu, tv) = (v ^ 1, u ^ 1);
+                let twin = inst.c(tu, tv);
+                let cost = inst.c(u, v);
+                assert!((cost - problem.connection(u, v)).abs() < 1e-9 && (twin - problem.connection(tu, tv)).abs() < 1e-9, "{what}, {u} → {v}: {cost}, twin {twin}");
+                differ += usize::from((cost - twin).abs() > 1.0);
+            }
+            assert!(differ > 0, "{what}: no twin differs");
         }
-        assert!(differ > 0, "the wind made no twin differ");
     }
 
     /// Pricing candidates in the order of their floors finds the neighbours pricing them all

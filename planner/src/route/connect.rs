@@ -332,9 +332,7 @@ impl Connector<'_> {
                     if !self.transit.any_wall_in(&self.reach(start, end)) {
                         let quickest = drift.connections(start, end, r).first().map(|t| t.time_s * drift.airspeed);
                         if let Some(turn) = quickest {
-                            return turn
-                                + air_length(&[from.coord(), start.coord()], drift.wind, drift.airspeed)
-                                + air_length(&[end.coord(), to.coord()], drift.wind, drift.airspeed);
+                            return turn + self.straight_cost(from.coord(), start.coord()) + self.straight_cost(end.coord(), to.coord());
                         }
                     }
                     return self.with_straights(from, to, r).map_or(f64::INFINITY, |points| air_length(&points, drift.wind, drift.airspeed));

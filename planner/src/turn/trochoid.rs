@@ -2,9 +2,9 @@
 //! and bank a turn is a circle in the air, which the wind carries into a trochoid over the
 //! ground. A connection between two ground poses is a Dubins path in the air's frame, to the
 //! target moved back by the wind over the flight time T (Techy & Woolsey 2009; McGee & Hedrick
-//! 2005): for each word, a T with L(T) = V_a·T, by fixed-point iteration, or where that does not
-//! settle (a word's length jumps by a whole turn where one of its arcs wraps round) by a scan
-//! and bisection that steps over such jumps.
+//! 2005): for each word, a T with L(T) = V_a·T, by an accelerated fixed-point iteration, or where
+//! that does not settle (a word's length jumps by a whole turn where one of its arcs wraps round)
+//! by a scan and regula falsi that step over such jumps.
 
 use geo::Coord;
 
@@ -73,7 +73,7 @@ impl Drift {
     }
 
     /// Every connection of every word, quickest first: each word's flight times found by a
-    /// scan over [`Self::longest_time`] and bisection, the later ones too (a word whose target
+    /// scan over [`Self::longest_time`] and regula falsi, the later ones too (a word whose target
     /// has drifted past a whole loop of an arc arrives again later, which may be the way clear
     /// of a zone). Slower than [`Self::connections`]: for where none of those is clear.
     pub fn all_connections(&self, from: Pose, to: Pose, r: f64) -> Vec<Trochoid> {
@@ -137,7 +137,7 @@ impl Drift {
     }
 
     /// Every word's flight times within [`Self::longest_time`]: a scan of all six words at
-    /// once (one normalised configuration a step), each sign change bisected.
+    /// once (one normalised configuration a step), each sign change closed by [`Self::root_within`].
     fn scan(&self, start: Pose, to: Coord, arrive: f64, r: f64) -> Vec<Trochoid> {
         let va = self.airspeed;
         // how much each air path is longer than the time allows: positive too soon, negative late
@@ -155,7 +155,7 @@ impl Drift {
                     && e1 <= 0.0
                 {
                     let excess = |t: f64| self.word_at(start, to, arrive, r, word, t).map(|p| (p, p.length() - va * t));
-                    found.extend(self.bisect(&excess, (t - step, e0), (t, e1)));
+                    found.extend(self.root_within(&excess, (t - step, e0), (t, e1)));
                 }
             }
             before = now;
@@ -166,7 +166,7 @@ impl Drift {
     /// The root of `excess` between `lo` (positive) and `hi` (not), when it is one and not a
     /// jump of the word's length: regula falsi with the Illinois halving (a few steps where
     /// the length is smooth), bisection's bracket where it is not.
-    fn bisect(&self, excess: &impl Fn(f64) -> Option<(DubinsPath, f64)>, (mut lo, mut e_lo): (f64, f64), (mut hi, mut e_hi): (f64, f64)) -> Option<Trochoid> {
+    fn root_within(&self, excess: &impl Fn(f64) -> Option<(DubinsPath, f64)>, (mut lo, mut e_lo): (f64, f64), (mut hi, mut e_hi): (f64, f64)) -> Option<Trochoid> {
         let mut last_side = 0;
         for _ in 0..100 {
             let mut t = hi - e_hi * (hi - lo) / (e_hi - e_lo);

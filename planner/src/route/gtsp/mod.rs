@@ -56,7 +56,8 @@ pub struct LazyCosts<'a> {
     compute: Box<dyn Fn(usize, usize) -> f64 + Sync + 'a>,
     /// A lower bound of `compute`, and whether it is `compute`'s own cost (then kept as such).
     floor: Box<dyn Fn(usize, usize) -> (f64, bool) + Sync + 'a>,
-    /// A connection and its twin flown backwards cost differently (in wind): each is priced.
+    /// A connection and its twin flown backwards cost differently (in wind, or with a fixed
+    /// wing's lead-ins): each is priced.
     directed: bool,
 }
 
@@ -116,7 +117,7 @@ impl<'a> Costs<'a> {
 
 impl Costs<'_> {
     /// The same costs, a connection and its twin ([`twins`]) priced each on its own: flown
-    /// backwards in wind, a connection does not cost what it does forwards.
+    /// backwards in wind or with lead-ins, a connection does not cost what it does forwards.
     pub fn directed(self) -> Self {
         match self {
             Costs::Lazy(lazy) => Costs::Lazy(LazyCosts { directed: true, ..lazy }),

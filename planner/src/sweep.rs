@@ -41,11 +41,14 @@ pub struct LineLayout {
     /// Where lines end at a slanted edge of the area ([`ends::end_lines`]; the sweep itself
     /// always runs them full width).
     pub ends: ends::SwathEnds,
+    /// `Some(p)`: lines at offsets `p + k · spacing` only (a guidance line's own, whole
+    /// spacings from it), as many as cover the width; without a footprint.
+    pub phase: Option<f64>,
 }
 
 impl LineLayout {
     pub fn centered(spacing: f64) -> Self {
-        Self { spacing, footprint: None, ends: ends::SwathEnds::FullWidth }
+        Self { spacing, footprint: None, ends: ends::SwathEnds::FullWidth, phase: None }
     }
 
     /// Number of lines across width `d`.
@@ -58,6 +61,9 @@ impl LineLayout {
 
     /// Each line across `[lo, hi]`: its offset and the band it images, `(offset, lo, hi)`.
     pub fn lines(&self, lo: f64, hi: f64) -> Vec<(f64, f64, f64)> {
+        if let (Some(phase), None) = (self.phase, self.footprint) {
+            return phased_lines(lo, hi, self.spacing, phase);
+        }
         let n = self.count(hi - lo);
         if n == 1 {
             let mid = (lo + hi) / 2.0;
@@ -105,6 +111,19 @@ impl SweepPattern {
     pub fn segment_count(&self) -> usize {
         self.lines.iter().map(Vec::len).sum::<usize>() + self.gap_fills.len()
     }
+}
+
+/// Lines at `phase + k · spacing` whose bands (a spacing wide, centred on them) cover
+/// `[lo, hi]`: the first band holds `lo`, the last `hi`.
+fn phased_lines(lo: f64, hi: f64, spacing: f64, phase: f64) -> Vec<(f64, f64, f64)> {
+    let first = ((lo - phase) / spacing + 0.5).floor() as i64;
+    let last = (((hi - phase) / spacing - 0.5).ceil() as i64).max(first);
+    (first..=last)
+        .map(|k| {
+            let o = phase + k as f64 * spacing;
+            (o, o - spacing / 2.0, o + spacing / 2.0)
+        })
+        .collect()
 }
 
 /// Local coordinates of the point `(u, v)` of the sweep frame at `angle`.
@@ -339,6 +358,33 @@ mod tests {
     use super::*;
     use geo::{LineString, Polygon, polygon};
     use proptest::prelude::*;
+
+    proptest! {
+        /// Phased lines lie at whole spacings from the phase, a spacing apart, and their bands
+        /// cover the width with less than a spacing to spare at each side.
+        #[test]
+        fn phased_lines_are_whole_spacings_from_the_phase_and_cover_the_width(
+            lo in -500.0..500.0f64,
+            width in 0.0..300.0f64,
+            spacing in 1.0..40.0f64,
+            phase in -1e4..1e4f64,
+        ) {
+            let hi = lo + width;
+            let lines = LineLayout { phase: Some(phase), ..LineLayout::centered(spacing) }.lines(lo, hi);
+            prop_assert!(!lines.is_empty());
+            for &(o, band_lo, band_hi) in &lines {
+                let k = (o - phase) / spacing;
+                prop_assert!((k - k.round()).abs() * spacing < 1e-6);
+                prop_assert!((band_hi - band_lo - spacing).abs() < 1e-9 && (o - (band_lo + band_hi) / 2.0).abs() < 1e-9);
+            }
+            for w in lines.windows(2) {
+                prop_assert!((w[1].0 - w[0].0 - spacing).abs() < 1e-6);
+            }
+            let (first, last) = (lines[0], lines[lines.len() - 1]);
+            prop_assert!(first.1 <= lo + 1e-9 && lo < first.2 + 1e-9, "{:?} for {}", first, lo);
+            prop_assert!(last.1 - 1e-9 <= hi && hi <= last.2 + 1e-9, "{:?} for {}", last, hi);
+        }
+    }
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(256))]

@@ -1,5 +1,6 @@
 //! Plan parameters as clients send them, and their validated form.
 
+pub mod guidance;
 pub mod inspection;
 pub mod resume;
 
@@ -51,7 +52,7 @@ pub const COVERAGE_ONLY_MEMBERS: [&str; 14] = [
 ];
 
 /// Members only a ground vehicle's plan reads.
-pub const GROUND_ONLY_MEMBERS: [&str; 4] = ["headland_passes", "headland_width_m", "headland_order", "overlap"];
+pub const GROUND_ONLY_MEMBERS: [&str; 5] = ["headland_passes", "headland_width_m", "headland_order", "overlap", "guidance"];
 
 /// Members of plans over terrain (`altitude_reference` `terrain`).
 pub const TERRAIN_MEMBERS: [&str; 3] = ["terrain_tolerance_m", "max_climb_mps", "max_descent_mps"];
@@ -210,6 +211,10 @@ pub struct PlanParams {
     /// (default 0).
     #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.5))]
     pub overlap: Option<f64>,
+    /// Ground vehicle: the farm's guidance line (an AB or A+ line) the swaths follow: parallel
+    /// to it and whole swath widths (the working width less the overlap) from it. Instead of
+    /// `heading_deg`.
+    pub guidance: Option<guidance::Guidance>,
     /// Inspection: what to look at (default: the walls and roof of every structure).
     pub targets: Option<Vec<Target>>,
     /// Inspection: the flight's limit, in metres, seconds or joules.
@@ -270,6 +275,8 @@ pub struct HeadlandSpec {
     pub swath_ends: SwathEnds,
     /// The implement's width: what each swath and pass works.
     pub working_width_m: f64,
+    /// The guidance line the swaths follow.
+    pub guidance: Option<guidance::GuidanceLine>,
 }
 
 /// One drone of a fleet: the fields of `vehicle`, and `home`.
@@ -496,7 +503,7 @@ impl PlanParams {
         Ok(Resolved {
             line_spacing_m,
             camera,
-            layout: LineLayout { spacing: line_spacing_m, footprint: camera.map(|c| c.footprint()), ends: aircraft_ends },
+            layout: LineLayout { spacing: line_spacing_m, footprint: camera.map(|c| c.footprint()), ends: aircraft_ends, phase: None },
             optimal_direction,
             altitude_m,
             sweep_angle: self.heading_deg.map(bearing_to_math),
@@ -643,14 +650,18 @@ impl PlanParams {
     /// A ground vehicle's headland; the headland parameters are refused for an aircraft.
     fn headland(&self, vehicle: &Vehicle) -> Result<Option<HeadlandSpec>, InputError> {
         let Some(ground) = vehicle.ground.filter(|_| vehicle.kind == VehicleKind::Ground) else {
-            let given = [self.headland_passes.is_some(), self.headland_width_m.is_some(), self.headland_order.is_some(), self.overlap.is_some()];
+            let given = [self.headland_passes.is_some(), self.headland_width_m.is_some(), self.headland_order.is_some(), self.overlap.is_some(), self.guidance.is_some()];
             return match first_given(&GROUND_ONLY_MEMBERS, &given) {
-                Some(pointer) => Err(InputError::new("not_a_ground_vehicle", pointer, "headlands and swath overlap are for ground vehicles (vehicle kind ground)")),
+                Some(pointer) => Err(InputError::new("not_a_ground_vehicle", pointer, "headlands, swath overlap and guidance lines are for ground vehicles (vehicle kind ground)")),
                 None => Ok(None),
             };
         };
         let overlap = self.overlap.unwrap_or(0.0);
         check_range(overlap, 0.0, 0.5, "/overlap", "")?;
+        if self.guidance.is_some() && self.heading_deg.is_some() {
+            return Err(InputError::new("guidance_and_heading", "/heading_deg", "the swaths follow the guidance line: give guidance or heading_deg, not both"));
+        }
+        let guidance = self.guidance.map(|g| g.validate()).transpose()?;
         let step = ground.working_width_m * (1.0 - overlap);
         if let Some(p) = self.headland_passes
             && !(1..=20).contains(&p)
@@ -677,6 +688,7 @@ impl PlanParams {
             order: self.headland_order.unwrap_or_default(),
             swath_ends: self.swath_ends.unwrap_or_default(),
             working_width_m: ground.working_width_m,
+            guidance,
         }))
     }
 

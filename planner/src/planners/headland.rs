@@ -60,11 +60,14 @@ impl Planner for HeadlandPlanner {
         let steering = vehicle.steering();
         let radius = steering.bounding_radius();
         let headland = &setup.headland;
-        let angle = problem.sweep_angle.unwrap_or_else(|| best_direction(&headland.mainland, problem.layout, radius));
+        // a guidance line sets the swaths' direction and where they lie across it
+        let guidance = setup.spec.guidance.map(|g| g.in_frame(&setup.frame));
+        let angle = guidance.map(|g| g.1).or(problem.sweep_angle).unwrap_or_else(|| best_direction(&headland.mainland, problem.layout, radius));
+        let phase = guidance.map(|(a, _)| crate::sweep::to_sweep_frame(angle, a).y);
         // the passes' rings: roads for the turns, and ground the passes cover
         let rings: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
         let routes = HeadlandRoutes::new(problem.region, &headland.mainland, &rings, steering, setup.spec.width_m);
-        let lines: Vec<Line> = swaths(&headland.mainland, problem.region, angle, problem.layout.spacing, setup.spec.swath_ends, setup.spec.width_m)
+        let lines: Vec<Line> = swaths(&headland.mainland, problem.region, (angle, phase), problem.layout.spacing, setup.spec.swath_ends, setup.spec.width_m)
             .into_iter()
             .filter_map(|l| routes.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l }))
             .collect();
@@ -158,12 +161,13 @@ fn best_direction(mainland: &MultiPolygon, layout: crate::sweep::LineLayout, rad
     picked.into_par_iter().map(|a| (cost(a), a)).min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1))).map_or_else(|| fewest_lines_direction(mainland, layout), |(_, a)| a)
 }
 
-/// The swaths over `mainland`: lines `spacing` apart at `angle`, ended by `rule`
+/// The swaths over `mainland`: lines `spacing` apart at `angle` (at whole spacings from the
+/// sweep-frame offset `phase` when given), ended by `rule`
 /// ([`crate::sweep::ends::cut`]; a full-width end runs at most `slack` past the centre line's,
 /// leaving room in the headland to turn). Each is tagged with the field of `region` it lies in.
-fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, angle: f64, spacing: f64, rule: SwathEnds, slack: f64) -> Vec<Line> {
+fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, (angle, phase): (f64, Option<f64>), spacing: f64, rule: SwathEnds, slack: f64) -> Vec<Line> {
     use geo::{Area, Contains};
-    let pattern = sweep(mainland, &MultiPolygon(vec![]), angle, crate::sweep::LineLayout::centered(spacing));
+    let pattern = sweep(mainland, &MultiPolygon(vec![]), angle, crate::sweep::LineLayout { phase, ..crate::sweep::LineLayout::centered(spacing) });
     let segments: Vec<_> = pattern.lines.into_iter().flatten().collect();
     let ends = crate::sweep::ends::cut(&crate::sweep::rotate(mainland, angle), &segments, rule, slack, mainland.unsigned_area());
     ends.into_iter()
@@ -314,7 +318,7 @@ mod tests {
     fn swaths_fill_the_mainland_and_are_tagged_with_their_field() {
         let field = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 100.0, y: 60.0), (x: 0.0, y: 60.0)]]);
         let mainland = MultiPolygon(vec![polygon![(x: 12.0, y: 12.0), (x: 88.0, y: 12.0), (x: 88.0, y: 48.0), (x: 12.0, y: 48.0)]]);
-        let lines = swaths(&mainland, &field, 0.0, 6.0, SwathEnds::FullWidth, 5.0);
+        let lines = swaths(&mainland, &field, (0.0, None), 6.0, SwathEnds::FullWidth, 5.0);
         assert_eq!(lines.len(), 6);
         assert!(lines.iter().all(|l| l.region == 0 && (l.length() - 76.0).abs() < 0.1));
     }
@@ -325,7 +329,7 @@ mod tests {
         // width is left would leave 4 × 10² / 32 = 12.5 m² (0.78 %); three sixteenths, 0.44 %
         let field = MultiPolygon(vec![polygon![(x: -20.0, y: -20.0), (x: 100.0, y: -20.0), (x: 100.0, y: 60.0), (x: -20.0, y: 60.0)]]);
         let mainland = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 60.0, y: 0.0), (x: 20.0, y: 40.0), (x: 0.0, y: 40.0)]]);
-        let lines = swaths(&mainland, &field, 0.0, 10.0, SwathEnds::Balanced, 20.0);
+        let lines = swaths(&mainland, &field, (0.0, None), 10.0, SwathEnds::Balanced, 20.0);
         assert_eq!(lines.len(), 4);
         for l in &lines {
             let (y, right) = (l.a.y, l.a.x.max(l.b.x));
@@ -338,9 +342,9 @@ mod tests {
         // the right edge runs from (100, 0) to (80, 60): x = 100 − y / 3
         let field = MultiPolygon(vec![polygon![(x: -20.0, y: -20.0), (x: 120.0, y: -20.0), (x: 120.0, y: 80.0), (x: -20.0, y: 80.0)]]);
         let mainland = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 80.0, y: 60.0), (x: 0.0, y: 60.0)]]);
-        let full = swaths(&mainland, &field, 0.0, 6.0, SwathEnds::FullWidth, 10.0);
-        let centre = swaths(&mainland, &field, 0.0, 6.0, SwathEnds::CentreLine, 10.0);
-        let balanced = swaths(&mainland, &field, 0.0, 6.0, SwathEnds::Balanced, 10.0);
+        let full = swaths(&mainland, &field, (0.0, None), 6.0, SwathEnds::FullWidth, 10.0);
+        let centre = swaths(&mainland, &field, (0.0, None), 6.0, SwathEnds::CentreLine, 10.0);
+        let balanced = swaths(&mainland, &field, (0.0, None), 6.0, SwathEnds::Balanced, 10.0);
         assert_eq!((full.len(), centre.len(), balanced.len()), (10, 10, 10));
         for ((f, c), b) in full.iter().zip(&centre).zip(&balanced) {
             let right = |l: &Line| l.a.x.max(l.b.x);

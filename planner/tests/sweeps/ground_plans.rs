@@ -178,6 +178,86 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+
+    /// A farm's guidance line anywhere on or beside a generated field with ponds, as an AB line
+    /// or an A+ line, with and without swath overlap: every swath parallel to it, its centre
+    /// line a whole number of swath widths from it to a centimetre, and the field worked as
+    /// without one.
+    #[test]
+    fn swaths_follow_the_guidance_line(
+        lon in -179.0..179.0f64,
+        lat in -60.0..60.0f64,
+        radius in 80.0..250.0f64,
+        shape in prop::collection::vec((0.7..1.0f64, -1.0..1.0f64), 5..10),
+        ponds in 0usize..3,
+        width in 3.0..12.0f64,
+        turn_radius in 2.0..8.0f64,
+        bearing in 0.0..360.0f64,
+        (ax, ay) in (-1.5..1.5f64, -1.5..1.5f64),
+        ab in any::<bool>(),
+        overlap in prop::option::of(0.0..0.3f64),
+    ) {
+        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
+        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
+        let frame = frame_of(&area);
+        let theta = (90.0 - bearing).to_radians();
+        let a_local = frame.to_local(lon, lat) + Coord { x: ax * radius, y: ay * radius };
+        let a = frame.to_wgs84(a_local);
+        let guidance = if ab {
+            json!({"a": a, "b": frame.to_wgs84(a_local + Coord { x: 300.0 * theta.cos(), y: 300.0 * theta.sin() })})
+        } else {
+            json!({"a": a, "bearing_deg": bearing})
+        };
+        let headland = 2.0 * width.max(turn_radius + 1.0);
+        let mut extra = json!({"headland_width_m": headland, "guidance": guidance});
+        if let Some(o) = overlap {
+            extra["overlap"] = json!(o);
+        }
+        let params = ground(width, turn_radius, extra);
+        let spacing = width * (1.0 - overlap.unwrap_or(0.0));
+        let name = format!("star at {lon},{lat} r={radius}, {ponds} ponds, {width:.1} m wide, radius {turn_radius:.1}, guidance {guidance}");
+        match run(&area, None, &params) {
+            Ok(out) => {
+                let across = Coord { x: -theta.sin(), y: theta.cos() };
+                let swaths: Vec<Vec<Coord>> = pieces(&out, &frame).into_iter().filter(|p| p.0 == "sweep").map(|p| p.2).collect();
+                prop_assert!(!swaths.is_empty(), "{}: no swaths", name);
+                // both ends of each swath on the same whole number of widths: parallel to the
+                // line (the ends' directions, rounded to 1e-7°, are not exact on short swaths)
+                for s in &swaths {
+                    let widths: Vec<f64> = [s[0], *s.last().unwrap()].iter().map(|&p| ((p - a_local).x * across.x + (p - a_local).y * across.y) / spacing).collect();
+                    for w in &widths {
+                        prop_assert!((w - w.round()).abs() * spacing < 0.01, "{}: a swath {} m from a whole number of widths", name, (w - w.round()).abs() * spacing);
+                    }
+                    prop_assert_eq!(widths[0].round(), widths[1].round(), "{}: a swath across the line", name);
+                }
+                let ponds = to_local_mp(&frame, &nfz);
+                check(&area, &if ponds.0.is_empty() { MultiPolygon(vec![]) } else { ponds }, &out, turn_radius, 0.99, &name)?;
+            }
+            Err(PlanError::Input(e)) if e.code == "field_too_narrow" => prop_assert!(e.detail.contains('['), "{}", e.detail),
+            Err(e) => return Err(TestCaseError::fail(format!("{name}: {e}"))),
+        }
+    }
+}
+
+#[test]
+fn guidance_lines_are_for_ground_vehicles_and_replace_the_heading() {
+    let area = json!({"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.004, 52.0], [5.004, 52.003], [5.0, 52.003], [5.0, 52.0]]]});
+    let a_plus = json!({"a": [5.001, 52.001], "bearing_deg": 30.0});
+    let refused = |params: PlanParams| match run(&area, None, &params) {
+        Err(PlanError::Input(e)) => (e.code, e.pointer),
+        other => panic!("not refused: {:?}", other.map(|o| o.stats.length_m)),
+    };
+    let drone: PlanParams = serde_json::from_value(json!({"vehicle": {"kind": "multirotor"}, "guidance": a_plus})).unwrap();
+    assert_eq!(refused(drone), ("not_a_ground_vehicle", "/guidance".to_string()));
+    assert_eq!(refused(ground(6.0, 5.0, json!({"guidance": a_plus, "heading_deg": 10.0}))), ("guidance_and_heading", "/heading_deg".to_string()));
+    assert_eq!(refused(ground(6.0, 5.0, json!({"guidance": {"a": [5.001, 52.001]}}))), ("guidance_without_direction", "/guidance".to_string()));
+    // the swaths run along the bearing
+    let out = run(&area, None, &ground(6.0, 5.0, json!({"guidance": a_plus}))).unwrap();
+    assert!((out.stats.sweep_heading_deg - 30.0).abs() < 0.01, "{}", out.stats.sweep_heading_deg);
+}
+
 /// The real fields at the configuration of the Fields2Cover figures in the README (5 m wide,
 /// turning radius 3 m, headland 10 m): every turn inside the headland, the mainland worked.
 #[test]

@@ -10,6 +10,7 @@ use utoipa::{IntoParams, ToSchema};
 use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiJson, ApiQuery, Problem, off_the_async_threads};
+use crate::planner::import::ImportedGuidance;
 use crate::planner::{self, MissionGeometry, import};
 use crate::store::missions::{self, Mission, MissionSummary, NewMission};
 use crate::store::plans::{self, JobKind};
@@ -137,6 +138,9 @@ pub struct ImportQuery {
 pub struct ImportedMission {
     #[serde(flatten)]
     pub mission: Mission,
+    /// The farm's guidance lines the file holds (ISOXML AB and A+ patterns), each a plan's
+    /// `guidance` as it is.
+    pub guidance: Vec<ImportedGuidance>,
     pub warnings: Vec<String>,
 }
 
@@ -160,7 +164,7 @@ pub async fn import_file(
     let request = MissionRequest { name, area: imported.area, no_fly_zones: imported.no_fly_zones, obstacles: imported.obstacles, structures: None, home: imported.home };
     let new = request.validate(&state).await?;
     let mission = missions::create(&state.db, &caller.tenant, &new).await?;
-    Ok((StatusCode::CREATED, Json(ImportedMission { mission, warnings: imported.warnings })))
+    Ok((StatusCode::CREATED, Json(ImportedMission { mission, guidance: imported.guidance, warnings: imported.warnings })))
 }
 
 #[utoipa::path(get, operation_id = "list_missions", path = "/api/v1/missions", tag = "missions", params(Page),

@@ -1,7 +1,9 @@
 // Reads coverplan's ISOXML TaskData exports with the isoxml library (ISO 11783-10) and checks
 // what they hold. usage: node check_isoxml.mjs DIR, where DIR/manifest.json lists the files:
 // {"files": [{"file", "format": "isoxml", "fields", "holes", "zones", "swath_width_mm", "lines",
-// "headland_passes"?}]}: a ground plan's headland passes are curve patterns.
+// "headland_passes"?, "guidance"?}]}: a ground plan's headland passes are curve patterns; the
+// farm's guidance line it followed ({"a": [lon, lat], "b"?: [lon, lat], "bearing_deg"?}) is an AB
+// or A+ pattern propagating to both sides, read back to 1 cm and 0.01°.
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { ISOXMLManager } from 'isoxml';
@@ -38,15 +40,35 @@ for (const spec of manifest.files.filter((f) => f.format === 'isoxml')) {
     const patterns = partfields.flatMap((p) => p.attributes.GuidanceGroup ?? []).flatMap((g) => g.attributes.GuidancePattern);
     const lines = patterns.filter((p) => code(p.attributes.GuidancePatternType) === 1);
     const curves = patterns.filter((p) => code(p.attributes.GuidancePatternType) === 3);
-    check(lines.length + curves.length === patterns.length, 'guidance patterns are AB lines or curves');
+    const aPlus = patterns.filter((p) => code(p.attributes.GuidancePatternType) === 2);
+    check(lines.length + curves.length + aPlus.length === patterns.length, 'guidance patterns are AB lines, A+ lines or curves');
+    if (spec.guidance) {
+      const g = spec.guidance;
+      const farm = patterns.filter((p) => ['AB line', 'A+ line'].includes(p.attributes.GuidancePatternDesignator));
+      check(farm.length === spec.fields, `${farm.length} farm guidance lines, expected one per partfield`);
+      for (const p of farm) {
+        check(code(p.attributes.GuidancePatternPropagationDirection) === 1, 'the farm line propagates to both sides');
+        const points = p.attributes.LineString[0].attributes.Point.map((q) => [Number(q.attributes.PointEast), Number(q.attributes.PointNorth)]);
+        // metres between two positions, near enough for a centimetre
+        const metres = (u, v) => Math.hypot((u[0] - v[0]) * 111320 * Math.cos((u[1] * Math.PI) / 180), (u[1] - v[1]) * 110540);
+        check(metres(points[0], g.a) < 0.01, `point A ${points[0]} is not ${g.a}`);
+        if (g.b) {
+          check(code(p.attributes.GuidancePatternType) === 1 && points.length === 2 && metres(points[1], g.b) < 0.01, `point B ${points[1]} is not ${g.b}`);
+        } else {
+          check(code(p.attributes.GuidancePatternType) === 2 && points.length === 1, 'an A+ line has its point A only');
+          check(Math.abs(Number(p.attributes.GuidancePatternHeading) - g.bearing_deg) < 0.01, `heading ${p.attributes.GuidancePatternHeading} is not ${g.bearing_deg}`);
+        }
+      }
+    }
     const swaths = lines.filter((p) => code(p.attributes.GuidancePatternPropagationDirection) === 4);
     check(swaths.length === spec.lines, `${swaths.length} swaths, expected ${spec.lines}`);
     check(curves.length === (spec.headland_passes ?? 0), `${curves.length} headland curves, expected ${spec.headland_passes ?? 0}`);
     for (const p of patterns) {
       const [line] = p.attributes.LineString;
       check(code(line.attributes.LineStringType) === 5 && line.attributes.LineStringWidth === spec.swath_width_mm, 'a guidance line string is as wide as the swath');
-      const curve = code(p.attributes.GuidancePatternType) === 3;
-      check(curve ? line.attributes.Point.length >= 3 : line.attributes.Point.length === 2, 'an AB line has two points, a curve three or more');
+      const type = code(p.attributes.GuidancePatternType);
+      const expected = type === 3 ? line.attributes.Point.length >= 3 : line.attributes.Point.length === (type === 2 ? 1 : 2);
+      check(expected, 'an AB line has two points, an A+ line one, a curve three or more');
     }
     check(manager.getEntitiesOfTag('TSK').length === spec.fields, 'one task per partfield');
     passed += 1;

@@ -3,8 +3,9 @@
 //! holes as interior rings, the no-fly zones as obstacle polygons), a task per partfield, and
 //! the sweep lines as guidance: per sweep direction a guidance group with a reference AB line
 //! and every swath as its own AB line, the line width being the line spacing; a ground plan's
-//! headland passes as curve patterns in a group of their own. Written with
-//! quick-xml: no Rust crate writes ISOXML.
+//! headland passes as curve patterns in a group of their own; the farm's guidance line a ground
+//! plan followed as an AB or A+ pattern propagating to both sides. Written with quick-xml: no
+//! Rust crate writes ISOXML.
 
 use geo::{Centroid, Contains, GeodesicArea, LineString, Point};
 
@@ -27,8 +28,9 @@ pub const LSG_GUIDANCE_PATTERN: &str = "5";
 const PNT_OTHER: &str = "2";
 const PNT_GUIDANCE_A: &str = "6";
 const PNT_GUIDANCE_B: &str = "7";
-/// `GPN` type AB; propagation to both sides.
+/// `GPN` types AB, A+ and curve.
 const GPN_AB: &str = "1";
+const GPN_A_PLUS: &str = "2";
 const GPN_CURVE: &str = "3";
 /// Propagation: none (each swath and pass is its own pattern).
 const PROPAGATE_NONE: &str = "4";
@@ -106,7 +108,9 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
         for (bearing, swaths) in by_direction(&mine) {
             group_id += 1;
             x.open("GGP", &[("A", &format!("GGP{group_id}")), ("B", &format!("Sweep lines {}°", number(bearing, 1)))]);
-            let reference = swaths[0];
+            // the longest swath: a terminal takes its direction from the two points
+            let length = |l: &Line| ((l[1][0] - l[0][0]) * l[0][1].to_radians().cos()).hypot(l[1][1] - l[0][1]);
+            let reference = *swaths.iter().max_by(|x, y| length(x).total_cmp(&length(y))).expect("a group has a swath");
             let count = (swaths.len() - 1).to_string();
             pattern_id += 1;
             let heading = number(bearing, 2);
@@ -115,6 +119,19 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
             for (s, swath) in swaths.iter().enumerate() {
                 pattern_id += 1;
                 guidance(&mut x, pattern_id, &format!("Swath {}", s + 1), &[("C", GPN_AB), ("E", PROPAGATE_NONE), ("G", heading.as_str())], swath, &width_mm);
+            }
+            x.close("GGP");
+        }
+        if let Some(g) = job.settings.guidance {
+            group_id += 1;
+            pattern_id += 1;
+            x.open("GGP", &[("A", &format!("GGP{group_id}")), ("B", "Guidance line")]);
+            match (g.b, g.bearing_deg) {
+                (Some(b), _) => guidance(&mut x, pattern_id, "AB line", &[("C", GPN_AB), ("E", PROPAGATE_BOTH)], &[g.a, b], &width_mm),
+                (None, bearing) => {
+                    let heading = number(bearing.unwrap_or(0.0), 6);
+                    guidance(&mut x, pattern_id, "A+ line", &[("C", GPN_A_PLUS), ("E", PROPAGATE_BOTH), ("G", heading.as_str())], &[g.a], &width_mm)
+                }
             }
             x.close("GGP");
         }
@@ -156,7 +173,8 @@ fn by_direction(lines: &[Line]) -> Vec<(f64, Vec<Line>)> {
     groups
 }
 
-/// A guidance pattern through `points`: the first is its A point, the last its B point.
+/// A guidance pattern through `points`: the first is its A point, the last (of two or more) its
+/// B point.
 fn guidance(x: &mut Xml, id: usize, designator: &str, attributes: &[(&str, &str)], points: &[[f64; 2]], width_mm: &str) {
     let id = format!("GPN{id}");
     let mut all = vec![("A", id.as_str()), ("B", designator)];

@@ -384,6 +384,7 @@ mod tests {
             hold_s: 0.0,
             altitude_frame: AltitudeFrame::Amsl,
             landing: Landing::Return,
+            guidance: None,
         }
     }
 

@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 use super::archive;
 use super::error::{InputError, check_range};
 use super::field::{Field, FieldLimits, MissionGeometry};
+use super::params::guidance::Guidance;
 use super::params::{FleetVehicle, Landing, PlanParams, inspection};
 use super::planners::MethodKind;
 use super::vehicle::{Vehicle, VehicleKind};
@@ -113,6 +114,8 @@ pub struct FlightSettings {
     pub altitude_frame: AltitudeFrame,
     /// How each flight ends: the autopilot's return, or a landing written in the file.
     pub landing: Landing,
+    /// The farm's guidance line a ground plan followed.
+    pub guidance: Option<Guidance>,
 }
 
 /// Everything an exporter writes from.
@@ -244,6 +247,7 @@ struct FileParams {
     trigger_distance_m: Option<f64>,
     hold_s: Option<f64>,
     landing: Landing,
+    guidance: Option<Guidance>,
 }
 
 impl FileParams {
@@ -259,6 +263,7 @@ impl FileParams {
                 trigger_distance_m: None,
                 hold_s: Some(spec.capture_s),
                 landing: Landing::Return,
+                guidance: None,
             });
         }
         let r = params.resolve(profiles)?;
@@ -272,6 +277,7 @@ impl FileParams {
             trigger_distance_m,
             hold_s: None,
             landing: r.landing,
+            guidance: params.guidance,
         })
     }
 }
@@ -318,6 +324,7 @@ fn prepare<'a>(
         hold_s: planned.hold_s.unwrap_or(0.0),
         altitude_frame: request.options.altitude_frame,
         landing: planned.landing,
+        guidance: planned.guidance,
     };
     let flight = Flight::from_trajectory(trajectory, altitude_m)?;
     Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory })

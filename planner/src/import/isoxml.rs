@@ -1,15 +1,18 @@
 //! ISO 11783-10 TaskData (a zip with `TASKDATA/TASKDATA.XML`, or the XML alone), read with
 //! quick-xml: each partfield's boundary polygon (`PLN` type 1) is a field with its interior rings
 //! as holes; obstacle polygons (type 6) are no-fly zones; water and buildings (types 3 and 4) are
-//! holes of the field they lie in. The closing point of a ring may be given or not.
+//! holes of the field they lie in. The closing point of a ring may be given or not. Guidance
+//! patterns (`GPN`) of type AB and A+ that propagate to neighbouring swaths are the farm's
+//! guidance lines; curves, pivots and spirals are reported and left out.
 
 use geo::{Contains, LineString, Polygon};
 use quick_xml::Reader;
 use quick_xml::events::{BytesStart, Event};
 
-use super::{Collected, Glimpse, Importer, Kind, ring};
+use super::{Collected, Glimpse, ImportedGuidance, Importer, Kind, ring};
 use crate::archive;
 use crate::error::InputError;
+use crate::params::guidance::Guidance;
 
 pub struct TaskData;
 
@@ -33,6 +36,25 @@ impl Importer for TaskData {
         read_xml(xml, &format!("/{name}"))
     }
 }
+
+/// A guidance pattern being read: its type, name, heading, whether it propagates, and its
+/// points (type, position).
+struct OpenPattern {
+    kind: String,
+    designator: String,
+    heading: Option<String>,
+    propagates: bool,
+    points: Vec<(String, [f64; 2])>,
+}
+
+/// `GPN` types (ISO 11783-10): AB, A+.
+const GPN_AB: &str = "1";
+const GPN_A_PLUS: &str = "2";
+/// `GPN` propagation: none (a single track, not a guidance line).
+const PROPAGATES_NOT: &str = "4";
+/// `PNT` types: guidance reference A and B.
+const PNT_A: &str = "6";
+const PNT_B: &str = "7";
 
 /// A polygon element being read: its type and rings (type, points).
 #[derive(Default)]
@@ -64,6 +86,7 @@ fn read_xml(bytes: &[u8], part: &str) -> Result<Collected, InputError> {
     let mut out = Collected::default();
     let mut polygon: Option<OpenPolygon> = None;
     let mut line: Option<(String, Vec<[f64; 2]>)> = None;
+    let mut pattern: Option<OpenPattern> = None;
     let mut partfield = String::new();
     let mut holes_to_place: Vec<LineString> = Vec::new();
     let mut seen_root = false;
@@ -85,6 +108,11 @@ fn read_xml(bytes: &[u8], part: &str) -> Result<Collected, InputError> {
                             close_polygon(p, &partfield, &at, &mut out, &mut holes_to_place)?;
                         }
                     }
+                    b"GPN" => {
+                        if let Some(p) = pattern.take() {
+                            close_pattern(p, &at, &mut out);
+                        }
+                    }
                     _ => {}
                 }
                 continue;
@@ -101,9 +129,20 @@ fn read_xml(bytes: &[u8], part: &str) -> Result<Collected, InputError> {
                 polygon = Some(OpenPolygon { kind: attribute(e, b"A", &at)?.unwrap_or_default(), designator: attribute(e, b"B", &at)?.unwrap_or_default(), rings: vec![] })
             }
             b"LSG" if polygon.is_some() && !closes => line = Some((attribute(e, b"A", &at)?.unwrap_or_default(), Vec::new())),
+            b"GPN" if !closes && polygon.is_none() => {
+                pattern = Some(OpenPattern {
+                    kind: attribute(e, b"C", &at)?.unwrap_or_default(),
+                    designator: attribute(e, b"B", &at)?.or(attribute(e, b"A", &at)?).unwrap_or_default(),
+                    heading: attribute(e, b"G", &at)?,
+                    propagates: attribute(e, b"E", &at)?.as_deref() != Some(PROPAGATES_NOT),
+                    points: Vec::new(),
+                })
+            }
             b"PNT" => {
                 if let Some((_, points)) = line.as_mut() {
                     points.push([coordinate(e, b"D", &at)?, coordinate(e, b"C", &at)?]);
+                } else if let Some(p) = pattern.as_mut() {
+                    p.points.push((attribute(e, b"A", &at)?.unwrap_or_default(), [coordinate(e, b"D", &at)?, coordinate(e, b"C", &at)?]));
                 }
             }
             _ => {}
@@ -120,6 +159,36 @@ fn read_xml(bytes: &[u8], part: &str) -> Result<Collected, InputError> {
         }
     }
     Ok(out)
+}
+
+/// Files a finished `GPN` of type AB or A+ as a guidance line; a single track (no propagation)
+/// is passed over, other types and lines without a direction are reported.
+fn close_pattern(p: OpenPattern, at: &str, out: &mut Collected) {
+    if !p.propagates {
+        return;
+    }
+    let find = |kind: &str| p.points.iter().find(|(k, _)| k == kind).map(|(_, q)| *q);
+    let (first, last) = (p.points.first().map(|q| q.1), p.points.last().map(|q| q.1));
+    let name = p.designator;
+    let guidance = match p.kind.as_str() {
+        GPN_AB => match (find(PNT_A).or(first), find(PNT_B).or(last)) {
+            (Some(a), Some(b)) if p.points.len() >= 2 => Ok(Guidance { a, b: Some(b), bearing_deg: None }),
+            _ => Err("has no points A and B".to_owned()),
+        },
+        GPN_A_PLUS => {
+            let heading = p.heading.as_deref().and_then(|h| h.trim().parse::<f64>().ok());
+            match (find(PNT_A).or(first), heading) {
+                (Some(a), Some(h)) => Ok(Guidance { a, b: None, bearing_deg: Some(h) }),
+                _ => Err("needs a point A and a heading (G)".to_owned()),
+            }
+        }
+        other => Err(format!("of type {other} was left out (AB and A+ lines are read)")),
+    };
+    // a line without a direction is left out with the reason: the rest of the file stands
+    match guidance.and_then(|g| g.validate().map(|_| g).map_err(|e| format!("was left out: {}", e.detail))) {
+        Ok(guidance) => out.guidance.push(ImportedGuidance { name, guidance }),
+        Err(why) => out.warnings.push(format!("{at}: guidance pattern `{name}` {why}")),
+    }
 }
 
 /// Files a finished `PLN` as a field, a no-fly zone, a hole to place, or a dropped polygon.
@@ -175,7 +244,10 @@ mod tests {
             <PLN A="6" B="Mast"><LSG A="1">{}</LSG></PLN>
             <PLN A="4" B="Barn"><LSG A="1">{}</LSG></PLN>
             <PLN A="10" B="Headland"><LSG A="1">{}</LSG></PLN>
-            <GGP A="GGP1"><GPN A="GPN1" C="1"><LSG A="5"><PNT A="6" C="47.1" D="8.1"/><PNT A="7" C="47.2" D="8.2"/></LSG></GPN></GGP>
+            <GGP A="GGP1"><GPN A="GPN1" C="1"><LSG A="5"><PNT A="6" C="47.1" D="8.1"/><PNT A="7" C="47.2" D="8.2"/></LSG></GPN>
+            <GPN A="GPN2" B="Tramlines" C="2" G="12.34"><LSG A="5"><PNT A="6" C="47.05" D="8.05"/></LSG></GPN>
+            <GPN A="GPN3" B="Swath 1" C="1" E="4"><LSG A="5"><PNT A="6" C="47.0" D="8.0"/><PNT A="7" C="47.1" D="8.0"/></LSG></GPN>
+            <GPN A="GPN4" B="Creek" C="3"><LSG A="5"><PNT A="6" C="47.0" D="8.0"/><PNT A="9" C="47.01" D="8.02"/><PNT A="7" C="47.1" D="8.0"/></LSG></GPN></GGP>
             </PFD></ISO11783_TaskData>"#,
             ring(&square(8.0, 47.0, 0.1), false),
             ring(&square(8.01, 47.01, 0.01), true),
@@ -190,5 +262,23 @@ mod tests {
         assert_eq!(out.fields[0].exterior().0.len(), 5, "closed once");
         assert_eq!(out.no_fly_zones.len(), 1);
         assert!(out.warnings.iter().any(|w| w.contains("type 10")), "{:?}", out.warnings);
+        // the AB and the A+ line; a single swath's track is passed over, the curve reported
+        let lines: Vec<(&str, Guidance)> = out.guidance.iter().map(|g| (g.name.as_str(), g.guidance)).collect();
+        assert_eq!(
+            lines,
+            vec![("GPN1", Guidance { a: [8.1, 47.1], b: Some([8.2, 47.2]), bearing_deg: None }), ("Tramlines", Guidance { a: [8.05, 47.05], b: None, bearing_deg: Some(12.34) })]
+        );
+        assert!(out.warnings.iter().any(|w| w.contains("`Creek` of type 3")), "{:?}", out.warnings);
+    }
+
+    #[test]
+    fn guidance_patterns_without_a_direction_are_left_out_with_the_reason() {
+        let file = |pattern: &str| format!(r#"<ISO11783_TaskData><PFD A="PFD1" C="f" D="1"><GGP A="GGP1">{pattern}</GGP></PFD></ISO11783_TaskData>"#);
+        let a_plus = file(r#"<GPN A="GPN1" B="Old line" C="2"><LSG A="5"><PNT A="6" C="47.05" D="8.05"/></LSG></GPN>"#);
+        let out = TaskData.read(a_plus.as_bytes()).unwrap();
+        assert!(out.guidance.is_empty() && out.warnings.iter().any(|w| w.contains("`Old line` needs a point A and a heading")), "{:?}", out.warnings);
+        let same_points = file(r#"<GPN A="GPN1" B="Dot" C="1"><LSG A="5"><PNT A="6" C="47.05" D="8.05"/><PNT A="7" C="47.05" D="8.05"/></LSG></GPN>"#);
+        let out = TaskData.read(same_points.as_bytes()).unwrap();
+        assert!(out.guidance.is_empty() && out.warnings.iter().any(|w| w.contains("`Dot` was left out") && w.contains("give no direction")), "{:?}", out.warnings);
     }
 }

@@ -20,6 +20,7 @@ use serde_json::{Value, json};
 use super::archive;
 use super::error::InputError;
 use super::field::check_position;
+use super::params::guidance::Guidance;
 
 /// What a file held, in WGS84 (x = longitude, y = latitude).
 #[derive(Debug, Default)]
@@ -30,7 +31,16 @@ pub struct Collected {
     /// Footprints with their height above ground, metres.
     pub obstacles: Vec<(Polygon, f64)>,
     pub home: Option<[f64; 2]>,
+    pub guidance: Vec<ImportedGuidance>,
     pub warnings: Vec<String>,
+}
+
+/// A guidance line a file holds, by its name: a plan's `guidance` as it is.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct ImportedGuidance {
+    pub name: String,
+    pub guidance: Guidance,
 }
 
 /// A mission document made from a file, as `POST /api/v1/missions` takes it, and what was left
@@ -43,6 +53,8 @@ pub struct ImportedMission {
     pub no_fly_zones: Option<Value>,
     pub obstacles: Option<Value>,
     pub home: Option<[f64; 2]>,
+    /// The farm's guidance lines (ISOXML AB and A+ patterns), each ready as a plan's `guidance`.
+    pub guidance: Vec<ImportedGuidance>,
     pub warnings: Vec<String>,
 }
 
@@ -128,6 +140,7 @@ pub fn import(format: Option<&str>, bytes: &[u8]) -> Result<ImportedMission, Inp
         no_fly_zones: (!collected.no_fly_zones.is_empty()).then(|| polygons(&collected.no_fly_zones)),
         obstacles,
         home: collected.home,
+        guidance: collected.guidance,
         warnings: collected.warnings,
     })
 }

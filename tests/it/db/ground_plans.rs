@@ -58,3 +58,72 @@ async fn a_sprayer_plan_with_a_pond_goes_to_the_tractor_terminal() {
     assert_eq!(xml.matches(r#"<LSG A="2""#).count(), 1, "the pond");
     app.stop().await;
 }
+
+/// The farm's guidance line goes to the terminal and comes back: a plan along an AB line and
+/// one along an A+ line are exported as ISOXML, read by the isoxml library and imported again,
+/// and the line read back is
+/// the line given (point A and B to a centimetre, the bearing to 0.01°); planned again along
+/// the line read back, the swaths are the same.
+#[tokio::test]
+async fn guidance_lines_round_trip_through_the_tractor_terminal() {
+    let app = TestApp::spawn().await;
+    let mission = common::mission_body("real-fields/nl-parcel-b.json");
+    let (frame, field) = outer_ring_in_local_frame(&mission["area"]);
+    let centre = field.centroid().unwrap().0;
+    let a = frame.to_wgs84(Coord { x: centre.x - 13.7, y: centre.y + 4.2 });
+    let b = frame.to_wgs84(Coord { x: centre.x + 180.0, y: centre.y + 61.0 });
+    let id = app.create_mission(&mission).await;
+    let metres_between = |p: [f64; 2], q: &Value| {
+        let q = frame.to_local(q[0].as_f64().unwrap(), q[1].as_f64().unwrap());
+        let p = frame.to_local(p[0], p[1]);
+        (p.x - q.x).hypot(p.y - q.y)
+    };
+    let plan = |guidance: Value| {
+        let app = &app;
+        let id = id.clone();
+        async move {
+            let params = json!({"vehicle": {"profile": "tractor_sprayer", "working_width_m": 6, "min_turn_radius_m": 7}, "guidance": guidance});
+            let (status, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &params).await;
+            assert_eq!(status, 202, "{plan}");
+            let plan_id = plan["id"].as_str().unwrap().to_owned();
+            let done = app.wait_finished(&plan_id).await;
+            assert_eq!(done["status"], "succeeded", "{done}");
+            (plan_id, done["stats"].clone())
+        }
+    };
+    for guidance in [json!({"a": a, "b": b}), json!({"a": a, "bearing_deg": 71.234567})] {
+        let (plan_id, stats) = plan(guidance.clone()).await;
+        let r = app.client.get(app.url(&format!("/api/v1/plans/{plan_id}/trajectory?format=isoxml"))).send().await.unwrap();
+        assert_eq!(r.status().as_u16(), 200);
+        let bytes = r.bytes().await.unwrap().to_vec();
+        // the isoxml library reads the same line (installed by tests/run_all.sh)
+        let dir = crate::db::interop::temp_dir();
+        std::fs::write(dir.join("plan-taskdata.zip"), &bytes).unwrap();
+        let spec = json!({"file": "plan-taskdata.zip", "format": "isoxml", "fields": 1, "holes": 0, "zones": 0, "swath_width_mm": 6000.0,
+            "lines": stats["sweep_lines"], "headland_passes": stats["ground"]["headland_passes"], "guidance": guidance});
+        std::fs::write(dir.join("manifest.json"), json!({"files": [spec]}).to_string()).unwrap();
+        let checker = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop/check_isoxml.mjs");
+        let out = std::process::Command::new("node").arg(checker).arg(&dir).output().unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(out.status.success(), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        let r = app.client.post(app.url("/api/v1/missions/import?format=isoxml")).body(bytes).send().await.unwrap();
+        assert_eq!(r.status().as_u16(), 201);
+        let imported: Value = r.json().await.unwrap();
+        let lines = imported["guidance"].as_array().unwrap();
+        let line = lines.iter().find(|g| g["name"] == "AB line" || g["name"] == "A+ line").unwrap_or_else(|| panic!("no guidance line in {lines:?}"))["guidance"].clone();
+        assert!(metres_between(a, &line["a"]) < 0.01, "{line} for {guidance}");
+        match guidance.get("b") {
+            Some(_) => assert!(metres_between(b, &line["b"]) < 0.01, "{line}"),
+            None => assert!((line["bearing_deg"].as_f64().unwrap() - 71.234567).abs() < 0.01, "{line}"),
+        }
+        // the line read back lays the same swaths
+        let (_, again) = plan(line).await;
+        assert_eq!(
+            (again["sweep_lines"].clone(), again["sweep_heading_deg"].as_f64().map(|h| (h * 100.0).round())),
+            (stats["sweep_lines"].clone(), stats["sweep_heading_deg"].as_f64().map(|h| (h * 100.0).round()))
+        );
+        // (the order searched over them may differ: their ends move by a fraction of a millimetre)
+        assert!((again["sweep_length_m"].as_f64().unwrap() - stats["sweep_length_m"].as_f64().unwrap()).abs() < 0.1, "{again} against {stats}");
+    }
+    app.stop().await;
+}

@@ -30,6 +30,8 @@ pub struct Piece {
     pub z: Vec<f64>,
     /// A ground vehicle's turn between swaths: its shape.
     pub shape: Option<TurnShape>,
+    /// A ground vehicle's swath left as a tramline (controlled traffic).
+    pub tramline: bool,
 }
 
 /// The shape of a ground vehicle's turn at the end of a swath.
@@ -89,7 +91,7 @@ impl FlightPath {
         if let Some(last) = self.pieces.last() {
             debug_assert_eq!(last.end(), points[0], "pieces must join exactly");
         }
-        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new(), shape: None });
+        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false });
     }
 
     /// Appends a ground vehicle's turn of `shape`.

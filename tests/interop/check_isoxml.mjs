@@ -1,7 +1,8 @@
 // Reads coverplan's ISOXML TaskData exports with the isoxml library (ISO 11783-10) and checks
 // what they hold. usage: node check_isoxml.mjs DIR, where DIR/manifest.json lists the files:
 // {"files": [{"file", "format": "isoxml", "fields", "holes", "zones", "swath_width_mm", "lines",
-// "headland_passes"?, "guidance"?}]}: a ground plan's headland passes are curve patterns; the
+// "headland_passes"?, "guidance"?, "tramlines"?}]}: a ground plan's headland passes are curve
+// patterns, its tramline swaths tram lines (line strings of type 3) of the partfield; the
 // farm's guidance line it followed ({"a": [lon, lat], "b"?: [lon, lat], "bearing_deg"?}) is an AB
 // or A+ pattern propagating to both sides, read back to 1 cm and 0.01°.
 import { readFileSync } from 'node:fs';
@@ -69,6 +70,11 @@ for (const spec of manifest.files.filter((f) => f.format === 'isoxml')) {
       const type = code(p.attributes.GuidancePatternType);
       const expected = type === 3 ? line.attributes.Point.length >= 3 : line.attributes.Point.length === (type === 2 ? 1 : 2);
       check(expected, 'an AB line has two points, an A+ line one, a curve three or more');
+    }
+    const tramlines = partfields.flatMap((p) => p.attributes.LineString ?? []).filter((l) => code(l.attributes.LineStringType) === 3);
+    check(tramlines.length === (spec.tramlines ?? 0), `${tramlines.length} tram lines, expected ${spec.tramlines ?? 0}`);
+    for (const t of tramlines) {
+      check(t.attributes.Point.length === 2 && t.attributes.LineStringWidth === spec.swath_width_mm, 'a tram line is a swath: two points, its width');
     }
     check(manager.getEntitiesOfTag('TSK').length === spec.fields, 'one task per partfield');
     passed += 1;

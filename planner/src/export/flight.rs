@@ -16,6 +16,8 @@ pub struct FlownPiece {
     pub points: Vec<[f64; 3]>,
     pub speed_mps: f64,
     pub ground_m: Option<Vec<f64>>,
+    /// A ground plan's swath left as a tramline.
+    pub tramline: bool,
 }
 
 /// What the camera does at an inspection's viewpoint.
@@ -90,7 +92,8 @@ impl Flight {
                 }
                 _ => None,
             };
-            sorties[sortie - 1].push(FlownPiece { kind, points, speed_mps, ground_m });
+            let tramline = property("tramline").and_then(Value::as_bool).unwrap_or(false);
+            sorties[sortie - 1].push(FlownPiece { kind, points, speed_mps, ground_m, tramline });
         }
         sorties.retain(|s| !s.is_empty());
         if sorties.is_empty() {
@@ -218,7 +221,7 @@ mod tests {
     }
 
     fn turn(points: Vec<[f64; 3]>) -> FlownPiece {
-        FlownPiece { kind: PieceKind::Turn, points, speed_mps: 15.0, ground_m: None }
+        FlownPiece { kind: PieceKind::Turn, points, speed_mps: 15.0, ground_m: None, tramline: false }
     }
 
     /// A half circle sampled every 5°, then a straight: two corners of the square round it,
@@ -254,8 +257,8 @@ mod tests {
 
     #[test]
     fn shared_ends_appear_once() {
-        let a = FlownPiece { kind: PieceKind::Sweep, points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]], speed_mps: 5.0, ground_m: None };
-        let b = FlownPiece { kind: PieceKind::Turn, points: vec![[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]], speed_mps: 5.0, ground_m: None };
+        let a = FlownPiece { kind: PieceKind::Sweep, points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]], speed_mps: 5.0, ground_m: None, tramline: false };
+        let b = FlownPiece { kind: PieceKind::Turn, points: vec![[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]], speed_mps: 5.0, ground_m: None, tramline: false };
         let w = waypoints(&[a, b], None);
         assert_eq!(w.iter().map(|w| w.piece).collect::<Vec<_>>(), vec![0, 0, 1]);
     }

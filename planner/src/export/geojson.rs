@@ -170,6 +170,9 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
                 props["airspeed_mps"] = json!(round(w.airspeed_mps, 2));
                 props["crab_deg"] = json!(round(w.crab_deg, 1));
             }
+            if piece.tramline {
+                props["tramline"] = json!(true);
+            }
             if let Some(shape) = piece.shape {
                 props["turn_type"] = json!(shape);
             }

@@ -4,7 +4,8 @@
 //! the sweep lines as guidance: per sweep direction a guidance group with a reference AB line
 //! and every swath as its own AB line, the line width being the line spacing; a ground plan's
 //! headland passes as curve patterns in a group of their own; the farm's guidance line a ground
-//! plan followed as an AB or A+ pattern propagating to both sides. Written with quick-xml: no
+//! plan followed as an AB or A+ pattern propagating to both sides, and its tramline swaths as
+//! tram lines (`LSG` type 3) of the partfield. Written with quick-xml: no
 //! Rust crate writes ISOXML.
 
 use geo::{Centroid, Contains, GeodesicArea, LineString, Point};
@@ -23,6 +24,7 @@ pub const PLN_OBSTACLE: &str = "6";
 /// `LSG` types.
 pub const LSG_EXTERIOR: &str = "1";
 pub const LSG_INTERIOR: &str = "2";
+pub const LSG_TRAMLINE: &str = "3";
 pub const LSG_GUIDANCE_PATTERN: &str = "5";
 /// `PNT` types: other, guidance reference A and B.
 const PNT_OTHER: &str = "2";
@@ -71,6 +73,17 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
             [[a[0], a[1]], [b[0], b[1]]]
         })
         .collect();
+    let tramlines: Vec<Line> = job
+        .flight
+        .sorties
+        .iter()
+        .flatten()
+        .filter(|p| p.kind == PieceKind::Sweep && p.tramline)
+        .map(|p| {
+            let (a, b) = (p.points[0], p.points[p.points.len() - 1]);
+            [[a[0], a[1]], [b[0], b[1]]]
+        })
+        .collect();
     let passes: Vec<Vec<[f64; 2]>> =
         job.flight.sorties.iter().flatten().filter(|p| p.kind == PieceKind::Headland).map(|p| p.points.iter().map(|q| [q[0], q[1]]).collect()).collect();
     let width_mm = (job.settings.line_spacing_m * 1000.0).round().to_string();
@@ -104,7 +117,15 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
                 x.close("PLN");
             }
         }
-        let mine: Vec<Line> = lines.iter().copied().filter(|l| field_of(Point::new((l[0][0] + l[1][0]) / 2.0, (l[0][1] + l[1][1]) / 2.0)) == k).collect();
+        let in_field = |l: &&Line| field_of(Point::new((l[0][0] + l[1][0]) / 2.0, (l[0][1] + l[1][1]) / 2.0)) == k;
+        for (t, line) in tramlines.iter().filter(in_field).enumerate() {
+            x.open("LSG", &[("A", LSG_TRAMLINE), ("B", &format!("Tramline {}", t + 1)), ("C", &width_mm)]);
+            for &p in line {
+                point(&mut x, PNT_OTHER, p);
+            }
+            x.close("LSG");
+        }
+        let mine: Vec<Line> = lines.iter().filter(in_field).copied().collect();
         for (bearing, swaths) in by_direction(&mine) {
             group_id += 1;
             x.open("GGP", &[("A", &format!("GGP{group_id}")), ("B", &format!("Sweep lines {}°", number(bearing, 1)))]);

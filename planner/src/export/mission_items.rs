@@ -349,7 +349,7 @@ mod tests {
     }
 
     fn piece(kind: PieceKind, points: &[[f64; 2]], speed: f64) -> FlownPiece {
-        FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed, ground_m: None }
+        FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed, ground_m: None, tramline: false }
     }
 
     /// The photos a plan shows on the straight sweeps of `pieces` (camera §6's rule), for a
@@ -436,8 +436,14 @@ mod tests {
                 let firmware = if checked % 2 == 0 { Firmware::Ardupilot } else { Firmware::Px4 };
                 let s = FlightSettings { trigger_distance_m: Some(spacing), firmware, ..settings(None) };
                 let [a, b, c, d] = [deg(0.0, 0.0), deg(len, 0.0), deg(len, 20.0), deg(0.0, 20.0)];
-                let sweep = |p: [f64; 2], q: [f64; 2]| FlownPiece { kind: PieceKind::Sweep, points: vec![[p[0], p[1], 40.0], [q[0], q[1], 40.0]], speed_mps: 6.0, ground_m: None };
-                let turn = FlownPiece { kind: PieceKind::Turn, points: vec![[b[0], b[1], 40.0], [c[0], c[1], 40.0]], speed_mps: 3.0, ground_m: None };
+                let sweep = |p: [f64; 2], q: [f64; 2]| FlownPiece {
+                    kind: PieceKind::Sweep,
+                    points: vec![[p[0], p[1], 40.0], [q[0], q[1], 40.0]],
+                    speed_mps: 6.0,
+                    ground_m: None,
+                    tramline: false,
+                };
+                let turn = FlownPiece { kind: PieceKind::Turn, points: vec![[b[0], b[1], 40.0], [c[0], c[1], 40.0]], speed_mps: 3.0, ground_m: None, tramline: false };
                 let pieces = [sweep(a, b), turn, sweep(c, d)];
                 let items = mission_items(&pieces, &[], &plan_photos_with(&pieces, footprint, spacing), &s, None);
                 let found: Vec<geo::Coord> = autopilot_photos(&items, s.firmware).iter().map(|p| frame.to_local(p[0], p[1])).collect();
@@ -463,8 +469,8 @@ mod tests {
     fn a_viewpoint_holds_turns_points_the_gimbal_and_takes_a_picture() {
         let view = ViewAction { position: [1.0, 0.0, 12.0], yaw_deg: 135.0, gimbal_pitch_deg: -30.0 };
         let pieces = [
-            FlownPiece { kind: PieceKind::Transit, points: vec![[0.0, 0.0, 0.0], [0.5, 0.0, 6.0], [1.0, 0.0, 12.0]], speed_mps: 0.0, ground_m: None },
-            FlownPiece { kind: PieceKind::Transit, points: vec![[1.0, 0.0, 12.0], [1.0, 1.0, 0.0]], speed_mps: 0.0, ground_m: None },
+            FlownPiece { kind: PieceKind::Transit, points: vec![[0.0, 0.0, 0.0], [0.5, 0.0, 6.0], [1.0, 0.0, 12.0]], speed_mps: 0.0, ground_m: None, tramline: false },
+            FlownPiece { kind: PieceKind::Transit, points: vec![[1.0, 0.0, 12.0], [1.0, 1.0, 0.0]], speed_mps: 0.0, ground_m: None, tramline: false },
         ];
         let mut s = FlightSettings { hold_s: 2.0, ..settings(None) };
         let px4 = mission_items(&pieces, &[view], &[], &s, None);
@@ -489,8 +495,8 @@ mod tests {
             let [lon, lat] = frame.to_wgs84(geo::Coord { x, y: 0.0 });
             [lon, lat, 80.0]
         };
-        let transit = FlownPiece { kind: PieceKind::Transit, points: (0..12).map(|k| at(50.0 * k as f64)).collect(), speed_mps: 15.0, ground_m: None };
-        let sweep = FlownPiece { kind: PieceKind::Sweep, points: vec![at(550.0), at(900.0)], speed_mps: 15.0, ground_m: None };
+        let transit = FlownPiece { kind: PieceKind::Transit, points: (0..12).map(|k| at(50.0 * k as f64)).collect(), speed_mps: 15.0, ground_m: None, tramline: false };
+        let sweep = FlownPiece { kind: PieceKind::Sweep, points: vec![at(550.0), at(900.0)], speed_mps: 15.0, ground_m: None, tramline: false };
         let plane = FlightSettings { kind: VehicleKind::FixedWing, altitude_m: 80.0, turn_radius_m: 50.0, ..settings(None) };
         let items = mission_items(&[transit.clone(), sweep.clone()], &[], &[], &plane, Some([at(0.0)[0], at(0.0)[1]]));
         let first = items.iter().find(|i| i.command == NAV_WAYPOINT).and_then(|i| i.position).unwrap();

@@ -30,6 +30,8 @@ pub struct GroundStats {
     /// Turns that leave the field or enter a hole or no-fly zone: 0 unless the planner is wrong.
     pub turns_leaving_field: usize,
     pub turns_crossing_holes: usize,
+    /// Swaths left as tramlines (`tramline_every`).
+    pub tramlines: usize,
 }
 
 /// The ground figures of `path`, worked as `swept`, with the headland `spec` over its
@@ -75,5 +77,6 @@ pub fn ground_stats(
         // a centimetre of slack: the turns' arcs are sampled
         turns_leaving_field: turns.iter().filter(|p| inside_length(&outer, p) < p.length() - 0.01).count(),
         turns_crossing_holes: turns.iter().filter(|p| inside_length(&holes, p) > 0.01).count(),
+        tramlines: pieces.iter().filter(|p| p.tramline).count(),
     }
 }

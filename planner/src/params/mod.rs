@@ -52,7 +52,7 @@ pub const COVERAGE_ONLY_MEMBERS: [&str; 14] = [
 ];
 
 /// Members only a ground vehicle's plan reads.
-pub const GROUND_ONLY_MEMBERS: [&str; 5] = ["headland_passes", "headland_width_m", "headland_order", "overlap", "guidance"];
+pub const GROUND_ONLY_MEMBERS: [&str; 6] = ["headland_passes", "headland_width_m", "headland_order", "overlap", "guidance", "tramline_every"];
 
 /// Members of plans over terrain (`altitude_reference` `terrain`).
 pub const TERRAIN_MEMBERS: [&str; 3] = ["terrain_tolerance_m", "max_climb_mps", "max_descent_mps"];
@@ -215,6 +215,13 @@ pub struct PlanParams {
     /// to it and whole swath widths (the working width less the overlap) from it. Instead of
     /// `heading_deg`.
     pub guidance: Option<guidance::Guidance>,
+    /// Ground vehicle: every this many swaths one is left as a tramline (controlled traffic: a
+    /// sprayer this many times the working width follows them), 2 to 100. With `guidance` the
+    /// guidance line's own swath is one; without, the middle swath of the first n from the
+    /// field's edge (where a sprayer flush with the edge drives): the edge on the right of the
+    /// swaths driven at their bearing below 180° (`stats.sweep_heading_deg`).
+    #[cfg_attr(feature = "schema", schema(minimum = 2, maximum = 100))]
+    pub tramline_every: Option<u32>,
     /// Inspection: what to look at (default: the walls and roof of every structure).
     pub targets: Option<Vec<Target>>,
     /// Inspection: the flight's limit, in metres, seconds or joules.
@@ -277,6 +284,8 @@ pub struct HeadlandSpec {
     pub working_width_m: f64,
     /// The guidance line the swaths follow.
     pub guidance: Option<guidance::GuidanceLine>,
+    /// Every this many swaths one is a tramline.
+    pub tramline_every: Option<usize>,
 }
 
 /// One drone of a fleet: the fields of `vehicle`, and `home`.
@@ -650,9 +659,18 @@ impl PlanParams {
     /// A ground vehicle's headland; the headland parameters are refused for an aircraft.
     fn headland(&self, vehicle: &Vehicle) -> Result<Option<HeadlandSpec>, InputError> {
         let Some(ground) = vehicle.ground.filter(|_| vehicle.kind == VehicleKind::Ground) else {
-            let given = [self.headland_passes.is_some(), self.headland_width_m.is_some(), self.headland_order.is_some(), self.overlap.is_some(), self.guidance.is_some()];
+            let given = [
+                self.headland_passes.is_some(),
+                self.headland_width_m.is_some(),
+                self.headland_order.is_some(),
+                self.overlap.is_some(),
+                self.guidance.is_some(),
+                self.tramline_every.is_some(),
+            ];
             return match first_given(&GROUND_ONLY_MEMBERS, &given) {
-                Some(pointer) => Err(InputError::new("not_a_ground_vehicle", pointer, "headlands, swath overlap and guidance lines are for ground vehicles (vehicle kind ground)")),
+                Some(pointer) => {
+                    Err(InputError::new("not_a_ground_vehicle", pointer, "headlands, swath overlap, guidance lines and tramlines are for ground vehicles (vehicle kind ground)"))
+                }
                 None => Ok(None),
             };
         };
@@ -662,6 +680,11 @@ impl PlanParams {
             return Err(InputError::new("guidance_and_heading", "/heading_deg", "the swaths follow the guidance line: give guidance or heading_deg, not both"));
         }
         let guidance = self.guidance.map(|g| g.validate()).transpose()?;
+        if let Some(n) = self.tramline_every
+            && !(2..=100).contains(&n)
+        {
+            return Err(InputError::new("parameter_out_of_range", "/tramline_every", format!("{n} is outside the accepted range [2, 100]")));
+        }
         let step = ground.working_width_m * (1.0 - overlap);
         if let Some(p) = self.headland_passes
             && !(1..=20).contains(&p)
@@ -689,6 +712,7 @@ impl PlanParams {
             swath_ends: self.swath_ends.unwrap_or_default(),
             working_width_m: ground.working_width_m,
             guidance,
+            tramline_every: self.tramline_every.map(|n| n as usize),
         }))
     }
 

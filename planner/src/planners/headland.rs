@@ -71,6 +71,7 @@ impl Planner for HeadlandPlanner {
             .into_iter()
             .filter_map(|l| routes.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l }))
             .collect();
+        let tramlines = setup.spec.tramline_every.map(|n| tramlines(&lines, (angle, phase), problem.layout.spacing, n)).unwrap_or_default();
         if !progress.report(0.3) {
             return Err(PlanError::Cancelled);
         }
@@ -100,6 +101,9 @@ impl Planner for HeadlandPlanner {
                 None => drive.go_to(a),
             }
             drive.path.push(PieceKind::Sweep, vec![a.coord(), b.coord()], half);
+            if tramlines.get(v / 2) == Some(&true) {
+                drive.path.pieces.last_mut().expect("just pushed").tramline = true;
+            }
             drive.at = Some(b);
             previous = Some(v);
         }
@@ -180,6 +184,24 @@ fn swaths(mainland: &MultiPolygon, region: &MultiPolygon, (angle, phase): (f64, 
             Line { a, b, region: field }
         })
         .collect()
+}
+
+/// Which of `lines` (swaths at `angle`, `spacing` apart) are tramlines, one every `every`:
+/// counted from the guidance line's offset `phase` (its own swath is one), else the middle
+/// swath of the first `every` from the edge (where a sprayer `every` swaths wide runs flush
+/// with it): the edge on the right of the swaths run at their compass bearing below 180°.
+fn tramlines(lines: &[Line], (angle, phase): (f64, Option<f64>), spacing: f64, every: usize) -> Vec<bool> {
+    // offsets grow to the left of the direction: for the edge rule, the direction whose bearing
+    // is below 180° (the plan reports that bearing)
+    let bearing_below_180 = crate::params::bearing_to_math(crate::params::math_to_bearing(angle) % 180.0);
+    let across = if phase.is_some() { angle } else { bearing_below_180 };
+    let offsets: Vec<f64> = lines.iter().map(|l| crate::sweep::to_sweep_frame(across, (l.a + l.b) * 0.5).y).collect();
+    let first = offsets.iter().copied().fold(f64::INFINITY, f64::min);
+    let (base, wanted) = match phase {
+        Some(p) => (p, 0),
+        None => (first, (every as i64 - 1) / 2),
+    };
+    offsets.iter().map(|o| ((o - base) / spacing).round() as i64).map(|k| k.rem_euclid(every as i64) == wanted).collect()
 }
 
 /// Vertices of a ring tried as its entry.

@@ -326,7 +326,7 @@ struct Left {
 const STORED_ROUNDING_M: f64 = 0.05;
 
 fn piece(kind: PieceKind, points: Vec<Coord>) -> Piece {
-    Piece { kind, points, half_swath_m: 0.0, z: Vec::new(), shape: None }
+    Piece { kind, points, half_swath_m: 0.0, z: Vec::new(), shape: None, tramline: false }
 }
 
 /// The flown pieces of a coverage plan's trajectory, in flight order.

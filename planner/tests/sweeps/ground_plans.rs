@@ -198,6 +198,7 @@ proptest! {
         (ax, ay) in (-1.5..1.5f64, -1.5..1.5f64),
         ab in any::<bool>(),
         overlap in prop::option::of(0.0..0.3f64),
+        tramline_every in prop::option::of(2u32..7),
     ) {
         let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
         let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
@@ -211,7 +212,7 @@ proptest! {
             json!({"a": a, "bearing_deg": bearing})
         };
         let headland = 2.0 * width.max(turn_radius + 1.0);
-        let mut extra = json!({"headland_width_m": headland, "guidance": guidance});
+        let mut extra = json!({"headland_width_m": headland, "guidance": guidance, "tramline_every": tramline_every});
         if let Some(o) = overlap {
             extra["overlap"] = json!(o);
         }
@@ -232,12 +233,64 @@ proptest! {
                     }
                     prop_assert_eq!(widths[0].round(), widths[1].round(), "{}: a swath across the line", name);
                 }
+                // the guidance line's swath is a tramline, and every n-th from it
+                let n = tramline_every.unwrap_or(0) as i64;
+                for (s, tramline) in swaths.iter().zip(tramline_flags(&out)) {
+                    let k = (((s[0] - a_local).x * across.x + (s[0] - a_local).y * across.y) / spacing).round() as i64;
+                    prop_assert_eq!(tramline, n > 0 && k.rem_euclid(n.max(1)) == 0, "{}: swath {} tramline {}", name, k, tramline);
+                }
                 let ponds = to_local_mp(&frame, &nfz);
                 check(&area, &if ponds.0.is_empty() { MultiPolygon(vec![]) } else { ponds }, &out, turn_radius, 0.99, &name)?;
             }
             Err(PlanError::Input(e)) if e.code == "field_too_narrow" => prop_assert!(e.detail.contains('['), "{}", e.detail),
             Err(e) => return Err(TestCaseError::fail(format!("{name}: {e}"))),
         }
+    }
+}
+
+/// Whether each swath of the plan, in order, is a tramline.
+fn tramline_flags(out: &PlanOutput) -> Vec<bool> {
+    let props = out.trajectory.features.iter().filter_map(|f| f.properties.as_ref());
+    props.filter(|p| p.get("kind").and_then(Value::as_str) == Some("sweep")).map(|p| p.get("tramline").and_then(Value::as_bool).unwrap_or(false)).collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// Without a guidance line, tramlines are every n-th swath across the field, the first the
+    /// middle one of the n at its edge, on generated fields with ponds (swaths cut by a pond
+    /// are tramlines on both sides); the stats count them.
+    #[test]
+    fn tramlines_are_every_nth_swath_from_the_middle_of_the_first_sprayer_pass(
+        lon in -179.0..179.0f64,
+        lat in -60.0..60.0f64,
+        radius in 80.0..250.0f64,
+        shape in prop::collection::vec((0.7..1.0f64, -1.0..1.0f64), 5..10),
+        ponds in 0usize..3,
+        width in 3.0..12.0f64,
+        every in 2u32..9,
+    ) {
+        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
+        let (area, _) = star_field(lon, lat, radius, &radii, &jitter, ponds);
+        let frame = frame_of(&area);
+        let params = ground(width, 3.0, json!({"headland_width_m": 2.0 * width.max(4.0), "tramline_every": every}));
+        let out = match run(&area, None, &params) {
+            Ok(out) => out,
+            Err(PlanError::Input(e)) if e.code == "field_too_narrow" => return Ok(()),
+            Err(e) => return Err(TestCaseError::fail(e.to_string())),
+        };
+        let theta = (90.0 - out.stats.sweep_heading_deg).to_radians();
+        let across = Coord { x: -theta.sin(), y: theta.cos() };
+        let swaths: Vec<Vec<Coord>> = pieces(&out, &frame).into_iter().filter(|p| p.0 == "sweep").map(|p| p.2).collect();
+        let offsets: Vec<f64> = swaths.iter().map(|s| s[0].x * across.x + s[0].y * across.y).collect();
+        let first = offsets.iter().copied().fold(f64::INFINITY, f64::min);
+        let flags = tramline_flags(&out);
+        let n = every as i64;
+        for (o, tramline) in offsets.iter().zip(&flags) {
+            let k = ((o - first) / width).round() as i64;
+            prop_assert_eq!(*tramline, k.rem_euclid(n) == (n - 1) / 2, "swath {} of every {}", k, n);
+        }
+        prop_assert_eq!(out.stats.ground.as_ref().unwrap().tramlines, flags.iter().filter(|&&t| t).count());
     }
 }
 

@@ -60,7 +60,8 @@ async fn a_sprayer_plan_with_a_pond_goes_to_the_tractor_terminal() {
 }
 
 /// The farm's guidance line goes to the terminal and comes back: a plan along an AB line and
-/// one along an A+ line are exported as ISOXML, read by the isoxml library and imported again,
+/// one along an A+ line, with a tramline every four swaths, are exported as ISOXML (the
+/// tramlines as tram lines), read by the isoxml library and imported again,
 /// and the line read back is
 /// the line given (point A and B to a centimetre, the bearing to 0.01°); planned again along
 /// the line read back, the swaths are the same.
@@ -82,7 +83,7 @@ async fn guidance_lines_round_trip_through_the_tractor_terminal() {
         let app = &app;
         let id = id.clone();
         async move {
-            let params = json!({"vehicle": {"profile": "tractor_sprayer", "working_width_m": 6, "min_turn_radius_m": 7}, "guidance": guidance});
+            let params = json!({"vehicle": {"profile": "tractor_sprayer", "working_width_m": 6, "min_turn_radius_m": 7}, "guidance": guidance, "tramline_every": 4});
             let (status, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &params).await;
             assert_eq!(status, 202, "{plan}");
             let plan_id = plan["id"].as_str().unwrap().to_owned();
@@ -100,7 +101,9 @@ async fn guidance_lines_round_trip_through_the_tractor_terminal() {
         let dir = crate::db::interop::temp_dir();
         std::fs::write(dir.join("plan-taskdata.zip"), &bytes).unwrap();
         let spec = json!({"file": "plan-taskdata.zip", "format": "isoxml", "fields": 1, "holes": 0, "zones": 0, "swath_width_mm": 6000.0,
-            "lines": stats["sweep_lines"], "headland_passes": stats["ground"]["headland_passes"], "guidance": guidance});
+            "lines": stats["sweep_lines"], "headland_passes": stats["ground"]["headland_passes"], "guidance": guidance, "tramlines": stats["ground"]["tramlines"]});
+        let tramlines = stats["ground"]["tramlines"].as_u64().unwrap();
+        assert!(tramlines >= 5, "{tramlines} tramlines of {} swaths", stats["sweep_lines"]);
         std::fs::write(dir.join("manifest.json"), json!({"files": [spec]}).to_string()).unwrap();
         let checker = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/interop/check_isoxml.mjs");
         let out = std::process::Command::new("node").arg(checker).arg(&dir).output().unwrap();

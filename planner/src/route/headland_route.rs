@@ -150,6 +150,16 @@ impl HeadlandRoutes {
         HeadlandRoutes { field: EdgeIndex::new(region), mainland: EdgeIndex::new(mainland), roads, stops, steering, reach: 4.0 * radius + 2.0 * headland_m }
     }
 
+    /// The radius of the circle every turn keeps within.
+    pub fn bounding_radius(&self) -> f64 {
+        self.steering.bounding_radius()
+    }
+
+    /// Whether the vehicle may reverse.
+    pub fn reverses(&self) -> bool {
+        self.steering.reverses()
+    }
+
     /// Below the length in open ground: no way between the poses is shorter.
     pub fn floor(&self, from: Pose, to: Pose) -> f64 {
         0.99 * self.steering.floor(from, to)
@@ -175,6 +185,16 @@ impl HeadlandRoutes {
     /// where no turn fits).
     pub fn turnable(&self, a: Coord, b: Coord) -> Option<(Coord, Coord)> {
         turnable_stretch(a, b, self.steering.bounding_radius(), 0.05, |at, out| self.steering.half_turns(at, out).iter().any(|turn| !self.field.crossed(turn)))
+    }
+
+    /// Whether a forward half turn from `at` (leaving in the unit direction `out`), to the left
+    /// or to the right, stays in the headland: where none does (at an edge slanted to the
+    /// swaths, one leaves the field and the other enters the mainland) the swath can only be
+    /// left by a long drive or across the crop.
+    pub fn turns_back_at(&self, at: Coord, out: Coord) -> bool {
+        // a centimetre out: a square end's half turn ends on the mainland's edge, where the
+        // neighbouring swath begins
+        self.steering.half_turns(at + out * 0.01, out).iter().any(|turn| self.clear(turn, Bounds::Headland))
     }
 
     /// Between fields, on the road outside them.
@@ -454,6 +474,30 @@ mod tests {
     use super::*;
     use crate::decompose::headland::headland;
     use geo::{LineString, Polygon};
+
+    /// A forward sprayer (7 m turns) in a 12 m headland turns back at a swath end square to the
+    /// edge, but not where the edge slants at 40° to the swath: the half turn towards the lower
+    /// side reaches 7 (1 + sin 50°) = 12.4 m out and leaves the field, the other ends in the
+    /// mainland.
+    #[test]
+    fn half_turns_fit_at_a_square_end_and_not_at_a_slanted_one() {
+        let field = |top: Vec<(f64, f64)>| {
+            let mut ring = vec![(0.0, 0.0), (400.0, 0.0)];
+            ring.extend(top);
+            ring.push((0.0, 0.0));
+            MultiPolygon(vec![Polygon::new(LineString::from(ring), vec![])])
+        };
+        // a square top edge, and one slanting up to the right at 50° (40° to north–south swaths)
+        let slope = 50f64.to_radians().tan();
+        for (top, turns) in [(vec![(400.0, 300.0), (0.0, 300.0)], true), (vec![(400.0, 200.0 + 400.0 * slope), (0.0, 200.0)], false)] {
+            let region = field(top);
+            let h = headland(&region, 12.0, 2, 7.0);
+            let routes = HeadlandRoutes::new(&region, &h.mainland, &h.passes.concat(), Steering::new(7.0, false, None), 12.0);
+            // a north–south swath in the middle, ending on the mainland's top edge
+            let top_y = if turns { 288.0 } else { 200.0 + 200.0 * slope - 12.0 / 50f64.to_radians().cos() };
+            assert_eq!(routes.turns_back_at(Coord { x: 200.0, y: top_y }, Coord { x: 0.0, y: 1.0 }), turns, "top at {top_y}");
+        }
+    }
 
     /// The ramps found for the headland and for crossings in one pass are those found for each
     /// on its own: the same stops, directions and lengths, in the same order.

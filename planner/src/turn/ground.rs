@@ -100,6 +100,11 @@ impl Steering {
         self.half_turns.each_ref().map(|turn| turn.iter().map(|p| Coord { x: at.x + p.x * out.x - p.y * out.y, y: at.y + p.x * out.y + p.y * out.x }).collect())
     }
 
+    /// Whether the vehicle may reverse (and so turn back on the spot, by a fishtail).
+    pub fn reverses(&self) -> bool {
+        self.reverse
+    }
+
     /// The radius of the circle every turn keeps within: the turning radius, or with slow
     /// steering the circle bounding continuous-curvature turns.
     pub fn bounding_radius(&self) -> f64 {

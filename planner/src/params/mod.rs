@@ -680,10 +680,8 @@ impl PlanParams {
             return Err(InputError::new("guidance_and_heading", "/heading_deg", "the swaths follow the guidance line: give guidance or heading_deg, not both"));
         }
         let guidance = self.guidance.map(|g| g.validate()).transpose()?;
-        if let Some(n) = self.tramline_every
-            && !(2..=100).contains(&n)
-        {
-            return Err(InputError::new("parameter_out_of_range", "/tramline_every", format!("{n} is outside the accepted range [2, 100]")));
+        if let Some(n) = self.tramline_every {
+            check_range(n as f64, 2.0, 100.0, "/tramline_every", "swaths")?;
         }
         let step = ground.working_width_m * (1.0 - overlap);
         if let Some(p) = self.headland_passes

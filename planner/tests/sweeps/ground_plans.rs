@@ -313,7 +313,7 @@ proptest! {
 }
 
 #[test]
-fn guidance_lines_are_for_ground_vehicles_and_replace_the_heading() {
+fn guidance_lines_and_tramlines_are_for_ground_vehicles_and_guidance_replaces_the_heading() {
     let area = json!({"type": "Polygon", "coordinates": [[[5.0, 52.0], [5.004, 52.0], [5.004, 52.003], [5.0, 52.003], [5.0, 52.0]]]});
     let a_plus = json!({"a": [5.001, 52.001], "bearing_deg": 30.0});
     let refused = |params: PlanParams| match run(&area, None, &params) {
@@ -324,6 +324,9 @@ fn guidance_lines_are_for_ground_vehicles_and_replace_the_heading() {
     assert_eq!(refused(drone), ("not_a_ground_vehicle", "/guidance".to_string()));
     assert_eq!(refused(ground(6.0, 5.0, json!({"guidance": a_plus, "heading_deg": 10.0}))), ("guidance_and_heading", "/heading_deg".to_string()));
     assert_eq!(refused(ground(6.0, 5.0, json!({"guidance": {"a": [5.001, 52.001]}}))), ("guidance_without_direction", "/guidance".to_string()));
+    assert_eq!(refused(ground(6.0, 5.0, json!({"tramline_every": 1}))), ("parameter_out_of_range", "/tramline_every".to_string()));
+    let drone: PlanParams = serde_json::from_value(json!({"vehicle": {"kind": "multirotor"}, "tramline_every": 3})).unwrap();
+    assert_eq!(refused(drone), ("not_a_ground_vehicle", "/tramline_every".to_string()));
     // the swaths run along the bearing
     let out = run(&area, None, &ground(6.0, 5.0, json!({"guidance": a_plus}))).unwrap();
     assert!((out.stats.sweep_heading_deg - 30.0).abs() < 0.01, "{}", out.stats.sweep_heading_deg);

@@ -62,7 +62,8 @@ type Line = [[f64; 2]; 2];
 fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
     let fields = &job.outlines.fields.0;
     let field_of = |p: Point| fields.iter().position(|f| f.contains(&p)).unwrap_or(0);
-    let lines: Vec<Line> = job
+    // each sweep's two ends, and whether it is a tramline
+    let sweeps: Vec<(Line, bool)> = job
         .flight
         .sorties
         .iter()
@@ -70,20 +71,11 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
         .filter(|p| p.kind == PieceKind::Sweep)
         .map(|p| {
             let (a, b) = (p.points[0], p.points[p.points.len() - 1]);
-            [[a[0], a[1]], [b[0], b[1]]]
+            ([[a[0], a[1]], [b[0], b[1]]], p.tramline)
         })
         .collect();
-    let tramlines: Vec<Line> = job
-        .flight
-        .sorties
-        .iter()
-        .flatten()
-        .filter(|p| p.kind == PieceKind::Sweep && p.tramline)
-        .map(|p| {
-            let (a, b) = (p.points[0], p.points[p.points.len() - 1]);
-            [[a[0], a[1]], [b[0], b[1]]]
-        })
-        .collect();
+    let lines: Vec<Line> = sweeps.iter().map(|s| s.0).collect();
+    let tramlines: Vec<Line> = sweeps.iter().filter(|s| s.1).map(|s| s.0).collect();
     let passes: Vec<Vec<[f64; 2]>> =
         job.flight.sorties.iter().flatten().filter(|p| p.kind == PieceKind::Headland).map(|p| p.points.iter().map(|q| [q[0], q[1]]).collect()).collect();
     let width_mm = (job.settings.line_spacing_m * 1000.0).round().to_string();

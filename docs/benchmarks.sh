@@ -34,6 +34,7 @@ HEAD
   section "Beside Fields2Cover, fixed wing, its rules (holes flown over, centre-line ends)" --fields2cover --overfly-holes --ends centre_line --repeats 1
   section "Beside Fields2Cover, fixed wing, holes flown over" --fields2cover --overfly-holes --repeats 1
   section "Beside Fields2Cover, fixed wing, holes as no-fly zones" --fields2cover --repeats 1
+  section "The fixed wing's default planner, holes as no-fly zones, every seed" --fields2cover --planner boustrophedon --every-seed --repeats 1
   section "Line-level routing" --routing
   section "E-Spiral against E-BF (seed 002), and EG-CPP" --energy --repeats 3
   section "Ground vehicles" --ground --repeats 3

@@ -31,6 +31,9 @@ pub struct BenchArgs {
     /// Fields2Cover's fixed-wing configuration (width max(8, √area/25), radius half of it, zones 1 m off) on the fields h*_00, beside its figures.
     #[arg(long)]
     pub fields2cover: bool,
+    /// With --fields2cover: the fields of every seed (h*_00 to h*_03), with a table of ours by seed and bin of holes.
+    #[arg(long)]
+    pub every_seed: bool,
     /// The holes are only not to be covered and may be flown over (Fields2Cover's semantics), not no-fly zones.
     #[arg(long)]
     pub overfly_holes: bool,
@@ -105,7 +108,7 @@ fn table(args: BenchArgs) -> anyhow::Result<String> {
         BenchArgs { resume: true, data, fields, .. } => resume::run(&data, &fields)?,
         BenchArgs { wind: true, data, fields, .. } => wind::run(&data, &fields)?,
         BenchArgs { terrain: true, repeats, .. } => terrain::run(std::path::Path::new("tests/fixtures/terrain"), repeats)?,
-        BenchArgs { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, overfly_holes, .. } => {
+        BenchArgs { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, every_seed, overfly_holes, .. } => {
             let options = Options {
                 planner: planner.as_deref(),
                 repeats,
@@ -114,6 +117,7 @@ fn table(args: BenchArgs) -> anyhow::Result<String> {
                 fields: &fields,
                 ends: ends.as_deref(),
                 fields2cover,
+                every_seed,
                 overfly_holes,
             };
             run(&data, &options)?

@@ -62,5 +62,28 @@ pub fn beside(data: &Path, planned: &[Planned]) -> anyhow::Result<String> {
         let _ = writeln!(out, "| {lo:>2}–{hi:<2} | {:>6} | {ours:.3} | {theirs:>12.3} | {median:>14.0}× | {least:>13.0}× |", rows.len());
     }
     out.push('\n');
+    let seed = |field: &str| field.trim_end_matches(".json").rsplit('_').next().unwrap_or("").to_owned();
+    let mut seeds: Vec<String> = per_field.iter().map(|p| seed(p.2)).collect();
+    seeds.sort();
+    seeds.dedup();
+    if seeds.len() > 1 {
+        // other seeds of the generator: fields of the same classes that the peers' figures do not cover
+        out.push_str("ours by seed of the generated fields (the file name's suffix): mean efficiency per covered area by bin of hole counts\n\n| seed |");
+        for (lo, hi) in BINS {
+            let _ = write!(out, " {lo}–{hi} |");
+        }
+        out.push_str("\n|-----:|");
+        out.push_str(&"------:|".repeat(BINS.len()));
+        out.push('\n');
+        for s in &seeds {
+            let _ = write!(out, "| {s} |");
+            for (lo, hi) in BINS {
+                let bin: Vec<f64> = per_field.iter().filter(|p| seed(p.2) == *s && (lo..=hi).contains(&p.0)).map(|p| p.1).collect();
+                let _ = if bin.is_empty() { write!(out, " - |") } else { write!(out, " {:.3} |", bin.iter().sum::<f64>() / bin.len() as f64) };
+            }
+            out.push('\n');
+        }
+        out.push('\n');
+    }
     Ok(out)
 }

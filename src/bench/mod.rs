@@ -100,6 +100,8 @@ pub struct Options<'a> {
     pub ends: Option<&'a str>,
     /// Fields2Cover's fixed-wing configuration ([`fields2cover_spacing`]) on the fields `h*_00`.
     pub fields2cover: bool,
+    /// With `fields2cover`: the fields of every seed of the generator, not only `h*_00`.
+    pub every_seed: bool,
     /// The fields' holes are only not to be covered, free to fly over (as Fields2Cover treats
     /// them), instead of also being no-fly zones.
     pub overfly_holes: bool,
@@ -126,7 +128,7 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
         .context("index.json is a list")?
         .iter()
         .filter(|e| match (options.fields.is_empty(), e["file"].as_str()) {
-            (true, Some(file)) => !options.fields2cover || file.ends_with("_00.json"),
+            (true, Some(file)) => !options.fields2cover || options.every_seed || file.ends_with("_00.json"),
             (_, file) => options.fields.iter().any(|f| file == Some(&format!("{f}.json"))),
         })
         .collect();

@@ -60,3 +60,23 @@ fn the_fields2cover_benchmark_flies_over_holes_only_when_asked() {
         assert!(*overflown >= 0.999 && with_zones < overflown, "coverage {with_zones} with zones, {overflown} flying over:\n{zones_text}\n{over_text}");
     }
 }
+
+#[test]
+fn the_fields2cover_benchmark_reports_each_seed_of_the_generated_fields() {
+    let run = |fields: &str| {
+        let args = ["bench", "--fields2cover", "--planner", "naive", "--overfly-holes", "--fields", fields, "--markdown"];
+        let out = Command::new(env!("CARGO_BIN_EXE_coverplan")).args(args).output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let two = run("h01_00,h01_02,h07_02");
+    let table = &two[two.find("ours by seed").unwrap_or_else(|| panic!("no table by seed: {two}"))..];
+    let rows: Vec<Vec<&str>> = table.lines().filter(|l| l.starts_with("| 0")).map(|l| l.split('|').map(str::trim).collect()).collect();
+    // | seed | 0–0 | 1–5 | 6–10 | 11–15 |: seed 00 has one field of 1 hole, seed 02 one of 1 and one of 7
+    assert_eq!(rows.iter().map(|r| r[1]).collect::<Vec<_>>(), ["00", "02"], "{table}");
+    assert_eq!(rows[0][2..6].iter().map(|c| *c == "-").collect::<Vec<_>>(), [true, false, true, true], "{table}");
+    assert_eq!(rows[1][2..6].iter().map(|c| *c == "-").collect::<Vec<_>>(), [true, false, false, true], "{table}");
+    assert!(rows.iter().flat_map(|r| &r[2..6]).filter(|c| **c != "-").all(|c| c.parse::<f64>().is_ok_and(|e| e > 0.3 && e < 1.0)), "{table}");
+    // one seed: no table by seed
+    assert!(!run("h01_00,h07_00").contains("ours by seed"));
+}

@@ -12,6 +12,7 @@ use crate::route::line_tour::Line;
 use crate::route::visibility::TransitPlanner;
 use crate::route::{CellOrder, CellVisit, RouteContext, cell_tour::CellTour, nearest_cell::NearestCell};
 use crate::turn::TurnModel;
+use crate::turn::dubins::Pose;
 use crate::vehicle::VehicleKind;
 
 pub struct CellPlanner {
@@ -38,7 +39,8 @@ pub static BOUSTROPHEDON: CellPlanner = CellPlanner {
         own best direction; cells, directions and entry points ordered as one generalised travelling-salesman \
         problem, with transits around no-fly zones. The recommended planner for hard fields.",
     direction_rule: "the direction with the fewest lines for the decomposition, then each cell's own fewest-lines direction where shorter; \
-        for a fixed wing, also the six directions with the fewest lines, the shortest route kept",
+        for a fixed wing, also the six directions with the fewest lines and, around no-fly zones, the field swept whole at the \
+        heading (2° grid) whose cut lines promise the shortest route, the shortest per covered share kept",
     decomposition: &Boustrophedon,
     order: &CellTour,
     multirotor_only: None,
@@ -138,45 +140,70 @@ impl Planner for CellPlanner {
     }
 }
 
-/// A plan tried at a heading (`None`: the decomposition's own), with the share it covers.
-type Tried = (Option<f64>, f64, PlannedPath);
+/// The lines a fixed wing's plan is tried with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Lines {
+    /// The decomposition's cells, each swept on its own.
+    Cells,
+    /// Each field swept whole (its lines cut by holes and zones, one phase across the field).
+    WholeFields,
+}
+
+/// A heading tried (`None`: the decomposition's own) with the lines swept at it.
+type Try = (Option<f64>, Lines);
+
+/// A try planned, with the share it covers.
+type Tried = (Try, f64, PlannedPath);
 
 impl CellPlanner {
     /// A fixed wing's lines are ordered on Dubins costs, which the fewest lines do not settle:
     /// the decomposition's own plan and plans at the [`CellPlanner::fixed_wing_headings`]
-    /// headings with the fewest lines (each swept by one heading throughout), in parallel, the shortest per covered share kept
-    /// ([`crate::metrics::best_covering`]). Around no-fly zones, where pricing a connection
-    /// means routing round them, the headings are ranked with connections over open sky and
-    /// only the best of them is planned again beside the decomposition's own.
+    /// headings with the fewest lines (each swept by one heading throughout), in parallel, the
+    /// shortest per covered share kept ([`crate::metrics::best_covering`]).
+    ///
+    /// Around no-fly zones, where pricing a connection means routing round them, the headings
+    /// are ranked with connections over open sky and only the best is planned again beside the
+    /// decomposition's own. So is the best of [`WHOLE_FIELD_HEADINGS`] headings at which each
+    /// field is swept whole ([`best_whole_field_heading`]): cells each lay their own lines, which
+    /// leaves extra lines at their seams and turns at each cell's ends round a zone, and
+    /// the fewest lines across the field are not the fewest once holes cut them.
     fn plan_fixed_wing(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
         let headings = crate::sweep::fewest_lines_directions(problem.region, problem.layout, self.fixed_wing_headings);
-        let mut tries: Vec<Option<f64>> = std::iter::once(None).chain(headings.into_iter().map(Some)).collect();
+        let mut tries: Vec<Try> = std::iter::once((None, Lines::Cells)).chain(headings.into_iter().map(|h| (Some(h), Lines::Cells))).collect();
         if problem.transit.has_walls() {
             let open_sky = TransitPlanner::new(&MultiPolygon(vec![]), &MultiPolygon(vec![]));
             let ranking_connector = Connector::new(problem.connector.turn, &open_sky, None).in_wind_of(problem.connector).stopping_on(&problem.connector.stop());
-            let ranked = self.best_of(&Problem { transit: &open_sky, connector: &ranking_connector, ..*problem }, &tries)?;
-            tries = vec![None, ranked.0];
+            let ranking = Problem { transit: &open_sky, connector: &ranking_connector, ..*problem };
+            let ranked = self.tried(&ranking, &tries)?;
+            let best_cells = Self::best(problem, &ranked.iter().collect::<Vec<_>>()).map(|i| ranked[i].0);
+            let best_whole = best_whole_field_heading(problem, &ranking);
+            tries = std::iter::once((None, Lines::Cells)).chain(best_cells).chain(best_whole.map(|h| (Some(h), Lines::WholeFields))).collect();
             tries.dedup();
         }
         if !progress.report(0.5) {
             return Err(PlanError::Cancelled);
         }
-        Ok(self.best_of(problem, &tries)?.1)
+        let planned = self.tried(problem, &tries)?;
+        let best = Self::best(problem, &planned.iter().collect::<Vec<_>>()).expect("a try planned");
+        Ok(planned.into_iter().nth(best).expect("an index of the plans").2)
     }
 
-    /// The plan at each of `angles` (`None`: the decomposition's own), in parallel, and the
-    /// shortest per covered share with its angle (in wind, the quickest: measured as the
-    /// connections are). An angle whose lines cannot be flown (no way
-    /// round a zone at the turning radius) is passed over; its error stands when no angle plans.
-    fn best_of(&self, problem: &Problem<'_>, angles: &[Option<f64>]) -> Result<(Option<f64>, PlannedPath), PlanError> {
+    /// The plan of each try, in parallel, with the share it covers. A try whose lines cannot
+    /// be flown (no way round a zone at the turning radius) is passed over; the first error
+    /// stands when no try plans.
+    fn tried(&self, problem: &Problem<'_>, tries: &[Try]) -> Result<Vec<Tried>, PlanError> {
         use rayon::prelude::*;
         let area = problem.region.unsigned_area();
-        let results: Vec<Result<Tried, PlanError>> = angles
+        let results: Vec<Result<Tried, PlanError>> = tries
             .par_iter()
-            .map(|&angle| {
-                let planned = self.plan_at(&Problem { sweep_angle: angle, ..*problem }, &|_| true)?;
+            .map(|&(angle, lines)| {
+                let at = Problem { sweep_angle: angle, ..*problem };
+                let planned = match (lines, angle) {
+                    (Lines::WholeFields, Some(h)) => plan_whole_fields(&at, h)?,
+                    _ => self.plan_at(&at, &|_| true)?,
+                };
                 let coverage = crate::metrics::covered_area(&planned.path, problem.region, problem.layout.photographed()) / area;
-                Ok((angle, coverage, planned))
+                Ok(((angle, lines), coverage, planned))
             })
             .collect();
         let mut planned = Vec::new();
@@ -190,11 +217,16 @@ impl CellPlanner {
                 }
             }
         }
-        let Some(best) = crate::metrics::best_covering(&planned, |p| p.1, |p| problem.connector.measure(&p.2.path)) else {
-            return Err(first_error.expect("an angle was tried"));
-        };
-        let (angle, _, plan) = planned.into_iter().nth(best).expect("an index of the plans");
-        Ok((angle, plan))
+        match first_error {
+            Some(e) if planned.is_empty() => Err(e),
+            _ => Ok(planned),
+        }
+    }
+
+    /// Of the plans tried, the shortest per covered share (in wind, the quickest: measured as
+    /// the connections are).
+    fn best(problem: &Problem<'_>, planned: &[&Tried]) -> Option<usize> {
+        crate::metrics::best_covering(planned, |p| p.1, |p| problem.connector.measure(&p.2.path))
     }
 
     fn plan_at(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
@@ -255,4 +287,75 @@ fn fly_line_level(cells: &[Cell], problem: &Problem<'_>) -> Result<FlightPath, P
     let route = problem.line_problem(&lines, true);
     let (seq, _) = route.solve();
     super::line_gtsp::fly_lines(&route, &seq, problem.layout.half_swath())
+}
+
+/// The flyable lines of every field swept whole at heading `h` (as `line_gtsp` sweeps a
+/// field), and the metres of sweep lost to turning room before no-fly zones.
+fn whole_field_lines(problem: &Problem<'_>, h: f64) -> (Vec<Line>, f64) {
+    let mut lost_m = 0.0;
+    let mut lines = Vec::new();
+    for (region, field) in problem.region.0.iter().enumerate() {
+        let (flown, lost) = super::line_gtsp::field_lines(problem, &MultiPolygon(vec![field.clone()]), region, h);
+        lines.extend(flown);
+        lost_m += lost;
+    }
+    (lines, lost_m)
+}
+
+/// Fixed wing: every field swept whole at heading `h`, its lines ordered one by one on
+/// Dubins costs.
+fn plan_whole_fields(problem: &Problem<'_>, h: f64) -> Result<PlannedPath, PlanError> {
+    let (lines, _) = whole_field_lines(problem, h);
+    if lines.is_empty() {
+        return Err(no_sweep_lines());
+    }
+    let route = problem.line_problem(&lines, true);
+    let (seq, _) = route.solve();
+    let path = super::line_gtsp::fly_lines(&route, &seq, problem.layout.half_swath())?;
+    Ok(PlannedPath::new(path, h, problem.region.0.len()))
+}
+
+/// Whole-field headings routed over open sky, around no-fly zones.
+const WHOLE_FIELD_HEADINGS: usize = 6;
+/// Grid of the headings whole fields are estimated at, degrees.
+const WHOLE_FIELD_GRID_DEG: f64 = 2.0;
+
+/// Of the headings on a [`WHOLE_FIELD_GRID_DEG`] grid, the [`WHOLE_FIELD_HEADINGS`] whose
+/// whole-field lines promise the shortest flight without routing (the sweep, a U-turn per
+/// line, the sweep lost to turning room at `coverage_penalty`), then the one of those whose
+/// lines, as `problem` may fly them, route shortest over open sky (`ranking`'s connections),
+/// with the same charge for lost sweep. Around holes and zones the lines a heading is cut
+/// into, not the field's width, decide the turns: on `h05_00` the heading with the fewest
+/// lines across the hull makes 64 lines, one 10° off 53.
+fn best_whole_field_heading(problem: &Problem<'_>, ranking: &Problem<'_>) -> Option<f64> {
+    use rayon::prelude::*;
+    let w = problem.layout.spacing;
+    let u_turn = problem.connector.turn.length(Pose::new(0.0, 0.0, 0.0), Pose::new(0.0, w, std::f64::consts::PI));
+    let grid: Vec<f64> = (0..(180.0 / WHOLE_FIELD_GRID_DEG) as usize).map(|k| (k as f64 * WHOLE_FIELD_GRID_DEG).to_radians()).collect();
+    let penalty = |lost_m: f64| problem.coverage_penalty * lost_m;
+    let mut estimated: Vec<(f64, f64, Vec<Line>, f64)> = grid
+        .par_iter()
+        .filter(|_| !problem.connector.stopped())
+        .map(|&h| {
+            let (lines, lost_m) = whole_field_lines(problem, h);
+            (lines.iter().map(|l| l.length() + u_turn).sum::<f64>() + penalty(lost_m), h, lines, lost_m)
+        })
+        .filter(|e| !e.2.is_empty())
+        .collect();
+    estimated.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut chosen: Vec<(f64, Vec<Line>, f64)> = Vec::new();
+    for (_, h, lines, lost_m) in estimated {
+        if chosen.len() == WHOLE_FIELD_HEADINGS {
+            break;
+        }
+        if chosen.iter().all(|c| crate::geom::axial_difference(c.0, h) >= crate::sweep::DISTINCT_DIRECTIONS_DEG.to_radians()) {
+            chosen.push((h, lines, lost_m));
+        }
+    }
+    chosen
+        .par_iter()
+        .filter(|_| !ranking.connector.stopped())
+        .map(|(h, lines, lost_m)| (ranking.line_problem(lines, true).solve().1 + penalty(*lost_m), *h))
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)))
+        .map(|(_, h)| h)
 }

@@ -370,22 +370,9 @@ impl Search<'_> {
         kept
     }
 
-    /// The flyable lines of field `region` at heading `h`, and the metres of sweep lost to
-    /// turning room before no-fly zones (lines cut short or dropped).
+    /// The flyable lines of field `region` at heading `h`, and the metres of sweep lost.
     fn field_lines(&self, region: usize, h: f64) -> (Vec<Line>, f64) {
-        let mut pattern = sweep(&self.fields[region], self.problem.keep_out, h, self.problem.layout);
-        end_lines(&mut pattern, &self.fields[region], self.problem.layout.ends, self.fields[region].unsigned_area());
-        let whole: Vec<Line> = pattern
-            .lines
-            .iter()
-            .flatten()
-            .chain(&pattern.gap_fills)
-            .map(|s| Line { a: from_sweep_frame(h, s.a, s.offset), b: from_sweep_frame(h, s.b, s.offset), region })
-            .collect();
-        let flown = self.problem.flyable(whole.iter().copied());
-        let metres = |lines: &[Line]| lines.iter().map(Line::length).sum::<f64>();
-        let lost_m = (metres(&whole) - metres(&flown)).max(0.0);
-        (flown, lost_m)
+        field_lines(self.problem, &self.fields[region], region, h)
     }
 
     /// The lines of every field at its heading.
@@ -673,6 +660,19 @@ impl Search<'_> {
         }
         Ok(())
     }
+}
+
+/// The flyable lines of `field` (numbered `region`) swept whole at heading `h`, and the metres
+/// of sweep lost to turning room before no-fly zones (lines cut short or dropped).
+pub fn field_lines(problem: &Problem<'_>, field: &MultiPolygon, region: usize, h: f64) -> (Vec<Line>, f64) {
+    let mut pattern = sweep(field, problem.keep_out, h, problem.layout);
+    end_lines(&mut pattern, field, problem.layout.ends, field.unsigned_area());
+    let whole: Vec<Line> =
+        pattern.lines.iter().flatten().chain(&pattern.gap_fills).map(|s| Line { a: from_sweep_frame(h, s.a, s.offset), b: from_sweep_frame(h, s.b, s.offset), region }).collect();
+    let flown = problem.flyable(whole.iter().copied());
+    let metres = |lines: &[Line]| lines.iter().map(Line::length).sum::<f64>();
+    let lost_m = (metres(&whole) - metres(&flown)).max(0.0);
+    (flown, lost_m)
 }
 
 /// The flight along a node sequence of `route`: connections from the start, between lines

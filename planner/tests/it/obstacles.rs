@@ -129,13 +129,22 @@ fn lines_cut_short_before_a_zone_cost_their_lost_coverage() {
 
 #[test]
 fn the_optimal_direction_is_the_shortest_that_covers_as_well_as_the_best() {
-    // boustrophedon's own rule (fewest lines) runs them east–west, into the zone
-    let own = field_cut_by_a_zone(json!({"planner": "boustrophedon"}));
-    let optimal = field_cut_by_a_zone(json!({"planner": "boustrophedon", "sweep_direction": "optimal"}));
+    // energy_aware's own rule (along the longest edge) runs the lines east–west, into the zone
+    let own = field_cut_by_a_zone(json!({"planner": "energy_aware"}));
+    let optimal = field_cut_by_a_zone(json!({"planner": "energy_aware", "sweep_direction": "optimal"}));
     let (c0, c1) = (own.stats.coverage_ratio, optimal.stats.coverage_ratio);
     assert!(c1 >= 0.99 && c1 > c0 + 0.05, "coverage {c1} with the optimal direction, {c0} with the planner's own");
     let h = optimal.stats.sweep_heading_deg;
     assert!(h.min(180.0 - h) < 20.0, "optimal sweep heading {h}");
+}
+
+#[test]
+fn a_fixed_wings_default_planner_sweeps_along_the_zone_by_itself() {
+    // its cells' fewest lines run east–west, into the zone; the field swept whole along it covers
+    let own = field_cut_by_a_zone(json!({"planner": "boustrophedon"}));
+    assert!(own.stats.coverage_ratio >= 0.99, "coverage {}", own.stats.coverage_ratio);
+    let h = own.stats.sweep_heading_deg;
+    assert!(h.min(180.0 - h) < 20.0, "sweep heading {h}");
 }
 
 /// The built-in profiles with a battery no plan here exhausts: these tests are about geometry,

@@ -193,16 +193,27 @@ impl Budget<'_> {
         Ok(path)
     }
 
-    /// `from` (home) → the route's pieces `first..=last`, without the way back.
+    /// `from` (home) → the route's pieces `first..=last`, without the way back. Where no
+    /// connection of its own reaches the first line (a fixed wing beside a zone), a route that
+    /// starts at `from` lends its own way to its first line (a resumed plan's: its original's).
     fn outbound(&self, route: &FlightPath, from: Coord, first: usize, last: usize) -> Result<FlightPath, PlanError> {
         let a = &route.pieces[first];
         let entry = Pose::at(a.start(), heading(a.points[0], a.points[1]));
-        let out = (self.connect)(Pose::at(from, heading(from, entry.coord())), entry).ok_or_else(|| unreachable(a))?;
         let mut path = FlightPath::default();
-        path.push(PieceKind::Transit, out, 0.0);
+        match (self.connect)(Pose::at(from, heading(from, entry.coord())), entry) {
+            Some(out) => path.push(PieceKind::Transit, out, 0.0),
+            None if leads_from(route, from, first) => path.pieces.extend_from_slice(&route.pieces[..first]),
+            None => return Err(unreachable(a)),
+        }
         path.pieces.extend_from_slice(&route.pieces[first..=last]);
         Ok(path)
     }
+}
+
+/// Whether the route starts at `from` and reaches piece `first` without a sweep before it.
+fn leads_from(route: &FlightPath, from: Coord, first: usize) -> bool {
+    let start = route.pieces.first().map(Piece::start);
+    first > 0 && start.is_some_and(|s| (s.x - from.x).hypot(s.y - from.y) < 1e-6) && route.pieces[..first].iter().all(|p| p.kind != PieceKind::Sweep)
 }
 
 fn unreachable(line: &Piece) -> PlanError {
@@ -225,6 +236,26 @@ mod tests {
             p.push(PieceKind::Sweep, vec![a, b], 5.0);
         }
         p
+    }
+
+    #[test]
+    fn a_first_line_no_connection_reaches_is_flown_to_the_routes_own_way() {
+        let home = Coord { x: -50.0, y: 0.0 };
+        let mut route = FlightPath::default();
+        // the route's own way from home to its first line, round something
+        route.push(PieceKind::Transit, vec![home, Coord { x: -50.0, y: -40.0 }, Coord { x: 0.0, y: 0.0 }], 0.0);
+        route.pieces.extend(lines(40, 300.0).pieces);
+        let first_line = Coord { x: 0.0, y: 0.0 };
+        // no connection of the vehicle's own reaches the first line's start
+        let connect = |a: Pose, b: Pose| (b.coord() != first_line).then(|| vec![a.coord(), b.coord()]);
+        let energy = |p: &FlightPath| p.length() * 10.0;
+        let budget = Budget { home: Some(home), first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let sorties = budget.split(&route).expect("split").sorties;
+        assert!(sorties.len() > 1);
+        assert_eq!(sorties[0].pieces[0], route.pieces[0], "the first sortie flies the route's own way there");
+        // a later sortie from home has lines before it: no way of the route's to lend
+        let later = lines(40, 300.0);
+        assert!(budget.outbound(&later, home, 0, 0).is_err());
     }
 
     #[test]

@@ -17,6 +17,7 @@ export const state = {
   compared: null,
   planId: null,
   patrol: null, // { layer, stats }
+  guidanceLines: [], // an imported file's guidance lines: [{ name, guidance }]
 };
 
 /** Results are not drawn on: shapes drawn over a plan snap to the mission, not to its lines. */

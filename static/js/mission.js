@@ -465,6 +465,8 @@ async function importFile(file) {
     const m = await r.json();
     if (!r.ok) throw new Error(m.detail);
     drawMission(m);
+    // the file's guidance lines are offered to a ground vehicle's plan
+    document.dispatchEvent(new CustomEvent('guidance-lines', { detail: m.guidance || [] }));
     window.history.replaceState(null, '', `/?mission=${m.id}`);
     await listMissions();
     status(`imported ${file.name}` + (m.warnings.length ? `; ${m.warnings.map(plainly).join('; ')}` : ''));

@@ -80,7 +80,10 @@ function syncForm() {
   $('direction-label').textContent = ground ? 'Swath direction' : 'Sweep heading';
   $('spacing-box').hidden = camera || ground || inspection;
   $('line-ends-box').hidden = !aircraftLineEnds();
-  $('fixed-heading-box').hidden = inspection || $('direction').value !== 'fixed';
+  $('guidance-typed').hidden = !ground || $('guidance').value !== 'typed';
+  // a guidance line sets a tractor's swath direction
+  $('direction-box').hidden = inspection || (ground && $('guidance').value !== '');
+  $('fixed-heading-box').hidden = $('direction-box').hidden || $('direction').value !== 'fixed';
   $('objective-box').hidden = !reads('objective');
   $('layers-box').hidden = ground || inspection || !(num('drones') > 1);
   // how flights end: an aircraft's; the approach heading and the lead-in are a fixed wing's
@@ -94,7 +97,7 @@ function syncForm() {
   $('tolerance-box').hidden = $('altitude-reference').value !== 'terrain';
   preview();
 }
-['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference', 'landing'].forEach((id) => $(id).addEventListener('change', syncForm));
+['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference', 'landing', 'guidance'].forEach((id) => $(id).addEventListener('change', syncForm));
 
 /** The form's arrow points where the wind blows (downwind), grey in a calm. */
 function showWindArrow() {
@@ -223,6 +226,9 @@ export function planParams() {
     p.headland_passes = num('headland-passes');
     p.headland_order = $('headland-order').value;
     p.swath_ends = $('swath-ends').value;
+    const guidance = guidanceLine();
+    if (guidance) p.guidance = guidance;
+    if (num('tramline-every') !== undefined) p.tramline_every = num('tramline-every');
   } else if ($('camera').value) {
     p.camera = { preset: $('camera').value };
     // the form says overlaps in percent, the API in fractions
@@ -239,7 +245,8 @@ export function planParams() {
     p.altitude_reference = 'terrain';
     p.terrain_tolerance_m = num('terrain-tolerance');
   }
-  if ($('direction').value === 'fixed') p.heading_deg = num('fixed-heading');
+  // a guidance line sets the swaths' direction
+  if ($('direction').value === 'fixed' && !p.guidance) p.heading_deg = num('fixed-heading');
   if ($('direction').value === 'optimal') p.sweep_direction = 'optimal';
   if (reads('objective')) p.objective = $('objective').value;
   if (num('drones') > 1 && !groundVehicle()) {
@@ -263,6 +270,44 @@ export function planParams() {
   return p;
 }
 
+// ---- a ground vehicle's guidance line: one of the imported mission's, or an A+ line typed ----
+/** Fills the guidance menu with the lines an imported file brought (`[{name, guidance}]`, the
+ * event's detail). */
+document.addEventListener('guidance-lines', (e) => {
+  state.guidanceLines = e.detail;
+  const sel = $('guidance');
+  for (const o of [...sel.options].filter((o) => o.value.startsWith('imported:'))) o.remove();
+  state.guidanceLines.forEach((line, i) => sel.add(new Option(`${line.name} (imported)`, `imported:${i}`)));
+  if (state.guidanceLines.length) sel.value = 'imported:0';
+  syncForm();
+});
+
+/** The chosen guidance line as the API takes it, or undefined. */
+function guidanceLine() {
+  const chosen = $('guidance').value;
+  if (chosen.startsWith('imported:')) return state.guidanceLines[Number(chosen.slice('imported:'.length))]?.guidance;
+  if (chosen !== 'typed') return undefined;
+  // typed as the page's "go to" box takes places: latitude first
+  const [lat, lon] = $('guidance-a').value.split(',').map(Number);
+  return { a: [lon, lat], bearing_deg: num('guidance-bearing') };
+}
+
+/** Compass bearing from `a` to `b` ([lon, lat]), degrees from north. */
+function bearingOf(a, b) {
+  const east = (b[0] - a[0]) * Math.cos((a[1] * Math.PI) / 180);
+  const north = b[1] - a[1];
+  return ((Math.atan2(east, north) * 180) / Math.PI + 360) % 360;
+}
+
+/** Puts a plan's guidance line back: the imported line it is, or as an A+ line typed. */
+function restoreGuidance(g) {
+  const imported = state.guidanceLines.findIndex((line) => JSON.stringify(line.guidance) === JSON.stringify(g));
+  $('guidance').value = !g ? '' : imported >= 0 ? `imported:${imported}` : 'typed';
+  if (!g || imported >= 0) return;
+  $('guidance-a').value = `${g.a[1]}, ${g.a[0]}`;
+  $('guidance-bearing').value = g.bearing_deg ?? Math.round(bearingOf(g.a, g.b) * 1e6) / 1e6;
+}
+
 /** Puts a plan's parameters back in the form and on the map, so that a shared link shows
  * exactly what was planned. */
 export function restoreParams(p) {
@@ -279,6 +324,8 @@ export function restoreParams(p) {
   set('headland-order', p.headland_order);
   if (groundVehicle()) set('swath-ends', p.swath_ends);
   else $('line-ends').value = p.swath_ends || 'full_width';
+  restoreGuidance(p.guidance);
+  $('tramline-every').value = p.tramline_every ?? '';
   $('camera').value = (p.camera && p.camera.preset) || '';
   set('spacing', p.line_spacing_m);
   $('altitude').value = p.altitude_m ?? '';
@@ -332,6 +379,7 @@ const inputOf = [
   ['/vehicle/turn_radius_m', 'turn-radius'], ['/vehicle', 'vehicle'], ['/headland_passes', 'headland-passes'], ['/vehicles', 'drones'],
   ['/altitude_separation_m', 'altitude-separation'], ['/budget', 'budget'], ['/inspection/range_m', 'range-min'], ['/inspection/safety_margin_m', 'safety-margin'], ['/seed', 'inspection-seed'],
   ['/targets', 'target-names'], ['/terrain_tolerance_m', 'terrain-tolerance'], ['/camera', 'camera'], ['/planner', 'planner'], ['/swath_ends', 'line-ends'],
+  ['/guidance/bearing_deg', 'guidance-bearing'], ['/guidance/a', 'guidance-a'], ['/guidance', 'guidance'], ['/tramline_every', 'tramline-every'],
   ['/landing', 'landing'], ['/landing_heading_deg', 'landing-heading'], ['/lead_in_m', 'lead-in'],
   ['/wind/speed_mps', 'wind-speed'], ['/wind/from_deg', 'wind-from'], ['/wind', 'wind-speed'],
 ];

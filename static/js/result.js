@@ -12,6 +12,7 @@ const kindStyle = {
   turn: { color: '#ef6c00', weight: 2 },
   transit: { color: '#6a1b9a', weight: 2, dashArray: '6 4' },
 };
+const tramlineStyle = { color: '#2e7d32', weight: 5 };
 
 function bearing(a, b) {
   const rad = Math.PI / 180;
@@ -27,18 +28,20 @@ export const droneColour = (k) => droneColours[k % droneColours.length];
 function drawTrajectory(fc, faded) {
   const group = L.featureGroup();
   const lines = fc.features.filter((f) => f.geometry.type === 'LineString');
-  const style = (p) => (p.vehicle === undefined ? kindStyle[p.kind] : { ...kindStyle[p.kind], color: droneColour(p.vehicle) });
+  // a tramline swath is drawn wider, in its own colour
+  const own = (p) => (p.tramline ? { ...kindStyle[p.kind], ...tramlineStyle } : kindStyle[p.kind]);
+  const style = (p) => (p.vehicle === undefined ? own(p) : { ...own(p), color: droneColour(p.vehicle) });
   const drone = (p) => (p.vehicle === undefined ? '' : `drone ${p.vehicle + 1}, `);
   L.geoJSON({ type: 'FeatureCollection', features: lines }, {
     pane: 'result',
-    style: (f) => ({ ...style(f.properties), opacity: faded ? 0.35 : 0.9, className: `kind-${f.properties.kind}` }),
+    style: (f) => ({ ...style(f.properties), opacity: faded ? 0.35 : 0.9, className: `kind-${f.properties.kind}${f.properties.tramline ? ' tramline' : ''}` }),
     onEachFeature: (f, layer) => {
       const p = f.properties;
       const shape = p.turn_type ? ` (${p.turn_type === 'u' ? 'U' : p.turn_type})` : '';
       const sortie = p.sortie === undefined ? '' : `, sortie ${p.sortie}`;
       // in wind: over the ground and through the air, and the nose's angle to the track
       const air = p.ground_speed_mps === undefined ? `${p.speed_mps} m/s` : `${p.ground_speed_mps} m/s over the ground, ${p.airspeed_mps} m/s airspeed, crab ${p.crab_deg}°`;
-      layer.bindTooltip(`${drone(p)}${p.kind}${shape} ${p.length_m} m, ${air}${sortie}`);
+      layer.bindTooltip(`${drone(p)}${p.kind}${p.tramline ? ' (tramline)' : ''}${shape} ${p.length_m} m, ${air}${sortie}`);
       // a click says where a flight stopped (resume.js offers to plan the rest)
       if (!faded) layer.on('click', (e) => document.dispatchEvent(new CustomEvent('coverplan:piece-click', { detail: { feature: f, latlng: e.latlng } })));
     },
@@ -176,6 +179,7 @@ const figureRows = [
   ['resumed at', (s) => (s.resume ? `piece ${s.resume.seq}, ${Math.round(100 * s.resume.fraction)} % along (${(s.resume.original_left_m / 1000).toFixed(2)} km were left)` : '')],
   ['mainland worked', (s) => (s.ground ? `${(100 * s.ground.mainland_coverage).toFixed(1)} %` : '')],
   ['headland worked', (s) => (s.ground ? `${(100 * s.ground.headland_coverage).toFixed(1)} % (${s.ground.headland_passes} passes, ${s.ground.headland_width_m.toFixed(1)} m)` : '')],
+  ['tramlines', (s) => (s.ground && s.ground.tramlines ? s.ground.tramlines : '')],
   ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail, ${s.ground.headland_drives} along a pass` : '')],
   ['turns leaving the field', (s) => (s.ground ? s.ground.turns_leaving_field + s.ground.turns_crossing_holes : '')],
 ];

@@ -322,6 +322,13 @@ try {
   await page.fill('#working-speed', '9');
   await page.fill('#tank-litres', '150');
   await page.selectOption('#swath-ends', 'centre_line');
+  // the farm's guidance line typed as an A+ line through the field's centre, a tramline every third swath
+  const centre = await page.evaluate(() => { const c = window.coverplan.state.fields.getBounds().getCenter(); return [c.lat, c.lng]; });
+  await page.selectOption('#guidance', 'typed');
+  assert.ok(!(await page.isVisible('#direction-box')), 'no swath direction beside a guidance line');
+  await page.fill('#guidance-a', `${centre[0].toFixed(6)}, ${centre[1].toFixed(6)}`);
+  await page.fill('#guidance-bearing', '30');
+  await page.fill('#tramline-every', '3');
   await page.evaluate(() => { document.getElementById('status').textContent = ''; });
   await page.click('#plan');
   await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the tractor plan', 60000);
@@ -331,12 +338,20 @@ try {
   assert.match(await page.textContent('td[data-figure="turn shapes"]'), /\d+ U/);
   for (const id of ['#altitude-box', '#gsd-box', '#overlap-box', '#camera-box', '#reference-box']) assert.ok(!(await page.isVisible(id)), `no ${id} for a tractor`);
   assert.match(await page.textContent('td[data-figure=fuel]'), /l of diesel/);
-  const tractorSent = (await (await fetch(`${base}/api/v1/missions/${missionId}/plans`)).json()).find((p) => p.params.vehicle.profile === 'tractor_sprayer').params.vehicle;
+  const tractorParams = (await (await fetch(`${base}/api/v1/missions/${missionId}/plans`)).json()).find((p) => p.params.vehicle.profile === 'tractor_sprayer').params;
+  const tractorSent = tractorParams.vehicle;
   assert.deepEqual([tractorSent.cruise_speed_mps, tractorSent.battery_wh], [2.5, 1500000], 'km/h and litres sent as m/s and Wh');
+  assert.deepEqual(tractorParams.guidance, { a: [Number(centre[1].toFixed(6)), Number(centre[0].toFixed(6))], bearing_deg: 30 }, 'the A+ line sent as [lon, lat]');
+  assert.equal(tractorParams.tramline_every, 3);
+  assert.equal(tractorParams.heading_deg, undefined, 'no heading beside the guidance line');
+  assert.ok((await page.$$('path.kind-sweep.tramline')).length > 0, 'tramlines drawn');
+  assert.match(await page.textContent('td[data-figure=tramlines]'), /^\d+$/);
   assert.ok(await page.isVisible('td[data-figure="working time"]'), 'working time, not flight time');
   const tractorRows = await page.$$eval('#figures tbody td:first-child', (t) => t.map((x) => x.textContent));
   for (const absent of ['sorties', 'photos', 'energy', 'flight time', 'altitude']) assert.ok(!tractorRows.includes(absent), `no ${absent} for a tractor: ${tractorRows}`);
   await shot('tractor');
+  await page.selectOption('#guidance', '');
+  await page.fill('#tramline-every', '');
   await page.selectOption('#vehicle', 'generic_multirotor');
   assert.equal(await page.inputValue('#planner'), 'boustrophedon', 'back to a drone planner');
 

@@ -3,7 +3,7 @@
 import { $, api, escapeHtml, status } from './api.js';
 import { state } from './map.js';
 import { fieldHectares, saveMission, setPose } from './mission.js';
-import { DIESEL_J_PER_L, fillFormats, keepForComparison, showPlan } from './result.js';
+import { DIESEL_J_PER_L, bearing, fillFormats, keepForComparison, showPlan } from './result.js';
 
 // ---- the parameter form, from the API's lists ----
 const kindNames = { multirotor: 'Multirotor drones', fixed_wing: 'Fixed-wing aircraft', ground: 'Ground vehicles' };
@@ -292,20 +292,13 @@ function guidanceLine() {
   return { a: [lon, lat], bearing_deg: num('guidance-bearing') };
 }
 
-/** Compass bearing from `a` to `b` ([lon, lat]), degrees from north. */
-function bearingOf(a, b) {
-  const east = (b[0] - a[0]) * Math.cos((a[1] * Math.PI) / 180);
-  const north = b[1] - a[1];
-  return ((Math.atan2(east, north) * 180) / Math.PI + 360) % 360;
-}
-
 /** Puts a plan's guidance line back: the imported line it is, or as an A+ line typed. */
 function restoreGuidance(g) {
   const imported = state.guidanceLines.findIndex((line) => JSON.stringify(line.guidance) === JSON.stringify(g));
   $('guidance').value = !g ? '' : imported >= 0 ? `imported:${imported}` : 'typed';
   if (!g || imported >= 0) return;
   $('guidance-a').value = `${g.a[1]}, ${g.a[0]}`;
-  $('guidance-bearing').value = g.bearing_deg ?? Math.round(bearingOf(g.a, g.b) * 1e6) / 1e6;
+  $('guidance-bearing').value = g.bearing_deg ?? Math.round(bearing(g.a, g.b) * 1e6) / 1e6;
 }
 
 /** Puts a plan's parameters back in the form and on the map, so that a shared link shows

@@ -14,7 +14,8 @@ const kindStyle = {
 };
 const tramlineStyle = { color: '#2e7d32', weight: 5 };
 
-function bearing(a, b) {
+/** Compass bearing from `a` to `b` ([lon, lat]), degrees from north. */
+export function bearing(a, b) {
   const rad = Math.PI / 180;
   const y = Math.sin((b[0] - a[0]) * rad) * Math.cos(b[1] * rad);
   const x = Math.cos(a[1] * rad) * Math.sin(b[1] * rad) - Math.sin(a[1] * rad) * Math.cos(b[1] * rad) * Math.cos((b[0] - a[0]) * rad);

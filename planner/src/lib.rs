@@ -544,9 +544,8 @@ fn prepare_resume(
     }
     let prepared = prepare(mission, params, profiles, limits)?;
     let resolved = &prepared.resolved;
-    if !resolved.fleet.is_empty() || prepared.ground.is_some() {
-        let what = if prepared.ground.is_some() { "a ground vehicle's plan" } else { "a fleet's plan" };
-        return Err(InputError::new("not_resumable", "/at", format!("{what} is not resumed yet: plan the part left again")));
+    if !resolved.fleet.is_empty() {
+        return Err(InputError::new("not_resumable", "/at", "a fleet's plan is not resumed yet: plan the part left again"));
     }
     if let Some([lon, lat]) = request.airborne_at
         && prepared.walls.contains(&prepared.field.frame.to_local(lon, lat))

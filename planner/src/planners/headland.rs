@@ -17,7 +17,7 @@ use crate::route::line_tour::{Line, entry, exit};
 use crate::sweep::ends::SwathEnds;
 use crate::sweep::{fewest_lines_direction, from_sweep_frame, sweep};
 use crate::turn::dubins::Pose;
-use crate::vehicle::VehicleKind;
+use crate::vehicle::{Vehicle, VehicleKind};
 
 /// A ground plan's headland, computed and checked when the request is.
 pub struct GroundSetup {
@@ -25,6 +25,19 @@ pub struct GroundSetup {
     pub headland: Headland,
     /// For naming places in messages.
     pub frame: LocalFrame,
+}
+
+impl GroundSetup {
+    /// The headland passes' rings.
+    pub fn rings(&self) -> Vec<Vec<Coord>> {
+        self.headland.passes.iter().flatten().cloned().collect()
+    }
+
+    /// Where `vehicle` may drive in `region` (the field less its holes and zones) and how it
+    /// turns: the passes' rings are its roads.
+    pub fn routes(&self, region: &MultiPolygon, vehicle: &Vehicle) -> HeadlandRoutes {
+        HeadlandRoutes::new(region, &self.headland.mainland, &self.rings(), vehicle.steering(), self.spec.width_m)
+    }
 }
 
 pub struct HeadlandPlanner;
@@ -57,11 +70,10 @@ impl Planner for HeadlandPlanner {
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
         let setup = problem.ground.ok_or_else(|| PlanError::Infeasible("planner headland plans ground vehicles: give vehicle kind ground".into()))?;
         let vehicle = problem.vehicle;
-        let steering = vehicle.steering();
         let headland = &setup.headland;
         // the passes' rings: roads for the turns, and ground the passes cover
-        let rings: Vec<Vec<Coord>> = headland.passes.iter().flatten().cloned().collect();
-        let routes = HeadlandRoutes::new(problem.region, &headland.mainland, &rings, steering, setup.spec.width_m);
+        let rings = setup.rings();
+        let routes = setup.routes(problem.region, vehicle);
         let lines_at = |angle: f64, phase: Option<f64>| -> Vec<Line> {
             swaths(&headland.mainland, problem.region, (angle, phase), problem.layout.spacing, setup.spec.swath_ends, setup.spec.width_m)
                 .into_iter()

@@ -22,6 +22,7 @@ use super::params::bearing_to_math;
 use super::params::resume::{Cut, MAX_CUT_OFF_PATH_M, Resume};
 use super::path::{FlightPath, Piece, PieceKind};
 use super::planners::{PlannedPath, Problem};
+use super::route::headland_route::connect_anywhere;
 use super::turn::dubins::Pose;
 
 /// A flown piece of the stored trajectory, in the local frame.
@@ -31,6 +32,8 @@ struct Stored {
     points: Vec<Coord>,
     sortie: usize,
     seq: usize,
+    /// A ground vehicle's swath left as a tramline.
+    tramline: bool,
 }
 
 /// Most a heading given with the position may differ from a piece's direction for the cut to
@@ -171,7 +174,7 @@ impl Remainder {
             .map(|r| {
                 let p = &self.pieces[r.index];
                 let points = up_to(&from_along(&p.points, r.from_m), r.to_m - r.from_m);
-                Left { piece: piece(p.kind, points), sortie: p.sortie, index: r.index, from_m: r.from_m }
+                Left { piece: piece_of(p, points), sortie: p.sortie, index: r.index, from_m: r.from_m }
             })
             .collect();
         let redone = left.len();
@@ -181,19 +184,19 @@ impl Remainder {
         if cut_piece.kind.works() && along < len - 0.01 {
             let from = (along - self.back_m).max(0.0);
             overlap = along - from;
-            left.push(Left { piece: piece(cut_piece.kind, from_along(&cut_piece.points, from)), sortie: cut_piece.sortie, index: c, from_m: from });
+            left.push(Left { piece: piece_of(cut_piece, from_along(&cut_piece.points, from)), sortie: cut_piece.sortie, index: c, from_m: from });
         }
         for (k, p) in self.pieces.iter().enumerate().skip(c + 1).filter(|&(k, _)| in_span(k)) {
             // what is left starts at a line: the rest of a turn or transit is flown to it anew
             if left.len() == redone && !p.kind.works() {
                 continue;
             }
-            left.push(Left { piece: piece(p.kind, p.points.clone()), sortie: p.sortie, index: k, from_m: 0.0 });
+            left.push(Left { piece: piece_of(p, p.points.clone()), sortie: p.sortie, index: k, from_m: 0.0 });
         }
         // the original's way from its last line to its end, as it was
         if let (Some(&(_, last)), false) = (spans.last(), left.is_empty()) {
             let tail = self.pieces.iter().enumerate().skip(last.max(c) + 1).take_while(|(_, p)| p.sortie == self.pieces[last].sortie);
-            left.extend(tail.map(|(k, p)| Left { piece: piece(p.kind, p.points.clone()), sortie: p.sortie, index: k, from_m: 0.0 }));
+            left.extend(tail.map(|(k, p)| Left { piece: piece_of(p, p.points.clone()), sortie: p.sortie, index: k, from_m: 0.0 }));
         }
         (left, overlap)
     }
@@ -216,8 +219,14 @@ impl Remainder {
         }
         let half_swath = problem.layout.half_swath();
         let mut path = FlightPath::default();
+        // a ground vehicle drives to its swaths along the headland, as its plan did
+        let headland = problem.ground.map(|setup| setup.routes(problem.region, problem.vehicle));
         let join = |path: &mut FlightPath, from: Pose, to: Pose| -> Result<(), PlanError> {
-            let points = problem.connector.path(from, to).ok_or_else(|| {
+            let way = match &headland {
+                Some(routes) => Some(connect_anywhere(routes, from, to).0.points),
+                None => problem.connector.path(from, to),
+            };
+            let points = way.ok_or_else(|| {
                 if problem.connector.stopped() {
                     return PlanError::Cancelled;
                 }
@@ -329,6 +338,11 @@ fn piece(kind: PieceKind, points: Vec<Coord>) -> Piece {
     Piece { kind, points, half_swath_m: 0.0, z: Vec::new(), shape: None, tramline: false }
 }
 
+/// The stored piece `p` as a piece of the route left, along `points` (all or part of its own).
+fn piece_of(p: &Stored, points: Vec<Coord>) -> Piece {
+    Piece { tramline: p.tramline, ..piece(p.kind, points) }
+}
+
 /// The flown pieces of a coverage plan's trajectory, in flight order.
 fn read(trajectory: &FeatureCollection, frame: &LocalFrame) -> Result<Vec<Stored>, InputError> {
     let mut pieces = Vec::new();
@@ -344,7 +358,8 @@ fn read(trajectory: &FeatureCollection, frame: &LocalFrame) -> Result<Vec<Stored
             continue;
         }
         let number = |key: &str| property(key).and_then(Value::as_u64).map(|n| n as usize);
-        pieces.push(Stored { kind, points, sortie: number("sortie").unwrap_or(1), seq: number("seq").unwrap_or(i) });
+        let tramline = property("tramline").and_then(Value::as_bool).unwrap_or(false);
+        pieces.push(Stored { kind, points, sortie: number("sortie").unwrap_or(1), seq: number("seq").unwrap_or(i), tramline });
     }
     if !pieces.iter().any(|p| p.kind == PieceKind::Sweep) {
         return Err(InputError::new("not_resumable", "/at", "only a coverage plan's sweep lines are resumed; this plan has none"));
@@ -397,7 +412,7 @@ mod tests {
     }
 
     fn stored(kind: PieceKind, points: &[Coord], sortie: usize, seq: usize) -> Stored {
-        Stored { kind, points: points.to_vec(), sortie, seq }
+        Stored { kind, points: points.to_vec(), sortie, seq, tramline: false }
     }
 
     /// Two sorties of two lines each from home at (-50, 0): out, line, turn, line, back.

@@ -250,3 +250,62 @@ proptest! {
         check_log_resume(k, false, cut_at, fraction, seed)?;
     }
 }
+
+/// A ground vehicle's plan stopped in a swath: what is left is the rest of that swath and every
+/// swath and headland pass after it, their tramlines still marked, driven to along the headland
+/// from home; nothing before the cut is worked again, and the crop is crossed no more often
+/// than the original crossed it.
+#[test]
+fn a_ground_plan_resumed_works_the_swaths_left_and_keeps_to_the_headland() {
+    let profiles = builtin_profiles();
+    for name in ["nl-parcel-b", "ee-field-3-holes"] {
+        let m = fixture(&format!("real-fields/{name}.json"));
+        let corner = &m["area"]["coordinates"][0][0];
+        let home = [corner[0].as_f64().unwrap(), corner[1].as_f64().unwrap()];
+        let mission = MissionGeometry { home: Some(home), ..MissionGeometry::area(&m["area"]) };
+        let params: PlanParams = serde_json::from_value(json!({"vehicle": {"profile": "tractor_sprayer"}, "headland_passes": 2, "tramline_every": 3})).unwrap();
+        let original = plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true, &Stop::never()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let frame = LocalFrame::new(home[0], home[1]);
+        let flown = pieces(&original.trajectory, &frame);
+        let tramlines: std::collections::HashSet<u64> = original
+            .trajectory
+            .features
+            .iter()
+            .filter_map(|f| f.properties.as_ref())
+            .filter(|p| p.get("tramline") == Some(&json!(true)))
+            .filter_map(|p| p.get("seq").and_then(Value::as_u64))
+            .collect();
+        let worked = |p: &(PieceKind, Vec<Coord>, usize)| matches!(p.0, PieceKind::Sweep | PieceKind::Headland);
+        let mut checked = 0;
+        for share in [0.3, 0.6, 0.9] {
+            let Some(cut) = (((share * flown.len() as f64) as usize)..flown.len()).find(|&k| flown[k].0 == PieceKind::Sweep) else { continue };
+            checked += 1;
+            let request: ResumeParams = serde_json::from_value(json!({"at": {"seq": flown[cut].2, "fraction": 0.5}, "photos_back": 0})).unwrap();
+            let resumed = resume(&mission, &params, &profiles, &FieldLimits::default(), &original.trajectory, &request.check().unwrap(), &|_| true, &Stop::never())
+                .unwrap_or_else(|e| panic!("{name}, cut at piece {cut}: {e}"));
+            let left = pieces(&resumed.trajectory, &frame);
+            let what = format!("{name}, cut at piece {cut} of {}", flown.len());
+            let same = |a: Coord, b: Coord| (a - b).x.hypot((a - b).y) < 0.05;
+            // the cut swath from its middle, then every piece worked after it, in order
+            let left_worked: Vec<&(PieceKind, Vec<Coord>, usize)> = left.iter().filter(|p| worked(p)).collect();
+            let after: Vec<&(PieceKind, Vec<Coord>, usize)> = flown[cut + 1..].iter().filter(|p| worked(p)).collect();
+            assert_eq!(left_worked.len(), after.len() + 1, "{what}");
+            let (cut_points, first) = (&flown[cut].1, &left_worked[0].1);
+            assert!(same(*first.last().unwrap(), *cut_points.last().unwrap()), "{what}: the cut swath's end");
+            let middle = up_to(cut_points, 0.5 * cut_points.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum::<f64>());
+            assert!(same(first[0], *middle.last().unwrap()), "{what}: the cut swath from where it stopped");
+            for (a, b) in after.iter().zip(&left_worked[1..]) {
+                assert!(a.0 == b.0 && same(a.1[0], b.1[0]) && same(*a.1.last().unwrap(), *b.1.last().unwrap()), "{what}: piece {} of the original", a.2);
+            }
+            // tramlines still marked
+            let tramlines_after = flown[cut..].iter().filter(|p| p.0 == PieceKind::Sweep && tramlines.contains(&(p.2 as u64))).count();
+            let g = resumed.stats.ground.as_ref().expect("a ground plan's figures");
+            assert_eq!(g.tramlines, tramlines_after, "{what}");
+            // driven along the headland: no more crossings of the crop than the original's
+            let crossed = original.stats.ground.as_ref().unwrap().mainland_crossings;
+            assert!(g.mainland_crossings <= crossed, "{what}: {} crossings of the crop, the original {crossed}", g.mainland_crossings);
+            eprintln!("{what}: {} pieces worked left, {} tramlines, {} crossings (the original {crossed})", left_worked.len(), g.tramlines, g.mainland_crossings);
+        }
+        assert!(checked >= 2, "{name}: {} pieces, {checked} cuts in swaths", flown.len());
+    }
+}

@@ -89,6 +89,39 @@ async fn a_stopped_flight_is_resumed_from_a_piece_or_a_position() {
     app.stop().await;
 }
 
+/// A tractor stopped in a swath resumes with the swaths it had left, their tramlines marked,
+/// and its ISOXML task carries them to the terminal.
+#[tokio::test]
+async fn a_stopped_tractor_is_resumed_with_the_swaths_left() {
+    let app = TestApp::spawn().await;
+    let mut body = mission_body("real-fields/nl-parcel-b.json");
+    body["home"] = json!(body["area"]["coordinates"][0][0]);
+    let mission = app.create_mission(&body).await;
+    let (status, plan) = app.post(&format!("/api/v1/missions/{mission}/plans"), &json!({"vehicle": {"profile": "tractor_sprayer"}, "tramline_every": 3})).await;
+    assert_eq!(status, 202, "{plan}");
+    let original = app.wait_finished(plan["id"].as_str().unwrap()).await;
+    assert_eq!(original["status"], "succeeded", "{original}");
+    let id = original["id"].as_str().unwrap();
+    let fc: Value = serde_json::from_slice(&trajectory(&app, id, "geojson").await.1).unwrap();
+    let lines = sweeps(&fc);
+    let (seq, _, b) = lines[lines.len() / 2];
+    let (status, queued) = app.post(&format!("/api/v1/plans/{id}/resume"), &json!({"at": {"seq": seq, "fraction": 0.5}})).await;
+    assert_eq!(status, 202, "{queued}");
+    let resumed = app.wait_finished(queued["id"].as_str().unwrap()).await;
+    assert_eq!(resumed["status"], "succeeded", "{resumed}");
+    let resumed_id = resumed["id"].as_str().unwrap();
+    let again: Value = serde_json::from_slice(&trajectory(&app, resumed_id, "geojson").await.1).unwrap();
+    let left = sweeps(&again);
+    assert_eq!(left.len(), lines.len() - lines.len() / 2, "the cut swath and every one after it");
+    assert!((left[0].2[0] - b[0]).abs() < 1e-6 && (left[0].2[1] - b[1]).abs() < 1e-6, "the cut swath to its end: {:?}", left[0]);
+    let tramlines =
+        |fc: &Value, from: u64| fc["features"].as_array().unwrap().iter().filter(|f| f["properties"]["tramline"] == true && f["properties"]["seq"].as_u64() >= Some(from)).count();
+    assert_eq!(resumed["stats"]["ground"]["tramlines"].as_u64(), Some(tramlines(&fc, seq) as u64), "{}", resumed["stats"]);
+    let (status, bytes) = trajectory(&app, resumed_id, "isoxml").await;
+    assert_eq!(status, 200, "{}", String::from_utf8_lossy(&bytes));
+    app.stop().await;
+}
+
 /// An aircraft still in the air resumes from where it is, on the battery it has left: its first
 /// sortie starts there and takes no take-off; a battery too low to fly the next line and back
 /// is refused by the job in words.

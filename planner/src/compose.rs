@@ -69,6 +69,19 @@ pub(crate) struct FleetPart {
     transit_altitude_m: Option<f64>,
 }
 
+impl FleetPart {
+    /// Drone `k`'s part resumed: its lines are the original's (the direction matters not), its
+    /// transits in its layer.
+    pub fn in_layer(resolved: &params::Resolved, k: usize) -> Self {
+        FleetPart { sweep_angle: resolved.sweep_angle.unwrap_or(0.0), transit_altitude_m: transit_layer(resolved, k) }
+    }
+}
+
+/// The altitude drone `k` of a fleet flies its transits at, with `altitude_separation_m`.
+fn transit_layer(resolved: &params::Resolved, k: usize) -> Option<f64> {
+    resolved.altitude_separation_m.map(|sep| resolved.altitude_m.unwrap_or(0.0) + (k + 1) as f64 * sep)
+}
+
 /// One vehicle's flight: what its planner made of its area, cut into sorties (raised over
 /// obstacles) and estimated by its energy model.
 pub(crate) struct Flight {
@@ -333,7 +346,7 @@ impl Stages<'_> {
             })
             .collect();
         let departures = fleet::timeline::departures(homes, &clear_s);
-        let layers: Vec<Option<f64>> = (0..homes.len()).map(|k| resolved.altitude_separation_m.map(|sep| resolved.altitude_m.unwrap_or(0.0) + (k + 1) as f64 * sep)).collect();
+        let layers: Vec<Option<f64>> = (0..homes.len()).map(|k| transit_layer(resolved, k)).collect();
         let drones: Vec<fleet::Drone> = resolved
             .fleet
             .iter()

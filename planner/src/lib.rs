@@ -504,9 +504,18 @@ pub fn resume(
     }
     let Prepared { resolved, field, region, .. } = &prepared;
     let airborne = request.airborne_at.map(|[lon, lat]| field.frame.to_local(lon, lat));
-    let ends = Ends { airborne: airborne.is_some(), first_battery: request.battery_remaining, ..Ends::new(airborne.or(prepared.start), prepared.end, field.home) };
+    // of a fleet, the drone that stopped flies the rest of its part from its home, in its layer
+    let (vehicle, (start, end, home), part) = match remainder.vehicle() {
+        Some(k) => {
+            let drone = resolved.fleet.get(k).ok_or_else(|| PlanError::Infeasible(format!("the plan's trajectory names drone {k}, which its fleet does not have")))?;
+            let home = prepared.fleet_homes[k];
+            (&drone.vehicle, (home, home, home), Some(compose::FleetPart::in_layer(resolved, k)))
+        }
+        None => (&resolved.vehicle, (prepared.start, prepared.end, field.home), None),
+    };
+    let ends = Ends { airborne: airborne.is_some(), first_battery: request.battery_remaining, ..Ends::new(airborne.or(start), end, home) };
     let (mut stats, mut trajectory) = with_stages(mission, &prepared, stop, |stages| {
-        let flight = stages.fly_route(&resolved.vehicle, ends, region, None, &|problem| remainder.route(problem))?;
+        let flight = stages.fly_route(vehicle, ends, region, part, &|problem| remainder.route(problem))?;
         report::finish(&prepared, &[Some(flight)], None, stages.terrain.is_some())
     })?;
     if let params::resume::Cut::Flown(flown) = &request.cut {
@@ -544,9 +553,6 @@ fn prepare_resume(
     }
     let prepared = prepare(mission, params, profiles, limits)?;
     let resolved = &prepared.resolved;
-    if !resolved.fleet.is_empty() {
-        return Err(InputError::new("not_resumable", "/at", "a fleet's plan is not resumed yet: plan the part left again"));
-    }
     if let Some([lon, lat]) = request.airborne_at
         && prepared.walls.contains(&prepared.field.frame.to_local(lon, lat))
     {

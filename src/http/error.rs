@@ -180,6 +180,7 @@ pub const ERROR_CODES: &[&str] = &[
     "unsupported_projection",
     "vehicle_exists",
     "vehicle_kind_mismatch",
+    "vehicle_missing",
     "waypoint_count",
     "wind_too_strong",
     "wrong_winding",
@@ -304,6 +305,7 @@ pub mod beyond_schema {
         "position_missing",
         "too_many_points",
         "unknown_seq",
+        "vehicle_missing",
     ];
     /// Given only where the request names a stored vehicle profile (`profile`): its kind and
     /// figures, which the overrides and the other members must suit.

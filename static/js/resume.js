@@ -64,20 +64,22 @@ async function resume(request) {
 document.addEventListener('coverplan:piece-click', (e) => {
   const { feature, latlng } = e.detail;
   const p = feature.properties;
-  if (!state.result || !state.result.planId || state.result.stats.inspection || p.vehicle !== undefined || p.seq === undefined) return;
+  if (!state.result || !state.result.planId || state.result.stats.inspection || p.seq === undefined) return;
   // a click while drawing is the drawing's
   if (map.pm && (map.pm.globalDrawModeEnabled() || map.pm.globalEditModeEnabled())) return;
   const fraction = fractionAlong(feature.geometry.coordinates, latlng);
   const box = document.createElement('div');
   box.className = 'resume-box';
-  box.innerHTML = `<p>Did the flight stop here (${escapeHtml(p.kind)}, ${Math.round(100 * fraction)} % along)?</p>`
+  const whose = p.vehicle === undefined ? 'the' : `drone ${p.vehicle + 1}'s`;
+  box.innerHTML = `<p>Did ${whose} flight stop here (${escapeHtml(p.kind)}, ${Math.round(100 * fraction)} % along)?</p>`
     + '<label>photos flown again <input class="photos-back" type="number" min="0" max="20" value="2"></label> '
     + '<button class="resume-here" type="button">Plan the rest</button>';
   const popup = L.popup().setLatLng(latlng).setContent(box).openOn(map);
   box.querySelector('.resume-here').onclick = () => {
     map.closePopup(popup);
     const photosBack = Number(box.querySelector('.photos-back').value);
-    resume(() => api('POST', `/api/v1/plans/${state.result.planId}/resume`, { at: { seq: p.seq, fraction }, photos_back: photosBack }));
+    // a fleet's pieces are numbered drone by drone: the drone is named
+    resume(() => api('POST', `/api/v1/plans/${state.result.planId}/resume`, { at: { seq: p.seq, fraction, vehicle: p.vehicle }, photos_back: photosBack }));
   };
 });
 

@@ -17,6 +17,11 @@ pub struct CutAt {
     /// 0 to 1: how much of that piece was flown.
     #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 1.0))]
     pub fraction: f64,
+    /// Of a fleet's plan, the drone that stopped (the trajectory's `vehicle`, from 0): each
+    /// drone's pieces are numbered on their own. The other drones' flights are not changed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schema", schema(maximum = 63))]
+    pub vehicle: Option<usize>,
 }
 
 /// Where the resumed flight takes off from.

@@ -248,7 +248,7 @@ fn check_near(pieces: &[Stored], track: &[Coord]) -> Result<(), InputError> {
     ))
 }
 
-fn point_to_segment(p: Coord, a: Coord, b: Coord) -> f64 {
+pub(super) fn point_to_segment(p: Coord, a: Coord, b: Coord) -> f64 {
     let d = b - a;
     let l2 = d.x * d.x + d.y * d.y;
     let t = if l2 > 0.0 { (((p - a).x * d.x + (p - a).y * d.y) / l2).clamp(0.0, 1.0) } else { 0.0 };

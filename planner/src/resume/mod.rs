@@ -34,6 +34,8 @@ struct Stored {
     seq: usize,
     /// A ground vehicle's swath left as a tramline.
     tramline: bool,
+    /// A fleet's drone that flies it.
+    vehicle: Option<usize>,
 }
 
 /// Most a heading given with the position may differ from a piece's direction for the cut to
@@ -46,7 +48,10 @@ const SAME_DISTANCE_M: f64 = 1.0;
 
 /// The original plan read back, and where its flight stopped.
 pub(crate) struct Remainder {
+    /// The pieces of the vehicle that stopped (of a fleet: its drone's), in flight order.
     pieces: Vec<Stored>,
+    /// A fleet's drone that stopped.
+    vehicle: Option<usize>,
     /// The piece the flight stopped on, and metres along it.
     cut: (usize, f64),
     /// Metres flown again before the cut on its line.
@@ -109,12 +114,25 @@ impl Remainder {
     /// Reads `trajectory` (a coverage plan's, one vehicle's) and finds the cut; `sampling` says how
     /// the lines are sampled against a log (and the trigger distance flown again before a cut).
     pub fn new(trajectory: &FeatureCollection, frame: &LocalFrame, resume: &Resume, sampling: &Sampling) -> Result<Remainder, InputError> {
-        let pieces = read(trajectory, frame)?;
+        let mut pieces = read(trajectory, frame)?;
         let back_m = resume.photos_back as f64 * sampling.trigger_m;
         let mut redo = Vec::new();
+        // a fleet's log is its drone's: the drone whose path the track keeps nearest
+        if let Cut::Flown(flown) = &resume.cut
+            && let Some(v) = nearest_vehicle(&pieces, &flown.track.iter().map(|&[lon, lat]| frame.to_local(lon, lat)).collect::<Vec<_>>())
+        {
+            pieces.retain(|p| p.vehicle == Some(v));
+        }
         let cut = match &resume.cut {
             Cut::At(at) => {
-                let k = pieces.iter().position(|p| p.seq == at.seq).ok_or_else(|| {
+                if at.vehicle.is_none() && pieces.iter().any(|p| p.vehicle.is_some()) {
+                    return Err(InputError::new(
+                        "vehicle_missing",
+                        "/at/vehicle",
+                        "this plan is a fleet's: say which drone stopped (`vehicle`, as the trajectory numbers them from 0)",
+                    ));
+                }
+                let k = pieces.iter().position(|p| p.seq == at.seq && p.vehicle == at.vehicle).ok_or_else(|| {
                     let seqs: Vec<String> = pieces.iter().map(|p| p.seq.to_string()).collect();
                     let (first, last) = (seqs.first().cloned().unwrap_or_default(), seqs.last().cloned().unwrap_or_default());
                     InputError::new("unknown_seq", "/at/seq", format!("the plan has no flown piece with seq {}; its pieces run from seq {first} to {last}", at.seq))
@@ -128,7 +146,17 @@ impl Remainder {
                 cut
             }
         };
-        let remainder = Remainder { pieces, cut, back_m, redo };
+        // of a fleet, what the drone that stopped had left
+        let vehicle = pieces[cut.0].vehicle;
+        let cut = match vehicle {
+            Some(v) => {
+                let k = pieces[..cut.0].iter().filter(|p| p.vehicle == Some(v)).count();
+                pieces.retain(|p| p.vehicle == Some(v));
+                (k, cut.1)
+            }
+            None => cut,
+        };
+        let remainder = Remainder { pieces, vehicle, cut, back_m, redo };
         if remainder.left().0.is_empty() {
             let (pointer, why) = match resume.cut {
                 Cut::At(_) => ("/at", "the flight stopped after the plan's last line: nothing is left to fly"),
@@ -138,6 +166,11 @@ impl Remainder {
             return Err(InputError::new("nothing_left", pointer, why));
         }
         Ok(remainder)
+    }
+
+    /// A fleet's drone that stopped (its number in the fleet).
+    pub fn vehicle(&self) -> Option<usize> {
+        self.vehicle
     }
 
     /// Where the flight stopped, in the local frame.
@@ -334,6 +367,19 @@ struct Left {
 /// coordinates have 7 decimals: about a centimetre).
 const STORED_ROUNDING_M: f64 = 0.05;
 
+/// Of a fleet's drones, the one whose pieces lie nearest `track` on average (up to 500 of its
+/// positions); `None` for one vehicle's plan.
+fn nearest_vehicle(pieces: &[Stored], track: &[Coord]) -> Option<usize> {
+    let drones = pieces.iter().filter_map(|p| p.vehicle).max()?;
+    let step = (track.len() / 500).max(1);
+    let mean_to = |v: usize| -> f64 {
+        let own: Vec<&Stored> = pieces.iter().filter(|p| p.vehicle == Some(v)).collect();
+        let near = |t: Coord| own.iter().flat_map(|p| p.points.windows(2)).map(|w| flown::point_to_segment(t, w[0], w[1])).fold(f64::INFINITY, f64::min);
+        track.iter().step_by(step).map(|&t| near(t)).sum::<f64>()
+    };
+    (0..=drones).min_by(|&a, &b| mean_to(a).total_cmp(&mean_to(b)))
+}
+
 fn piece(kind: PieceKind, points: Vec<Coord>) -> Piece {
     Piece { kind, points, half_swath_m: 0.0, z: Vec::new(), shape: None, tramline: false }
 }
@@ -348,9 +394,6 @@ fn read(trajectory: &FeatureCollection, frame: &LocalFrame) -> Result<Vec<Stored
     let mut pieces = Vec::new();
     for (i, feature) in trajectory.features.iter().enumerate() {
         let property = |key: &str| feature.properties.as_ref().and_then(|p| p.get(key));
-        if property("vehicle").is_some() {
-            return Err(InputError::new("not_resumable", "/at", "a fleet's plan is resumed drone by drone: plan the drone's part again (this server does not resume fleets yet)"));
-        }
         let Some(kind) = property("kind").and_then(|k| PieceKind::deserialize(k).ok()) else { continue };
         let Some(GeometryValue::LineString { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) else { continue };
         let points: Vec<Coord> = coordinates.iter().filter(|p| p.len() >= 2).map(|p| frame.to_local(p[0], p[1])).collect();
@@ -359,7 +402,7 @@ fn read(trajectory: &FeatureCollection, frame: &LocalFrame) -> Result<Vec<Stored
         }
         let number = |key: &str| property(key).and_then(Value::as_u64).map(|n| n as usize);
         let tramline = property("tramline").and_then(Value::as_bool).unwrap_or(false);
-        pieces.push(Stored { kind, points, sortie: number("sortie").unwrap_or(1), seq: number("seq").unwrap_or(i), tramline });
+        pieces.push(Stored { kind, points, sortie: number("sortie").unwrap_or(1), seq: number("seq").unwrap_or(i), tramline, vehicle: number("vehicle") });
     }
     if !pieces.iter().any(|p| p.kind == PieceKind::Sweep) {
         return Err(InputError::new("not_resumable", "/at", "only a coverage plan's sweep lines are resumed; this plan has none"));
@@ -412,7 +455,7 @@ mod tests {
     }
 
     fn stored(kind: PieceKind, points: &[Coord], sortie: usize, seq: usize) -> Stored {
-        Stored { kind, points: points.to_vec(), sortie, seq, tramline: false }
+        Stored { kind, points: points.to_vec(), sortie, seq, tramline: false, vehicle: None }
     }
 
     /// Two sorties of two lines each from home at (-50, 0): out, line, turn, line, back.
@@ -435,7 +478,7 @@ mod tests {
 
     #[test]
     fn what_is_left_starts_back_on_the_cut_line_and_skips_the_legs_home() {
-        let r = Remainder { pieces: two_sorties(), cut: (3, 60.0), back_m: 15.0, redo: Vec::new() };
+        let r = Remainder { pieces: two_sorties(), vehicle: None, cut: (3, 60.0), back_m: 15.0, redo: Vec::new() };
         let (left, overlap) = r.left();
         assert_eq!(overlap, 15.0);
         // the cut line from 45 m along (x = 55), then the second sortie's working run
@@ -452,11 +495,11 @@ mod tests {
     #[test]
     fn a_cut_in_a_turn_or_at_a_lines_end_resumes_at_the_next_line() {
         for cut in [(2, 4.0), (1, 100.0)] {
-            let r = Remainder { pieces: two_sorties(), cut, back_m: 15.0, redo: Vec::new() };
+            let r = Remainder { pieces: two_sorties(), vehicle: None, cut, back_m: 15.0, redo: Vec::new() };
             let (left, overlap) = r.left();
             assert_eq!((left[0].piece.points[0], overlap), (c(100.0, 10.0), 0.0), "{cut:?}");
         }
-        let done = Remainder { pieces: two_sorties(), cut: (9, 3.0), back_m: 15.0, redo: Vec::new() };
+        let done = Remainder { pieces: two_sorties(), vehicle: None, cut: (9, 3.0), back_m: 15.0, redo: Vec::new() };
         assert!(done.left().0.is_empty());
     }
 

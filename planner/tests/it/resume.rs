@@ -309,3 +309,85 @@ fn a_ground_plan_resumed_works_the_swaths_left_and_keeps_to_the_headland() {
         assert!(checked >= 2, "{name}: {} pieces, {checked} cuts in swaths", flown.len());
     }
 }
+
+/// A fleet's drone that stopped resumes its own part from its home, and no other drone's: named
+/// by the trajectory's `vehicle` with `at`, or found by its position.
+#[test]
+fn a_fleets_drone_resumes_its_own_part_and_no_other() {
+    let profiles = builtin_profiles();
+    let field = fixture("random-fields/h03_00.json");
+    let corner = &field["area"]["coordinates"][0][0];
+    let frame = LocalFrame::new(corner[0].as_f64().unwrap(), corner[1].as_f64().unwrap());
+    let home = frame.to_wgs84(Coord { x: -40.0, y: -40.0 });
+    let mission = MissionGeometry { home: Some(home), no_fly_zones: Some(&field["no_fly_zones"]), ..MissionGeometry::area(&field["area"]) };
+    let params: PlanParams = serde_json::from_value(json!({"vehicle": {"profile": "iris"}, "vehicles": 2, "line_spacing_m": 30, "altitude_m": 60})).unwrap();
+    let original = plan(&mission, &params, &profiles, &FieldLimits::default(), &|_| true, &Stop::never()).unwrap();
+    // (drone, seq, first point, last point) of each sweep
+    let sweeps_of = |fc: &FeatureCollection| -> Vec<(Option<u64>, u64, Coord, Coord)> {
+        fc.features
+            .iter()
+            .filter_map(|f| {
+                let p = f.properties.as_ref()?;
+                (p.get("kind")? == "sweep").then_some(())?;
+                let GeometryValue::LineString { coordinates } = &f.geometry.as_ref()?.value else { return None };
+                let at = |c: &coverplan_planner::geojson::Position| frame.to_local(c[0], c[1]);
+                Some((p.get("vehicle").and_then(Value::as_u64), p["seq"].as_u64()?, at(&coordinates[0]), at(coordinates.last()?)))
+            })
+            .collect()
+    };
+    let all = sweeps_of(&original.trajectory);
+    let same = |a: Coord, b: Coord| (a - b).x.hypot((a - b).y) < 0.05;
+    for drone in [0u64, 1] {
+        let own: Vec<_> = all.iter().filter(|s| s.0 == Some(drone)).collect();
+        assert!(own.len() >= 4, "drone {drone}: {} sweeps", own.len());
+        let (_, seq, a, b) = *own[own.len() / 2];
+        let middle = frame.to_wgs84((a + b) * 0.5);
+        let heading = coverplan_planner::params::math_to_bearing((b - a).y.atan2((b - a).x));
+        for request in [json!({"at": {"seq": seq, "fraction": 0.5, "vehicle": drone}}), json!({"position": middle, "heading_deg": heading})] {
+            let request: ResumeParams = serde_json::from_value(request).unwrap();
+            let resumed = resume(&mission, &params, &profiles, &FieldLimits::default(), &original.trajectory, &request.check().unwrap(), &|_| true, &Stop::never())
+                .unwrap_or_else(|e| panic!("drone {drone}: {e}"));
+            let left = sweeps_of(&resumed.trajectory);
+            // the cut line from its middle, then the drone's own lines after it, and only those
+            assert_eq!(left.len(), own.len() - own.len() / 2, "drone {drone}");
+            assert!(same(left[0].3, b), "drone {drone}: the cut line to its end");
+            for (o, l) in own[own.len() / 2 + 1..].iter().zip(&left[1..]) {
+                assert!(same(o.2, l.2) && same(o.3, l.3), "drone {drone}: its line {} again", o.1);
+            }
+            let starts = resumed.trajectory.features.iter().find_map(|f| match &f.geometry.as_ref()?.value {
+                GeometryValue::LineString { coordinates } => Some(frame.to_local(coordinates[0][0], coordinates[0][1])),
+                _ => None,
+            });
+            assert!(starts.is_some_and(|s| same(s, Coord { x: -40.0, y: -40.0 })), "drone {drone}: from home, {starts:?}");
+        }
+    }
+    // a log is its drone's: the track of drone 1 flown to the middle of a line resumes drone 1
+    let own: Vec<_> = all.iter().filter(|s| s.0 == Some(1)).collect();
+    let (_, seq, _, b) = *own[own.len() / 2];
+    let mut track: Vec<[f64; 2]> = Vec::new();
+    for f in &original.trajectory.features {
+        let Some(p) = f.properties.as_ref().filter(|p| p.get("vehicle") == Some(&json!(1)) && p.contains_key("kind")) else { continue };
+        let Some(GeometryValue::LineString { coordinates }) = f.geometry.as_ref().map(|g| &g.value) else { continue };
+        let local: Vec<Coord> = coordinates.iter().map(|c| frame.to_local(c[0], c[1])).collect();
+        let length: f64 = local.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum();
+        let stop_here = p["seq"].as_u64() == Some(seq);
+        let flown = up_to(&local, if stop_here { length / 2.0 } else { length });
+        // a position every 2 m
+        for w in flown.windows(2) {
+            let n = ((w[1] - w[0]).x.hypot((w[1] - w[0]).y) / 2.0).ceil().max(1.0) as usize;
+            track.extend((0..n).map(|i| frame.to_wgs84(w[0] + (w[1] - w[0]) * (i as f64 / n as f64))));
+        }
+        if stop_here {
+            break;
+        }
+    }
+    let logged: ResumeParams = serde_json::from_value(json!({"flown": {"track": track}})).unwrap();
+    let resumed = resume(&mission, &params, &profiles, &FieldLimits::default(), &original.trajectory, &logged.check().unwrap(), &|_| true, &Stop::never()).unwrap();
+    let left = sweeps_of(&resumed.trajectory);
+    assert!(same(left[0].3, b), "the log's drone's cut line, to its end");
+    assert!(left.iter().all(|l| own.iter().any(|o| same(o.3, l.3))), "only drone 1's lines");
+    // `at` must name the drone: each drone's pieces are numbered on their own
+    let unnamed: ResumeParams = serde_json::from_value(json!({"at": {"seq": all[0].1, "fraction": 0.5}})).unwrap();
+    let refused = resume(&mission, &params, &profiles, &FieldLimits::default(), &original.trajectory, &unnamed.check().unwrap(), &|_| true, &Stop::never());
+    assert!(refused.as_ref().is_err_and(|e| e.to_string().contains("which drone")), "{:?}", refused.map(|_| ()));
+}

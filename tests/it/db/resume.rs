@@ -25,18 +25,25 @@ fn sweeps(fc: &Value) -> Vec<(u64, [f64; 2], [f64; 2])> {
         .collect()
 }
 
-#[tokio::test]
-async fn a_stopped_flight_is_resumed_from_a_piece_or_a_position() {
-    let app = TestApp::spawn().await;
+/// A succeeded plan with `params` of the real field `nl-parcel-b` (its home at its first corner):
+/// the mission's id, the plan, and its trajectory as GeoJSON.
+async fn planned(app: &TestApp, params: Value) -> (String, Value, Value) {
     let mut body = mission_body("real-fields/nl-parcel-b.json");
     body["home"] = json!(body["area"]["coordinates"][0][0]);
     let mission = app.create_mission(&body).await;
-    let (status, plan) = app.post(&format!("/api/v1/missions/{mission}/plans"), &json!({"camera": {"preset": "dji_mavic3_enterprise"}, "altitude_m": 60})).await;
+    let (status, plan) = app.post(&format!("/api/v1/missions/{mission}/plans"), &params).await;
     assert_eq!(status, 202, "{plan}");
     let original = app.wait_finished(plan["id"].as_str().unwrap()).await;
     assert_eq!(original["status"], "succeeded", "{original}");
+    let fc: Value = serde_json::from_slice(&trajectory(app, original["id"].as_str().unwrap(), "geojson").await.1).unwrap();
+    (mission, original, fc)
+}
+
+#[tokio::test]
+async fn a_stopped_flight_is_resumed_from_a_piece_or_a_position() {
+    let app = TestApp::spawn().await;
+    let (mission, original, fc) = planned(&app, json!({"camera": {"preset": "dji_mavic3_enterprise"}, "altitude_m": 60})).await;
     let id = original["id"].as_str().unwrap();
-    let fc: Value = serde_json::from_slice(&trajectory(&app, id, "geojson").await.1).unwrap();
     let lines = sweeps(&fc);
     assert!(lines.len() >= 4, "{} lines", lines.len());
     let (seq, a, b) = lines[lines.len() / 2];
@@ -94,15 +101,8 @@ async fn a_stopped_flight_is_resumed_from_a_piece_or_a_position() {
 #[tokio::test]
 async fn a_stopped_tractor_is_resumed_with_the_swaths_left() {
     let app = TestApp::spawn().await;
-    let mut body = mission_body("real-fields/nl-parcel-b.json");
-    body["home"] = json!(body["area"]["coordinates"][0][0]);
-    let mission = app.create_mission(&body).await;
-    let (status, plan) = app.post(&format!("/api/v1/missions/{mission}/plans"), &json!({"vehicle": {"profile": "tractor_sprayer"}, "tramline_every": 3})).await;
-    assert_eq!(status, 202, "{plan}");
-    let original = app.wait_finished(plan["id"].as_str().unwrap()).await;
-    assert_eq!(original["status"], "succeeded", "{original}");
+    let (_, original, fc) = planned(&app, json!({"vehicle": {"profile": "tractor_sprayer"}, "tramline_every": 3})).await;
     let id = original["id"].as_str().unwrap();
-    let fc: Value = serde_json::from_slice(&trajectory(&app, id, "geojson").await.1).unwrap();
     let lines = sweeps(&fc);
     let (seq, _, b) = lines[lines.len() / 2];
     let (status, queued) = app.post(&format!("/api/v1/plans/{id}/resume"), &json!({"at": {"seq": seq, "fraction": 0.5}})).await;

@@ -50,8 +50,6 @@ const SAME_DISTANCE_M: f64 = 1.0;
 pub(crate) struct Remainder {
     /// The pieces of the vehicle that stopped (of a fleet: its drone's), in flight order.
     pieces: Vec<Stored>,
-    /// A fleet's drone that stopped.
-    vehicle: Option<usize>,
     /// The piece the flight stopped on, and metres along it.
     cut: (usize, f64),
     /// Metres flown again before the cut on its line.
@@ -119,6 +117,7 @@ impl Remainder {
         let mut redo = Vec::new();
         // a fleet's log is its drone's: the drone whose path the track keeps nearest
         if let Cut::Flown(flown) = &resume.cut
+            && pieces.iter().any(|p| p.vehicle.is_some())
             && let Some(v) = nearest_vehicle(&pieces, &flown.track.iter().map(|&[lon, lat]| frame.to_local(lon, lat)).collect::<Vec<_>>())
         {
             pieces.retain(|p| p.vehicle == Some(v));
@@ -147,8 +146,7 @@ impl Remainder {
             }
         };
         // of a fleet, what the drone that stopped had left
-        let vehicle = pieces[cut.0].vehicle;
-        let cut = match vehicle {
+        let cut = match pieces[cut.0].vehicle {
             Some(v) => {
                 let k = pieces[..cut.0].iter().filter(|p| p.vehicle == Some(v)).count();
                 pieces.retain(|p| p.vehicle == Some(v));
@@ -156,7 +154,7 @@ impl Remainder {
             }
             None => cut,
         };
-        let remainder = Remainder { pieces, vehicle, cut, back_m, redo };
+        let remainder = Remainder { pieces, cut, back_m, redo };
         if remainder.left().0.is_empty() {
             let (pointer, why) = match resume.cut {
                 Cut::At(_) => ("/at", "the flight stopped after the plan's last line: nothing is left to fly"),
@@ -170,7 +168,8 @@ impl Remainder {
 
     /// A fleet's drone that stopped (its number in the fleet).
     pub fn vehicle(&self) -> Option<usize> {
-        self.vehicle
+        // of a fleet, only the drone that stopped has pieces left here
+        self.pieces[self.cut.0].vehicle
     }
 
     /// Where the flight stopped, in the local frame.
@@ -478,7 +477,7 @@ mod tests {
 
     #[test]
     fn what_is_left_starts_back_on_the_cut_line_and_skips_the_legs_home() {
-        let r = Remainder { pieces: two_sorties(), vehicle: None, cut: (3, 60.0), back_m: 15.0, redo: Vec::new() };
+        let r = Remainder { pieces: two_sorties(), cut: (3, 60.0), back_m: 15.0, redo: Vec::new() };
         let (left, overlap) = r.left();
         assert_eq!(overlap, 15.0);
         // the cut line from 45 m along (x = 55), then the second sortie's working run
@@ -495,11 +494,11 @@ mod tests {
     #[test]
     fn a_cut_in_a_turn_or_at_a_lines_end_resumes_at_the_next_line() {
         for cut in [(2, 4.0), (1, 100.0)] {
-            let r = Remainder { pieces: two_sorties(), vehicle: None, cut, back_m: 15.0, redo: Vec::new() };
+            let r = Remainder { pieces: two_sorties(), cut, back_m: 15.0, redo: Vec::new() };
             let (left, overlap) = r.left();
             assert_eq!((left[0].piece.points[0], overlap), (c(100.0, 10.0), 0.0), "{cut:?}");
         }
-        let done = Remainder { pieces: two_sorties(), vehicle: None, cut: (9, 3.0), back_m: 15.0, redo: Vec::new() };
+        let done = Remainder { pieces: two_sorties(), cut: (9, 3.0), back_m: 15.0, redo: Vec::new() };
         assert!(done.left().0.is_empty());
     }
 

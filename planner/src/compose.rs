@@ -234,6 +234,7 @@ impl Stages<'_> {
             objective: resolved.objective,
             wind: resolved.wind,
             ground: self.prepared.ground.as_ref(),
+            corridors: &field.corridors,
         };
         let planned = route(&problem)?;
         // climbs over obstacles are flown by every sortie, so they are priced when splitting

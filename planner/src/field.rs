@@ -10,6 +10,9 @@ use super::error::InputError;
 use super::frame::LocalFrame;
 use super::mesh::{MAX_TRIANGLES, MeshObject, Up, read_obj};
 
+mod corridor;
+pub use corridor::Corridor;
+
 /// Limits that protect the service from absurd or oversized missions.
 #[derive(Debug, Clone, Copy)]
 pub struct FieldLimits {
@@ -74,6 +77,10 @@ pub struct Field {
     pub obstacles: Vec<(Polygon, f64)>,
     pub structures: Vec<Structure>,
     pub home: Option<Coord>,
+    /// The area's corridors (their outlines are part of `area`, after its polygon fields).
+    pub corridors: Vec<Corridor>,
+    /// How many of `area`'s polygons are fields given as polygons (the first ones).
+    pub polygon_fields: usize,
 }
 
 /// A structure: its footprint extruded from `base_m` to `base_m + height_m` above ground.
@@ -105,8 +112,8 @@ struct RawPolygon {
 
 impl Field {
     pub fn parse(mission: &MissionGeometry<'_>, limits: &FieldLimits) -> Result<Field, InputError> {
-        let area = parse_polygons(mission.area, "/area")?;
-        if area.is_empty() {
+        let (area, raw_corridors) = parse_area(mission.area)?;
+        if area.is_empty() && raw_corridors.is_empty() {
             return Err(InputError::new("empty_area", "/area", "the area holds no polygon"));
         }
         let nfz = match mission.no_fly_zones {
@@ -125,11 +132,19 @@ impl Field {
             check_position(&h, "/home")?;
         }
         let structure_polygons = structures.iter().filter_map(|s| if let RawShape::Polygon(p) = &s.shape { Some(p) } else { None });
-        let vertices: usize = area.iter().chain(&nfz).chain(obstacles.iter().map(|o| &o.0)).chain(structure_polygons).flat_map(|p| &p.rings).map(|r| r.positions.len()).sum();
+        let corridor_vertices: usize = raw_corridors.iter().map(|c| c.positions().len()).sum();
+        let vertices: usize = corridor_vertices
+            + area.iter().chain(&nfz).chain(obstacles.iter().map(|o| &o.0)).chain(structure_polygons).flat_map(|p| &p.rings).map(|r| r.positions.len()).sum::<usize>();
         if vertices > limits.max_vertices {
             return Err(InputError::new("too_many_vertices", "/area", format!("the mission has {vertices} vertices; the limit is {}", limits.max_vertices)));
         }
-        let all_points = area.iter().chain(&nfz).flat_map(|p| &p.rings).flat_map(|r| r.positions.iter().copied()).chain(mission.home);
+        let all_points = area
+            .iter()
+            .chain(&nfz)
+            .flat_map(|p| &p.rings)
+            .flat_map(|r| r.positions.iter().copied())
+            .chain(raw_corridors.iter().flat_map(|c| c.positions().iter().copied()))
+            .chain(mission.home);
         let frame = LocalFrame::centred_on(all_points);
         let to_local = |raw: &RawPolygon| local_polygon(&frame, raw, limits);
         let area_polys = area.iter().map(to_local).collect::<Result<Vec<_>, _>>()?;
@@ -156,7 +171,8 @@ impl Field {
         }
         let structures = placed;
 
-        let area_mp = MultiPolygon(area_polys);
+        let corridors = raw_corridors.iter().map(|c| corridor::local(&frame, c, limits)).collect::<Result<Vec<_>, _>>()?;
+        let mut area_mp = MultiPolygon(area_polys);
         // boxes first: overlaying every pair of thousands of fields would take minutes
         let boxes: Vec<Option<Rect>> = area_mp.0.iter().map(BoundingRect::bounding_rect).collect();
         for (i, a) in area_mp.0.iter().enumerate() {
@@ -166,6 +182,18 @@ impl Field {
                     return Err(InputError::new("overlapping_fields", area[i].pointer.clone(), "this field overlaps another field of the same mission"));
                 }
             }
+        }
+        let polygon_fields = area_mp.0.len();
+        if !corridors.is_empty() {
+            let outlines: Vec<MultiPolygon> = corridors.iter().map(Corridor::outline).collect();
+            for (c, outline) in corridors.iter().zip(&outlines) {
+                if !area_mp.0.is_empty() && outline.intersection(&area_mp).unsigned_area() > 1e-6 * c.width_m * c.width_m {
+                    return Err(InputError::new("overlapping_fields", c.pointer.clone(), "this corridor overlaps a field of the same mission"));
+                }
+            }
+            // corridors that cross share their crossing
+            let joined = outlines.into_iter().reduce(|a, b| a.union(&b)).unwrap_or_else(|| MultiPolygon(Vec::new()));
+            area_mp.0.extend(joined.0);
         }
         let total = area_mp.unsigned_area();
         if total < limits.min_area_m2 {
@@ -181,8 +209,37 @@ impl Field {
         {
             return Err(InputError::new("home_in_no_fly_zone", "/home", "the home point lies inside a no-fly zone"));
         }
-        Ok(Field { frame, area: area_mp, no_fly_zones: nfz_mp, obstacles, structures, home })
+        Ok(Field { frame, area: area_mp, no_fly_zones: nfz_mp, obstacles, structures, home, corridors, polygon_fields })
     }
+}
+
+/// The mission's area: its fields as raw rings, and its corridors (LineString features).
+fn parse_area(value: &Value) -> Result<(Vec<RawPolygon>, Vec<corridor::RawCorridor>), InputError> {
+    let pointer = "/area";
+    if value.get("crs").is_some() {
+        return Err(InputError::new("crs_not_supported", format!("{pointer}/crs"), "a `crs` member is not allowed (RFC 7946): send WGS84 longitude/latitude"));
+    }
+    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
+    let features = match geojson {
+        GeoJson::Geometry(g) => {
+            if matches!(g.value, GeometryValue::LineString { .. } | GeometryValue::MultiLineString { .. }) {
+                return Err(corridor::bare_line(pointer));
+            }
+            let mut out = Vec::new();
+            push_geometry(&g.value, pointer, &mut out)?;
+            return Ok((out, Vec::new()));
+        }
+        GeoJson::Feature(f) => vec![(f, pointer.to_owned())],
+        GeoJson::FeatureCollection(fc) => fc.features.into_iter().enumerate().map(|(i, f)| (f, format!("{pointer}/features/{i}"))).collect(),
+    };
+    let (mut polygons, mut corridors) = (Vec::new(), Vec::new());
+    for (f, fp) in features {
+        match corridor::of_feature(&f, &fp)? {
+            Some(lines) => corridors.extend(lines),
+            None => push_feature(&f, &fp, &mut polygons)?,
+        }
+    }
+    Ok((polygons, corridors))
 }
 
 /// Polygon, MultiPolygon, Feature or FeatureCollection of those, as raw rings.

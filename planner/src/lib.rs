@@ -158,7 +158,18 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
     if region.unsigned_area() < 1.0 {
         return Err(InputError::new("nothing_to_cover", "/no_fly_zones", "the no-fly zones and their margin cover the whole field"));
     }
-    let routes_lines = planner.orders_lines_one_by_one() || matches!(resolved.vehicle.turn_model(), TurnModel::Dubins(_));
+    if planner.follows_corridors() && field.corridors.is_empty() {
+        return Err(InputError::new("no_corridor", "/planner", format!("planner {} flies corridors: give the area a LineString feature with its width as width_m", planner.id())));
+    }
+    if planner.follows_corridors() && field.polygon_fields > 0 {
+        return Err(InputError::new(
+            "not_for_planner",
+            "/area",
+            format!("planner {} flies corridors only: plan the area's polygon fields in a mission of their own", planner.id()),
+        ));
+    }
+    // a corridor's lines follow its centre line: none is ordered one by one
+    let routes_lines = !planner.follows_corridors() && (planner.orders_lines_one_by_one() || matches!(resolved.vehicle.turn_model(), TurnModel::Dubins(_)));
     // the line count and a ground vehicle's headland (most of the set-up) side by side
     let too_many_lines = || -> Result<(), InputError> {
         if !routes_lines {

@@ -3,6 +3,7 @@
 //! [`ends`] ends them sooner at slanted edges when asked.
 
 pub mod ends;
+pub mod offset;
 
 use geo::{BooleanOps, BoundingRect, ConvexHull, Coord, MultiPolygon, Rect};
 

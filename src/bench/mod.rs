@@ -1,11 +1,12 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
 //! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground`, `--inspection`, `--terrain`,
-//! `--resume`, `--wind` and `--queue` run the routing, energy, patrolling, fleet, ground-vehicle,
-//! inspection, terrain, resume, wind and shared-queue benchmarks
+//! `--resume`, `--wind`, `--corridor` and `--queue` run the routing, energy, patrolling, fleet,
+//! ground-vehicle, inspection, terrain, resume, wind, corridor and shared-queue benchmarks
 //! instead.
 
 mod command;
+pub mod corridor;
 pub mod energy;
 mod fields2cover;
 pub mod fleet;
@@ -163,7 +164,7 @@ pub fn run(dir: &Path, options: &Options<'_>) -> anyhow::Result<String> {
     // a battery large enough that no plan is split into sorties
     let mut profiles = planner::vehicle::builtin_profiles();
     profiles.iter_mut().for_each(|v| v.battery.energy_wh = 1e5);
-    for p in registry().iter().filter(|p| !p.for_ground_vehicles() && options.planner.is_none_or(|f| f == p.id())) {
+    for p in registry().iter().filter(|p| !p.for_ground_vehicles() && !p.follows_corridors() && options.planner.is_none_or(|f| f == p.id())) {
         let mut rows: Vec<Row> = (0..=15)
             .map(|holes| Row {
                 holes,

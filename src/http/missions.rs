@@ -22,7 +22,9 @@ pub struct MissionRequest {
     #[schema(min_length = 1, max_length = 200, pattern = "\\S")]
     pub name: String,
     /// GeoJSON Polygon, MultiPolygon, Feature or FeatureCollection of those, WGS84 [lon, lat].
-    /// Inner rings are holes: parts not to cover.
+    /// Inner rings are holes: parts not to cover. A LineString (or MultiLineString) Feature with
+    /// a `width_m` property (metres, at most 2 000) is a corridor: a road, river or pipeline,
+    /// covered as its centre line grown by half its width (planner `corridor` flies along it).
     #[schema(value_type = Object)]
     pub area: Value,
     /// GeoJSON of areas never to be entered.

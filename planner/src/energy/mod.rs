@@ -57,7 +57,7 @@ impl EnergyParams {
     /// The model with these parameters.
     pub fn model(&self, motion: Motion) -> Box<dyn EnergyModel + '_> {
         match self {
-            EnergyParams::MultirotorIem(c) => Box::new(iem::Iem { coefficients: c, max_speed_mps: motion.cruise_speed_mps }),
+            EnergyParams::MultirotorIem(c) => Box::new(iem::Iem { coefficients: c, max_speed_mps: motion.cruise_speed_mps, flown: Default::default() }),
             EnergyParams::FixedWing(a) => Box::new(fixed_wing::FixedWing { airframe: a, speed_mps: motion.cruise_speed_mps, turn_radius_m: motion.turn_radius_m }),
             EnergyParams::ConstantPower(p) => {
                 Box::new(constant_power::ConstantPower { power: p, speed_mps: motion.cruise_speed_mps, corner_stop_s: motion.corner_stop_s, multirotor: motion.multirotor })

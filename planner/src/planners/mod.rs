@@ -3,6 +3,7 @@
 
 pub mod auto;
 pub mod cell_planner;
+pub mod corridor;
 pub mod e_spiral;
 pub mod eg_cpp;
 pub mod headland;
@@ -23,6 +24,7 @@ use super::turn::climb::Obstacles;
 use super::vehicle::{Vehicle, VehicleKind};
 use auto::Auto;
 use cell_planner::{BOUSTROPHEDON, E_BF, EECD, ENERGY_AWARE, NAIVE};
+use corridor::CorridorPlanner;
 use e_spiral::ESpiral;
 use eg_cpp::EgCpp;
 use headland::{GroundSetup, HeadlandPlanner};
@@ -60,6 +62,8 @@ pub struct Problem<'a> {
     pub wind: Option<crate::wind::Wind>,
     /// A ground vehicle's headland; `None` for an aircraft.
     pub ground: Option<&'a GroundSetup>,
+    /// The mission's corridors, in the local frame (their outlines are in `region`).
+    pub corridors: &'a [crate::field::Corridor],
 }
 
 pub struct PlannedPath {
@@ -163,6 +167,11 @@ pub trait Planner: Send + Sync {
     fn lays_parallel_lines(&self) -> bool {
         true
     }
+    /// True for a planner that flies the mission's corridors along their centre lines (and
+    /// needs the mission to have some).
+    fn follows_corridors(&self) -> bool {
+        false
+    }
     /// The request members (of `PlanParams`) this planner reads.
     fn parameters(&self) -> Vec<&'static str> {
         COMMON_PARAMETERS.iter().copied().filter(|&name| (name != "swath_ends" || self.lays_parallel_lines()) && name != OBJECTIVE).collect()
@@ -170,7 +179,7 @@ pub trait Planner: Send + Sync {
 }
 
 /// Every planner the service offers, in the order listed to users.
-static REGISTRY: &[&dyn Planner] = &[&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &E_BF, &ESpiral, &EgCpp, &LineGtsp, &Auto, &HeadlandPlanner];
+static REGISTRY: &[&dyn Planner] = &[&BOUSTROPHEDON, &NAIVE, &EECD, &ENERGY_AWARE, &E_BF, &ESpiral, &EgCpp, &LineGtsp, &Auto, &CorridorPlanner, &HeadlandPlanner];
 
 /// Every planner the service offers.
 pub fn registry() -> &'static [&'static dyn Planner] {

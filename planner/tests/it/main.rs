@@ -2,6 +2,7 @@
 //! long property sweeps over every planner are `tests/sweeps/` (feature `sweeps`).
 
 mod architecture;
+mod corridors;
 mod energy_planners;
 mod flown;
 mod inspection;

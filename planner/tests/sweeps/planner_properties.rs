@@ -28,9 +28,10 @@ fn try_plan(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Option<Pl
     }
 }
 
-/// Every planner of the registry but those of ground vehicles (`ground_plans.rs` checks them).
+/// Every planner of the registry but those of ground vehicles (`ground_plans.rs` checks them)
+/// and of corridors (`tests/it/corridors.rs`): these fields are areas.
 fn planners() -> Vec<&'static str> {
-    registry().iter().filter(|p| !p.for_ground_vehicles()).map(|p| p.id()).collect()
+    registry().iter().filter(|p| !p.for_ground_vehicles() && !p.follows_corridors()).map(|p| p.id()).collect()
 }
 
 /// The share of the area a planner's plans must cover: its own target, a point less with no-fly

@@ -4,6 +4,7 @@
 //! fails on such a test outside this module.
 
 mod api;
+mod corridors;
 mod ground_plans;
 mod inspection;
 pub mod interop;

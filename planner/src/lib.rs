@@ -134,6 +134,17 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
             format!("a fleet's parts are planned with {}: their lines follow the bands the field is cut into", fleet_planners.join(", ")),
         ));
     }
+    if resolved.pattern == params::Pattern::DoubleGrid {
+        if !planner.lays_parallel_lines() {
+            return Err(InputError::new("not_for_planner", "/pattern", format!("planner {} flies no parallel lines, so no grid across them", planner.id())));
+        }
+        if resolved.headland.is_some() {
+            return Err(InputError::new("not_for_ground_vehicles", "/pattern", "a ground vehicle works its field once: leave out pattern"));
+        }
+        if !resolved.fleet.is_empty() {
+            return Err(InputError::new("pattern_not_for_fleets", "/pattern", "a fleet's drones fly bands side by side: a grid across them would cross the other drones' bands"));
+        }
+    }
     if params.swath_ends.is_some() && !planner.lays_parallel_lines() {
         return Err(InputError::new("not_for_planner", "/swath_ends", format!("planner {} flies no parallel lines, so has no line ends to place", planner.id())));
     }

@@ -207,6 +207,10 @@ pub struct PlanParams {
     /// headland), `full_width` for an aircraft (at the field's edge and its holes; not for
     /// `e_spiral` and `eg_cpp`, which fly no parallel lines).
     pub swath_ends: Option<SwathEnds>,
+    /// What the lines make: `grid` (default), one set of parallel lines; `double_grid`, a
+    /// second set across the first (at 90°), flown after it, for 3D models. Aircraft, with a
+    /// planner that lays parallel lines; not for a fleet.
+    pub pattern: Option<Pattern>,
     /// Ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5
     /// (default 0).
     #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.5))]
@@ -262,6 +266,18 @@ pub struct TerrainSpec {
     pub tolerance_m: f64,
     pub climb: f64,
     pub descent: f64,
+}
+
+/// What a plan's lines make.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum Pattern {
+    /// One set of parallel lines.
+    #[default]
+    Grid,
+    /// A second set across the first, at 90°.
+    DoubleGrid,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -359,6 +375,7 @@ pub struct Resolved {
     pub altitude_m: Option<f64>,
     /// Sweep direction as a math angle (radians counter-clockwise from east, mod π).
     pub sweep_angle: Option<f64>,
+    pub pattern: Pattern,
     pub vehicle: Vehicle,
     pub start: Option<[f64; 2]>,
     pub end: Option<[f64; 2]>,
@@ -516,6 +533,7 @@ impl PlanParams {
             optimal_direction,
             altitude_m,
             sweep_angle: self.heading_deg.map(bearing_to_math),
+            pattern: self.pattern.unwrap_or_default(),
             vehicle,
             start: checked_position(&self.start, "start")?,
             end: checked_position(&self.end, "end")?,

@@ -182,21 +182,23 @@ fn passes(centre: &[Coord], width: f64, problem: &Problem<'_>) -> Vec<(Vec<Coord
             if i % 2 == 1 {
                 line.reverse();
             }
-            let (first, last) = (line[0], line[line.len() - 1]);
-            let mut pieces = outside(line, problem.keep_out);
-            if sharpest.is_none() {
-                into_the_margin(&mut pieces, (first, last), half, problem);
-            } else {
-                // a fixed wing's lines end where it can turn before the zone
-                pieces = pieces.into_iter().filter_map(|p| turnable(p, (first, last), problem)).collect();
-            }
-            for (k, piece) in pieces.into_iter().enumerate() {
-                let legs = match sharpest {
-                    Some(angle) => at_sharp_bends(piece, angle, (if i % 2 == 1 { -d } else { d }, beyond.max(half)), half),
-                    None => vec![piece],
-                };
-                for (m, leg) in legs.into_iter().enumerate() {
-                    out.push((leg, if (k == 0 && i > 0) || m > 0 { Join::Turn } else { Join::Transit }));
+            // a fixed wing's legs (cut at the bends it cannot follow), then what lies outside
+            // the zones
+            let legs = match sharpest {
+                Some(angle) => at_sharp_bends(line, angle, (if i % 2 == 1 { -d } else { d }, beyond.max(half)), half),
+                None => vec![line],
+            };
+            for (m, leg) in legs.into_iter().enumerate() {
+                let (first, last) = (leg[0], leg[leg.len() - 1]);
+                let mut pieces = outside(leg, problem.keep_out);
+                if sharpest.is_none() {
+                    into_the_margin(&mut pieces, (first, last), half, problem);
+                } else {
+                    // a fixed wing's lines end where it can turn clear of the zones
+                    pieces = pieces.into_iter().filter_map(|p| turnable(p, problem)).collect();
+                }
+                for (k, piece) in pieces.into_iter().enumerate() {
+                    out.push((piece, if k == 0 && (i > 0 || m > 0) { Join::Turn } else { Join::Transit }));
                 }
             }
         }
@@ -243,17 +245,13 @@ fn at_sharp_bends(line: Vec<Coord>, angle: f64, (d, run_on): (f64, f64), half: f
     legs
 }
 
-/// `piece` with each end a zone cut pulled back until a fixed wing can turn there
+/// `piece` with each end pulled back until a fixed wing can turn there clear of the zones
 /// ([`crate::route::connect::Connector::turnable`]); `None` when nothing is left.
-fn turnable(mut piece: Vec<Coord>, line_ends: (Coord, Coord), problem: &Problem<'_>) -> Option<Vec<Coord>> {
-    if distance(piece[piece.len() - 1], line_ends.1) > 1e-6 {
-        piece = turnable_end(piece, problem)?;
-    }
-    if distance(piece[0], line_ends.0) > 1e-6 {
-        piece.reverse();
-        piece = turnable_end(piece, problem)?;
-        piece.reverse();
-    }
+fn turnable(piece: Vec<Coord>, problem: &Problem<'_>) -> Option<Vec<Coord>> {
+    let mut piece = turnable_end(piece, problem)?;
+    piece.reverse();
+    let mut piece = turnable_end(piece, problem)?;
+    piece.reverse();
     Some(piece)
 }
 

@@ -174,7 +174,8 @@ pub trait Planner: Send + Sync {
     }
     /// The request members (of `PlanParams`) this planner reads.
     fn parameters(&self) -> Vec<&'static str> {
-        COMMON_PARAMETERS.iter().copied().filter(|&name| (name != "swath_ends" || self.lays_parallel_lines()) && name != OBJECTIVE).collect()
+        let line_members = ["swath_ends", "pattern"];
+        COMMON_PARAMETERS.iter().copied().filter(|&name| (!line_members.contains(&name) || self.lays_parallel_lines()) && name != OBJECTIVE).collect()
     }
 }
 
@@ -273,6 +274,7 @@ pub const COMMON_PARAMETERS: &[&str] = &[
     "headland_width_m",
     "headland_order",
     "swath_ends",
+    "pattern",
     "overlap",
 ];
 

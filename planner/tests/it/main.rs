@@ -8,6 +8,7 @@ mod flown;
 mod inspection;
 mod obstacles;
 mod patrolling;
+mod patterns;
 mod resume;
 mod seed004;
 mod several_fields;

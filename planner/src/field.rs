@@ -474,25 +474,30 @@ fn raw_polygon(rings: &[Vec<geojson::Position>], pointer: &str) -> Result<RawPol
         .enumerate()
         .map(|(r, ring)| {
             let rp = format!("{pointer}/{r}");
-            let positions = ring
-                .iter()
-                .enumerate()
-                .map(|(k, pos)| {
-                    let pp = format!("{rp}/{k}");
-                    let s = pos.as_slice();
-                    if s.len() < 2 {
-                        return Err(InputError::new("invalid_position", pp, "a position needs a longitude and a latitude"));
-                    }
-                    let p = [s[0], s[1]];
-                    check_position(&p, &pp)?;
-                    Ok(p)
-                })
-                .collect::<Result<Vec<_>, _>>()?;
+            let positions = raw_positions(ring, &rp)?;
             check_ring(&positions, &rp)?;
             Ok(RawRing { pointer: rp, positions })
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(RawPolygon { pointer: pointer.to_owned(), rings })
+}
+
+/// GeoJSON positions as `[lon, lat]`, each checked; `pointer` names the array.
+fn raw_positions(positions: &[geojson::Position], pointer: &str) -> Result<Vec<[f64; 2]>, InputError> {
+    positions
+        .iter()
+        .enumerate()
+        .map(|(k, pos)| {
+            let pp = format!("{pointer}/{k}");
+            let s = pos.as_slice();
+            if s.len() < 2 {
+                return Err(InputError::new("invalid_position", pp, "a position needs a longitude and a latitude"));
+            }
+            let p = [s[0], s[1]];
+            check_position(&p, &pp)?;
+            Ok(p)
+        })
+        .collect()
 }
 
 pub fn check_position(p: &[f64; 2], pointer: &str) -> Result<(), InputError> {

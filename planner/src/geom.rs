@@ -35,6 +35,18 @@ pub fn cross(o: Coord, a: Coord, b: Coord) -> f64 {
     (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)
 }
 
+/// Where the lines through segments `a → b` and `c → d` cross, as fractions `(t, u)` along
+/// each (0 at `a` or `c`, 1 at `b` or `d`); `None` for parallel segments.
+pub fn segment_crossing(a: Coord, b: Coord, c: Coord, d: Coord) -> Option<(f64, f64)> {
+    let (r, s) = (b - a, d - c);
+    let denom = r.x * s.y - r.y * s.x;
+    if denom.abs() <= 1e-12 * (r.x.hypot(r.y) * s.x.hypot(s.y)) {
+        return None;
+    }
+    let q = c - a;
+    Some(((q.x * s.y - q.y * s.x) / denom, (q.x * r.y - q.y * r.x) / denom))
+}
+
 /// Signed area of an open ring (no closing point): positive when counter-clockwise.
 ///
 /// ```

@@ -7,7 +7,7 @@ use geo::{Buffer, Coord, LineString, MultiPolygon, Orient, orient::Direction};
 use geojson::GeometryValue;
 use serde_json::Value;
 
-use super::{FieldLimits, check_position};
+use super::{FieldLimits, raw_positions};
 use crate::error::InputError;
 use crate::frame::LocalFrame;
 
@@ -66,20 +66,7 @@ pub(super) fn of_feature(f: &geojson::Feature, pointer: &str) -> Result<Option<V
     }
     let mut out = Vec::with_capacity(lines.len());
     for (coordinates, pointer) in lines {
-        let positions = coordinates
-            .iter()
-            .enumerate()
-            .map(|(k, pos)| {
-                let pp = format!("{pointer}/{k}");
-                let s = pos.as_slice();
-                if s.len() < 2 {
-                    return Err(InputError::new("invalid_position", pp, "a position needs a longitude and a latitude"));
-                }
-                let p = [s[0], s[1]];
-                check_position(&p, &pp)?;
-                Ok(p)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let positions = raw_positions(coordinates, &pointer)?;
         out.push(RawCorridor { pointer, positions, width_m });
     }
     Ok(Some(out))

@@ -1,16 +1,17 @@
 //! Planner `corridor`: a road, river, pipeline or power line flown along its centre line. As
 //! many lines as the width needs run parallel to the centre line (round outside its bends, so
-//! that their swaths cover the bends' outsides), flown back and forth with a turn at each end.
-//! A corridor longer than one battery flies is cut into sections, each flown whole before the
-//! next (an odd number of lines, so that each ends where the next begins), and the battery
-//! stage cuts the flight into sorties at their ends.
+//! that their swaths cover the bends' outsides; a fixed wing's mitred, and cut where they bend
+//! more than it can follow), flown back and forth with a turn at each end. A corridor longer
+//! than one battery flies is cut into sections, each flown whole before the next (an odd
+//! number of lines, so that each ends where the next begins), and the battery stage cuts the
+//! flight into sorties at their ends.
 
 use geo::{BoundingRect, Contains, Coord, Intersects, MultiPolygon, Polygon, Rect};
 
 use super::{PlannedPath, Planner, Problem, Progress};
 use crate::error::{InputError, PlanError};
 use crate::field::Corridor;
-use crate::geom::{distance, polyline_length};
+use crate::geom::{distance, polyline_length, segment_crossing};
 use crate::path::{FlightPath, PieceKind};
 use crate::sweep::offset::{Outside, offset};
 use crate::turn::TurnModel;
@@ -111,7 +112,8 @@ impl Planner for CorridorPlanner {
 /// How a pass is joined to what was flown before it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Join {
-    /// From the line beside it at the same end of a section.
+    /// From the line beside it at a section's end, or (a fixed wing) from the leg before a
+    /// bend it turns at on its own.
     Turn,
     /// Across a no-fly zone, or from another corridor.
     Transit,
@@ -377,7 +379,10 @@ fn outside(line: Vec<Coord>, zones: &MultiPolygon) -> Vec<Vec<Coord>> {
             }
             for ring in std::iter::once(z.exterior()).chain(z.interiors()) {
                 for e in ring.0.windows(2) {
-                    if let Some(t) = segment_cut(a, b, e[0], e[1]) {
+                    if let Some((t, u)) = segment_crossing(a, b, e[0], e[1])
+                        && (0.0..=1.0).contains(&t)
+                        && (0.0..=1.0).contains(&u)
+                    {
                         cuts.push(t);
                     }
                 }
@@ -407,19 +412,6 @@ fn outside(line: Vec<Coord>, zones: &MultiPolygon) -> Vec<Vec<Coord>> {
     }
     pieces.retain(|p| polyline_length(p) >= SHORTEST_PIECE_M);
     pieces
-}
-
-/// Where along `a → b` (0 to 1) the segment `c → d` crosses it.
-fn segment_cut(a: Coord, b: Coord, c: Coord, d: Coord) -> Option<f64> {
-    let (r, s) = (b - a, d - c);
-    let denom = r.x * s.y - r.y * s.x;
-    if denom == 0.0 {
-        return None;
-    }
-    let q = c - a;
-    let t = (q.x * s.y - q.y * s.x) / denom;
-    let u = (q.x * r.y - q.y * r.x) / denom;
-    ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then_some(t)
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@
 
 use geo::Coord;
 
-use crate::geom::distance;
+use crate::geom::{distance, segment_crossing};
 
 /// Angle between the points of an outside bend's arc (radians): 5°.
 const ARC_STEP_RAD: f64 = 0.087;
@@ -104,21 +104,21 @@ fn without_folds(raw: Vec<(Coord, f64, f64)>, d: f64, half: f64) -> Vec<Coord> {
         let limit = raw[i + 1].1 + reach;
         // the first later segment that crosses: the bend's own fold, not one the corridor
         // makes where it curls back near itself
-        let mut cut: Option<(usize, f64, Coord)> = None;
+        let mut cut: Option<(usize, Coord)> = None;
         let mut j = i + 2;
         while j + 1 < raw.len() && raw[j].1 <= limit {
             // a fold lies where the centre line has turned towards the offset's side; where it
             // turned away, the line comes back near itself only where the corridor does, and
             // both stretches are flown
             let folds = (raw[j].2 - raw[i].2) * d > 0.0;
-            if folds && let Some((t, x)) = crossing(a, b, raw[j].0, raw[j + 1].0) {
-                cut = Some((j, t, x));
+            if folds && let Some(x) = crossing(a, b, raw[j].0, raw[j + 1].0) {
+                cut = Some((j, x));
                 break;
             }
             j += 1;
         }
         match cut {
-            Some((j, _, x)) => {
+            Some((j, x)) => {
                 // on past the crossing until the swath meets the neighbour line's (half over
                 // the tangent of half the corner's inner angle), then back onto the next segment
                 let (ui, uj) = (unit(a, b), unit(raw[j].0, raw[j + 1].0));
@@ -147,19 +147,11 @@ fn without_folds(raw: Vec<(Coord, f64, f64)>, d: f64, half: f64) -> Vec<Coord> {
     out
 }
 
-/// The crossing of segments `a → b` and `c → e`, ends excluded: how far along `a → b` (0 to
-/// 1), and where.
-fn crossing(a: Coord, b: Coord, c: Coord, e: Coord) -> Option<(f64, Coord)> {
-    let (r, s) = (b - a, e - c);
-    let denom = r.x * s.y - r.y * s.x;
-    if denom.abs() < 1e-12 * (r.x.hypot(r.y) * s.x.hypot(s.y)).max(1e-300) {
-        return None;
-    }
-    let q = c - a;
-    let t = (q.x * s.y - q.y * s.x) / denom;
-    let u = (q.x * r.y - q.y * r.x) / denom;
+/// Where segments `a → b` and `c → e` cross, ends excluded.
+fn crossing(a: Coord, b: Coord, c: Coord, e: Coord) -> Option<Coord> {
+    let (t, u) = segment_crossing(a, b, c, e)?;
     let inside = |v: f64| v > 1e-9 && v < 1.0 - 1e-9;
-    (inside(t) && inside(u)).then(|| (t, a + r * t))
+    (inside(t) && inside(u)).then(|| a + (b - a) * t)
 }
 
 #[cfg(test)]

@@ -35,6 +35,17 @@ pub fn cross(o: Coord, a: Coord, b: Coord) -> f64 {
     (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x)
 }
 
+/// The unit vector from `a` towards `b` (distinct points).
+pub fn unit(a: Coord, b: Coord) -> Coord {
+    let len = distance(a, b);
+    Coord { x: (b.x - a.x) / len, y: (b.y - a.y) / len }
+}
+
+/// The direction from `a` to `b`, math radians.
+pub fn heading(a: Coord, b: Coord) -> f64 {
+    (b.y - a.y).atan2(b.x - a.x)
+}
+
 /// Where the lines through segments `a → b` and `c → d` cross, as fractions `(t, u)` along
 /// each (0 at `a` or `c`, 1 at `b` or `d`); `None` for parallel segments.
 pub fn segment_crossing(a: Coord, b: Coord, c: Coord, d: Coord) -> Option<(f64, f64)> {

@@ -15,6 +15,7 @@ use geo::Coord;
 use serde::{Deserialize, Serialize};
 
 use super::error::PlanError;
+use super::geom::heading;
 use super::path::{FlightPath, Piece, PieceKind};
 use super::turn::dubins::Pose;
 
@@ -50,10 +51,6 @@ pub struct Budget<'a> {
     pub connect: &'a dyn Fn(Pose, Pose) -> Option<Vec<Coord>>,
     /// Energy of a whole sortie, take-off and landing included.
     pub energy: &'a dyn Fn(&FlightPath) -> f64,
-}
-
-fn heading(a: Coord, b: Coord) -> f64 {
-    (b.y - a.y).atan2(b.x - a.x)
 }
 
 /// The route as it will be flown.

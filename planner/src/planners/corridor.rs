@@ -11,7 +11,7 @@ use geo::{BoundingRect, Contains, Coord, Intersects, MultiPolygon, Polygon, Rect
 use super::{PlannedPath, Planner, Problem, Progress};
 use crate::error::{InputError, PlanError};
 use crate::field::Corridor;
-use crate::geom::{distance, polyline_length, segment_crossing};
+use crate::geom::{distance, heading, polyline_length, segment_crossing, unit};
 use crate::path::{FlightPath, PieceKind};
 use crate::sweep::offset::{Outside, offset};
 use crate::turn::TurnModel;
@@ -117,10 +117,6 @@ enum Join {
     Turn,
     /// Across a no-fly zone, or from another corridor.
     Transit,
-}
-
-fn heading(a: Coord, b: Coord) -> f64 {
-    (b.y - a.y).atan2(b.x - a.x)
 }
 
 fn no_way(from: &str, to: &str) -> PlanError {
@@ -326,11 +322,6 @@ fn sweep_energy_per_m(problem: &Problem<'_>) -> f64 {
         model.estimate(&p, None).energy_j()
     };
     (straight(2_000.0) - straight(1_000.0)) / 1_000.0
-}
-
-fn unit(from: Coord, to: Coord) -> Coord {
-    let d = distance(from, to);
-    Coord { x: (to.x - from.x) / d, y: (to.y - from.y) / d }
 }
 
 /// The part of `line` between distances `from` and `to` along it.

@@ -6,7 +6,7 @@
 
 use geo::Coord;
 
-use crate::geom::{distance, segment_crossing};
+use crate::geom::{distance, segment_crossing, unit};
 
 /// Angle between the points of an outside bend's arc (radians): 5°.
 const ARC_STEP_RAD: f64 = 0.087;
@@ -76,11 +76,6 @@ pub fn offset(line: &[Coord], d: f64, half: f64, outside: Outside) -> Vec<Coord>
     station += distance(line[line.len() - 2], line[line.len() - 1]);
     raw.push((*line.last().expect("two points") + *normals.last().expect("a segment") * d, station, turned));
     without_folds(raw, d, half)
-}
-
-fn unit(a: Coord, b: Coord) -> Coord {
-    let len = distance(a, b);
-    Coord { x: (b.x - a.x) / len, y: (b.y - a.y) / len }
 }
 
 fn left_normal(a: Coord, b: Coord) -> Coord {

@@ -42,6 +42,18 @@ HEAD
   section "Over terrain" --terrain --repeats 3
   section "Resuming a plan" --resume
   section "Corridors 220 km long" --corridor --repeats 3
+  printf '## Oblique plans\n\n'
+  cat <<'OBLIQUE'
+Pattern `oblique` against the nadir grid alone. MAVLink PR #1508 flew one pass with the camera
+rolled left and right between shots (pseudo-oblique: three views a position, lines further apart);
+its field and camera are not published, so its row gives its own figures and ratios, not a plan of
+ours. Five full passes (the nadir grid and one per look direction) cost 4.5 to 7.4 times the
+nadir grid's length; each oblique pass sees every point of the area from its direction, which one
+pass with a rolled camera does only across the track.
+
+OBLIQUE
+  "$bin" bench --oblique --markdown
+  printf '\n'
   printf '## Wind\n\n'
   cat <<'WIND'
 Plans made for a wind against the plan made as in still air, flown in the same wind. Four fields

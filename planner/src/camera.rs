@@ -93,6 +93,75 @@ impl CameraPlan {
     }
 }
 
+/// What a camera pitched below the horizon images of flat ground `h` below it
+/// (docs/methods.md, camera §8): a trapezoid ahead of the vehicle, narrow at its near edge and
+/// wide at its far one. Distances are along the look direction, from the point under the camera.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObliqueView {
+    /// The gimbal's pitch, as gimbals say it (−90 straight down).
+    pub gimbal_pitch_deg: f64,
+    /// Where the image centre meets the ground: h / tan(pitch).
+    pub centre_m: f64,
+    pub near_m: f64,
+    pub far_m: f64,
+    pub near_width_m: f64,
+    pub far_width_m: f64,
+    /// The overlaps asked for, as the shares of a footprint neighbouring lines and photos
+    /// step: 1 − side overlap, 1 − front overlap.
+    pub line_step: f64,
+    pub photo_step: f64,
+}
+
+/// Least angle between the top of an oblique image and the horizon: beyond it the far edge
+/// runs off towards the horizon.
+pub const OBLIQUE_HORIZON_MARGIN_DEG: f64 = 5.0;
+
+impl CameraPlan {
+    /// The view with the gimbal at `gimbal_pitch_deg` (−90 < pitch < 0); `Err` with the
+    /// steepest pitch whose image stays [`OBLIQUE_HORIZON_MARGIN_DEG`] below the horizon.
+    pub fn oblique(&self, gimbal_pitch_deg: f64) -> Result<ObliqueView, f64> {
+        let h = self.altitude_m;
+        let pitch = (-gimbal_pitch_deg).to_radians();
+        let (tan_a, tan_b) = (self.footprint_across_m / (2.0 * h), self.footprint_along_m / (2.0 * h));
+        let half_v = tan_b.atan();
+        if pitch - half_v < OBLIQUE_HORIZON_MARGIN_DEG.to_radians() {
+            return Err(-(half_v.to_degrees() + OBLIQUE_HORIZON_MARGIN_DEG));
+        }
+        let (s, c) = pitch.sin_cos();
+        Ok(ObliqueView {
+            gimbal_pitch_deg,
+            centre_m: h / pitch.tan(),
+            near_m: h / (pitch + half_v).tan(),
+            far_m: h / (pitch - half_v).tan(),
+            near_width_m: 2.0 * h * tan_a / (s + tan_b * c),
+            far_width_m: 2.0 * h * tan_a / (s - tan_b * c),
+            line_step: self.line_spacing_m / self.footprint_across_m,
+            photo_step: self.photo_spacing_m / self.footprint_along_m,
+        })
+    }
+}
+
+impl ObliqueView {
+    /// The ground one photo images, taken at `at` facing `heading` (math radians): near left,
+    /// near right, far right, far left.
+    pub fn trapezoid(&self, at: geo::Coord, heading: f64) -> [geo::Coord; 4] {
+        let (s, c) = heading.sin_cos();
+        let point = |ahead: f64, left: f64| geo::Coord { x: at.x + c * ahead - s * left, y: at.y + s * ahead + c * left };
+        let (n, f) = (self.near_width_m / 2.0, self.far_width_m / 2.0);
+        [point(self.near_m, n), point(self.near_m, -n), point(self.far_m, -f), point(self.far_m, f)]
+    }
+
+    /// The rectangle centred on the image centre that the trapezoid holds: as deep as twice
+    /// the near edge's distance to the centre, as wide as the near edge. Laid as a footprint
+    /// on lines the camera looks along (`across_lines` false) or across: the lines' spacing
+    /// and the photos' step follow the overlaps asked for.
+    pub fn footprint(&self, across_lines: bool) -> Footprint {
+        let (depth, width) = (2.0 * (self.centre_m - self.near_m), self.near_width_m);
+        let (across_m, along_m) = if across_lines { (depth, width) } else { (width, depth) };
+        Footprint { across_m, along_m, photo_spacing_m: along_m * self.photo_step }
+    }
+}
+
 /// Horizontal field of view from a diagonal one, for an image of `w` × `h` pixels.
 pub fn hfov_from_dfov(dfov_deg: f64, w: f64, h: f64) -> f64 {
     2.0 * ((dfov_deg.to_radians() / 2.0).tan() * w / w.hypot(h)).atan().to_degrees()

@@ -24,7 +24,7 @@ use super::turn::trochoid::Drift;
 use super::turn::{self, TurnModel};
 use super::vehicle::VehicleKind;
 use super::wind::{Tariff, Wind};
-use super::{fleet, params, sortie, sweep, vehicle};
+use super::{fleet, params, pattern, sortie, sweep, vehicle};
 
 /// Everything a planner needs, validated and in the local frame.
 pub(crate) struct Prepared {
@@ -131,36 +131,6 @@ pub(crate) struct Terrain<'a> {
     pub settings: profile::Settings,
 }
 
-/// A double grid: `first_set`'s plan left where it ends, then the area planned again with
-/// lines across it (at 90°) from there, to the problem's end.
-fn double_grid(
-    planner: &dyn planners::Planner,
-    problem: &Problem<'_>,
-    first_set: &dyn Fn(&Problem<'_>) -> Result<planners::PlannedPath, PlanError>,
-    progress: &dyn Progress,
-) -> Result<planners::PlannedPath, PlanError> {
-    let mut first = first_set(&Problem { end: None, end_heading: None, ..*problem })?;
-    let Some(last) = first.path.pieces.last() else { return Ok(first) };
-    let [.., a, end] = last.points[..] else { return Ok(first) };
-    let heading = (end.y - a.y).atan2(end.x - a.x);
-    let across = (first.sweep_angle + std::f64::consts::FRAC_PI_2).rem_euclid(std::f64::consts::PI);
-    let second = planner.plan(&Problem { sweep_angle: Some(across), start: Some(end), start_heading: Some(heading), ..*problem }, progress)?;
-    if let Some(piece) = second.path.pieces.first().filter(|p| p.start() != end) {
-        let [s, t, ..] = piece.points[..] else { unreachable!("a piece has two points") };
-        let to = turn::dubins::Pose::at(s, (t.y - s.y).atan2(t.x - s.x));
-        let points = problem
-            .connector
-            .path(turn::dubins::Pose::at(end, heading), to)
-            .ok_or_else(|| PlanError::Infeasible("no clear way joins the double grid's first set of lines to its second".into()))?;
-        first.path.push(PieceKind::Transit, points, 0.0);
-    }
-    first.path.pieces.extend(second.path.pieces);
-    first.cells += second.cells;
-    (first.swept, first.optimality) = (None, None);
-    first.alternatives.clear();
-    Ok(first)
-}
-
 /// What every vehicle's flight shares.
 pub(crate) struct Stages<'a> {
     pub prepared: &'a Prepared,
@@ -181,12 +151,13 @@ impl Stages<'_> {
             |problem: &Problem<'_>| if resolved.optimal_direction { plan_every_direction(planner, problem, progress, &by_length) } else { planner.plan(problem, progress) };
         let plan = |problem: &Problem<'_>| match resolved.pattern {
             Pattern::Grid => one_set(problem),
-            Pattern::DoubleGrid => double_grid(planner, problem, &one_set, progress),
+            Pattern::DoubleGrid => pattern::double_grid(planner, problem, &one_set, progress),
+            Pattern::Oblique => pattern::oblique(planner, problem, &one_set, resolved.oblique.as_ref().expect("an oblique plan's view"), progress),
         };
         let still_air = self.fly_route(vehicle, ends, region, part, &plan);
         let wind = resolved.wind.filter(|w| w.speed_mps > 0.0 && resolved.objective != Objective::Length);
         match (wind, resolved.sweep_angle, part) {
-            // (a double grid's directions are both fixed by its first set)
+            // (a pattern's directions are all fixed by its first set)
             (Some(wind), None, None) if resolved.pattern == Pattern::Grid => self.fly_in_wind(vehicle, ends, region, still_air, wind),
             _ => still_air,
         }

@@ -22,6 +22,7 @@
 //! - `sortie`: splitting a plan that needs several batteries;
 //! - [`metrics`]: one measure of every plan, and the rule that chooses among plans;
 //! - [`planners`]: each composes the stages into a method; its registry lists every planner;
+//! - `pattern`: the area flown again in further passes (a double grid, obliques);
 //! - `fleet`: one area flown by several drones at once (bands per drone sized so that they land
 //!   together, and the check that no two come too close at the same time);
 //! - [`patrol`]: several UAVs revisiting the cells of a grid over the area (NC-Drone and the
@@ -59,6 +60,7 @@ pub mod metrics;
 pub mod params;
 pub mod path;
 pub mod patrol;
+mod pattern;
 pub mod planners;
 mod report;
 mod resume;
@@ -134,15 +136,19 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
             format!("a fleet's parts are planned with {}: their lines follow the bands the field is cut into", fleet_planners.join(", ")),
         ));
     }
-    if resolved.pattern == params::Pattern::DoubleGrid {
+    if resolved.pattern != params::Pattern::Grid {
         if !planner.lays_parallel_lines() {
-            return Err(InputError::new("not_for_planner", "/pattern", format!("planner {} flies no parallel lines, so no grid across them", planner.id())));
+            return Err(InputError::new("not_for_planner", "/pattern", format!("planner {} flies no parallel lines, which the pattern repeats", planner.id())));
         }
         if resolved.headland.is_some() {
             return Err(InputError::new("not_for_ground_vehicles", "/pattern", "a ground vehicle works its field once: leave out pattern"));
         }
         if !resolved.fleet.is_empty() {
-            return Err(InputError::new("pattern_not_for_fleets", "/pattern", "a fleet's drones fly bands side by side: a grid across them would cross the other drones' bands"));
+            return Err(InputError::new(
+                "pattern_not_for_fleets",
+                "/pattern",
+                "a fleet's drones fly bands side by side: the pattern's other passes would cross the other drones' bands",
+            ));
         }
     }
     if params.swath_ends.is_some() && !planner.lays_parallel_lines() {

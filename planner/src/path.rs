@@ -32,6 +32,28 @@ pub struct Piece {
     pub shape: Option<TurnShape>,
     /// A ground vehicle's swath left as a tramline (controlled traffic).
     pub tramline: bool,
+    /// The camera's pose on a pass of an oblique plan; `None`: pointed down, facing the way
+    /// the vehicle flies.
+    pub look: Option<Look>,
+}
+
+/// Where the camera points on one pass of an oblique plan, and what its photos image there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Look {
+    /// 1 for the nadir pass, 2 to 5 for the oblique ones.
+    pub pass: usize,
+    /// As a gimbal says it: 0 level, −90 straight down.
+    pub gimbal_pitch_deg: f64,
+    /// The direction the camera faces (math radians), held however the lines are flown;
+    /// `None`: the way the vehicle flies.
+    pub heading: Option<f64>,
+    /// Where the image centre lies on the ground, from the point under the vehicle.
+    pub centre_offset: Coord,
+    /// The ground a photo surely images (a rectangle round its centre): across the line and
+    /// along it; and the largest step between photos along the line.
+    pub across_m: f64,
+    pub along_m: f64,
+    pub photo_spacing_m: f64,
 }
 
 /// The shape of a ground vehicle's turn at the end of a swath.
@@ -91,7 +113,7 @@ impl FlightPath {
         if let Some(last) = self.pieces.last() {
             debug_assert_eq!(last.end(), points[0], "pieces must join exactly");
         }
-        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false });
+        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false, look: None });
     }
 
     /// Appends a ground vehicle's turn of `shape`.

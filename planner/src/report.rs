@@ -62,7 +62,6 @@ pub(crate) fn finish(prepared: &Prepared, flights: &[Option<Flight>], fleet: Opt
     if terrain {
         compose::report_terrain(&flown, &mut stats);
     }
-    let photo_points = photos.as_deref().map(metrics::photo_points);
     let vehicle_flights: Vec<export::geojson::VehicleFlight<'_>> = flights
         .iter()
         .enumerate()
@@ -76,7 +75,7 @@ pub(crate) fn finish(prepared: &Prepared, flights: &[Option<Flight>], fleet: Opt
             laid: &f.laid,
         })
         .collect();
-    let marks = export::geojson::Marks { photos: photo_points.as_deref(), uncovered: &uncovered };
+    let marks = export::geojson::Marks { photos: photos.as_deref(), uncovered: &uncovered };
     let trajectory = export::geojson::feature_collection(&field.frame, &vehicle_flights, resolved.altitude_m, &marks);
     for (k, f) in flights.iter().enumerate() {
         let Some(f) = f else { continue };

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use super::{Options, corridor, energy, fleet, ground, inspection, patrol, queue, resume, routing, run, terrain, wind};
+use super::{Options, corridor, energy, fleet, ground, inspection, oblique, patrol, queue, resume, routing, run, terrain, wind};
 
 /// Time the planners on the generated fields and print a table.
 #[derive(clap::Args)]
@@ -75,6 +75,10 @@ pub struct BenchArgs {
     /// multirotor and fixed wing, one row per seed (`--repeats` seeds).
     #[arg(long)]
     pub corridor: bool,
+    /// Instead: pattern `oblique` against the nadir grid on a square field and the generated
+    /// fields: length, photos, each pass's share imaged (beside MAVLink PR #1508's figures).
+    #[arg(long)]
+    pub oblique: bool,
     /// Instead: the shared job queue on the PostgreSQL server at this admin URL
     /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
     /// the time of one claim at 10 000 queued plans.
@@ -112,6 +116,7 @@ fn table(args: BenchArgs) -> anyhow::Result<String> {
         BenchArgs { resume: true, data, fields, .. } => resume::run(&data, &fields)?,
         BenchArgs { wind: true, data, fields, .. } => wind::run(&data, &fields)?,
         BenchArgs { corridor: true, repeats, .. } => corridor::run(repeats.max(1))?,
+        BenchArgs { oblique: true, data, fields, .. } => oblique::run(&data, &fields)?,
         BenchArgs { terrain: true, repeats, .. } => terrain::run(std::path::Path::new("tests/fixtures/terrain"), repeats)?,
         BenchArgs { data, planner, repeats, vehicle, spacing, fields, ends, fields2cover, every_seed, overfly_holes, .. } => {
             let options = Options {

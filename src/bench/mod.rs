@@ -1,9 +1,9 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
 //! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground`, `--inspection`, `--terrain`,
-//! `--resume`, `--wind`, `--corridor` and `--queue` run the routing, energy, patrolling, fleet,
-//! ground-vehicle, inspection, terrain, resume, wind, corridor and shared-queue benchmarks
-//! instead.
+//! `--resume`, `--wind`, `--corridor`, `--oblique` and `--queue` run the routing, energy,
+//! patrolling, fleet, ground-vehicle, inspection, terrain, resume, wind, corridor, oblique and
+//! shared-queue benchmarks instead.
 
 mod command;
 pub mod corridor;
@@ -12,6 +12,7 @@ mod fields2cover;
 pub mod fleet;
 pub mod ground;
 pub mod inspection;
+pub mod oblique;
 pub mod patrol;
 pub mod queue;
 pub mod resume;

@@ -8,6 +8,11 @@ DIR/manifest.json (written by tests/it/db/interop.rs) lists the files and what e
 "photos" (the plan's photo count, when its sweeps are straight lines) is checked against the
 photos an autopilot triggering by distance takes along the MAVLink files; their extra waypoints
 where a line's photos start and stop must lie on the planned lines.
+An oblique plan adds "passes" ([{"pitch", "heading"}] in flight order; heading a compass bearing,
+null on the nadir pass): the MAVLink files pitch the gimbal once a pass
+(MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW) and hold each oblique pass's heading (ArduPilot:
+MAV_CMD_CONDITION_YAW), the WPML file turns and pitches with rotateYaw and gimbalRotate, and the
+GeoJSON photos name their pass, pitch and heading.
 A plan over terrain adds "frame" (the MAVLink frame of positions: 0 above mean sea level, 10 above
 the ground), "heights" (each waypoint's altitude in that frame) and "home_alt" (the ground at home,
 above mean sea level).
@@ -36,6 +41,9 @@ NAV_WAYPOINT = mavutil.mavlink.MAV_CMD_NAV_WAYPOINT
 NAV_TAKEOFF = mavutil.mavlink.MAV_CMD_NAV_TAKEOFF
 ENDS = {mavutil.mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, mavutil.mavlink.MAV_CMD_NAV_LAND}
 CAM_TRIGG_DIST = mavutil.mavlink.MAV_CMD_DO_SET_CAM_TRIGG_DIST
+GIMBAL_PITCHYAW = mavutil.mavlink.MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW
+CONDITION_YAW = mavutil.mavlink.MAV_CMD_CONDITION_YAW
+ANGLE_TOLERANCE_DEG = 0.01
 WPML = "{http://www.dji.com/wpmz/1.0.6}"
 KML = "{http://www.opengis.net/kml/2.2}"
 
@@ -160,6 +168,26 @@ def check_waypoints(path, spec):
     # a line's camera starts with "trigger now" (a line of one photo: a distance of 0)
     starts = sum(1 for i in items if i.command == CAM_TRIGG_DIST and (i.param1 > 0 or i.param3 == 1))
     assert starts == spec["photo_lines"], f"camera started {starts} times, expected {spec['photo_lines']}"
+    check_camera_poses([(i.command, i.param1, i.param4) for i in items], spec, path.name)
+
+
+def same_angles(found, expected, what):
+    assert len(found) == len(expected), f"{what}: {found}, expected {expected}"
+    for f, e in zip(found, expected):
+        assert abs((f - e + 180) % 360 - 180) <= ANGLE_TOLERANCE_DEG, f"{what}: {found}, expected {expected}"
+
+
+def check_camera_poses(items, spec, what):
+    """items: (command, param1, param4) in order. One gimbal pitch a pass, in order; every oblique
+    pass's heading held (ArduPilot's CONDITION_YAW after its waypoints)."""
+    if "passes" not in spec:
+        return
+    same_angles([p1 for c, p1, _ in items if c == GIMBAL_PITCHYAW], [p["pitch"] for p in spec["passes"]], f"{what}: gimbal pitches")
+    held = []
+    for c, p1, _ in items:
+        if c == CONDITION_YAW and (not held or abs(held[-1] - p1) > ANGLE_TOLERANCE_DEG):
+            held.append(p1)
+    same_angles(held, [p["heading"] for p in spec["passes"] if p["heading"] is not None], f"{what}: headings held")
 
 
 def ring_area(points):
@@ -181,6 +209,7 @@ def check_plan(path, spec):
     if "photos" in spec:
         taken = autopilot_photos([(i["command"], i["params"][0], i["params"][2], i["params"][4], i["params"][5]) for i in items])
         photos_agree(len(taken), spec, path.name)
+    check_camera_poses([(i["command"], i["params"][0], i["params"][3]) for i in items], spec, path.name)
     if "home_alt" in spec:
         assert abs(plan["mission"]["plannedHomePosition"][2] - spec["home_alt"]) <= TOLERANCE_M, "home on the ground"
     fences = plan["geoFence"]["polygons"]
@@ -243,6 +272,11 @@ def check_geojson(path, spec):
     assert len(flown) == spec["pieces"], f"{len(flown)} flown pieces, expected {spec['pieces']}"
     assert all(f["geometry"]["type"] == "LineString" for f in flown)
     assert [f["properties"]["seq"] for f in flown] == sorted(f["properties"]["seq"] for f in flown), "pieces in flight order"
+    if "passes" in spec:
+        photos = [f["properties"] for f in collection["features"] if f["properties"].get("kind") == "photos"]
+        assert [p["pass"] for p in photos] == list(range(1, len(spec["passes"]) + 1)), "one MultiPoint of photos a pass"
+        same_angles([p["gimbal_pitch_deg"] for p in photos], [p["pitch"] for p in spec["passes"]], "photos' gimbal pitch")
+        assert [p.get("camera_heading_deg") is None for p in photos] == [p["heading"] is None for p in spec["passes"]]
 
 
 def check_wpml(path, spec):
@@ -266,8 +300,14 @@ def check_wpml(path, spec):
     same_heights(heights, spec, path.name, spec.get("home_alt", 0.0), planned=planned)
     # a photo at the group's first waypoint and one every step until its last (DJI's
     # multipleDistance), at most one group a line
-    groups = waylines.findall(f".//{WPML}actionGroup")
+    groups = [g for g in waylines.findall(f".//{WPML}actionGroup") if g.find(f".//{WPML}actionTriggerType").text == "multipleDistance"]
     assert 0 < len(groups) <= spec["photo_lines"], f"{len(groups)} photo groups for {spec['photo_lines']} lines"
+    if "passes" in spec:
+        params = lambda func: [a.find(f"{WPML}actionActuatorFuncParam") for a in waylines.iter(f"{WPML}action") if a.find(f"{WPML}actionActuatorFunc").text == func]
+        pitches = [float(p.find(f"{WPML}gimbalPitchRotateAngle").text) for p in params("gimbalRotate")]
+        same_angles(pitches, [p["pitch"] for p in spec["passes"]], f"{path.name}: gimbalRotate")
+        turns = [float(p.find(f"{WPML}aircraftHeading").text) for p in params("rotateYaw")]
+        same_angles(turns, [p["heading"] for p in spec["passes"] if p["heading"] is not None], f"{path.name}: rotateYaw")
     if "photos" in spec:
         taken = 0
         for g in groups:

@@ -18,6 +18,17 @@ pub struct FlownPiece {
     pub ground_m: Option<Vec<f64>>,
     /// A ground plan's swath left as a tramline.
     pub tramline: bool,
+    /// On a pass of an oblique plan, where the camera points.
+    pub camera: Option<CameraPose>,
+}
+
+/// The camera on a pass of an oblique plan.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraPose {
+    pub pass: usize,
+    pub gimbal_pitch_deg: f64,
+    /// Compass bearing the vehicle faces on the pass; `None`: the way it flies.
+    pub heading_deg: Option<f64>,
 }
 
 /// What the camera does at an inspection's viewpoint.
@@ -36,8 +47,26 @@ pub struct ViewAction {
 pub struct Flight {
     pub sorties: Vec<Vec<FlownPiece>>,
     pub views: Vec<ViewAction>,
-    /// `[lon, lat]` of every photo (the MultiPoints of kind `photos`).
-    pub photos: Vec<[f64; 2]>,
+    /// Every photo (the MultiPoints of kind `photos`).
+    pub photos: Vec<PlanPhoto>,
+}
+
+/// A photo of the plan: `[lon, lat]`, and the pass of an oblique plan it is taken on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanPhoto {
+    pub at: [f64; 2],
+    pub pass: Option<usize>,
+}
+
+/// The photos of each pass (`None`: a plan without passes), indexed for looking up those near
+/// a line: a line's camera takes the photos of its own pass only (two passes' lines may lie on
+/// one another).
+pub fn photos_by_pass(photos: &[PlanPhoto]) -> std::collections::BTreeMap<Option<usize>, rstar::RTree<[f64; 2]>> {
+    let mut passes: std::collections::BTreeMap<Option<usize>, Vec<[f64; 2]>> = std::collections::BTreeMap::new();
+    for photo in photos {
+        passes.entry(photo.pass).or_default().push(photo.at);
+    }
+    passes.into_iter().map(|(pass, at)| (pass, rstar::RTree::bulk_load(at))).collect()
 }
 
 impl Flight {
@@ -61,7 +90,8 @@ impl Flight {
             }
             if property("kind").and_then(Value::as_str) == Some("photos") {
                 if let Some(GeometryValue::MultiPoint { coordinates }) = feature.geometry.as_ref().map(|g| &g.value) {
-                    photos.extend(coordinates.iter().filter(|p| p.len() >= 2).map(|p| [p[0], p[1]]));
+                    let pass = property("pass").and_then(Value::as_u64).map(|p| p as usize);
+                    photos.extend(coordinates.iter().filter(|p| p.len() >= 2).map(|p| PlanPhoto { at: [p[0], p[1]], pass }));
                 }
                 continue;
             }
@@ -93,7 +123,11 @@ impl Flight {
                 _ => None,
             };
             let tramline = property("tramline").and_then(Value::as_bool).unwrap_or(false);
-            sorties[sortie - 1].push(FlownPiece { kind, points, speed_mps, ground_m, tramline });
+            let camera = match (property("pass").and_then(Value::as_u64), number("gimbal_pitch_deg")) {
+                (Some(pass), Some(gimbal_pitch_deg)) => Some(CameraPose { pass: pass as usize, gimbal_pitch_deg, heading_deg: number("camera_heading_deg") }),
+                _ => None,
+            };
+            sorties[sortie - 1].push(FlownPiece { kind, points, speed_mps, ground_m, tramline, camera });
         }
         sorties.retain(|s| !s.is_empty());
         if sorties.is_empty() {
@@ -221,7 +255,7 @@ mod tests {
     }
 
     fn turn(points: Vec<[f64; 3]>) -> FlownPiece {
-        FlownPiece { kind: PieceKind::Turn, points, speed_mps: 15.0, ground_m: None, tramline: false }
+        FlownPiece { kind: PieceKind::Turn, points, speed_mps: 15.0, ground_m: None, tramline: false, camera: None }
     }
 
     /// A half circle sampled every 5°, then a straight: two corners of the square round it,
@@ -257,8 +291,8 @@ mod tests {
 
     #[test]
     fn shared_ends_appear_once() {
-        let a = FlownPiece { kind: PieceKind::Sweep, points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]], speed_mps: 5.0, ground_m: None, tramline: false };
-        let b = FlownPiece { kind: PieceKind::Turn, points: vec![[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]], speed_mps: 5.0, ground_m: None, tramline: false };
+        let a = FlownPiece { kind: PieceKind::Sweep, points: vec![[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]], speed_mps: 5.0, ground_m: None, tramline: false, camera: None };
+        let b = FlownPiece { kind: PieceKind::Turn, points: vec![[1.0, 0.0, 1.0], [1.0, 1.0, 1.0]], speed_mps: 5.0, ground_m: None, tramline: false, camera: None };
         let w = waypoints(&[a, b], None);
         assert_eq!(w.iter().map(|w| w.piece).collect::<Vec<_>>(), vec![0, 0, 1]);
     }

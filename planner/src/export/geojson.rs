@@ -10,7 +10,9 @@ use crate::energy::PathEstimate;
 use crate::error::InputError;
 use crate::frame::LocalFrame;
 use crate::inspection::InspectionPlan;
-use crate::path::FlightPath;
+use crate::metrics::Photo;
+use crate::params::math_to_bearing;
+use crate::path::{FlightPath, Look};
 
 fn round(v: f64, decimals: i32) -> f64 {
     let f = 10f64.powi(decimals);
@@ -57,7 +59,7 @@ pub struct VehicleFlight<'a> {
 
 /// What the trajectory shows besides the flown pieces.
 pub struct Marks<'a> {
-    pub photos: Option<&'a [Coord]>,
+    pub photos: Option<&'a [Photo]>,
     /// The part of the field (outside the no-fly zones) no swath covers.
     pub uncovered: &'a MultiPolygon,
 }
@@ -77,8 +79,7 @@ pub fn feature_collection(frame: &LocalFrame, flights: &[VehicleFlight<'_>], alt
     if let Some(photos) = photos {
         // over terrain the photos' heights differ from point to point: they are given in 2D
         let photo_altitude = if flights.iter().any(|f| !f.laid.is_empty()) { None } else { altitude_m };
-        let coords = photos.iter().map(|&c| position(frame, c, photo_altitude)).collect();
-        features.push(feature(GeometryValue::MultiPoint { coordinates: coords }, json!({"kind": "photos", "count": photos.len()})));
+        features.extend(photo_features(frame, photos, photo_altitude));
     }
     if !uncovered.0.is_empty() {
         let ring = |r: &geo::LineString| r.coords().map(|&c| position(frame, c, None)).collect::<Vec<_>>();
@@ -87,6 +88,37 @@ pub fn feature_collection(frame: &LocalFrame, flights: &[VehicleFlight<'_>], alt
         features.push(feature(GeometryValue::MultiPolygon { coordinates }, json!({"kind": "uncovered", "area_m2": round(area, 1)})));
     }
     FeatureCollection { bbox: None, features, foreign_members: None }
+}
+
+/// The photos as MultiPoints of kind `photos`: one for all of them, or on an oblique plan one
+/// per pass, with the pass, the gimbal's pitch and the camera's heading (a compass bearing;
+/// none on the nadir pass, which faces the way it flies).
+fn photo_features(frame: &LocalFrame, photos: &[Photo], altitude_m: Option<f64>) -> Vec<Feature> {
+    let mut passes: Vec<Option<Look>> = Vec::new();
+    for photo in photos {
+        if !passes.iter().any(|l| l.map(|l| l.pass) == photo.look.map(|l| l.pass)) {
+            passes.push(photo.look);
+        }
+    }
+    if passes.is_empty() {
+        passes.push(None);
+    }
+    passes.sort_by_key(|l| l.map(|l| l.pass));
+    passes
+        .into_iter()
+        .map(|look| {
+            let taken: Vec<Position> = photos.iter().filter(|p| p.look.map(|l| l.pass) == look.map(|l| l.pass)).map(|p| position(frame, p.at, altitude_m)).collect();
+            let mut props = json!({"kind": "photos", "count": taken.len()});
+            if let Some(look) = look {
+                props["pass"] = json!(look.pass);
+                props["gimbal_pitch_deg"] = json!(round(look.gimbal_pitch_deg, 2));
+                if let Some(heading) = look.heading {
+                    props["camera_heading_deg"] = json!(round(math_to_bearing(heading), 2));
+                }
+            }
+            feature(GeometryValue::MultiPoint { coordinates: taken }, props)
+        })
+        .collect()
 }
 
 /// An inspection in flight order: each leg a LineString with heights (kind `transit`), each
@@ -172,6 +204,13 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
             }
             if piece.tramline {
                 props["tramline"] = json!(true);
+            }
+            if let Some(look) = piece.look {
+                props["pass"] = json!(look.pass);
+                props["gimbal_pitch_deg"] = json!(round(look.gimbal_pitch_deg, 2));
+                if let Some(heading) = look.heading {
+                    props["camera_heading_deg"] = json!(round(math_to_bearing(heading), 2));
+                }
             }
             if let Some(shape) = piece.shape {
                 props["turn_type"] = json!(shape);

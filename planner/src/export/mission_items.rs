@@ -6,7 +6,7 @@
 //! inspection's viewpoint the vehicle holds, turns to the viewpoint's yaw, points the gimbal
 //! and takes one picture.
 
-use super::flight::{FlownPiece, ViewAction, Waypoint, waypoints};
+use super::flight::{FlownPiece, PlanPhoto, ViewAction, Waypoint, photos_by_pass, waypoints};
 use super::follower;
 use super::{AltitudeFrame, Firmware, FlightSettings};
 use crate::params::Landing;
@@ -96,7 +96,7 @@ pub fn launch(pieces: &[FlownPiece], home: Option<[f64; 2]>) -> [f64; 2] {
 
 /// The items of one sortie, in order; `views` are the inspection's viewpoints (empty for a
 /// coverage plan), `photos` the plan's photos (`[lon, lat]`), which the camera triggers take.
-pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64; 2]], settings: &FlightSettings, home: Option<[f64; 2]>) -> Vec<MissionItem> {
+pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[PlanPhoto], settings: &FlightSettings, home: Option<[f64; 2]>) -> Vec<MissionItem> {
     let fixed_wing = settings.kind == VehicleKind::FixedWing;
     // ArduPilot ignores a waypoint's yaw; PX4 reads 0 as "face north", NaN as "keep"
     let keep_yaw = match settings.firmware {
@@ -107,7 +107,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
     let pitch = if fixed_wing { TAKEOFF_PITCH_DEG } else { 0.0 };
     let mut points = waypoints(pieces, fixed_wing.then_some(ARC_CORNER_DEG));
     // each line looks up the photos near it: indexed once, not scanned per line
-    let photos = RTree::bulk_load(if settings.trigger_distance_m.is_some() { photos.to_vec() } else { Vec::new() });
+    let photos = photos_by_pass(if settings.trigger_distance_m.is_some() { photos } else { &[] });
     if fixed_wing {
         // a fixed wing climbs out straight ahead (the plan's first transit begins so): a
         // waypoint it passes while climbing (home itself, first of all) would turn it back
@@ -148,8 +148,14 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
     let last_sweep = pieces.iter().rposition(|p| p.kind == PieceKind::Sweep);
     let landing_at = if lands { points.pop() } else { None };
     let mut land_start_written = false;
+    let mut pass = None;
     for w in &points {
         let piece = &pieces[w.piece];
+        // an oblique plan's pass: the gimbal pitched as it asks, before its first leg's photos
+        if let Some(camera) = piece.camera.filter(|c| pass != Some(c.pass)) {
+            pass = Some(camera.pass);
+            items.push(gimbal_pitch(camera.gimbal_pitch_deg));
+        }
         if fixed_wing && lands && !land_start_written && last_sweep.is_some_and(|k| w.piece > k) {
             // the landing sequence: from the return's first point to touch-down; an autopilot's
             // own return jumps here when told to land
@@ -164,7 +170,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
         let sweep_end = on_sweep && w.index + 1 == piece.points.len();
         let mut stopped = false;
         if let (Some(distance), true) = (settings.trigger_distance_m, on_sweep && w.index == 1) {
-            match line_triggers(piece, w.piece, &photos, Some(settings.firmware)) {
+            match line_triggers(piece, w.piece, photos.get(&piece.camera.map(|c| c.pass)), Some(settings.firmware)) {
                 // a straight line: fly to its first photo, trigger there and every step, stop
                 // half a step past its last photo
                 Triggers::Line(line) => {
@@ -191,9 +197,19 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[[f64
             Some(m) if m > follower::turn_distance_m(piece.speed_mps.max(settings.cruise_speed_mps), 90.0) => m.round().clamp(1.0, 255.0),
             _ => 0.0,
         };
+        // on an oblique pass the vehicle faces the camera's heading on every leg: PX4 reads
+        // it from the waypoint, ArduCopter is told after each one (it resets its yaw at each)
+        let facing = piece.camera.and_then(|c| c.heading_deg);
         match views.iter().find(|v| v.position == w.position) {
             Some(view) => items.extend(view_items(view, w.position, settings)),
-            None => items.push(place(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w)),
+            None => match (facing, settings.firmware) {
+                (Some(heading), Firmware::Px4) => items.push(place(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), Some(heading)], w)),
+                (Some(heading), Firmware::Ardupilot) => {
+                    items.push(place(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w));
+                    items.push(MissionItem::command(CONDITION_YAW, [heading, 0.0, 0.0, 0.0]));
+                }
+                (None, _) => items.push(place(NAV_WAYPOINT, [Some(0.0), Some(acceptance), Some(0.0), keep_yaw], w)),
+            },
         }
         if settings.trigger_distance_m.is_some() && sweep_end && !stopped {
             items.push(MissionItem::command(DO_SET_CAM_TRIGG_DIST, [0.0, 0.0, 0.0, 0.0]));
@@ -265,8 +281,9 @@ pub(super) enum Triggers {
 
 /// Where the plan's photos lie on a sweep: the file triggers where the plan images. The step is
 /// in `firmware`'s metric, less its trigger's average lateness; without one (DJI), in metres.
-pub(super) fn line_triggers(piece: &FlownPiece, index: usize, photos: &RTree<[f64; 2]>, firmware: Option<Firmware>) -> Triggers {
+pub(super) fn line_triggers(piece: &FlownPiece, index: usize, photos: Option<&RTree<[f64; 2]>>, firmware: Option<Firmware>) -> Triggers {
     let [a, b] = piece.points.as_slice() else { return Triggers::Bent };
+    let Some(photos) = photos else { return Triggers::None };
     let frame = LocalFrame::new(a[0], a[1]);
     let end = frame.to_local(b[0], b[1]);
     let len = end.x.hypot(end.y);
@@ -319,6 +336,11 @@ pub(super) fn line_triggers(piece: &FlownPiece, index: usize, photos: &RTree<[f6
     Triggers::Line(LineTriggers { start: (first > NEAR_M).then(|| at(first)), stop: (step_m > 0.0 && stop_t < len - NEAR_M).then(|| at(stop_t)), step_m: autopilot_step_m })
 }
 
+/// The gimbal pitched to `pitch_deg`, its yaw with the vehicle's heading, rates unset.
+fn gimbal_pitch(pitch_deg: f64) -> MissionItem {
+    MissionItem { command: DO_GIMBAL_MANAGER_PITCHYAW, frame: FRAME_MISSION, params: [Some(pitch_deg), Some(0.0), None, None], position: None }
+}
+
 /// At an inspection's viewpoint: hold, face its yaw (PX4 reads the waypoint's yaw; ArduCopter
 /// ignores it and is told with `CONDITION_YAW`), point the gimbal, take one picture.
 fn view_items(view: &ViewAction, position: [f64; 3], settings: &FlightSettings) -> Vec<MissionItem> {
@@ -331,8 +353,8 @@ fn view_items(view: &ViewAction, position: [f64; 3], settings: &FlightSettings) 
         // absolute bearing, default rate, the shorter way
         items.push(MissionItem::command(CONDITION_YAW, [view.yaw_deg, 0.0, 0.0, 0.0]));
     }
-    // pitch, yaw relative to the vehicle (facing the viewpoint's bearing), rates unset
-    items.push(MissionItem { command: DO_GIMBAL_MANAGER_PITCHYAW, frame: FRAME_MISSION, params: [Some(view.gimbal_pitch_deg), Some(0.0), None, None], position: None });
+    // the vehicle faces the viewpoint's bearing
+    items.push(gimbal_pitch(view.gimbal_pitch_deg));
     // camera 0 (all), no interval, one image
     items.push(MissionItem::command(IMAGE_START_CAPTURE, [0.0, 0.0, 1.0, 0.0]));
     items
@@ -349,12 +371,12 @@ mod tests {
     }
 
     fn piece(kind: PieceKind, points: &[[f64; 2]], speed: f64) -> FlownPiece {
-        FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed, ground_m: None, tramline: false }
+        FlownPiece { kind, points: points.iter().map(|p| [p[0], p[1], 40.0]).collect(), speed_mps: speed, ground_m: None, tramline: false, camera: None }
     }
 
     /// The photos a plan shows on the straight sweeps of `pieces` (camera §6's rule), for a
     /// footprint `footprint_m` long and photos at most `spacing_m` apart.
-    fn plan_photos_with(pieces: &[FlownPiece], footprint_m: f64, spacing_m: f64) -> Vec<[f64; 2]> {
+    fn plan_photos_with(pieces: &[FlownPiece], footprint_m: f64, spacing_m: f64) -> Vec<PlanPhoto> {
         let mut out = Vec::new();
         for p in pieces.iter().filter(|p| p.kind == PieceKind::Sweep) {
             let (a, b) = (p.points[0], p.points[1]);
@@ -362,13 +384,13 @@ mod tests {
             let end = frame.to_local(b[0], b[1]);
             let len = end.x.hypot(end.y);
             for t in fitted_photo_offsets(len, footprint_m, spacing_m) {
-                out.push(frame.to_wgs84(geo::Coord { x: end.x * t / len, y: end.y * t / len }));
+                out.push(PlanPhoto { at: frame.to_wgs84(geo::Coord { x: end.x * t / len, y: end.y * t / len }), pass: None });
             }
         }
         out
     }
 
-    fn plan_photos(pieces: &[FlownPiece], spacing_m: f64) -> Vec<[f64; 2]> {
+    fn plan_photos(pieces: &[FlownPiece], spacing_m: f64) -> Vec<PlanPhoto> {
         plan_photos_with(pieces, 20.0, spacing_m)
     }
 
@@ -442,8 +464,10 @@ mod tests {
                     speed_mps: 6.0,
                     ground_m: None,
                     tramline: false,
+                    camera: None,
                 };
-                let turn = FlownPiece { kind: PieceKind::Turn, points: vec![[b[0], b[1], 40.0], [c[0], c[1], 40.0]], speed_mps: 3.0, ground_m: None, tramline: false };
+                let turn =
+                    FlownPiece { kind: PieceKind::Turn, points: vec![[b[0], b[1], 40.0], [c[0], c[1], 40.0]], speed_mps: 3.0, ground_m: None, tramline: false, camera: None };
                 let pieces = [sweep(a, b), turn, sweep(c, d)];
                 let items = mission_items(&pieces, &[], &plan_photos_with(&pieces, footprint, spacing), &s, None);
                 let found: Vec<geo::Coord> = autopilot_photos(&items, s.firmware).iter().map(|p| frame.to_local(p[0], p[1])).collect();
@@ -469,8 +493,15 @@ mod tests {
     fn a_viewpoint_holds_turns_points_the_gimbal_and_takes_a_picture() {
         let view = ViewAction { position: [1.0, 0.0, 12.0], yaw_deg: 135.0, gimbal_pitch_deg: -30.0 };
         let pieces = [
-            FlownPiece { kind: PieceKind::Transit, points: vec![[0.0, 0.0, 0.0], [0.5, 0.0, 6.0], [1.0, 0.0, 12.0]], speed_mps: 0.0, ground_m: None, tramline: false },
-            FlownPiece { kind: PieceKind::Transit, points: vec![[1.0, 0.0, 12.0], [1.0, 1.0, 0.0]], speed_mps: 0.0, ground_m: None, tramline: false },
+            FlownPiece {
+                kind: PieceKind::Transit,
+                points: vec![[0.0, 0.0, 0.0], [0.5, 0.0, 6.0], [1.0, 0.0, 12.0]],
+                speed_mps: 0.0,
+                ground_m: None,
+                tramline: false,
+                camera: None,
+            },
+            FlownPiece { kind: PieceKind::Transit, points: vec![[1.0, 0.0, 12.0], [1.0, 1.0, 0.0]], speed_mps: 0.0, ground_m: None, tramline: false, camera: None },
         ];
         let mut s = FlightSettings { hold_s: 2.0, ..settings(None) };
         let px4 = mission_items(&pieces, &[view], &[], &s, None);
@@ -495,8 +526,9 @@ mod tests {
             let [lon, lat] = frame.to_wgs84(geo::Coord { x, y: 0.0 });
             [lon, lat, 80.0]
         };
-        let transit = FlownPiece { kind: PieceKind::Transit, points: (0..12).map(|k| at(50.0 * k as f64)).collect(), speed_mps: 15.0, ground_m: None, tramline: false };
-        let sweep = FlownPiece { kind: PieceKind::Sweep, points: vec![at(550.0), at(900.0)], speed_mps: 15.0, ground_m: None, tramline: false };
+        let transit =
+            FlownPiece { kind: PieceKind::Transit, points: (0..12).map(|k| at(50.0 * k as f64)).collect(), speed_mps: 15.0, ground_m: None, tramline: false, camera: None };
+        let sweep = FlownPiece { kind: PieceKind::Sweep, points: vec![at(550.0), at(900.0)], speed_mps: 15.0, ground_m: None, tramline: false, camera: None };
         let plane = FlightSettings { kind: VehicleKind::FixedWing, altitude_m: 80.0, turn_radius_m: 50.0, ..settings(None) };
         let items = mission_items(&[transit.clone(), sweep.clone()], &[], &[], &plane, Some([at(0.0)[0], at(0.0)[1]]));
         let first = items.iter().find(|i| i.command == NAV_WAYPOINT).and_then(|i| i.position).unwrap();

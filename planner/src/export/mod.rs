@@ -27,7 +27,7 @@ use super::params::guidance::Guidance;
 use super::params::{FleetVehicle, Landing, PlanParams, inspection};
 use super::planners::MethodKind;
 use super::vehicle::{Vehicle, VehicleKind};
-pub use flight::{Flight, FlownPiece};
+pub use flight::{Flight, FlownPiece, PlanPhoto};
 
 /// The autopilot a flight file is written for: it decides the vehicle's home item and how
 /// "keep the heading" is said.

@@ -4,9 +4,7 @@
 //! waypoint at its first photo to one half a step past its last).
 //! Written with quick-xml: no crate writes WPML.
 
-use rstar::RTree;
-
-use super::flight::waypoints;
+use super::flight::{CameraPose, photos_by_pass, waypoints};
 use super::mission_items::{Triggers, line_triggers};
 use super::xml::Xml;
 use super::{COVERAGE_ONLY, ExportJob, Exporter, Format, number};
@@ -53,7 +51,7 @@ impl Exporter for Wpml {
 fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
     let s = &job.settings;
     let pieces = &job.flight.sorties[sortie];
-    let photos = RTree::bulk_load(job.flight.photos.clone());
+    let photos = photos_by_pass(&job.flight.photos);
     // on a straight sweep the camera runs from the plan's first photo to half a step past its
     // last (waypoints added there), at the line's own step
     let mut points = Vec::new();
@@ -62,7 +60,7 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
         let piece = &pieces[w.piece];
         if let (Some(distance), true) = (s.trigger_distance_m, piece.kind == PieceKind::Sweep && w.index == 1) {
             let from = points.len().saturating_sub(1);
-            match line_triggers(piece, w.piece, &photos, None) {
+            match line_triggers(piece, w.piece, photos.get(&piece.camera.map(|c| c.pass)), None) {
                 Triggers::Line(line) => {
                     let start = line.start.map_or(from, |p| {
                         points.push(p);
@@ -110,24 +108,40 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
         x.open("wpml:globalWaypointHeadingParam", &[]).leaf("wpml:waypointHeadingMode", "followWayline").close("wpml:globalWaypointHeadingParam");
         x.leaf("wpml:globalWaypointTurnMode", "toPointAndStopWithDiscontinuityCurvature").leaf("wpml:globalUseStraightLine", "1");
     }
+    // an oblique plan's passes: the camera of the leg leaving each waypoint (or of the one
+    // reaching it, at the last)
+    let camera = |k: usize| pieces[points[k.min(points.len() - 1)].piece].camera;
+    let leaving = |k: usize| if k + 1 < points.len() { camera(k + 1) } else { camera(k) };
     let mut group = 0;
     for (k, w) in points.iter().enumerate() {
         let [lon, lat, altitude] = w.position;
         let altitude = altitude - launch_ground;
         x.open("Placemark", &[]).open("Point", &[]).leaf("coordinates", &format!("{},{}", number(lon, 8), number(lat, 8))).close("Point");
         x.leaf("wpml:index", &k.to_string());
+        let facing = leaving(k).and_then(|c| c.heading_deg);
         if executable {
             x.leaf("wpml:executeHeight", &number(altitude, 2)).leaf("wpml:waypointSpeed", &number(speed(k), 2));
-            x.open("wpml:waypointHeadingParam", &[]).leaf("wpml:waypointHeadingMode", "followWayline").close("wpml:waypointHeadingParam");
+            heading_param(&mut x, facing);
             x.open("wpml:waypointTurnParam", &[])
                 .leaf("wpml:waypointTurnMode", "toPointAndStopWithDiscontinuityCurvature")
                 .leaf("wpml:waypointTurnDampingDist", "0")
                 .close("wpml:waypointTurnParam");
         } else {
             x.leaf("wpml:height", &number(altitude, 2)).leaf("wpml:useGlobalHeight", "0").leaf("wpml:waypointSpeed", &number(speed(k), 2)).leaf("wpml:useGlobalSpeed", "0");
-            x.leaf("wpml:useGlobalHeadingParam", "1").leaf("wpml:useGlobalTurnParam", "1");
+            match facing {
+                None => x.leaf("wpml:useGlobalHeadingParam", "1"),
+                Some(_) => heading_param(x.leaf("wpml:useGlobalHeadingParam", "0"), facing),
+            };
+            x.leaf("wpml:useGlobalTurnParam", "1");
         }
         x.leaf("wpml:useStraightLine", "1");
+        // a pass begins on the leg leaving this waypoint: turn the vehicle and pitch the gimbal
+        if let Some(pose) = leaving(k).filter(|c| k == 0 || camera(k).map(|c| c.pass) != Some(c.pass)) {
+            // the vehicle faces the pass before's heading, or the way it came
+            let facing_before = camera(k).and_then(|c| c.heading_deg).or_else(|| (k > 0).then(|| bearing(points[k - 1].position, w.position)));
+            pose_group(&mut x, group, k, pose, facing_before);
+            group += 1;
+        }
         for &(start, stop, step) in triggers.iter().filter(|t| t.0 == k) {
             photo_group(&mut x, group, start, stop, step);
             group += 1;
@@ -136,6 +150,67 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
     }
     x.close("Folder").close("Document").close("kml");
     x.finish()
+}
+
+/// How the vehicle's heading is flown to this waypoint: along the route, or held at
+/// `facing_deg` (a compass bearing).
+fn heading_param(x: &mut Xml, facing_deg: Option<f64>) -> &mut Xml {
+    x.open("wpml:waypointHeadingParam", &[]);
+    match facing_deg {
+        None => x.leaf("wpml:waypointHeadingMode", "followWayline"),
+        Some(bearing) => x
+            .leaf("wpml:waypointHeadingMode", "smoothTransition")
+            .leaf("wpml:waypointHeadingAngle", &number(signed_degrees(bearing), 2))
+            .leaf("wpml:waypointHeadingAngleEnable", "1")
+            .leaf("wpml:waypointHeadingPathMode", "followBadArc"),
+    };
+    x.close("wpml:waypointHeadingParam")
+}
+
+/// A bearing as DJI says headings: −180 to 180, 0 north.
+fn signed_degrees(bearing: f64) -> f64 {
+    (bearing + 180.0).rem_euclid(360.0) - 180.0
+}
+
+/// Compass bearing from `a` to `b` (`[lon, lat, …]`).
+fn bearing(a: [f64; 3], b: [f64; 3]) -> f64 {
+    let east = (b[0] - a[0]) * a[1].to_radians().cos();
+    east.atan2(b[1] - a[1]).to_degrees().rem_euclid(360.0)
+}
+
+/// At waypoint `at`, where a pass of an oblique plan begins: the vehicle turned to the pass's
+/// heading (the shorter way from `facing_before`) and the gimbal pitched.
+fn pose_group(x: &mut Xml, id: usize, at: usize, pose: CameraPose, facing_before: Option<f64>) {
+    x.open("wpml:actionGroup", &[])
+        .leaf("wpml:actionGroupId", &id.to_string())
+        .leaf("wpml:actionGroupStartIndex", &at.to_string())
+        .leaf("wpml:actionGroupEndIndex", &at.to_string())
+        .leaf("wpml:actionGroupMode", "sequence");
+    x.open("wpml:actionTrigger", &[]).leaf("wpml:actionTriggerType", "reachPoint").close("wpml:actionTrigger");
+    let mut action = 0;
+    if let Some(bearing) = pose.heading_deg {
+        x.open("wpml:action", &[]).leaf("wpml:actionId", &action.to_string()).leaf("wpml:actionActuatorFunc", "rotateYaw");
+        let clockwise = facing_before.is_none_or(|from| signed_degrees(bearing - from) >= 0.0);
+        x.open("wpml:actionActuatorFuncParam", &[])
+            .leaf("wpml:aircraftHeading", &number(signed_degrees(bearing), 2))
+            .leaf("wpml:aircraftPathMode", if clockwise { "clockwise" } else { "counterClockwise" });
+        x.close("wpml:actionActuatorFuncParam").close("wpml:action");
+        action += 1;
+    }
+    x.open("wpml:action", &[]).leaf("wpml:actionId", &action.to_string()).leaf("wpml:actionActuatorFunc", "gimbalRotate");
+    x.open("wpml:actionActuatorFuncParam", &[])
+        .leaf("wpml:gimbalHeadingYawBase", "aircraft")
+        .leaf("wpml:gimbalRotateMode", "absoluteAngle")
+        .leaf("wpml:gimbalPitchRotateEnable", "1")
+        .leaf("wpml:gimbalPitchRotateAngle", &number(pose.gimbal_pitch_deg, 2))
+        .leaf("wpml:gimbalRollRotateEnable", "0")
+        .leaf("wpml:gimbalRollRotateAngle", "0")
+        .leaf("wpml:gimbalYawRotateEnable", "0")
+        .leaf("wpml:gimbalYawRotateAngle", "0")
+        .leaf("wpml:gimbalRotateTimeEnable", "0")
+        .leaf("wpml:gimbalRotateTime", "0")
+        .leaf("wpml:payloadPositionIndex", "0");
+    x.close("wpml:actionActuatorFuncParam").close("wpml:action").close("wpml:actionGroup");
 }
 
 /// Photos every `distance` metres from waypoint `start` to waypoint `stop`.

@@ -2,12 +2,13 @@
 
 use geo::{Area, MultiPolygon};
 
-use super::Stats;
 use super::coverage::{covered_by, length_inside, under};
-use super::photos::{Photo, photo_strips};
+use super::photos::{Photo, pass_strips, photo_strips};
+use super::{PassStats, Stats};
 use crate::camera::CameraPlan;
 use crate::energy::PathEstimate;
-use crate::path::{FlightPath, PieceKind};
+use crate::params::math_to_bearing;
+use crate::path::{FlightPath, Look, Piece, PieceKind};
 use crate::sortie::SortieTotals;
 
 pub struct MeasureInput<'a> {
@@ -40,9 +41,11 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
     let area = m.region.unsigned_area();
     let lower_bound_m = area / m.spacing;
     let (covered, swept) = under(m.swept, m.region);
+    let share = |imaged: &[geo::Polygon]| if area > 0.0 { (covered_by(imaged, m.region).0 / area).min(1.0) } else { 0.0 };
+    // an oblique plan's: its nadir pass's
     let photo_coverage_ratio = m.photos.map(|(photos, cam)| {
-        let imaged = photo_strips(photos, cam.footprint_across_m, cam.footprint_along_m);
-        if area > 0.0 { (covered_by(&imaged, m.region).0 / area).min(1.0) } else { 0.0 }
+        let nadir: Vec<Photo> = photos.iter().filter(|p| p.look.is_none_or(|l| l.pass == 1)).copied().collect();
+        share(&photo_strips(&nadir, cam.footprint_across_m, cam.footprint_along_m))
     });
     Stats {
         length_m,
@@ -99,5 +102,28 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         terrain: None,
         resume: None,
         wind: None,
+        passes: m.photos.map_or_else(Vec::new, |(photos, _)| passes(m.path, photos, &share)),
     }
+}
+
+/// Each pass of an oblique plan (none for another plan).
+fn passes(path: &FlightPath, photos: &[Photo], share: &dyn Fn(&[geo::Polygon]) -> f64) -> Vec<PassStats> {
+    let mut looks: Vec<Look> = path.pieces.iter().filter_map(|p| p.look).collect();
+    looks.sort_by_key(|l| l.pass);
+    looks.dedup_by_key(|l| l.pass);
+    looks
+        .into_iter()
+        .map(|look| {
+            let on_pass = || path.pieces.iter().filter(move |p| p.look.is_some_and(|l| l.pass == look.pass));
+            PassStats {
+                pass: look.pass,
+                gimbal_pitch_deg: look.gimbal_pitch_deg,
+                camera_heading_deg: look.heading.map(math_to_bearing),
+                photos: photos.iter().filter(|p| p.look.is_some_and(|l| l.pass == look.pass)).count(),
+                length_m: on_pass().map(Piece::length).sum(),
+                sweep_length_m: on_pass().filter(|p| p.kind == PieceKind::Sweep).map(Piece::length).sum(),
+                photo_coverage_ratio: share(&pass_strips(photos, look.pass)),
+            }
+        })
+        .collect()
 }

@@ -20,6 +20,6 @@ pub use fleet::{Conflict, VehicleTotals};
 pub use ground::{GroundStats, ground_stats};
 pub use inspection::{InspectionStats, TargetCoverage};
 pub use measure::{MeasureInput, measure};
-pub use photos::{Photo, photo_points, photo_positions};
+pub use photos::{Photo, photo_positions};
 pub use select::{COVERAGE_SLACK, COVERAGE_TARGET, best_covering};
-pub use stats::{Alternative, Optimality, OptimalityStatus, ResumeStats, Stats, WindStats};
+pub use stats::{Alternative, Optimality, OptimalityStatus, PassStats, ResumeStats, Stats, WindStats};

@@ -4,38 +4,48 @@ use geo::{Coord, LineString, Polygon};
 
 use crate::camera::photo_offsets_through_bends;
 use crate::geom::polyline_length;
-use crate::path::{FlightPath, PieceKind};
+use crate::path::{FlightPath, Look, PieceKind};
 use crate::sweep::Footprint;
 
-/// A photo: where it is taken, and the direction of flight (math radians).
+/// A photo: where it is taken, the direction of flight (math radians), and on an oblique
+/// plan's pass, where the camera looks.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Photo {
     pub at: Coord,
     pub heading: f64,
+    pub look: Option<Look>,
 }
 
 /// Photo positions on every sweep of `path` (docs/methods.md, camera §6, fitted mode), with the
 /// line's direction; through a bend between two sweeps, one photo at the bend
 /// ([`photo_offsets_through_bends`]). A sweep of no length (a grid of one cell) is one photo,
-/// facing `still_heading`, or none without it.
+/// facing `still_heading`, or none without it. A sweep of an oblique plan's pass spaces its
+/// photos for what that pass's camera images.
 pub fn photo_positions(path: &FlightPath, footprint: &Footprint, still_heading: Option<f64>) -> Vec<Photo> {
     let mut out = Vec::new();
     for (k, p) in path.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep) {
         let (a, b) = (p.start(), p.end());
         let len = polyline_length(&p.points);
+        let look = p.look;
         if len == 0.0 {
-            out.extend(still_heading.map(|heading| Photo { at: a, heading }));
+            out.extend(still_heading.map(|heading| Photo { at: a, heading, look }));
             continue;
         }
         let heading = (b.y - a.y).atan2(b.x - a.x);
-        let offsets = photo_offsets_through_bends(len, footprint.along_m, footprint.photo_spacing_m, path.bends_into(k), path.bends_into(k + 1));
-        out.extend(offsets.into_iter().map(|t| Photo { at: a + (b - a) * (t / len), heading }));
+        let (along, spacing) = look.map_or((footprint.along_m, footprint.photo_spacing_m), |l| (l.along_m, l.photo_spacing_m));
+        let offsets = photo_offsets_through_bends(len, along, spacing, path.bends_into(k), path.bends_into(k + 1));
+        out.extend(offsets.into_iter().map(|t| Photo { at: a + (b - a) * (t / len), heading, look }));
     }
     out
 }
 
-pub fn photo_points(photos: &[Photo]) -> Vec<Coord> {
-    photos.iter().map(|p| p.at).collect()
+/// The ground the photos of each pass of an oblique plan surely image, as strips, pass by
+/// pass (1 to 5); photos outside a pass are left out.
+pub fn pass_strips(photos: &[Photo], pass: usize) -> Vec<Polygon> {
+    let on_pass: Vec<Photo> =
+        photos.iter().filter(|p| p.look.is_some_and(|l| l.pass == pass)).map(|p| Photo { at: p.at + p.look.map_or(Coord { x: 0.0, y: 0.0 }, |l| l.centre_offset), ..*p }).collect();
+    let Some(look) = on_pass.first().and_then(|p| p.look) else { return Vec::new() };
+    photo_strips(&on_pass, look.across_m, look.along_m)
 }
 
 /// The ground the photos from `first` to `last` (taken along one line) image: `across` wide,
@@ -114,7 +124,7 @@ mod tests {
             let mut photos = Vec::new();
             for (heading, x, y, count, step) in lines {
                 let (s, c) = heading.sin_cos();
-                photos.extend((0..count).map(|k| Photo { at: Coord { x: x + c * k as f64 * step * along, y: y + s * k as f64 * step * along }, heading }));
+                photos.extend((0..count).map(|k| Photo { at: Coord { x: x + c * k as f64 * step * along, y: y + s * k as f64 * step * along }, heading, look: None }));
             }
             let one_by_one: Vec<Polygon> = photos.iter().map(|p| photo_footprint(p, p, across, along)).collect();
             let strips = photo_strips(&photos, across, along);

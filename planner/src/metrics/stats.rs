@@ -86,6 +86,30 @@ pub struct Stats {
     pub resume: Option<ResumeStats>,
     /// The wind the plan was made for, at the flight altitude.
     pub wind: Option<WindStats>,
+    /// Pattern `oblique`: each pass's camera, photos and length, the nadir pass first.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub passes: Vec<PassStats>,
+}
+
+/// One pass of an oblique plan.
+#[serde_with::skip_serializing_none]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
+pub struct PassStats {
+    /// 1 for the nadir pass, 2 to 5 for the oblique ones.
+    pub pass: usize,
+    /// As gimbals say it: −90 straight down.
+    pub gimbal_pitch_deg: f64,
+    /// Compass bearing the camera faces on an oblique pass (absent on the nadir pass, where
+    /// it faces the way the vehicle flies).
+    pub camera_heading_deg: Option<f64>,
+    pub photos: usize,
+    /// The pass's lines, its turns and its way in from the pass before, m.
+    pub length_m: f64,
+    pub sweep_length_m: f64,
+    /// Share of the area to cover inside the ground the pass's photos surely image (for an
+    /// oblique pass, the rectangle round each image's centre that its trapezoid holds).
+    pub photo_coverage_ratio: f64,
 }
 
 /// The wind a plan was made for, and what planning for it saved.

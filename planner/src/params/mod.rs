@@ -6,13 +6,17 @@ pub mod resume;
 
 use serde::{Deserialize, Serialize};
 
-use super::camera::{Camera, CameraPlan};
+use super::camera::{Camera, CameraPlan, OBLIQUE_HORIZON_MARGIN_DEG, ObliqueView};
 use super::error::{InputError, check_range};
 use super::sweep::LineLayout;
 pub use super::sweep::ends::SwathEnds;
 use super::vehicle::{Vehicle, VehicleKind, VehicleParams};
 use super::wind::Wind;
 use inspection::{Budget, InspectionOptions, InspectionRequest, InspectionSpec, Target};
+
+/// Pattern `oblique`'s gimbal pitch unless asked otherwise: halfway between level and straight
+/// down, the usual choice for oblique photogrammetry.
+pub const DEFAULT_OBLIQUE_PITCH_DEG: f64 = -45.0;
 
 /// A position with a heading, as a compass bearing (degrees clockwise from north).
 #[serde_with::skip_serializing_none]
@@ -34,7 +38,7 @@ pub struct PoseParam {
 pub const INSPECTION_ONLY_MEMBERS: [&str; 4] = ["targets", "budget", "inspection", "seed"];
 
 /// The members planner `inspection` refuses: they shape coverage plans.
-pub const COVERAGE_ONLY_MEMBERS: [&str; 14] = [
+pub const COVERAGE_ONLY_MEMBERS: [&str; 16] = [
     "line_spacing_m",
     "altitude_m",
     "heading_deg",
@@ -49,6 +53,8 @@ pub const COVERAGE_ONLY_MEMBERS: [&str; 14] = [
     "landing",
     "landing_heading_deg",
     "wind",
+    "pattern",
+    "oblique_pitch_deg",
 ];
 
 /// Members only a ground vehicle's plan reads.
@@ -208,9 +214,16 @@ pub struct PlanParams {
     /// `e_spiral` and `eg_cpp`, which fly no parallel lines).
     pub swath_ends: Option<SwathEnds>,
     /// What the lines make: `grid` (default), one set of parallel lines; `double_grid`, a
-    /// second set across the first (at 90°), flown after it, for 3D models. Aircraft, with a
-    /// planner that lays parallel lines; not for a fleet.
+    /// second set across the first (at 90°), flown after it, for 3D models; `oblique`, the
+    /// grid flown with the camera straight down, then four times with it pitched to
+    /// `oblique_pitch_deg`, looking along the lines, left of them, back and right (a multirotor
+    /// with a camera). Aircraft, with a planner that lays parallel lines; not for a fleet.
     pub pattern: Option<Pattern>,
+    /// Pattern `oblique`: the gimbal's pitch on the oblique passes, as gimbals say it (−90
+    /// straight down, 0 level), −80 to −20 (default −45). Each oblique pass flies the area moved
+    /// h / tan(pitch) back from where it looks, so that its images centre on the area.
+    #[cfg_attr(feature = "schema", schema(minimum = -80.0, maximum = -20.0))]
+    pub oblique_pitch_deg: Option<f64>,
     /// Ground vehicle: share of the working width neighbouring swaths overlap, 0 to 0.5
     /// (default 0).
     #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 0.5))]
@@ -278,6 +291,8 @@ pub enum Pattern {
     Grid,
     /// A second set across the first, at 90°.
     DoubleGrid,
+    /// The grid with the camera straight down, then four oblique passes.
+    Oblique,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -376,6 +391,8 @@ pub struct Resolved {
     /// Sweep direction as a math angle (radians counter-clockwise from east, mod π).
     pub sweep_angle: Option<f64>,
     pub pattern: Pattern,
+    /// Pattern `oblique`: what the camera sees on the oblique passes.
+    pub oblique: Option<ObliqueView>,
     pub vehicle: Vehicle,
     pub start: Option<[f64; 2]>,
     pub end: Option<[f64; 2]>,
@@ -534,6 +551,7 @@ impl PlanParams {
             altitude_m,
             sweep_angle: self.heading_deg.map(bearing_to_math),
             pattern: self.pattern.unwrap_or_default(),
+            oblique: self.oblique(camera.as_ref(), &vehicle)?,
             vehicle,
             start: checked_position(&self.start, "start")?,
             end: checked_position(&self.end, "end")?,
@@ -554,6 +572,33 @@ impl PlanParams {
             lead_in_m,
             landing,
             landing_heading,
+        })
+    }
+
+    /// Pattern `oblique`: the view of the camera at the pitch asked for.
+    fn oblique(&self, camera: Option<&CameraPlan>, vehicle: &Vehicle) -> Result<Option<ObliqueView>, InputError> {
+        if self.pattern != Some(Pattern::Oblique) {
+            return match self.oblique_pitch_deg {
+                Some(_) => {
+                    Err(InputError::new("pitch_without_oblique", "/oblique_pitch_deg", "oblique_pitch_deg pitches the camera of pattern oblique's passes: give pattern oblique"))
+                }
+                None => Ok(None),
+            };
+        }
+        if vehicle.kind != VehicleKind::Multirotor {
+            return Err(InputError::new("not_a_multirotor", "/pattern", "an oblique pass holds the camera's heading while it flies its lines both ways: give a multirotor"));
+        }
+        let Some(camera) = camera else {
+            return Err(InputError::new("camera_missing", "/pattern", "the oblique passes are laid from what the camera sees: give camera"));
+        };
+        let pitch = self.oblique_pitch_deg.unwrap_or(DEFAULT_OBLIQUE_PITCH_DEG);
+        check_range(pitch, -80.0, -20.0, "/oblique_pitch_deg", "°")?;
+        camera.oblique(pitch).map(Some).map_err(|steepest| {
+            InputError::new(
+                "oblique_view_reaches_horizon",
+                "/oblique_pitch_deg",
+                format!("at {pitch}° this camera's image reaches within {OBLIQUE_HORIZON_MARGIN_DEG}° of the horizon: pitch it to {steepest:.1}° or further down"),
+            )
         })
     }
 
@@ -650,6 +695,8 @@ impl PlanParams {
             self.landing.is_some(),
             self.landing_heading_deg.is_some(),
             self.wind.is_some(),
+            self.pattern.is_some(),
+            self.oblique_pitch_deg.is_some(),
         ];
         if let Some(pointer) = first_given(&COVERAGE_ONLY_MEMBERS, &given) {
             return Err(InputError::new("not_for_inspection", pointer, "an inspection flies to viewpoints around structures: this member is for coverage plans"));

@@ -397,6 +397,7 @@ mod tests {
                 z: vec![],
                 shape: None,
                 tramline: false,
+                look: None,
             }],
         };
         assert_eq!(lay(&outside, &ground, &Settings { height_m: 60.0, tolerance_m: 5.0, climb: 0.5, descent: 0.5 }).err().unwrap().code, "terrain_not_covering");

@@ -30,6 +30,7 @@ const LAYERS: &[&str] = &[
     "sortie",
     "metrics",
     "planners",
+    "pattern",
     "fleet",
     "patrol",
     "inspection",

@@ -89,7 +89,7 @@ fn fly_case_with_zones(area: &Value, zones: Option<&Value>, home: [f64; 2], para
         })
         .collect();
     let lead_in_m = vehicle.lead_in_m(params.lead_in_m);
-    Case { photos: planned.photos, output, sorties, lead_in_m, zones }
+    Case { photos: planned.photos.iter().map(|p| p.at).collect(), output, sorties, lead_in_m, zones }
 }
 
 fn distance_to_polyline(p: Coord, line: &[Coord]) -> f64 {

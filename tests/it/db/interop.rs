@@ -314,6 +314,49 @@ async fn a_plan_over_terrain_passes_the_independent_readers_in_both_frames() {
     app.stop().await;
 }
 
+/// An oblique plan: the MAVLink files, DJI's WPML and the GeoJSON name each pass's gimbal pitch
+/// and heading where the independent readers find them, and the camera triggers take the
+/// plan's photos.
+#[tokio::test]
+async fn an_oblique_plan_passes_the_independent_readers_with_its_camera_poses() {
+    let app = TestApp::spawn().await;
+    let mission = field_mission();
+    let params = json!({
+        "planner": "boustrophedon", "camera": {"preset": "dji_mavic3_enterprise"}, "altitude_m": 100, "side_overlap": 0.3, "front_overlap": 0.5,
+        "vehicle": {"profile": "iris", "battery_wh": 5000}, "pattern": "oblique", "oblique_pitch_deg": -50,
+    });
+    let (plan, trajectory) = planned(&app, &mission, &params).await;
+    let stats = app.get(&format!("/api/v1/plans/{plan}")).await.1["stats"].clone();
+    assert_eq!(stats["sorties"], 1, "{stats}");
+    let passes: Vec<Value> =
+        stats["passes"].as_array().expect("each pass's figures").iter().map(|p| json!({"pitch": p["gimbal_pitch_deg"], "heading": p["camera_heading_deg"]})).collect();
+    assert_eq!(passes.len(), 5, "{stats}");
+    let zones = polygons(canonical(&mission).no_fly_zones.as_ref()).len();
+    let dir = temp_dir();
+    let mut manifest = Vec::new();
+    for (format, query, extension) in [
+        ("geojson", "format=geojson", ".geojson"),
+        ("plan", "format=plan", ".plan"),
+        ("plan", "format=plan&firmware=px4", "-px4.plan"),
+        ("waypoints", "format=waypoints", ".waypoints"),
+        ("wpml", "format=wpml", ".kmz"),
+    ] {
+        let (status, _, _, bytes) = download(&app, &plan, query).await;
+        assert_eq!(status, 200, "{query}: {}", String::from_utf8_lossy(&bytes));
+        let file = format!("oblique-{format}{extension}");
+        std::fs::write(dir.join(&file), &bytes).unwrap();
+        // PX4 faces the heading the waypoints give: no CONDITION_YAW to count
+        let passes = if query.ends_with("px4") { passes.iter().map(|p| json!({"pitch": p["pitch"], "heading": null})).collect() } else { passes.clone() };
+        manifest.push(json!({
+            "file": file, "format": format, "waypoints": flown_points(&trajectory), "pieces": flown_pieces(&trajectory),
+            "fields": 1, "holes": 0, "zones": zones, "photo_lines": sweeps(&trajectory), "photos": photo_count(&trajectory), "passes": passes,
+        }));
+    }
+    std::fs::write(dir.join("manifest.json"), json!({"files": manifest}).to_string()).unwrap();
+    run(Command::new(python()).arg(interop_dir().join("check_exports.py")).arg(&dir));
+    app.stop().await;
+}
+
 async fn planner_spacing(app: &TestApp, plan: &str) -> f64 {
     app.get(&format!("/api/v1/plans/{plan}")).await.1["stats"]["line_spacing_m"].as_f64().unwrap()
 }

@@ -406,6 +406,13 @@ fn read(trajectory: &FeatureCollection, frame: &LocalFrame) -> Result<Vec<Stored
     if !pieces.iter().any(|p| p.kind == PieceKind::Sweep) {
         return Err(InputError::new("not_resumable", "/at", "only a coverage plan's sweep lines are resumed; this plan has none"));
     }
+    if trajectory.features.iter().any(|f| f.properties.as_ref().is_some_and(|p| p.contains_key("pass"))) {
+        return Err(InputError::new(
+            "not_resumable",
+            "/at",
+            "an oblique plan's passes each hold their own camera pose, which a resumed plan does not carry yet: plan the mission again",
+        ));
+    }
     Ok(pieces)
 }
 

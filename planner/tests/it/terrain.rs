@@ -302,19 +302,25 @@ fn obstacles_over_terrain_are_cleared_from_the_ground_up() {
 /// A corridor across the hills and a double grid over them follow the ground like any plan:
 /// never below 55 m above it at 60 m, the climbs within the limit.
 #[test]
-fn corridors_and_double_grids_keep_their_height_above_ground() {
+fn corridors_double_grids_and_obliques_keep_their_height_above_ground() {
     let mut mission: Value = serde_json::from_slice(&fixture("hills-11.json")).unwrap();
     let model = ElevationModel::read(&fixture("hills-11.tif"), "model.tif").unwrap();
     let grid = json!({"altitude_m": 60, "line_spacing_m": 60, "altitude_reference": "terrain", "vehicle": {"profile": "generic_multirotor"}, "max_climb_mps": 2.5, "max_descent_mps": 2.0, "pattern": "double_grid"});
     let mut corridor = grid.clone();
     corridor["pattern"] = json!("grid");
     corridor["planner"] = json!("corridor");
+    let mut oblique = grid.clone();
+    oblique["pattern"] = json!("oblique");
+    oblique["camera"] = json!({"preset": "dji_mavic3_enterprise"});
+    oblique.as_object_mut().unwrap().remove("line_spacing_m");
     let double = plan_over(&mission, &model, grid);
+    let oblique = plan_over(&mission, &model, oblique);
+    assert_eq!(oblique.stats.passes.len(), 5);
     // a road over the same hills, with a bend
     mission["area"] = json!({"type": "Feature", "properties": {"width_m": 80},
         "geometry": {"type": "LineString", "coordinates": [[9.0160, 46.9590], [9.0200, 46.9640], [9.0250, 46.9650]]}});
     let road = plan_over(&mission, &model, corridor);
-    for (what, out) in [("double grid", double), ("corridor", road)] {
+    for (what, out) in [("double grid", double), ("oblique", oblique), ("corridor", road)] {
         let f = fly(&out.trajectory, &model, 60.0, 5.0);
         assert!(f.lowest >= 55.0 - 0.05, "{what}: {:.2} m above ground", f.lowest);
         assert!(f.climb <= 2.5 / 8.0 * 1.01 + 0.005 && f.descent <= 2.0 / 8.0 * 1.01 + 0.005, "{what}: climbs {:.3}, descends {:.3}", f.climb, f.descent);

@@ -54,6 +54,10 @@ enum Command {
         /// ground under each waypoint, for vehicles with a rangefinder)
         #[arg(long, default_value = "amsl", value_parser = ["amsl", "terrain"])]
         altitude_frame: String,
+        /// Most waypoints the controller loads (plan, waypoints, wpml; wpml's default 99): past
+        /// it lines are their two ends, then the flight is cut into missions
+        #[arg(long)]
+        max_waypoints: Option<usize>,
     },
     /// Time the planners on the generated fields and print a table (built with `--features bench`).
     #[cfg(feature = "bench")]
@@ -169,11 +173,12 @@ fn main() -> ExitCode {
     }
     let result = match Cli::parse().command {
         Command::Serve(args) => serve(args),
-        Command::Plan { mission, params, out, format, firmware, terrain, altitude_frame } => {
+        Command::Plan { mission, params, out, format, firmware, terrain, altitude_frame, max_waypoints } => {
             let options = ExportOptions {
                 firmware: if firmware == "px4" { Firmware::Px4 } else { Firmware::Ardupilot },
                 altitude_frame: if altitude_frame == "terrain" { AltitudeFrame::Terrain } else { AltitudeFrame::Amsl },
                 altitude_m: None,
+                max_waypoints,
             };
             plan(&mission, params.as_deref(), terrain.as_deref(), out.as_deref(), &format, options)
         }

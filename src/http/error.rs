@@ -95,6 +95,7 @@ pub const ERROR_CODES: &[&str] = &[
     "log_unreadable",
     "log_without_position",
     "malformed_json",
+    "max_waypoints_too_few",
     "missing_file_part",
     "missing_geometry",
     "mission_too_wide",

@@ -116,6 +116,13 @@ pub struct TrajectoryQuery {
     /// frame, for vehicles with a rangefinder or terrain data.
     #[param(inline)]
     pub altitude_frame: Option<AltitudeFrame>,
+    /// The formats with a `waypoint_limit`: most waypoints the controller loads (mission items
+    /// for the MAVLink files, home left out), 10 to 65 535 (default: the format's
+    /// `default_max_waypoints`, 99 for DJI WPML, else none). Past it the lines are written as
+    /// their two ends, and a flight that still has more is cut into missions (a zip), each
+    /// beginning where the last ended.
+    #[param(minimum = 10, maximum = 65535)]
+    pub max_waypoints: Option<usize>,
 }
 
 #[utoipa::path(get, operation_id = "get_trajectory", path = "/api/v1/plans/{id}/trajectory", tag = "plans", params(("id" = String, Path), TrajectoryQuery),
@@ -123,7 +130,7 @@ pub struct TrajectoryQuery {
         (RFC 7946) of LineStrings in flight order, `properties.kind` = sweep | headland | turn | transit (a ground vehicle's turns with turn_type u | omega | fishtail), with length_m, duration_s, energy_j, speed_mps, sortie; \
         a MultiPoint of kind `photos` when a camera was given", content_type = "application/geo+json", body = Object),
         (status = 400, body = Problem, description = "unknown format or firmware, or an unreadable query parameter"), (status = 404, body = Problem),
-        (status = 409, body = Problem, description = "the plan has no trajectory (yet)"), (status = 422, body = Problem, description = "the format cannot say this plan")))]
+        (status = 409, body = Problem, description = "the plan has no trajectory (yet)"), (status = 422, body = Problem, description = "the format cannot say this plan, takes no max_waypoints, or cannot keep a line's photos within it")))]
 pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiQuery(query): ApiQuery<TrajectoryQuery>) -> Result<Response, ApiError> {
     let format = query.format.as_deref().unwrap_or(export::default_format().id);
     let exporter = export::find(format)
@@ -142,14 +149,20 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
         return Err(ApiError::conflict("trajectory_not_available", format!("the plan is {}; a trajectory exists only once it has succeeded", status.as_str().unwrap_or("?"))));
     };
     let as_stored = exporter.format();
-    let file = if as_stored.verbatim {
+    let file = if as_stored.verbatim && query.max_waypoints.is_none() {
         // no need to read it
         ExportFile { file_name: format!("{}{}", export::file_stem(&source.name), as_stored.extension), media_type: as_stored.media_type, bytes: geojson.into_bytes() }
     } else {
         // reading and writing a large trajectory takes a while: off the async runtime
         let format = format.to_owned();
         off_the_async_threads(move || {
-            export_file(&id, &format, &source, &geojson, ExportOptions { firmware, altitude_m: query.altitude_m, altitude_frame: query.altitude_frame.unwrap_or_default() })
+            export_file(
+                &id,
+                &format,
+                &source,
+                &geojson,
+                ExportOptions { firmware, altitude_m: query.altitude_m, altitude_frame: query.altitude_frame.unwrap_or_default(), max_waypoints: query.max_waypoints },
+            )
         })
         .await?
     };

@@ -9,6 +9,7 @@ map.createPane('result').style.zIndex = 450;
 export const state = {
   missionId: null,
   fields: L.featureGroup().addTo(map), // polygons with holes
+  corridors: L.featureGroup().addTo(map), // centre lines with cpWidth (m)
   zones: L.featureGroup().addTo(map),
   obstacles: L.featureGroup().addTo(map),
   structures: L.featureGroup().addTo(map), // to inspect: polygons or circles with cpHeight, cpBase, cpName

@@ -10,6 +10,7 @@ const styles = {
   nfz: { color: '#c62828', weight: 2, fillOpacity: 0.25, dashArray: '4 3' },
   obstacle: { color: '#6d4c41', weight: 2, fillOpacity: 0.3 },
   structure: { color: '#455a64', weight: 2, fillOpacity: 0.45 },
+  corridor: { color: '#1565c0', weight: 4, opacity: 0.8, dashArray: '10 5' },
 };
 
 // ---- drawing ----
@@ -26,6 +27,16 @@ function addPolygon(kind, latlngs, height) {
     layer.bindTooltip(`${height} m`);
   }
   groupOf(kind).addLayer(layer);
+  return layer;
+}
+
+/** A corridor: its centre line (latlngs) and its whole width in metres. */
+function addCorridor(latlngs, width) {
+  const layer = L.polyline(latlngs, styles.corridor);
+  Object.assign(layer, { cpKind: 'centre-line', cpWidth: width });
+  layer.on('pm:edit', changed);
+  layer.bindTooltip(`corridor ${width} m wide`);
+  state.corridors.addLayer(layer);
   return layer;
 }
 
@@ -145,10 +156,13 @@ $('draw').onclick = () => {
     map.pm.enableDraw('Marker', { markerStyle: { icon: poseIcon(kind, null) } });
   } else if ($('point-at').value.trim()) {
     const corners = $('point-at').value.split(/[;\n]/).map((c) => c.trim()).filter(Boolean).map(parseLatLng);
-    if (corners.length < 3 || corners.some((c) => !c)) return drawingError('Type at least three corners as "latitude, longitude", separated by semicolons.');
+    const least = kind === 'centre-line' ? 2 : 3;
+    if (corners.length < least || corners.some((c) => !c)) return drawingError(`Type at least ${least === 2 ? 'two points' : 'three corners'} as "latitude, longitude", separated by semicolons.`);
     addShape(kind, corners);
     $('point-at').value = '';
     map.fitBounds(L.latLngBounds(corners), { padding: [20, 20], maxZoom: 17 });
+  } else if (kind === 'centre-line') {
+    map.pm.enableDraw('Line', { pathOptions: styles.corridor });
   } else {
     map.pm.enableDraw('Polygon', { pathOptions: styles[kind === 'hole' ? 'field' : kind] });
   }
@@ -157,6 +171,12 @@ $('draw').onclick = () => {
 /** Adds a drawn or typed outline as the kind chosen. */
 function addShape(kind, ring) {
   if (kind === 'hole') return cutHole(ring);
+  if (kind === 'centre-line') {
+    const width = Number($('corridor-width').value);
+    if (!(width > 0 && width <= 2000)) return drawingError('Give the corridor a width of 1 to 2 000 m.');
+    addCorridor(ring, width);
+    return changed();
+  }
   if (kind === 'structure') addStructure(ring, { height: Number($('obstacle-height').value), name: $('structure-name').value.trim() || undefined });
   else addPolygon(kind, ring, Number($('obstacle-height').value));
   changed();
@@ -176,7 +196,7 @@ $('remove').onclick = () => {
 };
 
 map.on('pm:remove', (e) => {
-  for (const group of [state.fields, state.zones, state.obstacles, state.structures]) group.removeLayer(e.layer);
+  for (const group of [state.fields, state.corridors, state.zones, state.obstacles, state.structures]) group.removeLayer(e.layer);
   for (const k of Object.keys(state.poses)) if (state.poses[k] === e.layer) state.poses[k] = null;
   changed();
 });
@@ -202,6 +222,8 @@ map.on('pm:create', (e) => {
     map.pm.disableDraw();
     setPose(kind, e.layer.getLatLng(), poseHeading(kind));
     changed();
+  } else if (e.shape === 'Line') {
+    addShape(kind, e.layer.getLatLngs());
   } else {
     addShape(kind, e.layer.getLatLngs()[0]);
   }
@@ -210,6 +232,7 @@ map.on('pm:create', (e) => {
 function syncDrawInputs() {
   const kind = $('draw-kind').value;
   $('height-box').hidden = !['obstacle', 'structure'].includes(kind);
+  $('corridor-width-box').hidden = kind !== 'centre-line';
   $('structure-name-box').hidden = kind !== 'structure';
   $('heading-box').hidden = !['start', 'end'].includes(kind);
   // typed coordinates draw without a mouse: a point, or a shape's corners
@@ -224,6 +247,7 @@ syncDrawInputs();
 function clearShapes() {
   endModes();
   state.fields.clearLayers();
+  state.corridors.clearLayers();
   state.zones.clearLayers();
   state.obstacles.clearLayers();
   state.structures.clearLayers();
@@ -323,8 +347,12 @@ export function fieldHectares() {
  * as it was are stale (app.js clears them). */
 function announceChange() {
   const n = state.fields.getLayers().length;
-  $('mission-area').textContent = n ? `${n} field${n > 1 ? 's' : ''} · ${fieldHectares().toFixed(2)} ha` : 'no field yet';
-  $('first-step').hidden = n > 0;
+  const corridors = state.corridors.getLayers();
+  // a corridor's length along its centre line (metres on the map's sphere)
+  const km = corridors.reduce((sum, l) => sum + l.getLatLngs().reduce((d, p, i, all) => d + (i ? map.distance(all[i - 1], p) : 0), 0), 0) / 1000;
+  const parts = [n ? `${n} field${n > 1 ? 's' : ''} · ${fieldHectares().toFixed(2)} ha` : '', corridors.length ? `${corridors.length} corridor${corridors.length > 1 ? 's' : ''} · ${km.toFixed(2)} km` : ''];
+  $('mission-area').textContent = parts.filter(Boolean).join(' · ') || 'no field yet';
+  $('first-step').hidden = n + corridors.length > 0;
   document.dispatchEvent(new CustomEvent('mission-changed'));
 }
 
@@ -359,8 +387,14 @@ function geometryOf() {
     return { type: 'Feature', properties, geometry: { type: 'Polygon', coordinates: polygonOf(l) } };
   });
   const home = state.poses.home && state.poses.home.getLatLng();
+  // corridors are LineString features of the area with their width, beside the fields
+  const corridors = state.corridors.getLayers().map((l) => ({
+    type: 'Feature', properties: { width_m: l.cpWidth }, geometry: { type: 'LineString', coordinates: l.getLatLngs().map((p) => [p.lng, p.lat]) },
+  }));
+  const fields = multi(state.fields);
+  const area = corridors.length ? { type: 'FeatureCollection', features: [...(fields ? [{ type: 'Feature', properties: {}, geometry: fields }] : []), ...corridors] } : fields;
   return {
-    area: multi(state.fields),
+    area,
     no_fly_zones: multi(state.zones),
     obstacles: obstacles.length ? { type: 'FeatureCollection', features: obstacles } : null,
     structures: structures.length ? { type: 'FeatureCollection', features: structures } : null,
@@ -390,6 +424,11 @@ function polygonsOf(g) {
 /** Draws a mission's shapes and home (GeoJSON, as the API gives them). */
 function drawShapes(m) {
   polygonsOf(m.area).forEach((p) => addPolygon('field', p));
+  for (const f of (m.area && m.area.features) || (m.area && m.area.type === 'Feature' ? [m.area] : [])) {
+    if (f.geometry && f.geometry.type === 'LineString' && f.properties && f.properties.width_m) {
+      addCorridor(f.geometry.coordinates.map(([lng, lat]) => L.latLng(lat, lng)), f.properties.width_m);
+    }
+  }
   polygonsOf(m.no_fly_zones).forEach((p) => addPolygon('nfz', p));
   polygonsOf(m.obstacles).forEach((p) => addPolygon('obstacle', p, (p.properties && p.properties.height_m) || 20));
   for (const f of (m.structures && m.structures.features) || []) {
@@ -415,7 +454,8 @@ export function drawMission(m) {
   $('mission-name').value = m.name || 'New field';
   $('draw-error').hidden = true;
   drawShapes(m);
-  if (state.fields.getLayers().length) map.fitBounds(state.fields.getBounds(), { padding: [20, 20] });
+  const drawn = L.featureGroup([...state.fields.getLayers(), ...state.corridors.getLayers()]);
+  if (drawn.getLayers().length) map.fitBounds(drawn.getBounds(), { padding: [20, 20] });
   resetHistory();
   announceChange();
   loadTerrain().catch((e) => status(e.message, true));

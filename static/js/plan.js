@@ -95,9 +95,12 @@ function syncForm() {
   $('wind-box').hidden = ground || inspection;
   showWindArrow();
   $('tolerance-box').hidden = $('altitude-reference').value !== 'terrain';
+  // further passes: an aircraft's, alone; obliques need a camera on a multirotor
+  $('pattern-box').hidden = ground || inspection || num('drones') > 1;
+  $('oblique-pitch-box').hidden = $('pattern-box').hidden || $('pattern').value !== 'oblique';
   preview();
 }
-['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference', 'landing', 'guidance'].forEach((id) => $(id).addEventListener('change', syncForm));
+['camera', 'direction', 'planner', 'drones', 'vehicle', 'altitude-reference', 'landing', 'guidance', 'pattern'].forEach((id) => $(id).addEventListener('change', syncForm));
 
 /** The form's arrow points where the wind blows (downwind), grey in a calm. */
 function showWindArrow() {
@@ -253,6 +256,8 @@ export function planParams() {
     p.vehicles = num('drones');
     if (num('altitude-separation') !== undefined) p.altitude_separation_m = num('altitude-separation');
   }
+  if (!$('pattern-box').hidden && $('pattern').value !== 'grid') p.pattern = $('pattern').value;
+  if (p.pattern === 'oblique' && num('oblique-pitch') !== undefined) p.oblique_pitch_deg = num('oblique-pitch');
   if ($('landing').value === 'auto') p.landing = 'auto';
   if (!groundVehicle() && !$('wind-box').hidden && num('wind-speed') > 0) p.wind = { speed_mps: num('wind-speed'), from_deg: num('wind-from') ?? 0 };
   if (fixedWing()) {
@@ -334,6 +339,8 @@ export function restoreParams(p) {
   set('objective', p.objective);
   $('drones').value = p.vehicles || 1;
   $('landing').value = p.landing || 'return';
+  $('pattern').value = p.pattern || 'grid';
+  set('oblique-pitch', p.oblique_pitch_deg);
   $('landing-heading').value = p.landing_heading_deg ?? '';
   $('lead-in').value = p.lead_in_m ?? '';
   $('wind-speed').value = p.wind ? p.wind.speed_mps : '';
@@ -373,7 +380,7 @@ const inputOf = [
   ['/altitude_separation_m', 'altitude-separation'], ['/budget', 'budget'], ['/inspection/range_m', 'range-min'], ['/inspection/safety_margin_m', 'safety-margin'], ['/seed', 'inspection-seed'],
   ['/targets', 'target-names'], ['/terrain_tolerance_m', 'terrain-tolerance'], ['/camera', 'camera'], ['/planner', 'planner'], ['/swath_ends', 'line-ends'],
   ['/guidance/bearing_deg', 'guidance-bearing'], ['/guidance/a', 'guidance-a'], ['/guidance', 'guidance'], ['/tramline_every', 'tramline-every'],
-  ['/landing', 'landing'], ['/landing_heading_deg', 'landing-heading'], ['/lead_in_m', 'lead-in'],
+  ['/landing', 'landing'], ['/landing_heading_deg', 'landing-heading'], ['/lead_in_m', 'lead-in'], ['/pattern', 'pattern'], ['/oblique_pitch_deg', 'oblique-pitch'],
   ['/wind/speed_mps', 'wind-speed'], ['/wind/from_deg', 'wind-from'], ['/wind', 'wind-speed'],
 ];
 

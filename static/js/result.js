@@ -176,6 +176,8 @@ const figureRows = [
   ['last landing', (s) => (s.makespan_s == null ? '' : `${(s.makespan_s / 60).toFixed(1)} min`)],
   ['conflicts', (s) => (s.conflicts == null ? '' : s.conflicts.length)],
   ['photos', (s) => (s.photos ? s.photos : '')],
+  // an oblique plan's passes: the camera's pitch and heading, photos and length of each
+  ['passes', (s) => (s.passes ? s.passes.map((p) => `${p.camera_heading_deg == null ? 'nadir' : `${Math.round(p.camera_heading_deg)}° at ${p.gimbal_pitch_deg}°`}: ${p.photos} photos, ${(p.length_m / 1000).toFixed(2)} km`).join('; ') : '')],
   ['wind', (s) => (s.wind ? windFigure(s) : '')],
   ['resumed at', (s) => (s.resume ? `piece ${s.resume.seq}, ${Math.round(100 * s.resume.fraction)} % along (${(s.resume.original_left_m / 1000).toFixed(2)} km were left)` : '')],
   ['mainland worked', (s) => (s.ground ? `${(100 * s.ground.mainland_coverage).toFixed(1)} %` : '')],
@@ -306,7 +308,10 @@ export function drawChart() {
 export async function fillFormats() {
   const formats = await api('GET', '/api/v1/formats');
   $('download-format').innerHTML = formats
-    .map((f) => `<option value="${f.id}" data-firmware="${f.firmware_commands}" title="${escapeHtml(f.media_type)}">${escapeHtml(f.label)}</option>`)
+    .map(
+      (f) =>
+        `<option value="${f.id}" data-firmware="${f.firmware_commands}" data-limit="${f.waypoint_limit}" data-default-limit="${f.default_max_waypoints ?? ''}" title="${escapeHtml(f.media_type)}">${escapeHtml(f.label)}</option>`,
+    )
     .join('');
   updateDownload();
 }
@@ -314,10 +319,15 @@ export async function fillFormats() {
 /** The download link for the chosen format; the server names the file after the mission. */
 function updateDownload() {
   const format = $('download-format').value;
-  $('firmware-box').hidden = $('download-format').selectedOptions[0]?.dataset.firmware !== 'true';
+  const chosen = $('download-format').selectedOptions[0]?.dataset ?? {};
+  $('firmware-box').hidden = chosen.firmware !== 'true';
+  // a controller's waypoint limit: the formats it loads, with the format's own default shown
+  $('max-waypoints-box').hidden = chosen.limit !== 'true';
+  $('download-max-waypoints').placeholder = chosen.defaultLimit ? `default ${chosen.defaultLimit}` : 'no limit';
   if (!state.result) return;
   const firmware = $('firmware-box').hidden ? '' : `&firmware=${$('download-firmware').value}`;
-  $('download').href = `/api/v1/plans/${state.result.planId}/trajectory?format=${format}${firmware}`;
+  const limit = $('max-waypoints-box').hidden || !$('download-max-waypoints').value ? '' : `&max_waypoints=${$('download-max-waypoints').value}`;
+  $('download').href = `/api/v1/plans/${state.result.planId}/trajectory?format=${format}${firmware}${limit}`;
 }
 // a link cannot send the API key: with one, the file is fetched and saved from memory
 $('download').onclick = async (e) => {
@@ -334,3 +344,4 @@ $('download').onclick = async (e) => {
 };
 $('download-format').onchange = updateDownload;
 $('download-firmware').onchange = updateDownload;
+$('download-max-waypoints').oninput = updateDownload;

@@ -6,7 +6,9 @@
 // input, plans by keyboard alone, and fits 1366×768 and a 390×844 phone. The server runs from
 // a folder of its own, serving the page built into the binary. Run by tests/run_all.sh after
 // the build. Draws a barn and inspects it, with its 3D view. Resumes a plan from a click on its
-// path. Screenshots of each step are left
+// path. Plans it again as an oblique plan, with the DJI download's waypoint limit; draws a road
+// as a corridor and plans it. Screenshots
+// of each step are left
 // in the temporary folder (coverplan-*.png).
 import { execFileSync, spawn } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -502,6 +504,51 @@ try {
   assert.ok(await page.locator('path.kind-flown').count() > 0, 'the track flown is drawn');
   rmSync(logDir, { recursive: true, force: true });
   await shot('resumed-from-log');
+
+  // the field again as five passes for a 3D model, the gimbal pitched on four, each pass's
+  // figures shown; DJI's download offers the controller's waypoint limit, 99 by default
+  await page.selectOption('#pattern', 'oblique');
+  assert.ok(await page.isVisible('#oblique-pitch'), 'an oblique plan asks for the gimbal pitch');
+  await page.fill('#oblique-pitch', '-50');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.click('#plan');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the oblique plan', 90000);
+  const passes = await page.textContent('td[data-figure=passes]');
+  assert.equal(passes.split(';').length, 5, `five passes: ${passes}`);
+  assert.match(passes, /^nadir: \d+ photos, [\d.]+ km; \d+° at -50°/);
+  await page.selectOption('#download-format', 'wpml');
+  assert.ok(await page.isVisible('#download-max-waypoints'), 'a controller limit for DJI routes');
+  assert.equal(await page.getAttribute('#download-max-waypoints', 'placeholder'), 'default 99');
+  await page.fill('#download-max-waypoints', '60');
+  assert.match(await page.getAttribute('#download', 'href'), /format=wpml&max_waypoints=60$/);
+  await page.selectOption('#download-format', 'kml');
+  assert.ok(!(await page.isVisible('#download-max-waypoints')), 'no limit for Google Earth');
+  await page.selectOption('#pattern', 'grid');
+  await shot('oblique');
+
+  // a road drawn as its centre line with a width, planned by planner corridor, reopened whole
+  await page.goto(`${base}/`);
+  await page.waitForSelector('body[data-ready=true]');
+  await page.selectOption('#draw-kind', 'centre-line');
+  assert.ok(await page.isVisible('#corridor-width'), 'a corridor asks for its width');
+  await page.fill('#corridor-width', '40');
+  await page.fill('#point-at', '51.500, 6.050; 51.503, 6.056; 51.502, 6.064');
+  await page.click('#draw');
+  await waitFor(async () => /1 corridor · [\d.]+ km/.test(await page.textContent('#mission-area')), 'the corridor');
+  await page.selectOption('#vehicle', 'generic_multirotor');
+  await page.selectOption('#planner', 'corridor');
+  await page.selectOption('#camera', '');
+  await page.fill('#spacing', '15');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.click('#plan');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the corridor plan', 60000);
+  const roadLines = await state(() => window.coverplan.state.result.fc.features.filter((f) => f.properties.kind === 'sweep').length);
+  assert.ok(roadLines >= 3, `a 40 m corridor at 15 m: three lines or more, ${roadLines} flown`);
+  const road = await state(() => window.coverplan.state.missionId);
+  await page.goto(`${base}/?mission=${road}`);
+  await page.waitForSelector('body[data-ready=true]');
+  assert.deepEqual(await state(() => window.coverplan.state.corridors.getLayers().map((l) => [l.cpWidth, l.getLatLngs().length])), [[40, 3]], 'the corridor comes back');
+  await shot('corridor');
 
   // a hilly field: its elevation model from the file picker, shaded under the field; planned at
   // 60 m above the ground, with the profile of ground, altitude and band

@@ -16,6 +16,11 @@ GeoJSON photos name their pass, pitch and heading.
 A plan over terrain adds "frame" (the MAVLink frame of positions: 0 above mean sea level, 10 above
 the ground), "heights" (each waypoint's altitude in that frame) and "home_alt" (the ground at home,
 above mean sea level).
+"missions" (optional) lists flights cut into missions for a controller's waypoint limit:
+  [{"parts": [file, ...], "format", "max_waypoints", "photos", "zones"}]: each part read by the same
+readers, within the limit (WPML placemarks; MAVLink items after home), each beginning at the
+waypoint where the one before ended, and together taking at least the plan's photos (lines are
+triggered from end to end there).
 Readers: pymavlink's waypoint loader (QGC WPL 110), jsonschema with qgc-plan.schema.json (the
 .plan format as QGroundControl documents it), fastkml (KML, KMZ), the standard library's XML
 parser (GeoJSON, DJI WPML). ISOXML is read by check_isoxml.mjs with the isoxml library.
@@ -319,6 +324,49 @@ def check_wpml(path, spec):
     assert len(template.findall(f".//{KML}Placemark")) == len(marks)
 
 
+def mission_points(path, fmt):
+    """The positions ([lat, lon]) of a mission's waypoints, its item count, and the photos its
+    camera takes."""
+    if fmt == "wpml":
+        with zipfile.ZipFile(path) as z:
+            waylines = ET.fromstring(z.read("wpmz/waylines.wpml"))
+        marks = waylines.findall(f".//{KML}Placemark")
+        points = [tuple(reversed([float(v) for v in m.find(f"{KML}Point/{KML}coordinates").text.split(",")])) for m in marks]
+        taken = 0
+        for g in waylines.findall(f".//{WPML}actionGroup"):
+            if g.find(f".//{WPML}actionTriggerType").text != "multipleDistance":
+                continue
+            start, end = int(g.find(f"{WPML}actionGroupStartIndex").text), int(g.find(f"{WPML}actionGroupEndIndex").text)
+            step = float(g.find(f".//{WPML}actionTriggerParam").text)
+            length = sum(autopilot_distance("px4", points[k], points[k + 1]) for k in range(start, end))
+            taken += 1 + (int(length / step + 1e-6) if step > 0 else 0)
+        return points, len(marks), taken
+    if fmt == "plan":
+        plan = json.loads(path.read_text())
+        jsonschema.validate(plan, json.loads((HERE / "qgc-plan.schema.json").read_text()))
+        items = plan["mission"]["items"]
+        rows = [(i["command"], i["params"][0], i["params"][2], i["params"][4], i["params"][5]) for i in items]
+    else:
+        loader = mavwp.MAVWPLoader()
+        count = loader.load(str(path))
+        items = [loader.wp(i) for i in range(1, count)]
+        rows = [(i.command, i.param1, i.param3, i.x, i.y) for i in items]
+    points = [(r[3], r[4]) for r in rows if r[0] == NAV_WAYPOINT]
+    return points, len(rows), len(autopilot_photos(rows))
+
+
+def check_missions(folder, spec):
+    photos, previous_end = 0, None
+    for name in spec["parts"]:
+        points, count, taken = mission_points(folder / name, spec["format"])
+        assert count <= spec["max_waypoints"], f"{name}: {count} waypoints, the limit {spec['max_waypoints']}"
+        if previous_end is not None:
+            assert same_point(points[0], previous_end), f"{name} begins at {points[0]}, the mission before ended at {previous_end}"
+        previous_end = points[-1]
+        photos += taken
+    assert photos >= spec["photos"], f"{spec['format']}: the missions take {photos} photos, the plan {spec['photos']}"
+
+
 def main(folder):
     folder = Path(folder)
     manifest = json.loads((folder / "manifest.json").read_text())
@@ -346,6 +394,13 @@ def main(folder):
         except Exception as e:  # report every file, then fail
             failed += 1
             print(f"FAIL {spec['file']}: {type(e).__name__}: {e}")
+    for spec in manifest.get("missions", []):
+        try:
+            check_missions(folder, spec)
+            passed += 1
+        except Exception as e:
+            failed += 1
+            print(f"FAIL missions {spec['format']}: {type(e).__name__}: {e}")
     print(f"{passed} passed, {failed} failed")
     sys.exit(1 if failed or not passed else 0)
 

@@ -249,6 +249,8 @@ impl Exporter for GeoJsonFile {
             firmware_commands: false,
             plans: ALL_METHODS,
             verbatim: true,
+            waypoint_limit: false,
+            default_max_waypoints: None,
         }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {

@@ -49,6 +49,8 @@ impl Exporter for TaskData {
             firmware_commands: false,
             plans: COVERAGE_ONLY,
             verbatim: false,
+            waypoint_limit: false,
+            default_max_waypoints: None,
         }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {

@@ -47,6 +47,8 @@ impl Exporter for Kml {
             firmware_commands: false,
             plans: ALL_METHODS,
             verbatim: false,
+            waypoint_limit: false,
+            default_max_waypoints: None,
         }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
@@ -65,6 +67,8 @@ impl Exporter for Kmz {
             firmware_commands: false,
             plans: ALL_METHODS,
             verbatim: false,
+            waypoint_limit: false,
+            default_max_waypoints: None,
         }
     }
     fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {

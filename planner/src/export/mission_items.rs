@@ -8,7 +8,8 @@
 
 use super::flight::{FlownPiece, PlanPhoto, ViewAction, Waypoint, photos_by_pass, waypoints};
 use super::follower;
-use super::{AltitudeFrame, Firmware, FlightSettings};
+use super::{AltitudeFrame, ExportJob, Firmware, FlightSettings};
+use crate::error::InputError;
 use crate::params::Landing;
 use rstar::{AABB, RTree};
 
@@ -174,6 +175,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[Plan
                 // a straight line: fly to its first photo, trigger there and every step, stop
                 // half a step past its last photo
                 Triggers::Line(line) => {
+                    let line = if settings.compact_lines { LineTriggers { start: None, stop: None, ..line } } else { line };
                     if let Some(start) = &line.start {
                         items.push(place(NAV_WAYPOINT, [Some(0.0), Some(0.0), Some(0.0), keep_yaw], start));
                     }
@@ -230,6 +232,60 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[Plan
         }
     }
     items
+}
+
+/// The sortie's items within `job.max_waypoints` (docs/flight-files.md, controller limits): as
+/// planned; else with every line its two ends (the camera triggered from one to the other);
+/// else that cut into missions, each within the limit, each ending at a waypoint with the
+/// camera off and the next starting there.
+pub fn limited_items(job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<MissionItem>>, InputError> {
+    let pieces = &job.flight.sorties[sortie];
+    let items = |settings: &FlightSettings| mission_items(pieces, &job.flight.views, &job.flight.photos, settings, job.outlines.home);
+    let planned = items(&job.settings);
+    let Some(max) = job.max_waypoints.filter(|&max| planned.len() > max) else { return Ok(vec![planned]) };
+    let compact = items(&FlightSettings { compact_lines: true, ..job.settings });
+    if compact.len() <= max {
+        return Ok(vec![compact]);
+    }
+    in_missions(&compact, max)
+}
+
+/// `items` cut into missions of at most `max` items: each begins with the take-off (passed at
+/// once when airborne), the speed and gimbal in force, and the waypoint the last ended at; each
+/// but the last ends at a waypoint with the camera off, where the vehicle holds.
+fn in_missions(items: &[MissionItem], max: usize) -> Result<Vec<Vec<MissionItem>>, InputError> {
+    let last_of = |command: u16, before: usize| items[..before].iter().rposition(|i| i.command == command);
+    // the return and landing stay together in the last mission
+    let tail = items.iter().position(|i| i.command == DO_LAND_START).unwrap_or(items.len() - 1);
+    let camera_off = |before: usize| last_of(DO_SET_CAM_TRIGG_DIST, before).is_none_or(|k| items[k].params[0].unwrap_or(0.0) == 0.0);
+    let cut_before = |k: usize| items[k - 1].command == NAV_WAYPOINT && camera_off(k);
+    let prefix = |from: usize| -> Vec<MissionItem> {
+        let mut out = vec![items[0].clone()];
+        if from > 1 {
+            out.extend([DO_CHANGE_SPEED, DO_GIMBAL_MANAGER_PITCHYAW].iter().filter_map(|&c| last_of(c, from)).map(|k| items[k].clone()));
+            out.push(items[from - 1].clone());
+        }
+        out
+    };
+    let mut missions = Vec::new();
+    let mut from = 1;
+    loop {
+        let head = prefix(from);
+        if head.len() + items.len() - from <= max {
+            missions.push([head, items[from..].to_vec()].concat());
+            return Ok(missions);
+        }
+        let room = max - head.len();
+        let Some(to) = (from + 1..=(from + room).min(tail)).rev().find(|&k| cut_before(k)) else {
+            return Err(InputError::new(
+                "max_waypoints_too_few",
+                "/max_waypoints",
+                format!("a stretch of this flight with the camera on takes more than {room} items: give max_waypoints of at least {}", max + 1),
+            ));
+        };
+        missions.push([head, items[from..to].to_vec()].concat());
+        from = to;
+    }
 }
 
 /// The distance between two `[lon, lat]` points as the autopilot measures it when it triggers
@@ -406,6 +462,7 @@ mod tests {
             hold_s: 0.0,
             altitude_frame: AltitudeFrame::Amsl,
             landing: Landing::Return,
+            compact_lines: false,
             guidance: None,
         }
     }

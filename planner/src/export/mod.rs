@@ -62,7 +62,14 @@ pub struct ExportOptions {
     pub altitude_frame: AltitudeFrame,
     /// Flight altitude above home for formats that need one, when the plan has none.
     pub altitude_m: Option<f64>,
+    /// Most waypoints the controller loads (formats with a `waypoint_limit`; default the
+    /// format's `default_max_waypoints`).
+    pub max_waypoints: Option<usize>,
 }
+
+/// The range of `max_waypoints`: a part must hold its take-off, its way back onto the route and
+/// a line; DJI's waypoint routes hold at most 65 535.
+pub const MAX_WAYPOINTS_RANGE: (usize, usize) = (10, 65_535);
 
 /// Altitude above home written in flight files of plans made without an altitude or a camera.
 pub const DEFAULT_ALTITUDE_M: f64 = 50.0;
@@ -114,6 +121,9 @@ pub struct FlightSettings {
     pub altitude_frame: AltitudeFrame,
     /// How each flight ends: the autopilot's return, or a landing written in the file.
     pub landing: Landing,
+    /// Lines written as their two ends, the camera triggered from the first to the last
+    /// (no waypoints where its photos start and stop): for controllers with few waypoints.
+    pub compact_lines: bool,
     /// The farm's guidance line a ground plan followed.
     pub guidance: Option<Guidance>,
 }
@@ -125,6 +135,8 @@ pub struct ExportJob<'a> {
     pub flight: Flight,
     pub settings: FlightSettings,
     pub trajectory: &'a ::geojson::FeatureCollection,
+    /// Most waypoints a file may hold (formats with a `waypoint_limit`).
+    pub max_waypoints: Option<usize>,
 }
 
 /// What names a file format and its files, and which plans it can say.
@@ -148,6 +160,11 @@ pub struct Format {
     pub plans: &'static [MethodKind],
     /// The trajectory as the planner stored it: served without reading it.
     pub verbatim: bool,
+    /// Honours `max_waypoints`: past it, lines become their two ends, then the flight is
+    /// split into missions (a zip), each starting where the last ended.
+    pub waypoint_limit: bool,
+    /// The limit when none is asked for (the controller this format is mostly flown from).
+    pub default_max_waypoints: Option<usize>,
 }
 
 /// The plans every format can say.
@@ -161,6 +178,11 @@ pub trait Exporter: Sync {
     fn format(&self) -> &'static Format;
     /// Writes the file; `sortie` (0-based) limits a one-flight format to that sortie.
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError>;
+    /// The sortie's files: one, or (a format with a `waypoint_limit`) as many missions as keep
+    /// each within `job.max_waypoints`.
+    fn write_parts(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+        Ok(vec![self.write(job, sortie)?])
+    }
 }
 
 /// Every export format, in the order menus list them; the first is the default.
@@ -204,22 +226,37 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         let able: Vec<&str> = EXPORTERS.iter().map(|e| e.format()).filter(|f| f.plans.contains(&planned.method)).map(|f| f.id).collect();
         return Err(InputError::new("format_not_applicable", "/format", format!("this {:?} plan is exported as {}", planned.method, able.join(", ")).to_lowercase()));
     }
+    if request.options.max_waypoints.is_some() && !exporter.format().waypoint_limit {
+        let limited: Vec<&str> = EXPORTERS.iter().map(|e| e.format()).filter(|f| f.waypoint_limit).map(|f| f.id).collect();
+        return Err(InputError::new("format_not_applicable", "/max_waypoints", format!("max_waypoints limits the flight files a controller loads: {}", limited.join(", "))));
+    }
+    if let Some(max) = request.options.max_waypoints {
+        check_range(max as f64, MAX_WAYPOINTS_RANGE.0 as f64, MAX_WAYPOINTS_RANGE.1 as f64, "/max_waypoints", "waypoints per mission")?;
+    }
     let write_all = |job: &ExportJob<'_>, stem: &str| -> Result<Vec<(String, Vec<u8>)>, InputError> {
-        let sorties = job.flight.sorties.len();
-        if !one_flight_per_file || sorties <= 1 {
-            return Ok(vec![(format!("{stem}{extension}"), exporter.write(job, 0)?)]);
+        let sorties = if one_flight_per_file { job.flight.sorties.len() } else { 1 };
+        let mut files = Vec::new();
+        for k in 0..sorties {
+            let parts = exporter.write_parts(job, k)?;
+            let count = parts.len();
+            for (j, bytes) in parts.into_iter().enumerate() {
+                let sortie = if sorties > 1 { format!("-sortie-{}", k + 1) } else { String::new() };
+                let part = if count > 1 { format!("-part-{}", j + 1) } else { String::new() };
+                files.push((format!("{stem}{sortie}{part}{extension}"), bytes));
+            }
         }
-        (0..sorties).map(|k| Ok((format!("{stem}-sortie-{}{extension}", k + 1), exporter.write(job, k)?))).collect()
+        Ok(files)
     };
     let (outlines, altitude_m) = outlines_and_altitude(request, &planned)?;
     if planned.fleet.is_empty() || verbatim {
-        let job = prepare(request, &planned, &planned.vehicle, outlines, altitude_m, request.trajectory)?;
+        let job = prepare(request, exporter.format(), &planned, &planned.vehicle, outlines, altitude_m, request.trajectory)?;
         let mut files = write_all(&job, &stem)?;
         if files.len() == 1 {
             let (file_name, bytes) = files.pop().expect("one file");
             return Ok(ExportFile { file_name, media_type, bytes });
         }
-        return Ok(ExportFile { file_name: format!("{stem}-{id}-sorties.zip"), media_type: "application/zip", bytes: archive::zip(&files) });
+        let what = if job.flight.sorties.len() > 1 && one_flight_per_file { "sorties" } else { "parts" };
+        return Ok(ExportFile { file_name: format!("{stem}-{id}-{what}.zip"), media_type: "application/zip", bytes: archive::zip(&files) });
     }
     let mut files = Vec::new();
     for (k, drone) in planned.fleet.iter().enumerate() {
@@ -230,7 +267,7 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         }
         let trajectory = ::geojson::FeatureCollection { bbox: None, features, foreign_members: request.trajectory.foreign_members.clone() };
         let own_home = Outlines { home: drone.home.or(request.mission.home), ..outlines.clone() };
-        let job = prepare(request, &planned, &drone.vehicle, own_home, altitude_m, &trajectory)?;
+        let job = prepare(request, exporter.format(), &planned, &drone.vehicle, own_home, altitude_m, &trajectory)?;
         files.extend(write_all(&job, &format!("{stem}-drone-{}", k + 1))?);
     }
     Ok(ExportFile { file_name: format!("{stem}-{id}-fleet.zip"), media_type: "application/zip", bytes: archive::zip(&files) })
@@ -307,6 +344,7 @@ fn outlines_and_altitude(request: &ExportRequest<'_>, planned: &FileParams) -> R
 /// What one vehicle's files are written from: `trajectory` holds its pieces only, `outlines` its home.
 fn prepare<'a>(
     request: &ExportRequest<'a>,
+    format: &Format,
     planned: &FileParams,
     vehicle: &Vehicle,
     outlines: Outlines,
@@ -324,10 +362,12 @@ fn prepare<'a>(
         hold_s: planned.hold_s.unwrap_or(0.0),
         altitude_frame: request.options.altitude_frame,
         landing: planned.landing,
+        compact_lines: false,
         guidance: planned.guidance,
     };
     let flight = Flight::from_trajectory(trajectory, altitude_m)?;
-    Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory })
+    let max_waypoints = request.options.max_waypoints.or(format.default_max_waypoints).filter(|_| format.waypoint_limit);
+    Ok(ExportJob { name: request.name, outlines, flight, settings, trajectory, max_waypoints })
 }
 
 /// `v` rounded to `decimals` places, as text without trailing zeros.

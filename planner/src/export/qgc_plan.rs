@@ -43,39 +43,50 @@ impl Exporter for QgcPlan {
             firmware_commands: true,
             plans: ALL_METHODS,
             verbatim: false,
+            waypoint_limit: true,
+            default_max_waypoints: None,
         }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
-        let pieces = &job.flight.sorties[sortie];
-        let s = &job.settings;
-        let items = mission_items::mission_items(pieces, &job.flight.views, &job.flight.photos, s, job.outlines.home);
-        let [lon, lat] = launch(pieces, job.outlines.home);
-        let plan_mode = items.iter().find(|i| i.frame != FRAME_MISSION).map_or(ALTITUDE_RELATIVE, |i| altitude_mode(i.frame));
-        // over terrain, home is where the ground is; otherwise the altitudes are relative to it
-        let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
-        let items: Vec<Value> = items.iter().enumerate().map(|(k, item)| simple_item(item, k + 1)).collect();
-        let mut fences: Vec<Value> = vec![fence(&inclusion_ring(job, sortie), true)];
-        fences.extend(job.outlines.no_fly_zones.0.iter().map(|p| fence(p.exterior(), false)));
-        let plan = json!({
-            "fileType": "Plan",
-            "version": 1,
-            "groundStation": "coverplan",
-            "mission": {
-                "version": 2,
-                "firmwareType": mav_autopilot(s.firmware),
-                "vehicleType": mav_type(s.kind),
-                "cruiseSpeed": s.cruise_speed_mps,
-                "hoverSpeed": s.cruise_speed_mps,
-                "globalPlanAltitudeMode": plan_mode,
-                "plannedHomePosition": [lat, lon, home_altitude],
-                "items": items,
-            },
-            "geoFence": {"version": 2, "circles": [], "polygons": fences},
-            "rallyPoints": {"version": 2, "points": []},
-        });
-        Ok((serde_json::to_string_pretty(&plan).expect("JSON") + "\n").into_bytes())
+        let items = mission_items::mission_items(&job.flight.sorties[sortie], &job.flight.views, &job.flight.photos, &job.settings, job.outlines.home);
+        Ok(file(job, sortie, &items))
     }
+
+    fn write_parts(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+        Ok(mission_items::limited_items(job, sortie)?.iter().map(|items| file(job, sortie, items)).collect())
+    }
+}
+
+/// The `.plan` of `items`, flown in `sortie`.
+fn file(job: &ExportJob<'_>, sortie: usize, items: &[MissionItem]) -> Vec<u8> {
+    let pieces = &job.flight.sorties[sortie];
+    let s = &job.settings;
+    let [lon, lat] = launch(pieces, job.outlines.home);
+    let plan_mode = items.iter().find(|i| i.frame != FRAME_MISSION).map_or(ALTITUDE_RELATIVE, |i| altitude_mode(i.frame));
+    // over terrain, home is where the ground is; otherwise the altitudes are relative to it
+    let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
+    let items: Vec<Value> = items.iter().enumerate().map(|(k, item)| simple_item(item, k + 1)).collect();
+    let mut fences: Vec<Value> = vec![fence(&inclusion_ring(job, sortie), true)];
+    fences.extend(job.outlines.no_fly_zones.0.iter().map(|p| fence(p.exterior(), false)));
+    let plan = json!({
+        "fileType": "Plan",
+        "version": 1,
+        "groundStation": "coverplan",
+        "mission": {
+            "version": 2,
+            "firmwareType": mav_autopilot(s.firmware),
+            "vehicleType": mav_type(s.kind),
+            "cruiseSpeed": s.cruise_speed_mps,
+            "hoverSpeed": s.cruise_speed_mps,
+            "globalPlanAltitudeMode": plan_mode,
+            "plannedHomePosition": [lat, lon, home_altitude],
+            "items": items,
+        },
+        "geoFence": {"version": 2, "circles": [], "polygons": fences},
+        "rallyPoints": {"version": 2, "points": []},
+    });
+    (serde_json::to_string_pretty(&plan).expect("JSON") + "\n").into_bytes()
 }
 
 fn simple_item(item: &MissionItem, jump_id: usize) -> Value {

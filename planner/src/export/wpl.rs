@@ -21,25 +21,35 @@ impl Exporter for WaypointList {
             firmware_commands: true,
             plans: ALL_METHODS,
             verbatim: false,
+            waypoint_limit: true,
+            default_max_waypoints: None,
         }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
-        let pieces = &job.flight.sorties[sortie];
-        let items = mission_items::mission_items(pieces, &job.flight.views, &job.flight.photos, &job.settings, job.outlines.home);
-        let [lon, lat] = launch(pieces, job.outlines.home);
-        let mut text = String::from("QGC WPL 110\n");
-        // item 0: home, absolute frame (over terrain at the ground's height), current
-        let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
-        writeln!(text, "0\t1\t0\t16\t0\t0\t0\t0\t{}\t{}\t{}\t1", number(lat, 8), number(lon, 8), number(home_altitude, 2)).expect("write to String");
-        for (k, item) in items.iter().enumerate() {
-            let [lat, lon, alt] = item.position.unwrap_or([0.0; 3]);
-            let params: Vec<String> = item.params.iter().map(|p| p.map_or("nan".to_owned(), |v| number(v, 6))).collect();
-            writeln!(text, "{}\t0\t{}\t{}\t{}\t{}\t{}\t{}\t1", k + 1, item.frame, item.command, params.join("\t"), number(lat, 8), number(lon, 8), number(alt, 2))
-                .expect("write to String");
-        }
-        Ok(text.into_bytes())
+        let items = mission_items::mission_items(&job.flight.sorties[sortie], &job.flight.views, &job.flight.photos, &job.settings, job.outlines.home);
+        Ok(file(job, sortie, &items))
     }
+
+    fn write_parts(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+        Ok(mission_items::limited_items(job, sortie)?.iter().map(|items| file(job, sortie, items)).collect())
+    }
+}
+
+/// The `QGC WPL 110` text of `items`, flown in `sortie`.
+fn file(job: &ExportJob<'_>, sortie: usize, items: &[MissionItem]) -> Vec<u8> {
+    let [lon, lat] = launch(&job.flight.sorties[sortie], job.outlines.home);
+    let mut text = String::from("QGC WPL 110\n");
+    // item 0: home, absolute frame (over terrain at the ground's height), current
+    let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
+    writeln!(text, "0\t1\t0\t16\t0\t0\t0\t0\t{}\t{}\t{}\t1", number(lat, 8), number(lon, 8), number(home_altitude, 2)).expect("write to String");
+    for (k, item) in items.iter().enumerate() {
+        let [lat, lon, alt] = item.position.unwrap_or([0.0; 3]);
+        let params: Vec<String> = item.params.iter().map(|p| p.map_or("nan".to_owned(), |v| number(v, 6))).collect();
+        writeln!(text, "{}\t0\t{}\t{}\t{}\t{}\t{}\t{}\t1", k + 1, item.frame, item.command, params.join("\t"), number(lat, 8), number(lon, 8), number(alt, 2))
+            .expect("write to String");
+    }
+    text.into_bytes()
 }
 
 /// The mission items of a `QGC WPL 110` file, its home (item 0) left out: what an autopilot

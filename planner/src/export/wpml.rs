@@ -4,7 +4,7 @@
 //! waypoint at its first photo to one half a step past its last).
 //! Written with quick-xml: no crate writes WPML.
 
-use super::flight::{CameraPose, photos_by_pass, waypoints};
+use super::flight::{CameraPose, Waypoint, photos_by_pass, waypoints};
 use super::mission_items::{Triggers, line_triggers};
 use super::xml::Xml;
 use super::{COVERAGE_ONLY, ExportJob, Exporter, Format, number};
@@ -19,6 +19,11 @@ const NAMESPACE: &str = "http://www.dji.com/wpmz/1.0.6";
 /// Mavic 3 Enterprise and its wide camera (DJI's `droneEnumValue` 77, `payloadEnumValue` 66).
 const DRONE: (&str, &str) = ("77", "0");
 const PAYLOAD: &str = "66";
+/// Waypoints DJI's RC 2 controller loads: DJI Fly crashes on a route of more than 99
+/// (YLabs-FPV/YMapper issue 8); the RC 2 shows "a hundred-and-some-odd" before it freezes
+/// (hotosm/drone-flightplan pull request 19). DJI Pilot 2 on an enterprise controller takes up
+/// to 65 535: give `max_waypoints` for it.
+pub const DJI_RC2_WAYPOINTS: usize = 99;
 /// DJI's speed range for waypoint routes, m/s.
 const SPEED_RANGE: (f64, f64) = (1.0, 15.0);
 
@@ -33,34 +38,55 @@ impl Exporter for Wpml {
             firmware_commands: false,
             plans: COVERAGE_ONLY,
             verbatim: false,
+            waypoint_limit: true,
+            default_max_waypoints: Some(DJI_RC2_WAYPOINTS),
         }
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
-        if job.settings.kind != VehicleKind::Multirotor {
-            return Err(InputError::new("format_not_applicable", "format", "DJI WPML routes are flown by DJI multirotors; export a fixed-wing plan as `plan` or `waypoints`"));
-        }
-        let template = document(job, sortie, false);
-        let waylines = document(job, sortie, true);
-        Ok(archive::zip(&[("wpmz/template.kml".to_owned(), template), ("wpmz/waylines.wpml".to_owned(), waylines)]))
+        multirotor_only(job)?;
+        let route = route(job, sortie, false);
+        Ok(kmz(job, sortie, &route, 0..route.points.len(), true))
+    }
+
+    fn write_parts(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+        multirotor_only(job)?;
+        let Some(max) = job.max_waypoints.filter(|&max| route(job, sortie, false).points.len() > max) else { return Ok(vec![self.write(job, sortie)?]) };
+        // lines as their two ends; then missions, each beginning where the last ended
+        let route = route(job, sortie, true);
+        let parts = missions(&route, max)?;
+        let count = parts.len();
+        Ok(parts.into_iter().enumerate().map(|(j, range)| kmz(job, sortie, &route, range, j + 1 == count)).collect())
     }
 }
 
-/// `template.kml` (`executable` false) or `waylines.wpml` (true): the same route, in the two
-/// vocabularies DJI uses for them.
-fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
-    let s = &job.settings;
+fn multirotor_only(job: &ExportJob<'_>) -> Result<(), InputError> {
+    if job.settings.kind != VehicleKind::Multirotor {
+        return Err(InputError::new("format_not_applicable", "format", "DJI WPML routes are flown by DJI multirotors; export a fixed-wing plan as `plan` or `waypoints`"));
+    }
+    Ok(())
+}
+
+/// The waypoints DJI flies, and the photo groups along them: first and last waypoint, step.
+struct Route {
+    points: Vec<Waypoint>,
+    triggers: Vec<(usize, usize, f64)>,
+}
+
+/// On a straight sweep the camera runs from the plan's first photo to half a step past its
+/// last (waypoints added there), at the line's own step; `compact`: from the line's start to
+/// its end, no waypoint added.
+fn route(job: &ExportJob<'_>, sortie: usize, compact: bool) -> Route {
     let pieces = &job.flight.sorties[sortie];
     let photos = photos_by_pass(&job.flight.photos);
-    // on a straight sweep the camera runs from the plan's first photo to half a step past its
-    // last (waypoints added there), at the line's own step
     let mut points = Vec::new();
     let mut triggers: Vec<(usize, usize, f64)> = Vec::new();
     for w in waypoints(pieces, None) {
         let piece = &pieces[w.piece];
-        if let (Some(distance), true) = (s.trigger_distance_m, piece.kind == PieceKind::Sweep && w.index == 1) {
+        if let (Some(distance), true) = (job.settings.trigger_distance_m, piece.kind == PieceKind::Sweep && w.index == 1) {
             let from = points.len().saturating_sub(1);
             match line_triggers(piece, w.piece, photos.get(&piece.camera.map(|c| c.pass)), None) {
+                Triggers::Line(line) if compact => triggers.push((from, points.len(), line.step_m)),
                 Triggers::Line(line) => {
                     let start = line.start.map_or(from, |p| {
                         points.push(p);
@@ -78,6 +104,41 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
         }
         points.push(w);
     }
+    Route { points, triggers }
+}
+
+/// The route cut into missions of at most `max` waypoints, each beginning at the waypoint the
+/// last ended at, never within a photo group.
+fn missions(route: &Route, max: usize) -> Result<Vec<std::ops::Range<usize>>, InputError> {
+    let n = route.points.len();
+    let inside_group = |k: usize| route.triggers.iter().any(|&(start, stop, _)| start < k && k < stop);
+    let mut parts = Vec::new();
+    let mut from = 0;
+    while n - from > max {
+        let Some(last) = (from + 1..from + max).rev().find(|&k| !inside_group(k)) else {
+            return Err(InputError::new("max_waypoints_too_few", "/max_waypoints", format!("a line's photos take more than {max} waypoints: give a larger max_waypoints")));
+        };
+        parts.push(from..last + 1);
+        from = last;
+    }
+    parts.push(from..n);
+    Ok(parts)
+}
+
+/// The KMZ of the waypoints `range` of `route`; `last`: the sortie's last mission, which goes
+/// home (the others hold where they end, for the next).
+fn kmz(job: &ExportJob<'_>, sortie: usize, route: &Route, range: std::ops::Range<usize>, last: bool) -> Vec<u8> {
+    let template = document(job, sortie, route, range.clone(), last, false);
+    let waylines = document(job, sortie, route, range, last, true);
+    archive::zip(&[("wpmz/template.kml".to_owned(), template), ("wpmz/waylines.wpml".to_owned(), waylines)])
+}
+
+/// `template.kml` (`executable` false) or `waylines.wpml` (true): the same route, in the two
+/// vocabularies DJI uses for them.
+fn document(job: &ExportJob<'_>, sortie: usize, route: &Route, range: std::ops::Range<usize>, last: bool, executable: bool) -> Vec<u8> {
+    let s = &job.settings;
+    let pieces = &job.flight.sorties[sortie];
+    let points = &route.points;
     // over terrain the heights are above mean sea level: DJI's are relative to the take-off
     // point (its WGS84 mode is ellipsoidal, not sea level), so the launch ground comes off
     let launch_ground = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
@@ -90,7 +151,16 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
     }
     x.open("wpml:missionConfig", &[])
         .leaf("wpml:flyToWaylineMode", "safely")
-        .leaf("wpml:finishAction", if job.outlines.home.is_some() { "goHome" } else { "autoLand" })
+        .leaf(
+            "wpml:finishAction",
+            if !last {
+                "noAction"
+            } else if job.outlines.home.is_some() {
+                "goHome"
+            } else {
+                "autoLand"
+            },
+        )
         .leaf("wpml:exitOnRCLost", "executeLostAction")
         .leaf("wpml:executeRCLostAction", "goBack")
         .leaf("wpml:takeOffSecurityHeight", &number(s.altitude_m.clamp(1.2, 1500.0), 2))
@@ -113,11 +183,12 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
     let camera = |k: usize| pieces[points[k.min(points.len() - 1)].piece].camera;
     let leaving = |k: usize| if k + 1 < points.len() { camera(k + 1) } else { camera(k) };
     let mut group = 0;
-    for (k, w) in points.iter().enumerate() {
+    let first = range.start;
+    for (k, w) in points.iter().enumerate().take(range.end).skip(first) {
         let [lon, lat, altitude] = w.position;
         let altitude = altitude - launch_ground;
         x.open("Placemark", &[]).open("Point", &[]).leaf("coordinates", &format!("{},{}", number(lon, 8), number(lat, 8))).close("Point");
-        x.leaf("wpml:index", &k.to_string());
+        x.leaf("wpml:index", &(k - first).to_string());
         let facing = leaving(k).and_then(|c| c.heading_deg);
         if executable {
             x.leaf("wpml:executeHeight", &number(altitude, 2)).leaf("wpml:waypointSpeed", &number(speed(k), 2));
@@ -136,14 +207,16 @@ fn document(job: &ExportJob<'_>, sortie: usize, executable: bool) -> Vec<u8> {
         }
         x.leaf("wpml:useStraightLine", "1");
         // a pass begins on the leg leaving this waypoint: turn the vehicle and pitch the gimbal
-        if let Some(pose) = leaving(k).filter(|c| k == 0 || camera(k).map(|c| c.pass) != Some(c.pass)) {
+        // (and where a mission begins within a pass)
+        if let Some(pose) = leaving(k).filter(|c| k == first || camera(k).map(|c| c.pass) != Some(c.pass)) {
             // the vehicle faces the pass before's heading, or the way it came
             let facing_before = camera(k).and_then(|c| c.heading_deg).or_else(|| (k > 0).then(|| bearing(points[k - 1].position, w.position)));
-            pose_group(&mut x, group, k, pose, facing_before);
+            pose_group(&mut x, group, k - first, pose, facing_before);
             group += 1;
         }
-        for &(start, stop, step) in triggers.iter().filter(|t| t.0 == k) {
-            photo_group(&mut x, group, start, stop, step);
+        // a group beginning at a mission's last waypoint is the next mission's
+        for &(start, stop, step) in route.triggers.iter().filter(|t| t.0 == k && t.1 < range.end) {
+            photo_group(&mut x, group, start - first, stop - first, step);
             group += 1;
         }
         x.close("Placemark");

@@ -59,7 +59,7 @@ fn fly_case_with_zones(area: &Value, zones: Option<&Value>, home: [f64; 2], para
         params: &params,
         profiles: &profiles,
         trajectory: &output.trajectory,
-        options: ExportOptions { firmware, altitude_frame: AltitudeFrame::Amsl, altitude_m: None },
+        options: ExportOptions { firmware, altitude_frame: AltitudeFrame::Amsl, altitude_m: None, max_waypoints: None },
     };
     let file = export::export("waypoints", &request).unwrap();
     let files = if archive::is_zip(&file.bytes) { archive::unzip(&file.bytes).unwrap().into_iter().map(|f| f.1).collect() } else { vec![file.bytes] };

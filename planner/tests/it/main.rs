@@ -6,6 +6,7 @@ mod corridors;
 mod energy_planners;
 mod flown;
 mod inspection;
+mod limits;
 mod obstacles;
 mod patrolling;
 mod patterns;

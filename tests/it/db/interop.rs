@@ -229,7 +229,9 @@ async fn every_format_downloads_reads_back_and_passes_independent_readers() {
         ("wpml", "application/vnd.google-earth.kmz", ".kmz"),
         ("isoxml", "application/zip", "-taskdata.zip"),
     ] {
-        let (status, got_media, disposition, bytes) = download(&app, &plan, &format!("format={format}")).await;
+        // DJI WPML in one mission, whatever the controller's limit (missions are tested on their own)
+        let limit = if format == "wpml" { "&max_waypoints=65535" } else { "" };
+        let (status, got_media, disposition, bytes) = download(&app, &plan, &format!("format={format}{limit}")).await;
         assert_eq!(status, 200, "{format}: {}", String::from_utf8_lossy(&bytes));
         assert_eq!(got_media, media, "{format}");
         assert_eq!(disposition, format!("attachment; filename=\"North_field__h04{extension}\""), "{format}");
@@ -297,7 +299,7 @@ async fn a_plan_over_terrain_passes_the_independent_readers_in_both_frames() {
         ("waypoints", "format=waypoints", 0, &amsl),
         ("waypoints", "format=waypoints&altitude_frame=terrain", 10, &above_ground),
         ("kml", "format=kml", 0, &amsl),
-        ("wpml", "format=wpml", 0, &amsl),
+        ("wpml", "format=wpml&max_waypoints=65535", 0, &amsl),
     ] {
         let (status, _, _, bytes) = download(&app, id, query).await;
         assert_eq!(status, 200, "{query}: {}", String::from_utf8_lossy(&bytes));
@@ -339,7 +341,8 @@ async fn an_oblique_plan_passes_the_independent_readers_with_its_camera_poses() 
         ("plan", "format=plan", ".plan"),
         ("plan", "format=plan&firmware=px4", "-px4.plan"),
         ("waypoints", "format=waypoints", ".waypoints"),
-        ("wpml", "format=wpml", ".kmz"),
+        // one mission, whatever the controller's limit (missions are tested on their own)
+        ("wpml", "format=wpml&max_waypoints=65535", ".kmz"),
     ] {
         let (status, _, _, bytes) = download(&app, &plan, query).await;
         assert_eq!(status, 200, "{query}: {}", String::from_utf8_lossy(&bytes));
@@ -353,6 +356,58 @@ async fn an_oblique_plan_passes_the_independent_readers_with_its_camera_poses() 
         }));
     }
     std::fs::write(dir.join("manifest.json"), json!({"files": manifest}).to_string()).unwrap();
+    run(Command::new(python()).arg(interop_dir().join("check_exports.py")).arg(&dir));
+    app.stop().await;
+}
+
+/// A flight longer than the controller loads: DJI WPML at its default (99 waypoints) and the
+/// MAVLink files at `max_waypoints` 40 come as zips of missions, each read by the independent
+/// readers, within the limit, each beginning where the last ended, together taking at least
+/// the plan's photos.
+#[tokio::test]
+async fn a_flight_past_the_controllers_limit_comes_in_missions_within_it() {
+    let app = TestApp::spawn().await;
+    let mission = field_mission();
+    let params = json!({"planner": "boustrophedon", "camera": {"preset": "dji_mavic3_enterprise"}, "altitude_m": 60, "vehicle": {"profile": "iris", "battery_wh": 5000}});
+    let (plan, trajectory) = planned(&app, &mission, &params).await;
+    let dir = temp_dir();
+    let mut manifest = Vec::new();
+    for (format, query, limit) in [("wpml", "format=wpml", 99), ("plan", "format=plan&max_waypoints=40", 40), ("waypoints", "format=waypoints&max_waypoints=40", 40)] {
+        let (status, media, disposition, bytes) = download(&app, &plan, query).await;
+        assert_eq!(status, 200, "{query}: {}", String::from_utf8_lossy(&bytes));
+        assert_eq!(media, "application/zip", "{query}: {disposition}");
+        let parts = coverplan::planner::archive::unzip(&bytes).unwrap();
+        assert!(parts.len() >= 2, "{query}: {} missions", parts.len());
+        let mut files = Vec::new();
+        for (k, (name, part)) in parts.iter().enumerate() {
+            assert!(
+                name.ends_with(&format!(
+                    "-part-{}{}",
+                    k + 1,
+                    if format == "wpml" {
+                        ".kmz"
+                    } else if format == "plan" {
+                        ".plan"
+                    } else {
+                        ".waypoints"
+                    }
+                )),
+                "{name}"
+            );
+            let file = format!("limit-{format}-{}", k + 1);
+            std::fs::write(dir.join(&file), part).unwrap();
+            files.push(file);
+        }
+        manifest.push(json!({"parts": files, "format": format, "max_waypoints": limit, "photos": photo_count(&trajectory), "zones": polygons(canonical(&mission).no_fly_zones.as_ref()).len()}));
+    }
+    // a limit only for the files a controller loads, and one a mission can keep
+    for (query, code) in [("format=geojson&max_waypoints=100", "format_not_applicable"), ("format=plan&max_waypoints=5", "parameter_out_of_range")] {
+        let (status, _, _, body) = download(&app, &plan, query).await;
+        let problem: Value = serde_json::from_slice(&body).unwrap();
+        assert_eq!((status, problem["code"].as_str()), (422, Some(code)), "{query}: {problem}");
+        assert_eq!(problem["pointer"], "/max_waypoints", "{problem}");
+    }
+    std::fs::write(dir.join("manifest.json"), json!({"files": [], "missions": manifest}).to_string()).unwrap();
     run(Command::new(python()).arg(interop_dir().join("check_exports.py")).arg(&dir));
     app.stop().await;
 }

@@ -216,10 +216,7 @@ impl Field {
 /// The mission's area: its fields as raw rings, and its corridors (LineString features).
 fn parse_area(value: &Value) -> Result<(Vec<RawPolygon>, Vec<corridor::RawCorridor>), InputError> {
     let pointer = "/area";
-    if value.get("crs").is_some() {
-        return Err(InputError::new("crs_not_supported", format!("{pointer}/crs"), "a `crs` member is not allowed (RFC 7946): send WGS84 longitude/latitude"));
-    }
-    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
+    let geojson = read_geojson(value, pointer)?;
     let features = match geojson {
         GeoJson::Geometry(g) => {
             if matches!(g.value, GeometryValue::LineString { .. } | GeometryValue::MultiLineString { .. }) {
@@ -242,12 +239,17 @@ fn parse_area(value: &Value) -> Result<(Vec<RawPolygon>, Vec<corridor::RawCorrid
     Ok((polygons, corridors))
 }
 
-/// Polygon, MultiPolygon, Feature or FeatureCollection of those, as raw rings.
-fn parse_polygons(value: &Value, pointer: &str) -> Result<Vec<RawPolygon>, InputError> {
+/// The GeoJSON at `pointer`, in WGS84 (RFC 7946: no `crs` member).
+fn read_geojson(value: &Value, pointer: &str) -> Result<GeoJson, InputError> {
     if value.get("crs").is_some() {
         return Err(InputError::new("crs_not_supported", format!("{pointer}/crs"), "a `crs` member is not allowed (RFC 7946): send WGS84 longitude/latitude"));
     }
-    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
+    serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))
+}
+
+/// Polygon, MultiPolygon, Feature or FeatureCollection of those, as raw rings.
+fn parse_polygons(value: &Value, pointer: &str) -> Result<Vec<RawPolygon>, InputError> {
+    let geojson = read_geojson(value, pointer)?;
     let mut out = Vec::new();
     match geojson {
         GeoJson::Geometry(g) => push_geometry(&g.value, pointer, &mut out)?,
@@ -266,7 +268,7 @@ const MAX_OBSTACLE_HEIGHT_M: f64 = 1_000.0;
 
 /// A Feature or FeatureCollection of polygons, each feature with a `height_m` property.
 fn parse_obstacles(value: &Value, pointer: &str) -> Result<Vec<(RawPolygon, f64)>, InputError> {
-    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
+    let geojson = read_geojson(value, pointer)?;
     let features: Vec<(geojson::Feature, String)> = match geojson {
         GeoJson::Feature(f) => vec![(f, pointer.to_owned())],
         GeoJson::FeatureCollection(fc) => fc.features.into_iter().enumerate().map(|(i, f)| (f, format!("{pointer}/features/{i}"))).collect(),
@@ -354,7 +356,7 @@ struct RawStructure {
 /// model whose origin stands there, `base_m` above the ground, turned by `rotation_deg`
 /// (clockwise), with `up` `z` (default) or `y`.
 fn parse_structures(value: &Value, pointer: &str) -> Result<Vec<RawStructure>, InputError> {
-    let geojson: GeoJson = serde_json::from_value(value.clone()).map_err(|e| InputError::new("invalid_geojson", pointer, format!("not valid GeoJSON: {e}")))?;
+    let geojson = read_geojson(value, pointer)?;
     let GeoJson::FeatureCollection(fc) = geojson else {
         return Err(InputError::new("structures_not_a_collection", pointer, "structures are a FeatureCollection of Polygon or Point features"));
     };

@@ -205,6 +205,7 @@ pub mod beyond_schema {
         "area_too_large",
         "area_too_small",
         "corridor_width_missing",
+        "crs_not_supported",
         "degenerate_corridor",
         "degenerate_ring",
         "empty_area",
@@ -277,6 +278,9 @@ pub mod beyond_schema {
     /// A wind beyond the vehicle: its `max_wind_mps`, a fixed wing's airspeed, a ground
     /// vehicle's (which refuses any).
     pub const WIND: &[&str] = &["not_for_ground_vehicles", "wind_too_strong"];
+    /// What a format can say of the plan exported: its kind and vehicle, a waypoint limit only
+    /// for the files a controller loads, and one a mission can keep.
+    pub const EXPORT: &[&str] = &["format_not_applicable", "max_waypoints_too_few"];
     /// The mission a request plans, and the server's own limits.
     pub const MISSION: &[&str] = &[
         "altitude_missing",

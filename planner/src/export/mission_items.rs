@@ -4,7 +4,9 @@
 //! sweeps only (from the plan's first photo of a line to its last, at the line's own step), and
 //! a return to launch (or a landing, without a home) at the end. At an
 //! inspection's viewpoint the vehicle holds, turns to the viewpoint's yaw, points the gimbal
-//! and takes one picture.
+//! and takes one picture. On an oblique plan's pass the gimbal is pitched where the pass begins
+//! and the vehicle holds the pass's heading; past a controller's waypoint limit the items are
+//! cut into missions ([`limited_items`]).
 
 use super::flight::{FlownPiece, PlanPhoto, ViewAction, Waypoint, photos_by_pass, waypoints};
 use super::follower;
@@ -280,7 +282,7 @@ fn in_missions(items: &[MissionItem], max: usize) -> Result<Vec<Vec<MissionItem>
             return Err(InputError::new(
                 "max_waypoints_too_few",
                 "/max_waypoints",
-                format!("a stretch of this flight with the camera on takes more than {room} items: give max_waypoints of at least {}", max + 1),
+                format!("a stretch of this flight that cannot be cut (a line with the camera on, or the landing) takes more than {room} items: give a larger max_waypoints"),
             ));
         };
         missions.push([head, items[from..to].to_vec()].concat());

@@ -221,7 +221,7 @@ struct Refusals {
 
 /// The refusals of each operation that has some.
 fn refusals() -> Vec<Refusals> {
-    use super::error::beyond_schema::{FILE, GEOMETRY, IMPORTED, MISSION, PROFILE, RELATIONS, RESUMED, ROUTE, WIND};
+    use super::error::beyond_schema::{EXPORT, FILE, GEOMETRY, IMPORTED, MISSION, PROFILE, RELATIONS, RESUMED, ROUTE, WIND};
     let of = |groups: &[&[&'static str]]| -> Vec<&'static str> {
         let mut codes: Vec<_> = groups.concat();
         codes.sort_unstable();
@@ -238,6 +238,7 @@ fn refusals() -> Vec<Refusals> {
         refusals("/api/v1/missions/{id}/patrols", "post", of(&[MISSION, RELATIONS]), of(&[PROFILE])),
         refusals("/api/v1/patrols/next-moves", "post", of(&[RELATIONS]), vec![]),
         refusals("/api/v1/plans/{id}/resume", "post", of(&[RESUMED]), vec![]),
+        refusals("/api/v1/plans/{id}/trajectory", "get", of(&[EXPORT]), vec![]),
         refusals("/api/v1/estimates", "post", of(&[ROUTE, WIND]), of(&[PROFILE])),
         refusals("/api/v1/vehicles", "post", of(&[RELATIONS]), vec![]),
         refusals("/api/v1/vehicles/{id}", "put", of(&[RELATIONS]), vec![]),

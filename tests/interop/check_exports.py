@@ -9,7 +9,8 @@ DIR/manifest.json (written by tests/it/db/interop.rs) lists the files and what e
 photos an autopilot triggering by distance takes along the MAVLink files; their extra waypoints
 where a line's photos start and stop must lie on the planned lines.
 An oblique plan adds "passes" ([{"pitch", "heading"}] in flight order; heading a compass bearing,
-null on the nadir pass): the MAVLink files pitch the gimbal once a pass
+null on the nadir pass) and, for PX4, "waypoint_headings" (the yaw its waypoints hold, pass by
+pass): the MAVLink files pitch the gimbal once a pass
 (MAV_CMD_DO_GIMBAL_MANAGER_PITCHYAW) and hold each oblique pass's heading (ArduPilot:
 MAV_CMD_CONDITION_YAW), the WPML file turns and pitches with rotateYaw and gimbalRotate, and the
 GeoJSON photos name their pass, pitch and heading.
@@ -193,6 +194,13 @@ def check_camera_poses(items, spec, what):
         if c == CONDITION_YAW and (not held or abs(held[-1] - p1) > ANGLE_TOLERANCE_DEG):
             held.append(p1)
     same_angles(held, [p["heading"] for p in spec["passes"] if p["heading"] is not None], f"{what}: headings held")
+    # PX4 reads the heading from each waypoint's yaw (param 4; null keeps the current one)
+    if "waypoint_headings" in spec:
+        faced = []
+        for c, _, p4 in items:
+            if c == NAV_WAYPOINT and p4 is not None and p4 == p4 and (not faced or abs(faced[-1] - p4) > ANGLE_TOLERANCE_DEG):
+                faced.append(p4)
+        same_angles(faced, spec["waypoint_headings"], f"{what}: waypoints' yaw")
 
 
 def ring_area(points):

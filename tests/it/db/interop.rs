@@ -348,12 +348,16 @@ async fn an_oblique_plan_passes_the_independent_readers_with_its_camera_poses() 
         assert_eq!(status, 200, "{query}: {}", String::from_utf8_lossy(&bytes));
         let file = format!("oblique-{format}{extension}");
         std::fs::write(dir.join(&file), &bytes).unwrap();
-        // PX4 faces the heading the waypoints give: no CONDITION_YAW to count
-        let passes = if query.ends_with("px4") { passes.iter().map(|p| json!({"pitch": p["pitch"], "heading": null})).collect() } else { passes.clone() };
-        manifest.push(json!({
+        let mut spec = json!({
             "file": file, "format": format, "waypoints": flown_points(&trajectory), "pieces": flown_pieces(&trajectory),
             "fields": 1, "holes": 0, "zones": zones, "photo_lines": sweeps(&trajectory), "photos": photo_count(&trajectory), "passes": passes,
-        }));
+        });
+        // PX4 faces the heading its waypoints give (no CONDITION_YAW to count)
+        if query.ends_with("px4") {
+            spec["waypoint_headings"] = json!(passes.iter().filter_map(|p| p["heading"].as_f64()).collect::<Vec<_>>());
+            spec["passes"] = json!(passes.iter().map(|p| json!({"pitch": p["pitch"], "heading": null})).collect::<Vec<_>>());
+        }
+        manifest.push(spec);
     }
     std::fs::write(dir.join("manifest.json"), json!({"files": manifest}).to_string()).unwrap();
     run(Command::new(python()).arg(interop_dir().join("check_exports.py")).arg(&dir));

@@ -94,18 +94,18 @@ impl CameraPlan {
 }
 
 /// What a camera pitched below the horizon images of flat ground `h` below it
-/// (docs/methods.md, camera §8): a trapezoid ahead of the vehicle, narrow at its near edge and
-/// wide at its far one. Distances are along the look direction, from the point under the camera.
+/// (docs/methods.md, camera §8): a trapezoid ahead of the vehicle, narrowest at its near edge,
+/// which with the image centre bounds the rectangle the lines are laid for. Distances are along
+/// the look direction, from the point under the camera.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ObliqueView {
     /// The gimbal's pitch, as gimbals say it (−90 straight down).
     pub gimbal_pitch_deg: f64,
     /// Where the image centre meets the ground: h / tan(pitch).
     pub centre_m: f64,
+    /// The near edge: how far ahead, and how wide.
     pub near_m: f64,
-    pub far_m: f64,
     pub near_width_m: f64,
-    pub far_width_m: f64,
     /// The overlaps asked for, as the shares of a footprint neighbouring lines and photos
     /// step: 1 − side overlap, 1 − front overlap.
     pub line_step: f64,
@@ -132,9 +132,7 @@ impl CameraPlan {
             gimbal_pitch_deg,
             centre_m: h / pitch.tan(),
             near_m: h / (pitch + half_v).tan(),
-            far_m: h / (pitch - half_v).tan(),
             near_width_m: 2.0 * h * tan_a / (s + tan_b * c),
-            far_width_m: 2.0 * h * tan_a / (s - tan_b * c),
             line_step: self.line_spacing_m / self.footprint_across_m,
             photo_step: self.photo_spacing_m / self.footprint_along_m,
         })
@@ -142,15 +140,6 @@ impl CameraPlan {
 }
 
 impl ObliqueView {
-    /// The ground one photo images, taken at `at` facing `heading` (math radians): near left,
-    /// near right, far right, far left.
-    pub fn trapezoid(&self, at: geo::Coord, heading: f64) -> [geo::Coord; 4] {
-        let (s, c) = heading.sin_cos();
-        let point = |ahead: f64, left: f64| geo::Coord { x: at.x + c * ahead - s * left, y: at.y + s * ahead + c * left };
-        let (n, f) = (self.near_width_m / 2.0, self.far_width_m / 2.0);
-        [point(self.near_m, n), point(self.near_m, -n), point(self.far_m, -f), point(self.far_m, f)]
-    }
-
     /// The rectangle centred on the image centre that the trapezoid holds: as deep as twice
     /// the near edge's distance to the centre, as wide as the near edge. Laid as a footprint
     /// on lines the camera looks along (`across_lines` false) or across: the lines' spacing

@@ -1,6 +1,8 @@
 //! The flight path as an RFC 7946 FeatureCollection in flight order: the trajectory every
 //! other format is written from.
 
+use std::collections::BTreeMap;
+
 use geo::{Area, Coord, MultiPolygon};
 use geojson::{Feature, FeatureCollection, Geometry, GeometryValue, JsonObject, Position};
 use serde_json::json;
@@ -94,31 +96,34 @@ pub fn feature_collection(frame: &LocalFrame, flights: &[VehicleFlight<'_>], alt
 /// per pass, with the pass, the gimbal's pitch and the camera's heading (a compass bearing;
 /// none on the nadir pass, which faces the way it flies).
 fn photo_features(frame: &LocalFrame, photos: &[Photo], altitude_m: Option<f64>) -> Vec<Feature> {
-    let mut passes: Vec<Option<Look>> = Vec::new();
+    // by pass, the photos of no pass first (a plan without passes: all of them, maybe none)
+    let mut passes: BTreeMap<Option<usize>, (Option<Look>, Vec<Position>)> = BTreeMap::new();
     for photo in photos {
-        if !passes.iter().any(|l| l.map(|l| l.pass) == photo.look.map(|l| l.pass)) {
-            passes.push(photo.look);
-        }
+        passes.entry(photo.look.map(|l| l.pass)).or_insert((photo.look, Vec::new())).1.push(position(frame, photo.at, altitude_m));
     }
     if passes.is_empty() {
-        passes.push(None);
+        passes.insert(None, (None, Vec::new()));
     }
-    passes.sort_by_key(|l| l.map(|l| l.pass));
     passes
-        .into_iter()
-        .map(|look| {
-            let taken: Vec<Position> = photos.iter().filter(|p| p.look.map(|l| l.pass) == look.map(|l| l.pass)).map(|p| position(frame, p.at, altitude_m)).collect();
+        .into_values()
+        .map(|(look, taken)| {
             let mut props = json!({"kind": "photos", "count": taken.len()});
             if let Some(look) = look {
-                props["pass"] = json!(look.pass);
-                props["gimbal_pitch_deg"] = json!(round(look.gimbal_pitch_deg, 2));
-                if let Some(heading) = look.heading {
-                    props["camera_heading_deg"] = json!(round(math_to_bearing(heading), 2));
-                }
+                add_look(&mut props, &look);
             }
             feature(GeometryValue::MultiPoint { coordinates: taken }, props)
         })
         .collect()
+}
+
+/// A pass's camera, as the trajectory says it: the pass, the gimbal's pitch, and on an oblique
+/// pass the compass bearing the camera faces.
+fn add_look(props: &mut serde_json::Value, look: &Look) {
+    props["pass"] = json!(look.pass);
+    props["gimbal_pitch_deg"] = json!(round(look.gimbal_pitch_deg, 2));
+    if let Some(heading) = look.heading {
+        props["camera_heading_deg"] = json!(round(math_to_bearing(heading), 2));
+    }
 }
 
 /// An inspection in flight order: each leg a LineString with heights (kind `transit`), each
@@ -205,12 +210,8 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
             if piece.tramline {
                 props["tramline"] = json!(true);
             }
-            if let Some(look) = piece.look {
-                props["pass"] = json!(look.pass);
-                props["gimbal_pitch_deg"] = json!(round(look.gimbal_pitch_deg, 2));
-                if let Some(heading) = look.heading {
-                    props["camera_heading_deg"] = json!(round(math_to_bearing(heading), 2));
-                }
+            if let Some(look) = &piece.look {
+                add_look(&mut props, look);
             }
             if let Some(shape) = piece.shape {
                 props["turn_type"] = json!(shape);

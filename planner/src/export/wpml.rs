@@ -51,7 +51,8 @@ impl Exporter for Wpml {
 
     fn write_parts(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
         multirotor_only(job)?;
-        let Some(max) = job.max_waypoints.filter(|&max| route(job, sortie, false).points.len() > max) else { return Ok(vec![self.write(job, sortie)?]) };
+        let planned = route(job, sortie, false);
+        let Some(max) = job.max_waypoints.filter(|&max| planned.points.len() > max) else { return Ok(vec![kmz(job, sortie, &planned, 0..planned.points.len(), true)]) };
         // lines as their two ends; then missions, each beginning where the last ended
         let route = route(job, sortie, true);
         let parts = missions(&route, max)?;

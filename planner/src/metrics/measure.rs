@@ -42,10 +42,11 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
     let lower_bound_m = area / m.spacing;
     let (covered, swept) = under(m.swept, m.region);
     let share = |imaged: &[geo::Polygon]| if area > 0.0 { (covered_by(imaged, m.region).0 / area).min(1.0) } else { 0.0 };
-    // an oblique plan's: its nadir pass's
-    let photo_coverage_ratio = m.photos.map(|(photos, cam)| {
-        let nadir: Vec<Photo> = photos.iter().filter(|p| p.look.is_none_or(|l| l.pass == 1)).copied().collect();
-        share(&photo_strips(&nadir, cam.footprint_across_m, cam.footprint_along_m))
+    let passes = m.photos.map_or_else(Vec::new, |(photos, _)| passes(m.path, photos, &share));
+    // an oblique plan's: its nadir pass's, measured with the passes
+    let photo_coverage_ratio = m.photos.map(|(photos, cam)| match passes.first() {
+        Some(nadir) => nadir.photo_coverage_ratio,
+        None => share(&photo_strips(photos, cam.footprint_across_m, cam.footprint_along_m)),
     });
     Stats {
         length_m,
@@ -102,7 +103,7 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         terrain: None,
         resume: None,
         wind: None,
-        passes: m.photos.map_or_else(Vec::new, |(photos, _)| passes(m.path, photos, &share)),
+        passes,
     }
 }
 

@@ -4,7 +4,7 @@
 
 use coverplan_planner::geom::axial_difference;
 use coverplan_planner::vehicle::builtin_profiles;
-use coverplan_planner::{FieldLimits, MissionGeometry, PlanParams, Stop, plan};
+use coverplan_planner::{FieldLimits, MissionGeometry, PlanOutput, PlanParams, Stop, plan};
 use geo::{Coord, Intersects, LineString, MultiPolygon};
 use proptest::prelude::*;
 use serde_json::{Value, json};
@@ -34,36 +34,46 @@ proptest! {
         let field = field(k);
         let mission = MissionGeometry { no_fly_zones: Some(&field["no_fly_zones"]), ..MissionGeometry::area(&field["area"]) };
         let profile = if fixed_wing { "generic_fixed_wing" } else { "iris" };
-        let params = |pattern: &str| -> PlanParams {
-            serde_json::from_value(json!({"planner": planner, "vehicle": {"profile": profile, "battery_wh": 90000}, "line_spacing_m": 30, "altitude_m": 60, "heading_deg": bearing, "pattern": pattern})).unwrap()
+        let params = |pattern: &str, heading: f64| -> PlanParams {
+            serde_json::from_value(json!({"planner": planner, "vehicle": {"profile": profile, "battery_wh": 90000}, "line_spacing_m": 30, "altitude_m": 60, "heading_deg": heading, "pattern": pattern})).unwrap()
         };
-        let grid = plan(&mission, &params("grid"), &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never());
-        let double = plan(&mission, &params("double_grid"), &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never());
-        let (Ok(grid), Ok(double)) = (grid, double) else { return Ok(()) };
+        let run = |params: PlanParams| plan(&mission, &params, &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never());
+        let (grid, across_grid) = (run(params("grid", bearing)), run(params("grid", bearing + 90.0)));
+        let double = run(params("double_grid", bearing));
+        let (Ok(grid), Ok(across_grid), Ok(double)) = (grid, across_grid, double) else { return Ok(()) };
         prop_assert!(double.stats.coverage_ratio >= grid.stats.coverage_ratio - 1e-9, "{} against {}", double.stats.coverage_ratio, grid.stats.coverage_ratio);
-        // the sweeps' headings: two families 90° apart, each about as long as the grid's sweep
         let walls = zones(&field);
-        let mut sweeps: Vec<(f64, f64)> = Vec::new();
         for f in &double.trajectory.features {
-            let kind = f.properties.as_ref().and_then(|p| p.get("kind")).and_then(Value::as_str).unwrap_or_default().to_owned();
             let Some(geojson::GeometryValue::LineString { coordinates }) = f.geometry.as_ref().map(|g| &g.value) else { continue };
-            let degrees: Vec<Coord> = coordinates.iter().map(|p| Coord { x: p[0], y: p[1] }).collect();
-            prop_assert!(!walls.intersects(&LineString::new(degrees.clone())), "a {kind} enters a no-fly zone");
-            // east and north in degrees of latitude, near enough for a heading
-            let scale = degrees[0].y.to_radians().cos();
-            let points: Vec<Coord> = degrees.iter().map(|c| Coord { x: (c.x - degrees[0].x) * scale, y: c.y }).collect();
-            if kind == "sweep" && points.len() >= 2 {
-                let (a, b) = (points[0], points[points.len() - 1]);
-                sweeps.push(((b.y - a.y).atan2(b.x - a.x), ((b.x - a.x).hypot(b.y - a.y))));
-            }
+            let line = LineString::new(coordinates.iter().map(|p| Coord { x: p[0], y: p[1] }).collect());
+            prop_assert!(!walls.intersects(&line), "a {:?} enters a no-fly zone", f.properties.as_ref().and_then(|p| p.get("kind")));
         }
-        // the bearing as a math angle
+        // each set of lines flies about as much sweep as the grid on its heading alone (a fixed
+        // wing drops the lines it has no Dubins way onto, in either plan alike)
         let first = (90.0 - bearing).to_radians();
-        let across: f64 = sweeps.iter().filter(|(h, _)| axial_difference(*h, first + std::f64::consts::FRAC_PI_2) < 0.05).map(|(_, l)| l).sum();
-        let along: f64 = sweeps.iter().filter(|(h, _)| axial_difference(*h, first) < 0.05).map(|(_, l)| l).sum();
-        let total: f64 = sweeps.iter().map(|(_, l)| l).sum();
-        prop_assert!(across > 0.3 * total && along > 0.3 * total, "sweep along the first heading {along:.0} m, across it {across:.0} m, of {total:.0} m");
+        let second = first + std::f64::consts::FRAC_PI_2;
+        let (along, across) = (sweep_along(&double, first), sweep_along(&double, second));
+        let (alone, across_alone) = (sweep_along(&grid, first), sweep_along(&across_grid, second));
+        prop_assert!(along > 0.5 * alone && across > 0.5 * across_alone, "sweep along the first heading {along:.0} m (alone {alone:.0} m), across it {across:.0} m (alone {across_alone:.0} m)");
     }
+}
+
+/// The sweep metres of `plan` flown along the math angle `heading` either way.
+fn sweep_along(plan: &PlanOutput, heading: f64) -> f64 {
+    let mut total = 0.0;
+    for f in &plan.trajectory.features {
+        let kind = f.properties.as_ref().and_then(|p| p.get("kind")).and_then(Value::as_str);
+        let Some(geojson::GeometryValue::LineString { coordinates }) = f.geometry.as_ref().map(|g| &g.value) else { continue };
+        if kind != Some("sweep") || coordinates.len() < 2 {
+            continue;
+        }
+        let end = metres([coordinates[0][0], coordinates[0][1]], &coordinates[coordinates.len() - 1][..]);
+        let (dx, dy) = (end.x, end.y);
+        if axial_difference(dy.atan2(dx), heading) < 0.05 {
+            total += dx.hypot(dy);
+        }
+    }
+    total
 }
 
 #[test]

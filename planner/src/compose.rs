@@ -38,6 +38,8 @@ pub(crate) struct Prepared {
     pub end: Option<Coord>,
     /// Each fleet drone's home (its own, or the mission's).
     pub fleet_homes: Vec<Option<Coord>>,
+    /// More places than home where a sortie may land and the next take off.
+    pub landing_sites: Vec<Coord>,
     /// A ground vehicle's headland.
     pub ground: Option<planners::headland::GroundSetup>,
 }
@@ -270,6 +272,7 @@ impl Stages<'_> {
         let battery = &vehicle.battery;
         let budget = sortie::Budget {
             home: ends.home,
+            landing_sites: if ends.home.is_some() { &self.prepared.landing_sites } else { &[] },
             first_from: ends.start.filter(|_| ends.airborne),
             usable_j: battery.usable_j(),
             first_usable_j: battery.energy_wh * 3600.0 * (ends.first_battery - battery.reserve),
@@ -333,11 +336,14 @@ impl Stages<'_> {
             return FlightEnds::default();
         }
         let altitude = resolved.altitude_m.unwrap_or(0.0);
+        // sorties may land at the landing sites and take off from them again
+        let sites = || ends.home.map_or_else(Vec::new, |_| self.prepared.landing_sites.clone());
         let landing = match (resolved.landing, ends.end.or(ends.home)) {
-            (Landing::Auto, Some(point)) => Some((point, vehicle.landing_approach_m(altitude), resolved.landing_heading)),
+            (Landing::Auto, Some(point)) => Some(([vec![point], sites()].concat(), vehicle.landing_approach_m(altitude), resolved.landing_heading)),
             _ => None,
         };
-        FlightEnds { lead_in_m: vehicle.lead_in_m(resolved.lead_in_m), climb_out: ends.home.or(ends.start).map(|launch| (launch, vehicle::climb_out_m(altitude))), landing }
+        let climb_out = ends.home.or(ends.start).map(|launch| ([vec![launch], sites()].concat(), vehicle::climb_out_m(altitude)));
+        FlightEnds { lead_in_m: vehicle.lead_in_m(resolved.lead_in_m), climb_out, landing }
     }
 
     /// Plans the fleet: the area split among the drones (docs/methods.md, fleets), each part

@@ -226,7 +226,15 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
     let end = resolved.end.map(|p| local(p, "/end/position")).transpose()?.or(field.home);
     let fleet_homes =
         resolved.fleet.iter().enumerate().map(|(k, d)| d.home.map(|p| local(p, &format!("/fleet/{k}/home"))).transpose().map(|h| h.or(field.home))).collect::<Result<_, _>>()?;
-    Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end, fleet_homes, ground })
+    if !resolved.landing_sites.is_empty() && field.home.is_none() {
+        return Err(InputError::new(
+            "home_missing",
+            "/landing_sites",
+            "landing sites are where sorties land besides home: give the mission a home, where the first one leaves from",
+        ));
+    }
+    let landing_sites = resolved.landing_sites.iter().enumerate().map(|(k, &p)| local(p, &format!("/landing_sites/{k}"))).collect::<Result<_, _>>()?;
+    Ok(Prepared { resolved, planner, field, region, keep_out, walls, start, end, fleet_homes, landing_sites, ground })
 }
 
 /// Over terrain: the mission has an elevation model, and it covers the fields, home, start and
@@ -247,6 +255,9 @@ fn check_terrain(mission: &MissionGeometry<'_>, resolved: &params::Resolved, fie
     places.extend(resolved.end.map(|p| ("the end".to_string(), "/end/position".to_string(), p)));
     for (k, d) in resolved.fleet.iter().enumerate() {
         places.extend(d.home.map(|h| (format!("drone {k}'s home"), format!("/fleet/{k}/home"), h)));
+    }
+    for (k, &site) in resolved.landing_sites.iter().enumerate() {
+        places.push((format!("landing site {k}"), format!("/landing_sites/{k}"), site));
     }
     model.check_covers(&places)
 }
@@ -274,7 +285,8 @@ fn terrain_stage<'a>(mission: &MissionGeometry<'a>, prepared: &Prepared) -> Opti
     let (model, spec, height_m) = (mission.terrain?, prepared.resolved.terrain?, prepared.resolved.altitude_m?);
     let rect = geo::BoundingRect::bounding_rect(&prepared.field.area)?;
     let (mut lo, mut hi) = (rect.min(), rect.max());
-    for c in [prepared.start, prepared.end, prepared.field.home].into_iter().flatten().chain(prepared.fleet_homes.iter().flatten().copied()) {
+    let homes = prepared.fleet_homes.iter().flatten().chain(&prepared.landing_sites).copied();
+    for c in [prepared.start, prepared.end, prepared.field.home].into_iter().flatten().chain(homes) {
         lo = Coord { x: lo.x.min(c.x), y: lo.y.min(c.y) };
         hi = Coord { x: hi.x.max(c.x), y: hi.y.max(c.y) };
     }

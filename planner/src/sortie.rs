@@ -15,9 +15,13 @@ use geo::Coord;
 use serde::{Deserialize, Serialize};
 
 use super::error::PlanError;
-use super::geom::heading;
+use super::geom::{distance, heading};
 use super::path::{FlightPath, Piece, PieceKind};
 use super::turn::dubins::Pose;
+
+/// Landing places tried for each candidate sortie (the nearest to its way on): a site farther
+/// than the third nearest is seldom better, and each try prices a whole sortie.
+const LANDING_PLACES_TRIED: usize = 3;
 
 /// The figures of one sortie.
 #[serde_with::skip_serializing_none]
@@ -39,6 +43,9 @@ pub struct SortieTotals {
 /// What splitting needs from the rest of the planner.
 pub struct Budget<'a> {
     pub home: Option<Coord>,
+    /// More places than home to land and take off again (with a home only): each sortie lands
+    /// at the one that serves it and the next best, and the next leaves from there.
+    pub landing_sites: &'a [Coord],
     /// Where the first sortie starts when it does not leave home: an aircraft still in the air
     /// (a resumed plan's).
     pub first_from: Option<Coord>,
@@ -100,29 +107,47 @@ impl Budget<'_> {
             return Ok(Split { sorties: vec![route.clone()], battery_swaps, needed_j });
         };
         let mut sorties = Vec::new();
-        let mut first = 0;
+        let (mut first, mut base) = (0, home);
         for end in breaks.iter().copied().chain([route.pieces.len()]) {
             let stretch: Vec<usize> = sweeps.iter().copied().filter(|&k| first <= k && k < end).collect();
-            self.greedy(route, home, &stretch, needed_j, &mut sorties)?;
+            base = self.greedy(route, (home, base), &stretch, needed_j, &mut sorties)?;
             first = end;
         }
         Ok(Split { sorties, battery_swaps: vec![], needed_j })
     }
 
     /// Adds the sorties that fly the lines `sweeps` (piece indices, in order) to `sorties`, each
-    /// with as many lines as its battery allows.
+    /// with as many lines as its battery allows, the first leaving from `base`; returns where
+    /// the last one lands.
     ///
     /// Whether a block fits is not monotone in its length: a block whose last line ends far
     /// from home, or with no clear way home (a fixed wing beside a zone), may not fit where a
     /// longer one does. The block without its way home is monotone (each line adds energy), so
     /// it bounds the search, and the blocks below that bound are tried from the longest down.
-    fn greedy(&self, route: &FlightPath, home: Coord, sweeps: &[usize], needed_j: f64, sorties: &mut Vec<FlightPath>) -> Result<(), PlanError> {
+    fn greedy(&self, route: &FlightPath, (home, mut base): (Coord, Coord), sweeps: &[usize], needed_j: f64, sorties: &mut Vec<FlightPath>) -> Result<Coord, PlanError> {
         let m = sweeps.len();
         let mut i = 0;
         while i < m {
-            let (from, allowed_j) = if sorties.is_empty() { (self.first_from.unwrap_or(home), self.first_usable_j) } else { (home, self.usable_j) };
-            let block = |j: usize| self.sortie(route, from, home, sweeps[i], sweeps[j - 1]);
-            let fits = |j: usize| block(j).is_ok_and(|b| (self.energy)(&b) <= allowed_j);
+            let (from, allowed_j) = if sorties.is_empty() { (self.first_from.unwrap_or(home), self.first_usable_j) } else { (base, self.usable_j) };
+            // the sortie of lines i..j landing at the best place it reaches on its battery (or,
+            // when none, at the first place tried), and whether it fits
+            let landed = |j: usize| -> Result<(FlightPath, Coord, bool), PlanError> {
+                let next = sweeps.get(j).map(|&k| route.pieces[k].start());
+                let mut first = None;
+                for place in self.landing_places(home, route.pieces[sweeps[j - 1]].end(), next) {
+                    let tried = self.sortie(route, from, place, sweeps[i], sweeps[j - 1]).map(|path| {
+                        let fits = (self.energy)(&path) <= allowed_j;
+                        (path, place, fits)
+                    });
+                    if matches!(tried, Ok((_, _, true))) {
+                        return tried;
+                    }
+                    first.get_or_insert(tried);
+                }
+                first.expect("home is always a place to land")
+            };
+            let block = |j: usize| landed(j).map(|(path, _, _)| path);
+            let fits = |j: usize| landed(j).is_ok_and(|(_, _, fits)| fits);
             let reaches = |j: usize| -> Result<bool, PlanError> { Ok((self.energy)(&self.outbound(route, from, sweeps[i], sweeps[j - 1])?) <= allowed_j) };
             let bound = if reaches(i + 1)? { last_fitting(i, m, reaches)? } else { i };
             let Some(good) = (i + 1..=bound).rev().find(|&j| fits(j)) else {
@@ -133,9 +158,14 @@ impl Budget<'_> {
                         "the battery left ({:.0} kJ above the reserve) does not fly the next line and back home: change the battery and resume from home",
                         allowed_j.max(0.0) / 1000.0
                     )
-                } else {
+                } else if self.landing_sites.is_empty() {
                     format!(
                         "sweep line {line} alone, flown from home and back, needs more than one battery's {:.0} kJ above its reserve: use a vehicle with a larger battery or a smaller field",
+                        self.usable_j / 1000.0
+                    )
+                } else {
+                    format!(
+                        "sweep line {line} alone, flown from where its sortie takes off to the landing site nearest its end, needs more than one battery's {:.0} kJ above its reserve: add landing sites nearer to it, or use a vehicle with a larger battery",
                         self.usable_j / 1000.0
                     )
                 }));
@@ -148,10 +178,26 @@ impl Budget<'_> {
                     self.usable_j / 1000.0
                 )));
             }
-            sorties.push(block(good)?);
+            let (sortie, landed_at, _) = landed(good)?;
+            sorties.push(sortie);
+            base = landed_at;
             i = good;
         }
-        Ok(())
+        Ok(base)
+    }
+
+    /// Where a sortie whose last line ends at `end` may land, best first: home alone without
+    /// landing sites; else the few places nearest the way from `end` to the next sortie's
+    /// first line `next` (the last sortie: nearest `end`).
+    fn landing_places(&self, home: Coord, end: Coord, next: Option<Coord>) -> Vec<Coord> {
+        if self.landing_sites.is_empty() {
+            return vec![home];
+        }
+        let detour = |p: Coord| distance(end, p) + next.map_or(0.0, |n| distance(p, n));
+        let mut places: Vec<Coord> = std::iter::once(home).chain(self.landing_sites.iter().copied()).collect();
+        places.sort_by(|a, b| detour(*a).total_cmp(&detour(*b)));
+        places.truncate(LANDING_PLACES_TRIED);
+        places
     }
 
     /// Without a home: each battery flies on from where the last one ran out, as far as it can;
@@ -246,7 +292,8 @@ mod tests {
         // no connection of the vehicle's own reaches the first line's start
         let connect = |a: Pose, b: Pose| (b.coord() != first_line).then(|| vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget = Budget { home: Some(home), first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget =
+            Budget { home: Some(home), landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
         let sorties = budget.split(&route).expect("split").sorties;
         assert!(sorties.len() > 1);
         assert_eq!(sorties[0].pieces[0], route.pieces[0], "the first sortie flies the route's own way there");
@@ -260,8 +307,16 @@ mod tests {
         let route = lines(40, 300.0);
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0; // 10 J/m
-        let budget =
-            Budget { home: Some(Coord { x: -50.0, y: 0.0 }), first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget = Budget {
+            home: Some(Coord { x: -50.0, y: 0.0 }),
+            landing_sites: &[],
+            first_from: None,
+            usable_j: 30_000.0,
+            first_usable_j: 30_000.0,
+            max_sorties: 20,
+            connect: &connect,
+            energy: &energy,
+        };
         let sorties = budget.split(&route).unwrap().sorties;
         assert!(sorties.len() > 1);
         for s in &sorties {
@@ -295,7 +350,8 @@ mod tests {
         // no way home from the lines' far ends (x = 300: every other line)
         let connect = |a: Pose, b: Pose| (b.coord() != home || a.x < 1.0).then(|| vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget = Budget { home: Some(home), first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget =
+            Budget { home: Some(home), landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
         let sorties = budget.split(&route).unwrap().sorties;
         let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();
         let mut first = 0;
@@ -311,6 +367,45 @@ mod tests {
         assert_eq!(first, 40);
     }
 
+    /// A long corridor's lines end to end: from home alone the far lines are out of reach;
+    /// with landing sites along it each sortie lands at one and the next leaves from there.
+    #[test]
+    fn sorties_hop_between_landing_sites_along_a_corridor() {
+        let c = |x, y| Coord { x, y };
+        let mut route = FlightPath::default();
+        for k in 0..60 {
+            let (a, b) = (c(300.0 * k as f64, 0.0), c(300.0 * k as f64 + 290.0, 0.0));
+            if k > 0 {
+                route.push(PieceKind::Transit, vec![route.end().unwrap(), a], 0.0);
+            }
+            route.push(PieceKind::Sweep, vec![a, b], 5.0);
+        }
+        let home = c(-50.0, 0.0);
+        let sites: Vec<Coord> = (1..=9).map(|k| c(2000.0 * k as f64, -30.0)).collect();
+        let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
+        let energy = |p: &FlightPath| p.length() * 10.0;
+        let budget =
+            Budget { home: Some(home), landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 50, connect: &connect, energy: &energy };
+        assert!(budget.split(&route).is_err(), "from home alone the far lines are beyond one battery");
+        let hopping = Budget { landing_sites: &sites, ..budget };
+        let sorties = hopping.split(&route).expect("split").sorties;
+        let places: Vec<Coord> = std::iter::once(home).chain(sites.iter().copied()).collect();
+        let mut base = home;
+        for s in &sorties {
+            assert!(energy(s) <= 30_000.0);
+            assert_eq!(s.pieces[0].start(), base, "each sortie leaves from where the last one landed");
+            base = s.end().unwrap();
+            assert!(places.contains(&base), "a sortie lands at home or a landing site, not at {base:?}");
+        }
+        let flown: Vec<Coord> = sorties.iter().flat_map(|s| s.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).map(|p| p.start())).collect();
+        let planned: Vec<Coord> = route.pieces.iter().filter(|p| p.kind == PieceKind::Sweep).map(|p| p.start()).collect();
+        assert_eq!(flown, planned);
+        // each site is 30 m off the line: a sortie's ways out and back cost at most a site
+        // spacing and a few metres more than its lines
+        let overhead: f64 = sorties.iter().map(FlightPath::length).sum::<f64>() - route.length();
+        assert!(overhead < sorties.len() as f64 * 2100.0, "{overhead:.0} m besides the route over {} sorties", sorties.len());
+    }
+
     /// Sorties end before every break (a resumed plan's original sortie ends), and split the
     /// stretches between them as a route is split.
     #[test]
@@ -318,8 +413,16 @@ mod tests {
         let route = lines(40, 300.0);
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget =
-            Budget { home: Some(Coord { x: -50.0, y: 0.0 }), first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget = Budget {
+            home: Some(Coord { x: -50.0, y: 0.0 }),
+            landing_sites: &[],
+            first_from: None,
+            usable_j: 30_000.0,
+            first_usable_j: 30_000.0,
+            max_sorties: 20,
+            connect: &connect,
+            energy: &energy,
+        };
         // pieces 2k are the lines, 2k + 1 the turns: breaks before lines 5 and 21
         let breaks = [9, 41];
         let sorties = budget.split_between(&route, &breaks).unwrap().sorties;
@@ -345,7 +448,16 @@ mod tests {
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
         let (home, aircraft) = (Coord { x: -50.0, y: 0.0 }, Coord { x: 150.0, y: -40.0 });
-        let budget = Budget { home: Some(home), first_from: Some(aircraft), usable_j: 30_000.0, first_usable_j: 10_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget = Budget {
+            home: Some(home),
+            landing_sites: &[],
+            first_from: Some(aircraft),
+            usable_j: 30_000.0,
+            first_usable_j: 10_000.0,
+            max_sorties: 20,
+            connect: &connect,
+            energy: &energy,
+        };
         let sorties = budget.split(&route).unwrap().sorties;
         assert_eq!(sorties[0].pieces[0].start(), aircraft);
         assert!(energy(&sorties[0]) <= 10_000.0 && sorties[0].pieces.iter().any(|p| p.kind == PieceKind::Sweep));
@@ -363,7 +475,7 @@ mod tests {
         let route = lines(40, 300.0);
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget = Budget { home: None, first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget = Budget { home: None, landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
         let split = budget.split(&route).unwrap();
         assert_eq!(split.sorties, vec![route.clone()], "flown as planned");
         let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();

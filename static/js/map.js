@@ -14,6 +14,7 @@ export const state = {
   obstacles: L.featureGroup().addTo(map),
   structures: L.featureGroup().addTo(map), // to inspect: polygons or circles with cpHeight, cpBase, cpName
   poses: { home: null, start: null, end: null },
+  landingSites: L.featureGroup().addTo(map), // the plan's landing sites: markers
   result: null, // { layer, photos, fc, stats, params }
   compared: null,
   planId: null,

@@ -93,7 +93,7 @@ function drawingError(text) {
 }
 
 function poseIcon(kind, heading) {
-  const glyph = kind === 'home' ? '⌂' : heading == null ? (kind === 'start' ? 'S' : 'E') : '➤';
+  const glyph = kind === 'home' ? '⌂' : kind === 'landing-site' ? 'L' : heading == null ? (kind === 'start' ? 'S' : 'E') : '➤';
   const rotate = kind !== 'home' && heading != null ? `transform: rotate(${heading - 90}deg);` : '';
   return L.divIcon({ className: 'pose', html: `<div title="${kind}" style="${rotate}">${glyph}</div>`, iconSize: [18, 18] });
 }
@@ -107,7 +107,20 @@ export function setPose(kind, latlng, heading) {
   state.poses[kind] = m.addTo(map);
 }
 
-const isPoint = (kind) => ['home', 'start', 'end'].includes(kind);
+/** A landing site: another place than home where sorties may land and take off again. */
+export function addLandingSite(latlng) {
+  const m = L.marker(latlng, { icon: poseIcon('landing-site', null), draggable: true, title: 'landing site', keyboard: false });
+  m.on('dragend', changed);
+  state.landingSites.addLayer(m);
+}
+
+/** Places the point of `kind` at `latlng`: a landing site is added to the others, a pose moved. */
+function placePoint(kind, latlng, heading) {
+  if (kind === 'landing-site') addLandingSite(latlng);
+  else setPose(kind, latlng, heading);
+}
+
+const isPoint = (kind) => ['home', 'start', 'end', 'landing-site'].includes(kind);
 
 /** Ends every drawing, editing and removing mode. */
 export function endModes() {
@@ -148,7 +161,7 @@ $('draw').onclick = () => {
     if (typed) {
       const at = parseLatLng(typed);
       if (!at) return drawingError('Type the point as "latitude, longitude", for example 51.985, 5.664.');
-      setPose(kind, at, poseHeading(kind));
+      placePoint(kind, at, poseHeading(kind));
       map.panTo(at);
       $('point-at').value = '';
       return changed();
@@ -196,7 +209,7 @@ $('remove').onclick = () => {
 };
 
 map.on('pm:remove', (e) => {
-  for (const group of [state.fields, state.corridors, state.zones, state.obstacles, state.structures]) group.removeLayer(e.layer);
+  for (const group of [state.fields, state.corridors, state.zones, state.obstacles, state.structures, state.landingSites]) group.removeLayer(e.layer);
   for (const k of Object.keys(state.poses)) if (state.poses[k] === e.layer) state.poses[k] = null;
   changed();
 });
@@ -220,7 +233,7 @@ map.on('pm:create', (e) => {
   if (e.shape === 'Marker') {
     // one click places the point; the mode ends there
     map.pm.disableDraw();
-    setPose(kind, e.layer.getLatLng(), poseHeading(kind));
+    placePoint(kind, e.layer.getLatLng(), poseHeading(kind));
     changed();
   } else if (e.shape === 'Line') {
     addShape(kind, e.layer.getLatLngs());
@@ -251,6 +264,7 @@ function clearShapes() {
   state.zones.clearLayers();
   state.obstacles.clearLayers();
   state.structures.clearLayers();
+  state.landingSites.clearLayers();
   for (const k of Object.keys(state.poses)) {
     if (state.poses[k]) map.removeLayer(state.poses[k]);
     state.poses[k] = null;
@@ -271,11 +285,14 @@ export function clearMission() {
 // each change keeps the mission as it was (its GeoJSON with the start and end poses): undo and
 // redo put one back
 const edits = { past: [], future: [], now: null };
-const snapshot = () => JSON.stringify({ ...geometryOf(), start: poseOf('start'), end: poseOf('end') });
+const snapshot = () => JSON.stringify({ ...geometryOf(), start: poseOf('start'), end: poseOf('end'), landing_sites: landingSites() });
 const poseOf = (kind) => {
   const m = state.poses[kind];
   return m ? { at: [m.getLatLng().lng, m.getLatLng().lat], heading: m.cpHeading ?? null } : null;
 };
+
+/** The landing sites as the API takes them: `[[lon, lat], …]`. */
+export const landingSites = () => state.landingSites.getLayers().map((m) => [m.getLatLng().lng, m.getLatLng().lat]);
 
 function resetHistory() {
   edits.past = [];
@@ -306,6 +323,7 @@ function restore(text) {
   clearShapes();
   drawShapes(m);
   for (const kind of ['start', 'end']) if (m[kind]) setPose(kind, L.latLng(m[kind].at[1], m[kind].at[0]), m[kind].heading);
+  for (const [lng, lat] of m.landing_sites || []) addLandingSite(L.latLng(lat, lng));
   edits.now = text;
   syncHistoryButtons();
   announceChange();

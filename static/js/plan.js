@@ -2,7 +2,7 @@
 
 import { $, api, escapeHtml, status } from './api.js';
 import { state } from './map.js';
-import { fieldHectares, saveMission, setPose } from './mission.js';
+import { addLandingSite, fieldHectares, landingSites, saveMission, setPose } from './mission.js';
 import { DIESEL_J_PER_L, bearing, fillFormats, keepForComparison, showPlan } from './result.js';
 
 // ---- the parameter form, from the API's lists ----
@@ -264,6 +264,8 @@ export function planParams() {
     if (num('lead-in') !== undefined) p.lead_in_m = num('lead-in');
     if (p.landing === 'auto' && num('landing-heading') !== undefined) p.landing_heading_deg = num('landing-heading');
   }
+  // one aircraft's sorties may land at the sites drawn (a fleet's drones fly from their homes)
+  if (landingSites().length && !groundVehicle() && !p.vehicles) p.landing_sites = landingSites();
   for (const kind of ['start', 'end']) {
     const m = state.poses[kind];
     if (m) {
@@ -368,6 +370,8 @@ export function restoreParams(p) {
     const pose = p[kind];
     if (pose && pose.position) setPose(kind, L.latLng(pose.position[1], pose.position[0]), pose.heading_deg ?? null);
   }
+  state.landingSites.clearLayers();
+  for (const [lng, lat] of p.landing_sites || []) addLandingSite(L.latLng(lat, lng));
   syncForm();
 }
 
@@ -381,7 +385,7 @@ const inputOf = [
   ['/targets', 'target-names'], ['/terrain_tolerance_m', 'terrain-tolerance'], ['/camera', 'camera'], ['/planner', 'planner'], ['/swath_ends', 'line-ends'],
   ['/guidance/bearing_deg', 'guidance-bearing'], ['/guidance/a', 'guidance-a'], ['/guidance', 'guidance'], ['/tramline_every', 'tramline-every'],
   ['/landing', 'landing'], ['/landing_heading_deg', 'landing-heading'], ['/lead_in_m', 'lead-in'], ['/pattern', 'pattern'], ['/oblique_pitch_deg', 'oblique-pitch'],
-  ['/wind/speed_mps', 'wind-speed'], ['/wind/from_deg', 'wind-from'], ['/wind', 'wind-speed'],
+  ['/wind/speed_mps', 'wind-speed'], ['/wind/from_deg', 'wind-from'], ['/wind', 'wind-speed'], ['/landing_sites', 'draw-kind'],
 ];
 
 export function clearFieldErrors() {

@@ -7,7 +7,7 @@
 // a folder of its own, serving the page built into the binary. Run by tests/run_all.sh after
 // the build. Draws a barn and inspects it, with its 3D view. Resumes a plan from a click on its
 // path. Plans it again as an oblique plan, with the DJI download's waypoint limit; draws a road
-// as a corridor and plans it. Screenshots
+// as a corridor and plans it, and a longer one flown in hops between landing sites. Screenshots
 // of each step are left
 // in the temporary folder (coverplan-*.png).
 import { execFileSync, spawn } from 'node:child_process';
@@ -549,6 +549,41 @@ try {
   await page.waitForSelector('body[data-ready=true]');
   assert.deepEqual(await state(() => window.coverplan.state.corridors.getLayers().map((l) => [l.cpWidth, l.getLatLngs().length])), [[40, 3]], 'the corridor comes back');
   await shot('corridor');
+
+  // a longer road flown in hops: home at one end, landing sites along it where sorties land
+  await page.goto(`${base}/`);
+  await page.waitForSelector('body[data-ready=true]');
+  await page.selectOption('#draw-kind', 'centre-line');
+  await page.fill('#corridor-width', '40');
+  await page.fill('#point-at', '51.500, 6.050; 51.503, 6.080; 51.500, 6.110');
+  await page.click('#draw');
+  await page.selectOption('#draw-kind', 'home');
+  await page.fill('#point-at', '51.4995, 6.0495');
+  await page.click('#draw');
+  await page.selectOption('#draw-kind', 'landing-site');
+  assert.equal(await page.textContent('#draw'), 'Place', 'a landing site is a point');
+  for (const at of ['51.5025, 6.068', '51.5025, 6.092', '51.5005, 6.1105']) {
+    await page.fill('#point-at', at);
+    await page.click('#draw');
+  }
+  assert.equal(await state(() => window.coverplan.state.landingSites.getLayers().length), 3, 'three landing sites placed');
+  await page.selectOption('#vehicle', 'iris');
+  await page.selectOption('#planner', 'corridor');
+  await page.selectOption('#camera', '');
+  await page.fill('#spacing', '15');
+  await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+  await page.click('#plan');
+  await waitFor(async () => /planned/.test(await page.textContent('#status')), 'the corridor flown in hops', 90000);
+  const hops = await state(() => {
+    const { fc, params } = window.coverplan.state.result;
+    const firsts = new Map();
+    for (const f of fc.features) if (f.properties.sortie && f.geometry.type === 'LineString' && !firsts.has(f.properties.sortie)) firsts.set(f.properties.sortie, f.geometry.coordinates[0]);
+    const near = (a, b) => Math.abs(a[0] - b[0]) < 1e-6 && Math.abs(a[1] - b[1]) < 1e-6;
+    return { sites: params.landing_sites.length, sorties: firsts.size, fromSites: [...firsts.values()].filter((p) => params.landing_sites.some((s) => near(p, s))).length };
+  });
+  assert.equal(hops.sites, 3, 'the plan asked for the landing sites');
+  assert.ok(hops.sorties >= 2 && hops.fromSites >= 1, `sorties take off from landing sites: ${JSON.stringify(hops)}`);
+  await shot('landing-sites');
 
   // a hilly field: its elevation model from the file picker, shaded under the field; planned at
   // 60 m above the ground, with the profile of ground, altitude and band

@@ -96,8 +96,9 @@ fn document(job: &ExportJob<'_>) -> Vec<u8> {
         }
         x.close("Folder");
     }
-    if let Some([lon, lat]) = job.outlines.home {
-        x.open("Placemark", &[]).leaf("name", "Home").open("Point", &[]).leaf("coordinates", &format!("{},{}", number(lon, 7), number(lat, 7))).close("Point").close("Placemark");
+    let sites = job.outlines.landing_sites.iter().enumerate().map(|(k, &site)| (format!("Landing site {}", k + 1), site));
+    for (name, [lon, lat]) in job.outlines.home.map(|home| ("Home".to_owned(), home)).into_iter().chain(sites) {
+        x.open("Placemark", &[]).leaf("name", &name).open("Point", &[]).leaf("coordinates", &format!("{},{}", number(lon, 7), number(lat, 7))).close("Point").close("Placemark");
     }
     flight_folders(&mut x, job);
     x.close("Document").close("kml");

@@ -10,7 +10,7 @@
 
 use super::flight::{FlownPiece, PlanPhoto, ViewAction, Waypoint, photos_by_pass, waypoints};
 use super::follower;
-use super::{AltitudeFrame, ExportJob, Firmware, FlightSettings};
+use super::{AltitudeFrame, Bases, ExportJob, Firmware, FlightSettings};
 use crate::error::InputError;
 use crate::params::Landing;
 use rstar::{AABB, RTree};
@@ -99,7 +99,8 @@ pub fn launch(pieces: &[FlownPiece], home: Option<[f64; 2]>) -> [f64; 2] {
 
 /// The items of one sortie, in order; `views` are the inspection's viewpoints (empty for a
 /// coverage plan), `photos` the plan's photos (`[lon, lat]`), which the camera triggers take.
-pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[PlanPhoto], settings: &FlightSettings, home: Option<[f64; 2]>) -> Vec<MissionItem> {
+pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[PlanPhoto], settings: &FlightSettings, bases: Bases) -> Vec<MissionItem> {
+    let home = bases.home;
     let fixed_wing = settings.kind == VehicleKind::FixedWing;
     // ArduPilot ignores a waypoint's yaw; PX4 reads 0 as "face north", NaN as "keep"
     let keep_yaw = match settings.firmware {
@@ -146,8 +147,9 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[Plan
     // airspeed for fixed wings, ground speed for multirotors
     let speed_type = if fixed_wing { 0.0 } else { 1.0 };
     let mut speed: Option<f64> = None;
-    // landing `auto` with a home: the last waypoint is where the vehicle lands
-    let lands = settings.landing == Landing::Auto && home.is_some();
+    // landing `auto` with a home, or at another landing site: the last waypoint is where the
+    // vehicle lands
+    let lands = (settings.landing == Landing::Auto || bases.lands_at.is_some()) && home.is_some();
     let last_sweep = pieces.iter().rposition(|p| p.kind == PieceKind::Sweep);
     let landing_at = if lands { points.pop() } else { None };
     let mut land_start_written = false;
@@ -242,7 +244,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[Plan
 /// camera off and the next starting there.
 pub fn limited_items(job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<MissionItem>>, InputError> {
     let pieces = &job.flight.sorties[sortie];
-    let items = |settings: &FlightSettings| mission_items(pieces, &job.flight.views, &job.flight.photos, settings, job.outlines.home);
+    let items = |settings: &FlightSettings| mission_items(pieces, &job.flight.views, &job.flight.photos, settings, job.bases(sortie));
     let planned = items(&job.settings);
     let Some(max) = job.max_waypoints.filter(|&max| planned.len() > max) else { return Ok(vec![planned]) };
     let compact = items(&FlightSettings { compact_lines: true, ..job.settings });
@@ -477,7 +479,7 @@ mod tests {
             piece(PieceKind::Turn, &[[2.0, 0.0], [2.0, 1.0]], 3.0),
             piece(PieceKind::Sweep, &[[2.0, 1.0], [1.0, 1.0]], 6.0),
         ];
-        let items = mission_items(&pieces, &[], &plan_photos(&pieces, 12.0), &settings(Some(12.0)), Some([0.0, 0.0]));
+        let items = mission_items(&pieces, &[], &plan_photos(&pieces, 12.0), &settings(Some(12.0)), Bases::home(Some([0.0, 0.0])));
         let commands: Vec<u16> = items.iter().map(|i| i.command).collect();
         // on each sweep: to the first photo, trigger, to half a step past the last, stop, the end
         assert_eq!(commands, vec![22, 178, 16, 16, 178, 16, 206, 16, 206, 16, 178, 16, 178, 16, 206, 16, 206, 16, 20]);
@@ -491,7 +493,7 @@ mod tests {
     #[test]
     fn a_sortie_that_starts_on_a_sweep_triggers_on_it() {
         let pieces = [piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0), piece(PieceKind::Turn, &[[2.0, 0.0], [2.0, 1.0]], 6.0)];
-        let commands: Vec<u16> = mission_items(&pieces, &[], &plan_photos(&pieces, 12.0), &settings(Some(12.0)), None).iter().map(|i| i.command).collect();
+        let commands: Vec<u16> = mission_items(&pieces, &[], &plan_photos(&pieces, 12.0), &settings(Some(12.0)), Bases::default()).iter().map(|i| i.command).collect();
         assert_eq!(commands, vec![22, 178, 16, 16, 206, 16, 206, 16, 16, 21]);
     }
 
@@ -528,7 +530,7 @@ mod tests {
                 let turn =
                     FlownPiece { kind: PieceKind::Turn, points: vec![[b[0], b[1], 40.0], [c[0], c[1], 40.0]], speed_mps: 3.0, ground_m: None, tramline: false, camera: None };
                 let pieces = [sweep(a, b), turn, sweep(c, d)];
-                let items = mission_items(&pieces, &[], &plan_photos_with(&pieces, footprint, spacing), &s, None);
+                let items = mission_items(&pieces, &[], &plan_photos_with(&pieces, footprint, spacing), &s, Bases::default());
                 let found: Vec<geo::Coord> = autopilot_photos(&items, s.firmware).iter().map(|p| frame.to_local(p[0], p[1])).collect();
                 let offsets = fitted_photo_offsets(len, footprint, spacing);
                 let planned: Vec<geo::Coord> = offsets.iter().map(|&t| geo::Coord { x: t, y: 0.0 }).chain(offsets.iter().map(|&t| geo::Coord { x: len - t, y: 20.0 })).collect();
@@ -563,14 +565,14 @@ mod tests {
             FlownPiece { kind: PieceKind::Transit, points: vec![[1.0, 0.0, 12.0], [1.0, 1.0, 0.0]], speed_mps: 0.0, ground_m: None, tramline: false, camera: None },
         ];
         let mut s = FlightSettings { hold_s: 2.0, ..settings(None) };
-        let px4 = mission_items(&pieces, &[view], &[], &s, None);
+        let px4 = mission_items(&pieces, &[view], &[], &s, Bases::default());
         let commands: Vec<u16> = px4.iter().map(|i| i.command).collect();
         // the points on the ground are the take-off and the landing
         assert_eq!(commands, vec![NAV_TAKEOFF, NAV_WAYPOINT, NAV_WAYPOINT, DO_GIMBAL_MANAGER_PITCHYAW, IMAGE_START_CAPTURE, NAV_LAND]);
         assert_eq!(px4[2].params, [Some(2.0), Some(0.0), Some(0.0), Some(135.0)]);
         assert_eq!(px4[3].params[0], Some(-30.0));
         s.firmware = Firmware::Ardupilot;
-        let ardupilot = mission_items(&pieces, &[view], &[], &s, None);
+        let ardupilot = mission_items(&pieces, &[view], &[], &s, Bases::default());
         assert_eq!(ardupilot[3].command, CONDITION_YAW);
         assert_eq!(ardupilot[3].params[0], Some(135.0));
     }
@@ -589,18 +591,18 @@ mod tests {
             FlownPiece { kind: PieceKind::Transit, points: (0..12).map(|k| at(50.0 * k as f64)).collect(), speed_mps: 15.0, ground_m: None, tramline: false, camera: None };
         let sweep = FlownPiece { kind: PieceKind::Sweep, points: vec![at(550.0), at(900.0)], speed_mps: 15.0, ground_m: None, tramline: false, camera: None };
         let plane = FlightSettings { kind: VehicleKind::FixedWing, altitude_m: 80.0, turn_radius_m: 50.0, ..settings(None) };
-        let items = mission_items(&[transit.clone(), sweep.clone()], &[], &[], &plane, Some([at(0.0)[0], at(0.0)[1]]));
+        let items = mission_items(&[transit.clone(), sweep.clone()], &[], &[], &plane, Bases::home(Some([at(0.0)[0], at(0.0)[1]])));
         let first = items.iter().find(|i| i.command == NAV_WAYPOINT).and_then(|i| i.position).unwrap();
         let ahead = frame.to_local(first[1], first[0]).x;
         let climb_out = climb_out_m(80.0);
         assert!(ahead >= climb_out && ahead < climb_out + 50.0, "the first waypoint {ahead:.0} m ahead; the climb-out takes {climb_out:.0} m");
-        let copter = mission_items(&[transit, sweep], &[], &[], &FlightSettings { altitude_m: 80.0, ..settings(None) }, Some([at(0.0)[0], at(0.0)[1]]));
+        let copter = mission_items(&[transit, sweep], &[], &[], &FlightSettings { altitude_m: 80.0, ..settings(None) }, Bases::home(Some([at(0.0)[0], at(0.0)[1]])));
         assert_eq!(copter.iter().filter(|i| i.command == NAV_WAYPOINT).count(), 13, "a multirotor flies every point");
     }
 
     #[test]
     fn lands_without_home() {
-        let items = mission_items(&[piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0)], &[], &[], &settings(None), None);
+        let items = mission_items(&[piece(PieceKind::Sweep, &[[1.0, 0.0], [2.0, 0.0]], 6.0)], &[], &[], &settings(None), Bases::default());
         assert_eq!(items.first().unwrap().position, Some([0.0, 1.0, 40.0]));
         assert_eq!(items.last().unwrap().command, NAV_LAND);
         assert_eq!(items.last().unwrap().position, Some([0.0, 2.0, 0.0]));

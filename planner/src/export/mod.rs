@@ -100,6 +100,26 @@ pub struct Outlines {
     pub fields: MultiPolygon,
     pub no_fly_zones: MultiPolygon,
     pub home: Option<[f64; 2]>,
+    /// The plan's landing sites, `[lon, lat]`: sorties may land at them and take off again.
+    pub landing_sites: Vec<[f64; 2]>,
+}
+
+/// Where one sortie takes off and lands.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Bases {
+    /// Where it takes off, and where an autopilot's return flies back to (`None`: the mission
+    /// has no home, and each flight lands where it ends).
+    pub home: Option<[f64; 2]>,
+    /// The landing site it lands at when that is not `home` (a plan with landing sites): the
+    /// file lands it there, since a return would fly back to where it took off.
+    pub lands_at: Option<[f64; 2]>,
+}
+
+impl Bases {
+    /// A sortie from `home` and back.
+    pub fn home(home: Option<[f64; 2]>) -> Self {
+        Bases { home, lands_at: None }
+    }
 }
 
 /// How the vehicle flies the exported path.
@@ -137,6 +157,29 @@ pub struct ExportJob<'a> {
     pub trajectory: &'a ::geojson::FeatureCollection,
     /// Most waypoints a file may hold (formats with a `waypoint_limit`).
     pub max_waypoints: Option<usize>,
+}
+
+/// A sortie's take-off or landing within this of a place is there (plans write places
+/// exactly; this allows for rounding through the trajectory's degrees).
+const AT_PLACE_M: f64 = 1.0;
+
+impl ExportJob<'_> {
+    /// Where sortie `k` takes off and lands: the mission's home, or with landing sites the
+    /// site it leaves from and the one it lands at.
+    pub fn bases(&self, sortie: usize) -> Bases {
+        let home = self.outlines.home;
+        let pieces = &self.flight.sorties[sortie];
+        let (Some(first), Some(last)) = (pieces.first().and_then(|p| p.points.first()), pieces.last().and_then(|p| p.points.last())) else { return Bases::home(home) };
+        if self.outlines.landing_sites.is_empty() {
+            return Bases::home(home);
+        }
+        let place_at = |p: &[f64; 3]| {
+            let frame = crate::frame::LocalFrame::new(p[0], p[1]);
+            home.iter().chain(&self.outlines.landing_sites).find(|q| frame.to_local(q[0], q[1]).x.hypot(frame.to_local(q[0], q[1]).y) < AT_PLACE_M).copied()
+        };
+        let takes_off = place_at(first).or(home);
+        Bases { home: takes_off, lands_at: place_at(last).filter(|&q| Some(q) != takes_off) }
+    }
 }
 
 /// What names a file format and its files, and which plans it can say.
@@ -285,6 +328,7 @@ struct FileParams {
     hold_s: Option<f64>,
     landing: Landing,
     guidance: Option<Guidance>,
+    landing_sites: Vec<[f64; 2]>,
 }
 
 impl FileParams {
@@ -301,6 +345,7 @@ impl FileParams {
                 hold_s: Some(spec.capture_s),
                 landing: Landing::Return,
                 guidance: None,
+                landing_sites: Vec::new(),
             });
         }
         let r = params.resolve(profiles)?;
@@ -315,6 +360,7 @@ impl FileParams {
             hold_s: None,
             landing: r.landing,
             guidance: params.guidance,
+            landing_sites: r.landing_sites,
         })
     }
 }
@@ -327,7 +373,8 @@ fn outlines_and_altitude(request: &ExportRequest<'_>, planned: &FileParams) -> R
     let unlimited = FieldLimits { max_area_ha: f64::INFINITY, max_vertices: usize::MAX, max_radius_km: f64::INFINITY, min_area_m2: 0.0 };
     let field = Field::parse(&request.mission, &unlimited)?;
     let to_wgs84 = |p: &MultiPolygon| p.map_coords(|c| field.frame.to_wgs84(c).into());
-    let outlines = Outlines { fields: to_wgs84(&field.area), no_fly_zones: to_wgs84(&field.no_fly_zones), home: request.mission.home };
+    let outlines =
+        Outlines { fields: to_wgs84(&field.area), no_fly_zones: to_wgs84(&field.no_fly_zones), home: request.mission.home, landing_sites: planned.landing_sites.clone() };
     if let Some(a) = request.options.altitude_m {
         check_range(a, 1.0, 10_000.0, "/altitude_m", "m above home")?;
     }

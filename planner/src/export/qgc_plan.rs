@@ -49,7 +49,7 @@ impl Exporter for QgcPlan {
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
-        let items = mission_items::mission_items(&job.flight.sorties[sortie], &job.flight.views, &job.flight.photos, &job.settings, job.outlines.home);
+        let items = mission_items::mission_items(&job.flight.sorties[sortie], &job.flight.views, &job.flight.photos, &job.settings, job.bases(sortie));
         Ok(file(job, sortie, &items))
     }
 
@@ -62,7 +62,7 @@ impl Exporter for QgcPlan {
 fn file(job: &ExportJob<'_>, sortie: usize, items: &[MissionItem]) -> Vec<u8> {
     let pieces = &job.flight.sorties[sortie];
     let s = &job.settings;
-    let [lon, lat] = launch(pieces, job.outlines.home);
+    let [lon, lat] = launch(pieces, job.bases(sortie).home);
     let plan_mode = items.iter().find(|i| i.frame != FRAME_MISSION).map_or(ALTITUDE_RELATIVE, |i| altitude_mode(i.frame));
     // over terrain, home is where the ground is; otherwise the altitudes are relative to it
     let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);
@@ -113,7 +113,7 @@ fn simple_item(item: &MissionItem, jump_id: usize) -> Value {
 fn inclusion_ring(job: &ExportJob<'_>, sortie: usize) -> LineString {
     let flown = job.flight.sorties[sortie].iter().flat_map(|p| p.points.iter().map(|q| [q[0], q[1]]));
     let outlines = job.outlines.fields.0.iter().flat_map(|p| p.exterior().0.iter().map(|c| [c.x, c.y]));
-    let points: Vec<[f64; 2]> = flown.chain(outlines).chain(job.outlines.home).collect();
+    let points: Vec<[f64; 2]> = flown.chain(outlines).chain(job.bases(sortie).home).collect();
     let frame = LocalFrame::centred_on(points.iter().copied());
     let local = MultiPoint(points.iter().map(|&[lon, lat]| Point(frame.to_local(lon, lat))).collect());
     let grown = local.convex_hull().buffer(FENCE_MARGIN_M);

@@ -27,7 +27,7 @@ impl Exporter for WaypointList {
     }
 
     fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
-        let items = mission_items::mission_items(&job.flight.sorties[sortie], &job.flight.views, &job.flight.photos, &job.settings, job.outlines.home);
+        let items = mission_items::mission_items(&job.flight.sorties[sortie], &job.flight.views, &job.flight.photos, &job.settings, job.bases(sortie));
         Ok(file(job, sortie, &items))
     }
 
@@ -38,7 +38,7 @@ impl Exporter for WaypointList {
 
 /// The `QGC WPL 110` text of `items`, flown in `sortie`.
 fn file(job: &ExportJob<'_>, sortie: usize, items: &[MissionItem]) -> Vec<u8> {
-    let [lon, lat] = launch(&job.flight.sorties[sortie], job.outlines.home);
+    let [lon, lat] = launch(&job.flight.sorties[sortie], job.bases(sortie).home);
     let mut text = String::from("QGC WPL 110\n");
     // item 0: home, absolute frame (over terrain at the ground's height), current
     let home_altitude = job.flight.launch_ground_m(sortie).unwrap_or(0.0);

@@ -7,7 +7,7 @@
 use super::flight::{CameraPose, Waypoint, photos_by_pass, waypoints};
 use super::mission_items::{Triggers, line_triggers};
 use super::xml::Xml;
-use super::{COVERAGE_ONLY, ExportJob, Exporter, Format, number};
+use super::{Bases, COVERAGE_ONLY, ExportJob, Exporter, Format, number};
 use crate::archive;
 use crate::error::InputError;
 use crate::path::PieceKind;
@@ -154,12 +154,11 @@ fn document(job: &ExportJob<'_>, sortie: usize, route: &Route, range: std::ops::
         .leaf("wpml:flyToWaylineMode", "safely")
         .leaf(
             "wpml:finishAction",
-            if !last {
-                "noAction"
-            } else if job.outlines.home.is_some() {
-                "goHome"
-            } else {
-                "autoLand"
+            match job.bases(sortie) {
+                _ if !last => "noAction",
+                // DJI's return flies back to where it took off: at another site it lands itself
+                Bases { home: Some(_), lands_at: None } => "goHome",
+                _ => "autoLand",
             },
         )
         .leaf("wpml:exitOnRCLost", "executeLostAction")

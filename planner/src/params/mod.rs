@@ -34,11 +34,14 @@ pub struct PoseParam {
     pub altitude_m: Option<f64>,
 }
 
+/// Most landing sites a plan may name.
+pub const MAX_LANDING_SITES: usize = 50;
+
 /// The members only planner `inspection` reads (and the start's and end's `altitude_m`).
 pub const INSPECTION_ONLY_MEMBERS: [&str; 4] = ["targets", "budget", "inspection", "seed"];
 
 /// The members planner `inspection` refuses: they shape coverage plans.
-pub const COVERAGE_ONLY_MEMBERS: [&str; 16] = [
+pub const COVERAGE_ONLY_MEMBERS: [&str; 17] = [
     "line_spacing_m",
     "altitude_m",
     "heading_deg",
@@ -55,6 +58,7 @@ pub const COVERAGE_ONLY_MEMBERS: [&str; 16] = [
     "wind",
     "pattern",
     "oblique_pitch_deg",
+    "landing_sites",
 ];
 
 /// Members only a ground vehicle's plan reads.
@@ -173,6 +177,13 @@ pub struct PlanParams {
     /// (default 20); splitting needs the mission's home.
     #[cfg_attr(feature = "schema", schema(minimum = 1, maximum = 100))]
     pub max_sorties: Option<u32>,
+    /// More places than the mission's home to land, change the battery and take off again,
+    /// `[[lon, lat], …]`, at most 50: each sortie lands at the one that best serves it and the
+    /// next (the nearest to where it stops and to where the next begins), and the next takes
+    /// off there, so that a long corridor is flown in hops. Needs the mission's home (where
+    /// the first sortie leaves from); a fixed wing lands at them by itself (`landing` `auto`).
+    #[cfg_attr(feature = "schema", schema(max_items = 50))]
+    pub landing_sites: Option<Vec<[f64; 2]>>,
     /// Seconds the plan may take, 0.1 to 86 400; past them it fails with `time_limit`. The
     /// service caps it at its own limit (`COVERPLAN_JOB_TIMEOUT_S`, also the default). An
     /// inspection's search instead returns its best path once nine tenths of it have passed
@@ -408,6 +419,8 @@ pub struct Resolved {
     /// The wind at the flight altitude.
     pub wind: Option<Wind>,
     pub max_sorties: usize,
+    /// `landing_sites`, `[lon, lat]`, checked.
+    pub landing_sites: Vec<[f64; 2]>,
     /// The drones of a fleet, in the request's order; empty for one vehicle (`vehicle`).
     pub fleet: Vec<FleetVehicle>,
     pub altitude_separation_m: Option<f64>,
@@ -543,6 +556,7 @@ impl PlanParams {
         let terrain = self.terrain(&vehicle, altitude_m, max_climb_deg)?;
         let (lead_in_m, landing, landing_heading) = self.flight_ends(&vehicle, &fleet)?;
         let wind = self.wind(&vehicle, &fleet, altitude_m)?;
+        let landing_sites = self.landing_sites(&vehicle, &fleet, landing)?;
         Ok(Resolved {
             line_spacing_m,
             camera,
@@ -565,6 +579,7 @@ impl PlanParams {
             objective: self.objective.unwrap_or_default(),
             wind,
             max_sorties: max_sorties as usize,
+            landing_sites,
             fleet,
             altitude_separation_m,
             headland,
@@ -641,6 +656,32 @@ impl PlanParams {
         Ok((self.lead_in_m, landing, heading))
     }
 
+    /// The landing sites, checked against the vehicle and how it lands.
+    fn landing_sites(&self, vehicle: &Vehicle, fleet: &[FleetVehicle], landing: Landing) -> Result<Vec<[f64; 2]>, InputError> {
+        let Some(sites) = &self.landing_sites else { return Ok(Vec::new()) };
+        if sites.len() > MAX_LANDING_SITES {
+            return Err(InputError::new("parameter_out_of_range", "/landing_sites", format!("{} landing sites; at most {MAX_LANDING_SITES}", sites.len())));
+        }
+        if vehicle.kind == VehicleKind::Ground {
+            return Err(InputError::new("not_for_ground_vehicles", "/landing_sites", "a ground vehicle does not land: leave out landing_sites"));
+        }
+        if !fleet.is_empty() {
+            return Err(InputError::new("landing_sites_for_fleet", "/landing_sites", "each drone of a fleet flies from its own home: leave out landing_sites"));
+        }
+        if vehicle.kind == VehicleKind::FixedWing && landing != Landing::Auto {
+            return Err(InputError::new(
+                "not_landing",
+                "/landing_sites",
+                "a fixed wing's return flies back to where it took off: to land at another site it lands by itself, give landing \"auto\"",
+            ));
+        }
+        for (k, [lon, lat]) in sites.iter().enumerate() {
+            check_range(*lon, -180.0, 180.0, &format!("/landing_sites/{k}/0"), "°")?;
+            check_range(*lat, -90.0, 90.0, &format!("/landing_sites/{k}/1"), "°")?;
+        }
+        Ok(sites.clone())
+    }
+
     fn terrain(&self, vehicle: &Vehicle, altitude_m: Option<f64>, max_climb_deg: f64) -> Result<Option<TerrainSpec>, InputError> {
         let given = [self.terrain_tolerance_m.is_some(), self.max_climb_mps.is_some(), self.max_descent_mps.is_some()];
         if self.altitude_reference != Some(AltitudeReference::Terrain) {
@@ -697,6 +738,7 @@ impl PlanParams {
             self.wind.is_some(),
             self.pattern.is_some(),
             self.oblique_pitch_deg.is_some(),
+            self.landing_sites.is_some(),
         ];
         if let Some(pointer) = first_given(&COVERAGE_ONLY_MEMBERS, &given) {
             return Err(InputError::new("not_for_inspection", pointer, "an inspection flies to viewpoints around structures: this member is for coverage plans"));

@@ -53,16 +53,17 @@ pub struct Connector<'a> {
 
 /// The straights a fixed wing flies at the ends of its connections, each left out where it
 /// would enter a wall (docs/flight-files.md).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct FlightEnds {
     /// Metres flown straight into every pose a connection reaches (a line's start): an
     /// autopilot following waypoints settles on the line over them.
     pub lead_in_m: f64,
-    /// From the launch point, metres flown straight ahead climbing after take-off.
-    pub climb_out: Option<(Coord, f64)>,
-    /// Into the landing point: the approach's length, and its math heading (`None`: the
+    /// From the launch points (home, and the landing sites sorties take off from again),
+    /// metres flown straight ahead climbing after take-off.
+    pub climb_out: Option<(Vec<Coord>, f64)>,
+    /// Into the landing points: the approach's length, and its math heading (`None`: the
     /// heading the connection arrives on).
-    pub landing: Option<(Coord, f64, Option<f64>)>,
+    pub landing: Option<(Vec<Coord>, f64, Option<f64>)>,
 }
 
 type Legs = RwLock<HashMap<[u64; 3], Arc<LegRow>>>;
@@ -133,7 +134,7 @@ impl<'a> Connector<'a> {
             sights: Places::default(),
             stop: self.stop.clone(),
             via_corners: self.via_corners,
-            ends: self.ends,
+            ends: self.ends.clone(),
             wind: self.wind,
             tariff: self.tariff.clone(),
         }
@@ -212,8 +213,8 @@ impl<'a> Connector<'a> {
     /// when `from` is the launch point (every heading whose climb-out is clear of the walls, in
     /// 15° steps from the one asked), else `from` itself.
     fn turn_starts(&self, from: Pose) -> impl Iterator<Item = Pose> + '_ {
-        let climb_out = self.ends.climb_out.filter(|&(launch, metres)| metres > 0.0 && at(launch, from));
-        let outs = climb_out.into_iter().flat_map(move |(_, metres)| {
+        let climb_out = self.ends.climb_out.as_ref().filter(|(launches, metres)| *metres > 0.0 && launches.iter().any(|&l| at(l, from)));
+        let outs = climb_out.into_iter().flat_map(move |&(_, metres)| {
             (0..=24)
                 .map(move |k| from.theta + (if k % 2 == 0 { 1.0 } else { -1.0 }) * (k as f64 / 2.0).ceil() * 15f64.to_radians())
                 .map(move |theta| (Pose { theta, ..from }, moved(Pose { theta, ..from }, metres)))
@@ -229,8 +230,8 @@ impl<'a> Connector<'a> {
     /// is the landing point (on its heading), short of the lead-in otherwise, each shortened
     /// until it is clear of the walls (to a tenth of it at least; else `to` itself).
     fn turn_end(&self, to: Pose) -> Pose {
-        let (to, metres) = match self.ends.landing {
-            Some((point, metres, heading)) if at(point, to) => (Pose { theta: heading.unwrap_or(to.theta), ..to }, metres),
+        let (to, metres) = match &self.ends.landing {
+            Some((points, metres, heading)) if points.iter().any(|&p| at(p, to)) => (Pose { theta: heading.unwrap_or(to.theta), ..to }, *metres),
             _ => (to, self.ends.lead_in_m),
         };
         std::iter::successors(Some(metres), |m| Some(m * 0.75))

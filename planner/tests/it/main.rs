@@ -6,6 +6,7 @@ mod corridors;
 mod energy_planners;
 mod flown;
 mod inspection;
+mod landing_sites;
 mod limits;
 mod obstacles;
 mod patrolling;

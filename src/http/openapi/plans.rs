@@ -20,13 +20,15 @@ const MOST_RULES: usize = 6;
 /// sweep direction `optimal` without a heading or a fleet; a landing heading only with landing
 /// `auto`; a lead-in and a landing heading for a fixed wing, headland members for a ground
 /// vehicle, which has no line spacing, camera, fleet, terrain or landing; a fixed wing over
-/// terrain climbs at `max_climb_deg`; pattern `oblique` for a multirotor with a camera; each
-/// planner's vehicle kinds, fleets and line ends (`GET /api/v1/planners`).
+/// terrain climbs at `max_climb_deg`; pattern `oblique` for a multirotor with a camera;
+/// landing sites for one aircraft (a fixed wing's with landing `auto`); each planner's vehicle
+/// kinds, fleets and line ends (`GET /api/v1/planners`).
 pub const IN_WORDS: &[&str] = &[
     "camera_missing",
     "direction_for_fleet",
     "direction_twice",
     "fleet_twice",
+    "landing_sites_for_fleet",
     "not_a_fixed_wing",
     "not_a_ground_vehicle",
     "not_a_multirotor",

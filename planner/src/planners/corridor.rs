@@ -14,8 +14,8 @@ use crate::field::Corridor;
 use crate::geom::{distance, heading, polyline_length, segment_crossing, unit};
 use crate::path::{FlightPath, PieceKind};
 use crate::sweep::offset::{Outside, offset};
-use crate::turn::TurnModel;
 use crate::turn::dubins::Pose;
+use crate::turn::{TurnModel, half_circles};
 
 pub struct CorridorPlanner;
 
@@ -136,13 +136,56 @@ fn join(path: &mut FlightPath, problem: &Problem<'_>, pass: &[Coord], joined_by:
             None => return Ok(()),
         },
     };
-    let points = problem.connector.path(from, to).ok_or_else(|| no_way("a line", "the next"))?;
+    let points = problem.connector.path(from, to).or_else(|| turned_about(problem, from, to)).ok_or_else(|| no_way("a line", "the next"))?;
     let kind = if joined_by == Join::Turn && !path.pieces.is_empty() { PieceKind::Turn } else { PieceKind::Transit };
     // (a pass that begins where the last ended needs no connection)
     if points.len() >= 2 {
         path.push(kind, points, 0.0);
     }
     Ok(())
+}
+
+/// A fixed wing's way from `from` to `to` that turns about on a clear half circle first, or
+/// arrives on one, or both: where a line ends facing a zone, or begins just past one, its end
+/// is pulled back only as far as one half circle clears the zone, and every way the search
+/// tries turns into the zone there. The shortest of these.
+fn turned_about(problem: &Problem<'_>, from: Pose, to: Pose) -> Option<Vec<Coord>> {
+    let TurnModel::Dubins(r) = problem.vehicle.turn_model() else { return None };
+    let r = problem.connector.wind().map_or(r, |d| d.safe_radius(r));
+    let clear_arcs = |pose: Pose, out: f64| -> Vec<Vec<Coord>> {
+        let mut arcs: Vec<Vec<Coord>> =
+            half_circles(pose.coord(), Coord { x: out.cos(), y: out.sin() }, r).into_iter().filter(|arc| problem.transit.is_polyline_clear(arc)).collect();
+        // the circle's first point is the pose's but for rounding: pieces join exactly
+        for arc in &mut arcs {
+            arc[0] = pose.coord();
+        }
+        arcs
+    };
+    let turn_about: Vec<Option<Vec<Coord>>> = std::iter::once(None).chain(clear_arcs(from, from.theta).into_iter().map(Some)).collect();
+    // an arrival half circle, flown backwards from `to`, then reversed
+    let arrive_on: Vec<Option<Vec<Coord>>> = std::iter::once(None)
+        .chain(clear_arcs(to, to.theta + std::f64::consts::PI).into_iter().map(|mut arc| {
+            arc.reverse();
+            Some(arc)
+        }))
+        .collect();
+    let mut best: Option<Vec<Coord>> = None;
+    for first in &turn_about {
+        for last in &arrive_on {
+            if first.is_none() && last.is_none() {
+                continue;
+            }
+            let a = first.as_ref().map_or(from, |arc| Pose::at(arc[arc.len() - 1], from.theta + std::f64::consts::PI));
+            let b = last.as_ref().map_or(to, |arc| Pose::at(arc[0], to.theta + std::f64::consts::PI));
+            let Some(middle) = problem.connector.path(a, b) else { continue };
+            let way: Vec<Coord> =
+                first.iter().flatten().copied().chain(middle.into_iter().skip(usize::from(first.is_some()))).chain(last.iter().flatten().skip(1).copied()).collect();
+            if best.as_ref().is_none_or(|b| polyline_length(&way) < polyline_length(b)) {
+                best = Some(way);
+            }
+        }
+    }
+    best
 }
 
 /// The corridor's sweeps in flight order, each with how it is joined to the one before.

@@ -78,9 +78,9 @@ proptest! {
         let zone = zoned.then(|| zone_halfway(&line, 40.0));
         let profile = if fixed_wing { "generic_fixed_wing" } else { "iris" };
         let planned = plan_corridor(&frame, &line, width, zone.as_ref(), json!({"planner": "corridor", "line_spacing_m": spacing, "vehicle": {"profile": profile}}));
-        // beside a zone the lines stop at its margin: the coverage lost there is measured, not
-        // yet filled; a fixed wing's passes that no Dubins way reaches round a zone are left out
-        // (issue 55's note gives how much), so only the safety of its plan is asserted
+        // beside a zone the lines stop at its margin, a fixed wing's where it can still turn
+        // (a half circle clear of the zone): the stretch before that is lost (down to 0.93 of
+        // the corridor outside the zones in 418 cases, issue 55's closing note)
         // Legs shorter than twice the width bend again before the lines beside them settle
         // (the inside of one bend reaches the next): there coverage is measured lower (the
         // closing note of issue 55 says how much)
@@ -89,7 +89,7 @@ proptest! {
             (false, _) if tight => 0.95,
             (false, _) => 0.995,
             (true, false) => 0.95,
-            (true, true) => 0.0,
+            (true, true) => 0.9,
         };
         prop_assert!(planned.coverage >= goal, "coverage {:.4}", planned.coverage);
         let centre = LineString::new(line.clone());

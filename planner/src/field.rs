@@ -393,13 +393,7 @@ fn parse_structures(value: &Value, pointer: &str) -> Result<Vec<RawStructure>, I
         }
         let shape = match f.geometry.as_ref().map(|g| &g.value) {
             Some(GeometryValue::Point { coordinates }) => {
-                let at = format!("{fp}/geometry/coordinates");
-                let c = coordinates.as_slice();
-                if c.len() < 2 {
-                    return Err(InputError::new("invalid_position", at, "a position needs a longitude and a latitude"));
-                }
-                let centre = [c[0], c[1]];
-                check_position(&centre, &at)?;
+                let centre = raw_position(coordinates, &format!("{fp}/geometry/coordinates"))?;
                 if let Some(text) = obj {
                     let up = match f.property("up").and_then(Value::as_str) {
                         None | Some("z") => Up::Z,
@@ -486,20 +480,18 @@ fn raw_polygon(rings: &[Vec<geojson::Position>], pointer: &str) -> Result<RawPol
 
 /// GeoJSON positions as `[lon, lat]`, each checked; `pointer` names the array.
 fn raw_positions(positions: &[geojson::Position], pointer: &str) -> Result<Vec<[f64; 2]>, InputError> {
-    positions
-        .iter()
-        .enumerate()
-        .map(|(k, pos)| {
-            let pp = format!("{pointer}/{k}");
-            let s = pos.as_slice();
-            if s.len() < 2 {
-                return Err(InputError::new("invalid_position", pp, "a position needs a longitude and a latitude"));
-            }
-            let p = [s[0], s[1]];
-            check_position(&p, &pp)?;
-            Ok(p)
-        })
-        .collect()
+    positions.iter().enumerate().map(|(k, pos)| raw_position(pos, &format!("{pointer}/{k}"))).collect()
+}
+
+/// `[lon, lat]` of a GeoJSON position at `pointer`, checked.
+fn raw_position(position: &geojson::Position, pointer: &str) -> Result<[f64; 2], InputError> {
+    let s = position.as_slice();
+    if s.len() < 2 {
+        return Err(InputError::new("invalid_position", pointer, "a position needs a longitude and a latitude"));
+    }
+    let p = [s[0], s[1]];
+    check_position(&p, pointer)?;
+    Ok(p)
 }
 
 pub fn check_position(p: &[f64; 2], pointer: &str) -> Result<(), InputError> {

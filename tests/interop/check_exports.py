@@ -22,6 +22,11 @@ above mean sea level).
 readers, within the limit (WPML placemarks; MAVLink items after home), each beginning at the
 waypoint where the one before ended, and together taking at least the plan's photos (lines are
 triggered from end to end there).
+"sorties" (optional) lists flights split into sorties between landing sites:
+  [{"parts": [file, ...], "format", "homes": [[lat, lon], ...], "landings": [[lat, lon] or null, ...]}]:
+each sortie's file read by the same readers takes off from its own home (the home item, QGC's
+planned home, or the first waypoint of WPML) and, where it lands elsewhere, lands there itself
+(NAV_LAND at that place, WPML's finishAction autoLand) instead of returning to launch.
 Readers: pymavlink's waypoint loader (QGC WPL 110), jsonschema with qgc-plan.schema.json (the
 .plan format as QGroundControl documents it), fastkml (KML, KMZ), the standard library's XML
 parser (GeoJSON, DJI WPML). ISOXML is read by check_isoxml.mjs with the isoxml library.
@@ -375,6 +380,34 @@ def check_missions(folder, spec):
     assert photos >= spec["photos"], f"{spec['format']}: the missions take {photos} photos, the plan {spec['photos']}"
 
 
+def check_sorties(folder, spec):
+    assert len(spec["parts"]) == len(spec["homes"]) >= 2, f"{spec['format']}: {len(spec['parts'])} files for {len(spec['homes'])} sorties"
+    for name, home, landing in zip(spec["parts"], spec["homes"], spec["landings"]):
+        path = folder / name
+        if spec["format"] == "wpml":
+            with zipfile.ZipFile(path) as z:
+                waylines = ET.fromstring(z.read("wpmz/waylines.wpml"))
+            finish = waylines.find(f".//{WPML}finishAction").text
+            assert finish == ("autoLand" if landing else "goHome"), f"{name}: finishAction {finish}"
+            continue
+        if spec["format"] == "plan":
+            plan = json.loads(path.read_text())
+            jsonschema.validate(plan, json.loads((HERE / "qgc-plan.schema.json").read_text()))
+            launch = tuple(plan["mission"]["plannedHomePosition"][:2])
+            last = plan["mission"]["items"][-1]
+            last = (last["command"], (last["params"][4], last["params"][5]))
+        else:
+            loader = mavwp.MAVWPLoader()
+            count = loader.load(str(path))
+            launch = (loader.wp(0).x, loader.wp(0).y)
+            last = (loader.wp(count - 1).command, (loader.wp(count - 1).x, loader.wp(count - 1).y))
+        assert same_point(launch, home), f"{name}: home {launch}, the sortie takes off at {home}"
+        if landing:
+            assert last[0] == mavutil.mavlink.MAV_CMD_NAV_LAND and same_point(last[1], landing), f"{name}: ends with {last}, not a landing at {landing}"
+        else:
+            assert last[0] == mavutil.mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, f"{name}: ends with {last[0]}, not a return to launch"
+
+
 def main(folder):
     folder = Path(folder)
     manifest = json.loads((folder / "manifest.json").read_text())
@@ -409,6 +442,13 @@ def main(folder):
         except Exception as e:
             failed += 1
             print(f"FAIL missions {spec['format']}: {type(e).__name__}: {e}")
+    for spec in manifest.get("sorties", []):
+        try:
+            check_sorties(folder, spec)
+            passed += 1
+        except Exception as e:
+            failed += 1
+            print(f"FAIL sorties {spec['format']}: {type(e).__name__}: {e}")
     print(f"{passed} passed, {failed} failed")
     sys.exit(1 if failed or not passed else 0)
 

@@ -254,7 +254,7 @@ impl Exporter for GeoJsonFile {
             default_max_waypoints: None,
         }
     }
-    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
-        Ok(serde_json::to_vec(job.trajectory).expect("JSON"))
+    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+        Ok(vec![serde_json::to_vec(job.trajectory).expect("JSON")])
     }
 }

@@ -53,8 +53,8 @@ impl Exporter for TaskData {
             default_max_waypoints: None,
         }
     }
-    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
-        Ok(archive::zip(&[("TASKDATA/TASKDATA.XML".to_owned(), task_data(job))]))
+    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+        Ok(vec![archive::zip(&[("TASKDATA/TASKDATA.XML".to_owned(), task_data(job))])])
     }
 }
 

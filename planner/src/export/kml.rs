@@ -51,8 +51,8 @@ impl Exporter for Kml {
             default_max_waypoints: None,
         }
     }
-    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
-        Ok(document(job))
+    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+        Ok(vec![document(job)])
     }
 }
 
@@ -71,8 +71,8 @@ impl Exporter for Kmz {
             default_max_waypoints: None,
         }
     }
-    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<u8>, InputError> {
-        Ok(archive::zip(&[("doc.kml".to_owned(), document(job))]))
+    fn write(&self, job: &ExportJob<'_>, _sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+        Ok(vec![archive::zip(&[("doc.kml".to_owned(), document(job))])])
     }
 }
 

@@ -219,13 +219,10 @@ const COVERAGE_ONLY: &[MethodKind] = &[MethodKind::Coverage];
 /// One file format.
 pub trait Exporter: Sync {
     fn format(&self) -> &'static Format;
-    /// Writes the file; `sortie` (0-based) limits a one-flight format to that sortie.
-    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError>;
-    /// The sortie's files: one, or (a format with a `waypoint_limit`) as many missions as keep
-    /// each within `job.max_waypoints`.
-    fn write_parts(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
-        Ok(vec![self.write(job, sortie)?])
-    }
+    /// Writes the files: one, or (a format with a `waypoint_limit`) as many missions as keep
+    /// each within `job.max_waypoints`; `sortie` (0-based) limits a one-flight format to that
+    /// sortie.
+    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError>;
 }
 
 /// Every export format, in the order menus list them; the first is the default.
@@ -280,7 +277,7 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         let sorties = if one_flight_per_file { job.flight.sorties.len() } else { 1 };
         let mut files = Vec::new();
         for k in 0..sorties {
-            let parts = exporter.write_parts(job, k)?;
+            let parts = exporter.write(job, k)?;
             let count = parts.len();
             for (j, bytes) in parts.into_iter().enumerate() {
                 let sortie = if sorties > 1 { format!("-sortie-{}", k + 1) } else { String::new() };

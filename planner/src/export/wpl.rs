@@ -26,12 +26,7 @@ impl Exporter for WaypointList {
         }
     }
 
-    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
-        let items = mission_items::mission_items(&job.flight.sorties[sortie], &job.flight.views, &job.flight.photos, &job.settings, job.bases(sortie));
-        Ok(file(job, sortie, &items))
-    }
-
-    fn write_parts(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
         Ok(mission_items::limited_items(job, sortie)?.iter().map(|items| file(job, sortie, items)).collect())
     }
 }

@@ -43,13 +43,7 @@ impl Exporter for Wpml {
         }
     }
 
-    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<u8>, InputError> {
-        multirotor_only(job)?;
-        let route = route(job, sortie, false);
-        Ok(kmz(job, sortie, &route, 0..route.points.len(), true))
-    }
-
-    fn write_parts(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
+    fn write(&self, job: &ExportJob<'_>, sortie: usize) -> Result<Vec<Vec<u8>>, InputError> {
         multirotor_only(job)?;
         let planned = route(job, sortie, false);
         let Some(max) = job.max_waypoints.filter(|&max| planned.points.len() > max) else { return Ok(vec![kmz(job, sortie, &planned, 0..planned.points.len(), true)]) };

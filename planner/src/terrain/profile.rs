@@ -106,6 +106,9 @@ struct Sample {
     at: Coord,
     piece: usize,
     ground: f64,
+    /// The highest ground looked at between the sample before and this one (every quarter
+    /// step): the path between samples is straight, the ground under it is not.
+    ground_before: f64,
     /// Height wanted above the ground: the survey height, or more where the path was raised
     /// (over obstacles, into a fleet's layer).
     wanted: f64,
@@ -124,7 +127,11 @@ pub fn lay(path: &FlightPath, ground: &Ground<'_>, settings: &Settings) -> Resul
     // keeps the band a little inside the bounds: the ground bends between samples
     let inset = (0.1 * tolerance_m).min(0.5);
     let target: Vec<f64> = samples.iter().map(|p| p.ground + p.wanted).collect();
-    let mut lo: Vec<f64> = samples.iter().map(|p| if p.wanted > height_m + 1e-6 { p.ground + p.wanted } else { p.ground + height_m - tolerance_m + inset }).collect();
+    // the floor under a sample: the highest ground on the straight legs to either neighbour
+    // (over a cliff's edge the ground between samples stands metres above both)
+    let floor = |i: usize| samples[i].ground_before.max(samples.get(i + 1).map_or(f64::NEG_INFINITY, |q| q.ground_before));
+    let mut lo: Vec<f64> =
+        samples.iter().enumerate().map(|(i, p)| if p.wanted > height_m + 1e-6 { p.ground + p.wanted } else { floor(i) + height_m - tolerance_m + inset }).collect();
     let mut hi: Vec<f64> = samples.iter().zip(&target).map(|(p, t)| if p.sweep { t + tolerance_m - inset } else { t + 3.0 * tolerance_m }).collect();
     let step = |i: usize| samples[i].s - samples[i - 1].s;
     let n = samples.len();
@@ -199,17 +206,24 @@ fn sample(path: &FlightPath, ground: &Ground<'_>, height_m: f64) -> Result<Vec<S
             let length = distance(a, b);
             if out.is_empty() {
                 let g = ground.at(b).ok_or_else(|| ground.missing(b))?;
-                out.push(Sample { s, at: b, piece: index, ground: g, wanted: wa, sweep });
+                out.push(Sample { s, at: b, piece: index, ground: g, ground_before: g, wanted: wa, sweep });
             }
             if length < 1e-6 {
                 continue;
             }
             let n = (length / SAMPLE_M).ceil() as usize;
+            let ground_at = |f: f64| {
+                let at = a + (b - a) * f;
+                ground.at(at).ok_or_else(|| ground.missing(at))
+            };
             for t in 1..=n {
                 let f = t as f64 / n as f64;
-                let at = a + (b - a) * f;
-                let g = ground.at(at).ok_or_else(|| ground.missing(at))?;
-                out.push(Sample { s: s + length * f, at, piece: index, ground: g, wanted: wa + (wanted(k) - wa) * f, sweep });
+                let g = ground_at(f)?;
+                let mut ground_before = g;
+                for quarter in 1..=3 {
+                    ground_before = ground_before.max(ground_at((t as f64 - 1.0 + quarter as f64 / 4.0) / n as f64)?);
+                }
+                out.push(Sample { s: s + length * f, at: a + (b - a) * f, piece: index, ground: g, ground_before, wanted: wa + (wanted(k) - wa) * f, sweep });
             }
             s += length;
         }

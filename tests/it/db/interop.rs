@@ -416,6 +416,49 @@ async fn a_flight_past_the_controllers_limit_comes_in_missions_within_it() {
     app.stop().await;
 }
 
+/// A corridor flown in hops between landing sites: each sortie's MAVLink file, read by the
+/// independent readers, takes off from its own site and lands at the next; DJI's lands itself.
+#[tokio::test]
+async fn sorties_between_landing_sites_take_off_and_land_where_the_plan_does() {
+    let app = TestApp::spawn().await;
+    let line = json!([[5.0, 52.0], [5.03, 52.004], [5.06, 52.0]]);
+    let mission =
+        json!({"name": "Pipeline", "home": [4.9985, 51.9995], "area": {"type": "Feature", "properties": {"width_m": 60}, "geometry": {"type": "LineString", "coordinates": line}}});
+    let sites = json!([[5.012, 52.0022], [5.024, 52.0027], [5.036, 52.0037], [5.048, 52.0024], [5.0605, 51.9996]]);
+    let params = json!({"planner": "corridor", "camera": {"preset": "dji_mavic3_enterprise"}, "altitude_m": 40, "side_overlap": 0.3, "vehicle": {"profile": "iris", "battery_wh": 40}, "landing_sites": sites});
+    let (plan, trajectory) = planned(&app, &mission, &params).await;
+    // each sortie's first and last point, [lat, lon]
+    let mut ends: Vec<([f64; 2], [f64; 2])> = Vec::new();
+    for f in &trajectory.features {
+        let (Some(k), Some(GeometryValue::LineString { coordinates })) = (f.property("sortie").and_then(Value::as_u64), f.geometry.as_ref().map(|g| &g.value)) else { continue };
+        let (first, last) = (coordinates[0].as_slice(), coordinates[coordinates.len() - 1].as_slice());
+        if ends.len() < k as usize {
+            ends.push(([first[1], first[0]], [last[1], last[0]]));
+        }
+        ends[k as usize - 1].1 = [last[1], last[0]];
+    }
+    assert!(ends.len() >= 2, "{} sorties", ends.len());
+    let homes: Vec<[f64; 2]> = ends.iter().map(|e| e.0).collect();
+    let landings: Vec<Option<[f64; 2]>> = ends.iter().map(|(from, to)| ((from[0] - to[0]).abs() + (from[1] - to[1]).abs() > 1e-7).then_some(*to)).collect();
+    assert!(landings.iter().any(Option::is_some), "some sortie lands at a landing site");
+    let dir = temp_dir();
+    let mut sorties = Vec::new();
+    for (format, query) in [("waypoints", "format=waypoints"), ("plan", "format=plan"), ("wpml", "format=wpml&max_waypoints=65535")] {
+        let (status, _, _, bytes) = download(&app, &plan, query).await;
+        assert_eq!(status, 200, "{query}: {}", String::from_utf8_lossy(&bytes));
+        let mut parts = Vec::new();
+        for (k, (_, part)) in coverplan::planner::archive::unzip(&bytes).unwrap().iter().enumerate() {
+            let file = format!("hops-{format}-{}", k + 1);
+            std::fs::write(dir.join(&file), part).unwrap();
+            parts.push(file);
+        }
+        sorties.push(json!({"parts": parts, "format": format, "homes": homes, "landings": landings}));
+    }
+    std::fs::write(dir.join("manifest.json"), json!({"files": [], "sorties": sorties}).to_string()).unwrap();
+    run(Command::new(python()).arg(interop_dir().join("check_exports.py")).arg(&dir));
+    app.stop().await;
+}
+
 async fn planner_spacing(app: &TestApp, plan: &str) -> f64 {
     app.get(&format!("/api/v1/plans/{plan}")).await.1["stats"]["line_spacing_m"].as_f64().unwrap()
 }

@@ -267,6 +267,11 @@ fn unreachable(line: &Piece) -> PlanError {
 mod tests {
     use super::*;
 
+    /// 30 kJ a battery, at most 20 sorties, returning to `home`.
+    fn budget<'a>(home: Option<Coord>, connect: &'a dyn Fn(Pose, Pose) -> Option<Vec<Coord>>, energy: &'a dyn Fn(&FlightPath) -> f64) -> Budget<'a> {
+        Budget { home, landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect, energy }
+    }
+
     fn lines(n: usize, length: f64) -> FlightPath {
         let c = |x, y| Coord { x, y };
         let mut p = FlightPath::default();
@@ -292,8 +297,7 @@ mod tests {
         // no connection of the vehicle's own reaches the first line's start
         let connect = |a: Pose, b: Pose| (b.coord() != first_line).then(|| vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget =
-            Budget { home: Some(home), landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget = budget(Some(home), &connect, &energy);
         let sorties = budget.split(&route).expect("split").sorties;
         assert!(sorties.len() > 1);
         assert_eq!(sorties[0].pieces[0], route.pieces[0], "the first sortie flies the route's own way there");
@@ -307,16 +311,7 @@ mod tests {
         let route = lines(40, 300.0);
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0; // 10 J/m
-        let budget = Budget {
-            home: Some(Coord { x: -50.0, y: 0.0 }),
-            landing_sites: &[],
-            first_from: None,
-            usable_j: 30_000.0,
-            first_usable_j: 30_000.0,
-            max_sorties: 20,
-            connect: &connect,
-            energy: &energy,
-        };
+        let budget = budget(Some(Coord { x: -50.0, y: 0.0 }), &connect, &energy);
         let sorties = budget.split(&route).unwrap().sorties;
         assert!(sorties.len() > 1);
         for s in &sorties {
@@ -350,8 +345,7 @@ mod tests {
         // no way home from the lines' far ends (x = 300: every other line)
         let connect = |a: Pose, b: Pose| (b.coord() != home || a.x < 1.0).then(|| vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget =
-            Budget { home: Some(home), landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget = budget(Some(home), &connect, &energy);
         let sorties = budget.split(&route).unwrap().sorties;
         let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();
         let mut first = 0;
@@ -384,8 +378,7 @@ mod tests {
         let sites: Vec<Coord> = (1..=9).map(|k| c(2000.0 * k as f64, -30.0)).collect();
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget =
-            Budget { home: Some(home), landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 50, connect: &connect, energy: &energy };
+        let budget = Budget { max_sorties: 50, ..budget(Some(home), &connect, &energy) };
         assert!(budget.split(&route).is_err(), "from home alone the far lines are beyond one battery");
         let hopping = Budget { landing_sites: &sites, ..budget };
         let sorties = hopping.split(&route).expect("split").sorties;
@@ -413,16 +406,7 @@ mod tests {
         let route = lines(40, 300.0);
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget = Budget {
-            home: Some(Coord { x: -50.0, y: 0.0 }),
-            landing_sites: &[],
-            first_from: None,
-            usable_j: 30_000.0,
-            first_usable_j: 30_000.0,
-            max_sorties: 20,
-            connect: &connect,
-            energy: &energy,
-        };
+        let budget = budget(Some(Coord { x: -50.0, y: 0.0 }), &connect, &energy);
         // pieces 2k are the lines, 2k + 1 the turns: breaks before lines 5 and 21
         let breaks = [9, 41];
         let sorties = budget.split_between(&route, &breaks).unwrap().sorties;
@@ -448,16 +432,7 @@ mod tests {
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
         let (home, aircraft) = (Coord { x: -50.0, y: 0.0 }, Coord { x: 150.0, y: -40.0 });
-        let budget = Budget {
-            home: Some(home),
-            landing_sites: &[],
-            first_from: Some(aircraft),
-            usable_j: 30_000.0,
-            first_usable_j: 10_000.0,
-            max_sorties: 20,
-            connect: &connect,
-            energy: &energy,
-        };
+        let budget = Budget { first_from: Some(aircraft), first_usable_j: 10_000.0, ..budget(Some(home), &connect, &energy) };
         let sorties = budget.split(&route).unwrap().sorties;
         assert_eq!(sorties[0].pieces[0].start(), aircraft);
         assert!(energy(&sorties[0]) <= 10_000.0 && sorties[0].pieces.iter().any(|p| p.kind == PieceKind::Sweep));
@@ -475,7 +450,7 @@ mod tests {
         let route = lines(40, 300.0);
         let connect = |a: Pose, b: Pose| Some(vec![a.coord(), b.coord()]);
         let energy = |p: &FlightPath| p.length() * 10.0;
-        let budget = Budget { home: None, landing_sites: &[], first_from: None, usable_j: 30_000.0, first_usable_j: 30_000.0, max_sorties: 20, connect: &connect, energy: &energy };
+        let budget = budget(None, &connect, &energy);
         let split = budget.split(&route).unwrap();
         assert_eq!(split.sorties, vec![route.clone()], "flown as planned");
         let sweeps: Vec<usize> = route.pieces.iter().enumerate().filter(|(_, p)| p.kind == PieceKind::Sweep).map(|(i, _)| i).collect();

@@ -10,17 +10,7 @@ use geo::Coord;
 use proptest::prelude::*;
 use serde_json::{Value, json};
 
-/// A winding centre line from the origin: legs of `legs` (length, turn in degrees).
-fn centre_line(legs: &[(f64, f64)]) -> Vec<Coord> {
-    let (mut at, mut heading) = (Coord { x: 0.0, y: 0.0 }, 0.0f64);
-    let mut points = vec![at];
-    for &(length, turn) in legs {
-        heading += turn.to_radians();
-        at = at + Coord { x: heading.cos(), y: heading.sin() } * length;
-        points.push(at);
-    }
-    points
-}
+use super::corridors::centre_line;
 
 /// Points every `every` metres along `line`, `side` metres to its left and right in turn.
 fn beside(line: &[Coord], every: f64, side: f64) -> Vec<Coord> {

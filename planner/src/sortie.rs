@@ -1,6 +1,7 @@
 //! Battery stage: a plan that needs more energy than one battery gives (minus its reserve) is
 //! split into sorties (docs/methods.md, energy §9, seed 000 §5.3). Each leaves home, flies a contiguous
-//! run of the route's sweep lines and returns home; the next resumes where it stopped.
+//! run of the route's sweep lines and returns home; the next resumes where it stopped. With
+//! landing sites, a sortie may land at one instead, and the next takes off there.
 //!
 //! The cut is greedy: each sortie takes as many lines as its battery allows, which gives the
 //! fewest sorties for the route's order when connections obey the triangle inequality. Each

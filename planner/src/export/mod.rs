@@ -175,7 +175,11 @@ impl ExportJob<'_> {
         }
         let place_at = |p: &[f64; 3]| {
             let frame = crate::frame::LocalFrame::new(p[0], p[1]);
-            home.iter().chain(&self.outlines.landing_sites).find(|q| frame.to_local(q[0], q[1]).x.hypot(frame.to_local(q[0], q[1]).y) < AT_PLACE_M).copied()
+            let near = |q: &&[f64; 2]| {
+                let c = frame.to_local(q[0], q[1]);
+                c.x.hypot(c.y) < AT_PLACE_M
+            };
+            home.iter().chain(&self.outlines.landing_sites).find(near).copied()
         };
         let takes_off = place_at(first).or(home);
         Bases { home: takes_off, lands_at: place_at(last).filter(|&q| Some(q) != takes_off) }

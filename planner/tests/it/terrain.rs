@@ -244,7 +244,9 @@ proptest! {
         let stats = out.stats.terrain.clone().unwrap();
         let f = fly(&out.trajectory, &model, height, 4.0);
         prop_assert!(f.lowest >= height - 4.0 - 0.05, "{planner}: {:.2} above ground at {height:.1} m", f.lowest);
-        prop_assert!((f.sweep_off_band_m - stats.sweep_outside_tolerance_m).abs() <= 2.0 + 0.02 * stats.sweep_outside_tolerance_m, "{:.1} against {:.1}", f.sweep_off_band_m, stats.sweep_outside_tolerance_m);
+        // the report counts metre samples, the flight here is looked at between them: each
+        // stretch off the band may differ by a metre at either end (steep ground has more of them)
+        prop_assert!((f.sweep_off_band_m - stats.sweep_outside_tolerance_m).abs() <= 2.0 + 0.05 * stats.sweep_outside_tolerance_m, "{:.1} against {:.1}", f.sweep_off_band_m, stats.sweep_outside_tolerance_m);
         let steepest = tilt.abs() + hills.iter().map(|h| 0.86 * h.2 / h.3).sum::<f64>();
         if cliff == 0.0 && !fixed_wing && steepest < 0.24 {
             // ground gentler than the climb limit: the band holds everywhere

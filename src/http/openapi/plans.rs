@@ -91,6 +91,11 @@ pub fn apply(schemas: &mut Value) {
     if let Some(members) = schemas["PlanParams"]["properties"].as_object_mut() {
         members.remove("guidance");
     }
+    // a landing site is `[lon, lat]`: the derive writes a fixed-length array inside a list
+    // without its length (CI's fuzz sent `[]`)
+    let site = &mut schemas["PlanParams"]["properties"]["landing_sites"]["items"];
+    site["minItems"] = json!(2);
+    site["maxItems"] = json!(2);
     // a budget is one of its three limits
     schemas["Budget"]["oneOf"] = json!([given("max_length_m"), given("max_time_s"), given("max_energy_j")]);
     schemas["PlanParams"]["allOf"] = json!(rules);

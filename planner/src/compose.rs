@@ -272,7 +272,7 @@ impl Stages<'_> {
         let battery = &vehicle.battery;
         let budget = sortie::Budget {
             home: ends.home,
-            landing_sites: if ends.home.is_some() { &self.prepared.landing_sites } else { &[] },
+            landing_sites: self.landing_sites(&ends),
             first_from: ends.start.filter(|_| ends.airborne),
             usable_j: battery.usable_j(),
             first_usable_j: battery.energy_wh * 3600.0 * (ends.first_battery - battery.reserve),
@@ -328,6 +328,12 @@ impl Stages<'_> {
         })
     }
 
+    /// Where a flight's sorties may land besides home: the landing sites, for a flight that
+    /// has a home to come back to (the first sortie leaves from it).
+    fn landing_sites(&self, ends: &Ends) -> &[Coord] {
+        if ends.home.is_some() { &self.prepared.landing_sites } else { &[] }
+    }
+
     /// A fixed wing's straights: a lead-in before every line, a climb-out from the launch point
     /// and, landing `auto`, the approach into the flight's end; none for other vehicles.
     fn flight_ends(&self, vehicle: &vehicle::Vehicle, ends: &Ends) -> FlightEnds {
@@ -337,12 +343,12 @@ impl Stages<'_> {
         }
         let altitude = resolved.altitude_m.unwrap_or(0.0);
         // sorties may land at the landing sites and take off from them again
-        let sites = || ends.home.map_or_else(Vec::new, |_| self.prepared.landing_sites.clone());
+        let and_sites = |point: Coord| -> Vec<Coord> { std::iter::once(point).chain(self.landing_sites(ends).iter().copied()).collect() };
         let landing = match (resolved.landing, ends.end.or(ends.home)) {
-            (Landing::Auto, Some(point)) => Some(([vec![point], sites()].concat(), vehicle.landing_approach_m(altitude), resolved.landing_heading)),
+            (Landing::Auto, Some(point)) => Some((and_sites(point), vehicle.landing_approach_m(altitude), resolved.landing_heading)),
             _ => None,
         };
-        let climb_out = ends.home.or(ends.start).map(|launch| ([vec![launch], sites()].concat(), vehicle::climb_out_m(altitude)));
+        let climb_out = ends.home.or(ends.start).map(|launch| (and_sites(launch), vehicle::climb_out_m(altitude)));
         FlightEnds { lead_in_m: vehicle.lead_in_m(resolved.lead_in_m), climb_out, landing }
     }
 

@@ -354,18 +354,23 @@ def mission_points(path, fmt):
             length = sum(autopilot_distance("px4", points[k], points[k + 1]) for k in range(start, end))
             taken += 1 + (int(length / step + 1e-6) if step > 0 else 0)
         return points, len(marks), taken
+    _, rows = mavlink_mission(path, fmt)
+    points = [(r[3], r[4]) for r in rows if r[0] == NAV_WAYPOINT]
+    return points, len(rows), len(autopilot_photos(rows))
+
+
+def mavlink_mission(path, fmt):
+    """A MAVLink mission's home ((lat, lon): the WPL home item, the .plan's planned home) and its
+    items after home as (command, param1, param3, lat, lon)."""
     if fmt == "plan":
         plan = json.loads(path.read_text())
         jsonschema.validate(plan, json.loads((HERE / "qgc-plan.schema.json").read_text()))
-        items = plan["mission"]["items"]
-        rows = [(i["command"], i["params"][0], i["params"][2], i["params"][4], i["params"][5]) for i in items]
-    else:
-        loader = mavwp.MAVWPLoader()
-        count = loader.load(str(path))
-        items = [loader.wp(i) for i in range(1, count)]
-        rows = [(i.command, i.param1, i.param3, i.x, i.y) for i in items]
-    points = [(r[3], r[4]) for r in rows if r[0] == NAV_WAYPOINT]
-    return points, len(rows), len(autopilot_photos(rows))
+        rows = [(i["command"], i["params"][0], i["params"][2], i["params"][4], i["params"][5]) for i in plan["mission"]["items"]]
+        return tuple(plan["mission"]["plannedHomePosition"][:2]), rows
+    loader = mavwp.MAVWPLoader()
+    count = loader.load(str(path))
+    rows = [(i.command, i.param1, i.param3, i.x, i.y) for i in (loader.wp(k) for k in range(1, count))]
+    return (loader.wp(0).x, loader.wp(0).y), rows
 
 
 def check_missions(folder, spec):
@@ -390,22 +395,13 @@ def check_sorties(folder, spec):
             finish = waylines.find(f".//{WPML}finishAction").text
             assert finish == ("autoLand" if landing else "goHome"), f"{name}: finishAction {finish}"
             continue
-        if spec["format"] == "plan":
-            plan = json.loads(path.read_text())
-            jsonschema.validate(plan, json.loads((HERE / "qgc-plan.schema.json").read_text()))
-            launch = tuple(plan["mission"]["plannedHomePosition"][:2])
-            last = plan["mission"]["items"][-1]
-            last = (last["command"], (last["params"][4], last["params"][5]))
-        else:
-            loader = mavwp.MAVWPLoader()
-            count = loader.load(str(path))
-            launch = (loader.wp(0).x, loader.wp(0).y)
-            last = (loader.wp(count - 1).command, (loader.wp(count - 1).x, loader.wp(count - 1).y))
+        launch, rows = mavlink_mission(path, spec["format"])
+        command, last = rows[-1][0], rows[-1][3:]
         assert same_point(launch, home), f"{name}: home {launch}, the sortie takes off at {home}"
         if landing:
-            assert last[0] == mavutil.mavlink.MAV_CMD_NAV_LAND and same_point(last[1], landing), f"{name}: ends with {last}, not a landing at {landing}"
+            assert command == mavutil.mavlink.MAV_CMD_NAV_LAND and same_point(last, landing), f"{name}: ends with {command} at {last}, not a landing at {landing}"
         else:
-            assert last[0] == mavutil.mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, f"{name}: ends with {last[0]}, not a return to launch"
+            assert command == mavutil.mavlink.MAV_CMD_NAV_RETURN_TO_LAUNCH, f"{name}: ends with {command}, not a return to launch"
 
 
 def main(folder):
@@ -435,20 +431,14 @@ def main(folder):
         except Exception as e:  # report every file, then fail
             failed += 1
             print(f"FAIL {spec['file']}: {type(e).__name__}: {e}")
-    for spec in manifest.get("missions", []):
-        try:
-            check_missions(folder, spec)
-            passed += 1
-        except Exception as e:
-            failed += 1
-            print(f"FAIL missions {spec['format']}: {type(e).__name__}: {e}")
-    for spec in manifest.get("sorties", []):
-        try:
-            check_sorties(folder, spec)
-            passed += 1
-        except Exception as e:
-            failed += 1
-            print(f"FAIL sorties {spec['format']}: {type(e).__name__}: {e}")
+    for section, check in (("missions", check_missions), ("sorties", check_sorties)):
+        for spec in manifest.get(section, []):
+            try:
+                check(folder, spec)
+                passed += 1
+            except Exception as e:
+                failed += 1
+                print(f"FAIL {section} {spec['format']}: {type(e).__name__}: {e}")
     print(f"{passed} passed, {failed} failed")
     sys.exit(1 if failed or not passed else 0)
 

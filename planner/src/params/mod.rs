@@ -438,13 +438,17 @@ pub struct Resolved {
 /// A start or end's position, checked; `name` is its member.
 pub fn checked_position(p: &Option<PoseParam>, name: &str) -> Result<Option<[f64; 2]>, InputError> {
     let Some(p) = p else { return Ok(None) };
-    let [lon, lat] = p.position;
-    check_range(lon, -180.0, 180.0, &format!("/{name}/position/0"), "°")?;
-    check_range(lat, -90.0, 90.0, &format!("/{name}/position/1"), "°")?;
+    check_lon_lat(p.position, &format!("/{name}/position"))?;
     if let Some(h) = p.heading_deg {
         check_range(h, -360.0, 360.0, &format!("/{name}/heading_deg"), "°")?;
     }
     Ok(Some(p.position))
+}
+
+/// A `[lon, lat]` member at `pointer` within the globe's ranges.
+fn check_lon_lat([lon, lat]: [f64; 2], pointer: &str) -> Result<(), InputError> {
+    check_range(lon, -180.0, 180.0, &format!("{pointer}/0"), "°")?;
+    check_range(lat, -90.0, 90.0, &format!("{pointer}/1"), "°")
 }
 
 /// Compass bearing (clockwise from north, degrees) to a math angle (counter-clockwise from
@@ -675,9 +679,8 @@ impl PlanParams {
                 "a fixed wing's return flies back to where it took off: to land at another site it lands by itself, give landing \"auto\"",
             ));
         }
-        for (k, [lon, lat]) in sites.iter().enumerate() {
-            check_range(*lon, -180.0, 180.0, &format!("/landing_sites/{k}/0"), "°")?;
-            check_range(*lat, -90.0, 90.0, &format!("/landing_sites/{k}/1"), "°")?;
+        for (k, &site) in sites.iter().enumerate() {
+            check_lon_lat(site, &format!("/landing_sites/{k}"))?;
         }
         Ok(sites.clone())
     }

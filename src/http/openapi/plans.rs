@@ -96,6 +96,10 @@ pub fn apply(schemas: &mut Value) {
     let site = &mut schemas["PlanParams"]["properties"]["landing_sites"]["items"];
     site["minItems"] = json!(2);
     site["maxItems"] = json!(2);
+    // a planner of the registry (CI's fuzz sent a name no planner has)
+    let planner = &mut schemas["PlanParams"]["properties"]["planner"];
+    let ids: Vec<&str> = crate::planner::planners::registry().iter().map(|p| p.id()).chain([INSPECTION]).collect();
+    *planner = json!({"anyOf": [{"enum": ids}, {"type": "null"}], "description": planner["description"].clone()});
     // a budget is one of its three limits
     schemas["Budget"]["oneOf"] = json!([given("max_length_m"), given("max_time_s"), given("max_energy_j")]);
     schemas["PlanParams"]["allOf"] = json!(rules);

@@ -479,7 +479,7 @@ fn raw_polygon(rings: &[Vec<geojson::Position>], pointer: &str) -> Result<RawPol
 }
 
 /// GeoJSON positions as `[lon, lat]`, each checked; `pointer` names the array.
-fn raw_positions(positions: &[geojson::Position], pointer: &str) -> Result<Vec<[f64; 2]>, InputError> {
+pub(crate) fn raw_positions(positions: &[geojson::Position], pointer: &str) -> Result<Vec<[f64; 2]>, InputError> {
     positions.iter().enumerate().map(|(k, pos)| raw_position(pos, &format!("{pointer}/{k}"))).collect()
 }
 

@@ -25,6 +25,8 @@
 //! - `pattern`: the area flown again in further passes (a double grid, obliques);
 //! - `fleet`: one area flown by several drones at once (bands per drone sized so that they land
 //!   together, and the check that no two come too close at the same time);
+//! - [`farm`]: a whole farm's fields shared among machines over working days, each field
+//!   planned on its own first, with transits in a straight line or along roads;
 //! - [`patrol`]: several UAVs revisiting the cells of a grid over the area (NC-Drone and the
 //!   methods it was compared with), simulated, with the metrics of seed 002;
 //! - [`inspection`]: a multirotor's flight to viewpoints around structures that sees as much
@@ -49,6 +51,7 @@ pub mod energy;
 pub mod error;
 pub mod estimate;
 pub mod export;
+pub mod farm;
 mod field;
 mod fleet;
 pub mod frame;

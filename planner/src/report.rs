@@ -54,6 +54,10 @@ pub(crate) fn finish(prepared: &Prepared, flights: &[Option<Flight>], fleet: Opt
     let ((mut stats, uncovered), ground_stats) =
         rayon::join(|| rayon::join(|| metrics::measure(&input), || metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones))), ground_stats);
     stats.ground = ground_stats;
+    if fleet.is_none() {
+        stats.begins_at = path.pieces.first().map(|p| field.frame.to_wgs84(p.start()));
+        stats.ends_at = path.end().map(|c| field.frame.to_wgs84(c));
+    }
     stats.wind = resolved.wind.map(|w| {
         let still_air: Option<Vec<(f64, f64)>> = flown.iter().map(|f| f.still_air_in_wind).collect();
         let total = |pick: fn(&(f64, f64)) -> f64| still_air.as_ref().map(|s| s.iter().map(pick).sum());

@@ -6,6 +6,7 @@
 pub mod assets;
 pub mod auth;
 pub mod error;
+pub mod farms;
 pub mod health;
 pub mod idempotency;
 pub mod metrics;
@@ -61,6 +62,9 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(plans::get, plans::cancel))
         .routes(routes!(plans::trajectory))
         .routes(routes!(resume::resume))
+        .routes(routes!(farms::create))
+        .routes(routes!(farms::get, farms::cancel))
+        .routes(routes!(farms::schedule_csv))
         .routes(routes!(patrols::create))
         .routes(routes!(patrols::get, patrols::cancel))
         .routes(routes!(patrols::trajectory))

@@ -12,6 +12,7 @@
 //! differ, and claiming a job locks rows on PostgreSQL); nothing is rewritten at run time. Every
 //! function runs on either pool through [`on_db!`], which picks the backend's text.
 
+pub mod farms;
 pub mod idempotency;
 pub mod keys;
 pub mod missions;

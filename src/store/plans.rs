@@ -127,7 +127,7 @@ impl<'a> NewJob<'a> {
 }
 
 /// Queues a plan of `tenant`'s mission (a snapshot of its geometry) with `params`; `None` when
-/// the tenant has `most_active` plans queued or running already (counted in the same write
+/// the tenant has `most_active` plans queued or running already, farm plans' fields left out (counted in the same write
 /// transaction, so concurrent requests cannot pass the cap together: SQLite's write lock, or on
 /// PostgreSQL a lock on the tenant held to the commit).
 pub async fn create(db: &Db, tenant: &str, job: &NewJob<'_>, most_active: i64) -> Result<Option<Plan>, sqlx::Error> {
@@ -138,8 +138,8 @@ pub async fn create(db: &Db, tenant: &str, job: &NewJob<'_>, most_active: i64) -
             sqlx::query("SELECT pg_advisory_xact_lock(hashtext($1))").bind(tenant).execute(&mut *tx).await?;
         }
         let active: i64 = sqlx::query_scalar(sql(Statement {
-            sqlite: "SELECT COUNT(*) FROM plans WHERE tenant = ? AND status IN ('queued', 'running')",
-            postgres: "SELECT COUNT(*) FROM plans WHERE tenant = $1 AND status IN ('queued', 'running')",
+            sqlite: "SELECT COUNT(*) FROM plans WHERE tenant = ? AND status IN ('queued', 'running') AND farm_plan_id IS NULL",
+            postgres: "SELECT COUNT(*) FROM plans WHERE tenant = $1 AND status IN ('queued', 'running') AND farm_plan_id IS NULL",
         }))
         .bind(tenant)
         .fetch_one(&mut *tx)
@@ -269,7 +269,8 @@ const CLOSE_CLAIM: Statement = Statement {
     postgres: concat!("UPDATE plan_claims SET ended_at = ", crate::postgres_epoch!(), ", outcome = $1 WHERE plan_id = $2 AND replica = $3 AND ended_at IS NULL"),
 };
 
-/// Atomically takes the oldest queued plan for `replica`, marks it running under a lease of
+/// Atomically takes the oldest queued plan for `replica` (a farm plan's fields after every other
+/// plan, so that one farm's hundreds of fields do not hold up a single plan), marks it running under a lease of
 /// `lease_s` seconds and records the claim. On PostgreSQL the row is locked with `SKIP LOCKED`,
 /// so replicas claiming at once take different plans without waiting for each other.
 pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<Job>, sqlx::Error> {
@@ -280,14 +281,14 @@ pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<J
             crate::sqlite_now!(),
             ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
             crate::sqlite_epoch!(),
-            " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, rowid LIMIT 1) RETURNING id, tenant, kind, params, mission, mission_id"
+            " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY farm_plan_id IS NOT NULL, created_at, rowid LIMIT 1) RETURNING id, tenant, kind, params, mission, mission_id"
         ),
         postgres: concat!(
             "UPDATE plans SET status = 'running', progress = 0, started_at = ",
             crate::postgres_now!(),
             ", attempts = attempts + 1, claimed_by = $1, lease_until = ",
             crate::postgres_epoch!(),
-            " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, kind, params, mission, mission_id"
+            " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY farm_plan_id IS NOT NULL, created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, kind, params, mission, mission_id"
         ),
     };
     on_db!(db, |pool, sql| {

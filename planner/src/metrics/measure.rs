@@ -103,6 +103,8 @@ pub fn measure(m: &MeasureInput<'_>) -> Stats {
         terrain: None,
         resume: None,
         wind: None,
+        begins_at: None,
+        ends_at: None,
         passes,
     }
 }

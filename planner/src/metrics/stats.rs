@@ -86,6 +86,12 @@ pub struct Stats {
     pub resume: Option<ResumeStats>,
     /// The wind the plan was made for, at the flight altitude.
     pub wind: Option<WindStats>,
+    /// `[lon, lat]` where the path begins and where it ends (one vehicle's plan; a farm's
+    /// schedule drives to and from them).
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
+    pub begins_at: Option<[f64; 2]>,
+    #[cfg_attr(feature = "schema", schema(min_items = 2, max_items = 2))]
+    pub ends_at: Option<[f64; 2]>,
     /// Pattern `oblique`: each pass's camera, photos and length, the nadir pass first.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub passes: Vec<PassStats>,

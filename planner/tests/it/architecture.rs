@@ -32,6 +32,7 @@ const LAYERS: &[&str] = &[
     "planners",
     "pattern",
     "fleet",
+    "farm",
     "patrol",
     "inspection",
     "export",

@@ -4,6 +4,7 @@
 mod architecture;
 mod corridors;
 mod energy_planners;
+mod farms;
 mod flown;
 mod inspection;
 mod landing_sites;

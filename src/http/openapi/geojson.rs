@@ -93,9 +93,15 @@ pub fn schemas() -> Vec<(&'static str, Value)> {
         (
             "GeoRoute",
             json!({"description": "A LineString (or a Feature holding one); a third coordinate is the altitude, metres",
-                "oneOf": [reference("GeoLineString"), feature(reference("GeoLineString"), any_properties)]}),
+                "oneOf": [reference("GeoLineString"), feature(reference("GeoLineString"), any_properties.clone())]}),
         ),
         ("GeoLineString", geometry("LineString", waypoints())),
+        ("GeoRoads", {
+            let lines = json!({"oneOf": [geometry("LineString", road()), geometry("MultiLineString", json!({"type": "array", "items": road(), "minItems": 1}))]});
+            let feature = feature(lines.clone(), any_properties.clone());
+            json!({"description": "Roads: LineStrings or MultiLineStrings, bare, in a Feature or in a FeatureCollection",
+                "oneOf": [lines, feature.clone(), collection(feature, 1)]})
+        }),
     ]
 }
 
@@ -104,6 +110,11 @@ pub fn waypoints() -> Value {
     let [longitude, latitude] = longitude_latitude();
     json!({"type": "array", "minItems": 2, "maxItems": MAX_WAYPOINTS, "items": {"type": "array", "minItems": 2, "maxItems": 3,
         "prefixItems": [longitude, latitude, {"type": "number", "minimum": -500, "maximum": 10_000}]}})
+}
+
+/// A road's points, [longitude, latitude] each (further numbers are ignored).
+fn road() -> Value {
+    json!({"type": "array", "minItems": 2, "maxItems": crate::planner::farm::MAX_ROAD_POINTS, "items": reference("GeoPosition")})
 }
 
 /// A point: exactly [longitude, latitude].
@@ -127,6 +138,8 @@ pub fn apply(schemas: &mut Value) {
         ("EstimateRequest", "waypoints", waypoints()),
         ("PoseParam", "position", point()),
         ("ResumeParams", "position", point()),
+        ("Machine", "depot", point()),
+        ("FarmPlanRequest", "roads", reference("GeoRoads")),
     ];
     for (owner, member, schema) in members {
         let old = schemas[owner]["properties"][member].take();
@@ -149,6 +162,11 @@ pub fn apply(schemas: &mut Value) {
     schemas["PatrolParams"]["properties"]["starts"]["items"] = point();
     schemas["Flown"]["properties"]["track"]["items"] = point();
     schemas["Flown"]["properties"]["photos"]["items"] = point();
+    // a farm's fields: missions, or one mission's polygons
+    schemas["FarmPlanRequest"]["oneOf"] = json!([
+        {"required": ["missions"], "properties": {"missions": {"type": "array"}, "mission_id": {"type": "null"}}},
+        {"required": ["mission_id"], "properties": {"mission_id": {"type": "string"}, "missions": {"type": "null"}}},
+    ]);
     // a route or its waypoints, one of them
     schemas["EstimateRequest"]["oneOf"] = json!([
         {"required": ["route"], "properties": {"route": {"type": "object"}, "waypoints": {"type": "null"}}},

@@ -18,7 +18,7 @@ mod vehicles;
         store fields as missions, queue plans, fetch GeoJSON trajectories with length, time and energy. \
         Every error is an RFC 9457 problem (application/problem+json).", license(name = "MIT")),
     components(schemas(error::Problem, crate::planner::Stats, crate::planner::path::PieceKind)),
-    tags((name = "missions"), (name = "plans"), (name = "patrols"), (name = "planners"), (name = "vehicles"), (name = "health"))
+    tags((name = "missions"), (name = "plans"), (name = "patrols"), (name = "farms"), (name = "planners"), (name = "vehicles"), (name = "health"))
 )]
 pub struct ApiDoc;
 
@@ -221,7 +221,7 @@ struct Refusals {
 
 /// The refusals of each operation that has some.
 fn refusals() -> Vec<Refusals> {
-    use super::error::beyond_schema::{EXPORT, FILE, GEOMETRY, IMPORTED, MISSION, PROFILE, RELATIONS, RESUMED, ROUTE, WIND};
+    use super::error::beyond_schema::{EXPORT, FARM, FILE, GEOMETRY, IMPORTED, MISSION, PROFILE, RELATIONS, RESUMED, ROUTE, WIND};
     let of = |groups: &[&[&'static str]]| -> Vec<&'static str> {
         let mut codes: Vec<_> = groups.concat();
         codes.sort_unstable();
@@ -235,6 +235,7 @@ fn refusals() -> Vec<Refusals> {
         refusals("/api/v1/missions/import", "post", of(&[GEOMETRY, FILE, IMPORTED]), vec![]),
         refusals("/api/v1/missions/{id}/terrain", "put", of(&[FILE]), vec![]),
         Refusals { in_words: plans::IN_WORDS, ..refusals("/api/v1/missions/{id}/plans", "post", of(&[MISSION, RELATIONS, WIND]), of(&[PROFILE])) },
+        Refusals { in_words: plans::IN_WORDS, ..refusals("/api/v1/farm-plans", "post", of(&[MISSION, RELATIONS, WIND, GEOMETRY, FARM]), of(&[PROFILE])) },
         refusals("/api/v1/missions/{id}/patrols", "post", of(&[MISSION, RELATIONS]), of(&[PROFILE])),
         refusals("/api/v1/patrols/next-moves", "post", of(&[RELATIONS]), vec![]),
         refusals("/api/v1/plans/{id}/resume", "post", of(&[RESUMED]), vec![]),

@@ -5,6 +5,7 @@
 
 mod api;
 mod corridors;
+mod farms;
 mod ground_plans;
 mod inspection;
 pub mod interop;

@@ -3,7 +3,8 @@
 # Chromium and npm's playwright-core for the map page test; Debian's PostgreSQL server, on which
 # the store, queue and API tests run a second time; the independent readers of the
 # exported files: PyPI's pymavlink, fastkml, jsonschema, pyshp and utm in a virtual environment,
-# npm's isoxml; PyPI's schemathesis for the API fuzz), then runs them.
+# npm's isoxml; PyPI's schemathesis for the API fuzz; PyPI's kubernetes-validate and yamllint for
+# the Kubernetes manifests), then runs them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,11 +33,17 @@ fuzz_venv="${COVERPLAN_FUZZ_VENV:-${HOME}/.cache/coverplan-fuzz-venv}"
 [ -x "$fuzz_venv/bin/python" ] || python3 -m venv "$fuzz_venv"
 "$fuzz_venv/bin/pip" install -q --disable-pip-version-check -r tests/fuzz/requirements.txt
 
+# the Kubernetes manifests' offline checks (kubernetes-validate, yamllint) in one of their own
+deploy_venv="${COVERPLAN_DEPLOY_VENV:-${HOME}/.cache/coverplan-deploy-venv}"
+[ -x "$deploy_venv/bin/python" ] || python3 -m venv "$deploy_venv"
+"$deploy_venv/bin/pip" install -q --disable-pip-version-check -r tests/deploy/requirements.txt
+
 for component in rustfmt clippy; do
   rustup component list --installed 2>/dev/null | grep -q "^$component" || rustup component add "$component"
 done
-# style and lints first: they fail in seconds
+# style, lints and manifests first: they fail in seconds
 cargo fmt --all --check
+"$deploy_venv/bin/python" tests/deploy/check_kubernetes.py
 cargo clippy --workspace --all-targets --all-features --locked -- -D warnings
 cargo test --workspace --all-targets --all-features --locked --no-fail-fast
 # every test that starts the application (tests/it/db/) again on a throwaway PostgreSQL server

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use super::{Options, corridor, energy, fleet, ground, inspection, oblique, patrol, queue, resume, routing, run, terrain, wind};
+use super::{Options, corridor, energy, farm, fleet, ground, inspection, oblique, patrol, queue, resume, routing, run, terrain, wind};
 
 /// Time the planners on the generated fields and print a table.
 #[derive(clap::Args)]
@@ -79,6 +79,13 @@ pub struct BenchArgs {
     /// fields: length, photos, each pass's share imaged (beside MAVLink PR #1508's figures).
     #[arg(long)]
     pub oblique: bool,
+    /// Instead: farm schedules of generated farms (100 to 1 000 fields, 2 to 8 machines), then a
+    /// farm plan of `--farm-fields` generated fields through the service in process.
+    #[arg(long)]
+    pub farm: bool,
+    /// With `--farm`: the fields of the farm plan through the service (0: none).
+    #[arg(long, default_value_t = 1000)]
+    pub farm_fields: usize,
     /// Instead: the shared job queue on the PostgreSQL server at this admin URL
     /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
     /// the time of one claim at 10 000 queued plans.
@@ -108,6 +115,7 @@ fn table(args: BenchArgs) -> anyhow::Result<String> {
     Ok(match args {
         BenchArgs { energy: true, repeats, seed, .. } => energy::run(repeats.max(1) * 4, seed),
         BenchArgs { queue: Some(admin), .. } => tokio::runtime::Runtime::new()?.block_on(queue::run(&admin))?,
+        BenchArgs { farm: true, repeats, farm_fields, .. } => farm::run(repeats.max(1), farm_fields)?,
         BenchArgs { patrol: true, .. } => patrol::run(),
         BenchArgs { inspection: true, repeats, .. } => inspection::run(repeats),
         BenchArgs { ground: true, data, repeats, fields, .. } => ground::run(&data, repeats, &fields)?,

@@ -9,6 +9,7 @@ use std::time::Instant;
 use anyhow::Context;
 use serde_json::{Value, json};
 
+use super::Stream;
 use crate::planner::frame::LocalFrame;
 use crate::planner::geo::Coord;
 use crate::planner::{self, FieldLimits, MissionGeometry, PlanParams, Stop};
@@ -20,19 +21,6 @@ const ROW_M: f64 = 36_000.0;
 const ROW_GAP_M: f64 = 3_000.0;
 /// A vertex every this many metres.
 const STEP_M: f64 = 100.0;
-
-/// A reproducible stream of numbers in [0, 1) (SplitMix64): the corridor's wiggles.
-struct Stream(u64);
-
-impl Stream {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (z ^ (z >> 31)) as f64 / u64::MAX as f64
-    }
-}
 
 /// The centre line of seed `seed`: rows east and west joined by half turns, the heading
 /// wandering ±25° about each row's, with a sharp kink (90° to 140° out and back) every 10 km.

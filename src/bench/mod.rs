@@ -1,13 +1,14 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
 //! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground`, `--inspection`, `--terrain`,
-//! `--resume`, `--wind`, `--corridor`, `--oblique` and `--queue` run the routing, energy,
-//! patrolling, fleet, ground-vehicle, inspection, terrain, resume, wind, corridor, oblique and
-//! shared-queue benchmarks instead.
+//! `--resume`, `--wind`, `--corridor`, `--oblique`, `--farm` and `--queue` run the routing,
+//! energy, patrolling, fleet, ground-vehicle, inspection, terrain, resume, wind, corridor,
+//! oblique, farm and shared-queue benchmarks instead.
 
 mod command;
 pub mod corridor;
 pub mod energy;
+pub mod farm;
 mod fields2cover;
 pub mod fleet;
 pub mod ground;
@@ -48,6 +49,19 @@ struct Row {
     sweep_over_bound: Vec<f64>,
     turns_m: Vec<f64>,
     transits_m: Vec<f64>,
+}
+
+/// A reproducible stream of numbers in [0, 1) (SplitMix64): generated corridors and farms.
+pub(crate) struct Stream(pub u64);
+
+impl Stream {
+    pub fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        (z ^ (z >> 31)) as f64 / u64::MAX as f64
+    }
 }
 
 fn quantile(v: &mut [f64], q: f64) -> f64 {

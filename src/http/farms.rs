@@ -18,13 +18,16 @@ use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiJson, Problem, off_the_async_threads};
 use super::plans::snapshot;
-use crate::planner::farm::{self, FieldWork, Machine, RoadNetwork, Schedule, StraightLine, Unscheduled, Window};
+use crate::jobs;
+use crate::planner::export::{ExportOptions, ExportRequest, FarmTask, FarmTaskData};
+use crate::planner::farm::{self, FieldWork, LegKind, Machine, RoadNetwork, Schedule, StraightLine, Unscheduled, Window};
+use crate::planner::geojson::FeatureCollection;
 use crate::planner::params::AltitudeReference;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
-use crate::planner::{self, PlanError, PlanParams, Stop};
+use crate::planner::{self, MissionGeometry, PlanError, PlanParams, Stop};
 use crate::store::farms::{self, FarmField, FarmRow, FieldJob, FieldPlan};
-use crate::store::plans::PlanStatus;
+use crate::store::plans::{self, JobKind, PlanStatus};
 use crate::store::{missions, terrain, vehicles};
 
 /// Farm plans of one tenant's whose fields may be queued or running at once.
@@ -416,14 +419,75 @@ pub async fn schedule_csv(State(state): State<AppState>, caller: Caller, Path(id
     let row = find(&state, &caller, &id).await?;
     let farm = view(&state, &caller, row).await?;
     let Some(schedule) = &farm.schedule else {
-        return Err(ApiError::conflict(
-            "schedule_not_available",
-            format!("the farm plan is {}: {} of its {} fields are planned", json!(farm.status).as_str().unwrap_or("?"), farm.fields_done, farm.fields_total),
-        ));
+        return Err(not_scheduled(&farm));
     };
     let labels: Vec<String> = farm.fields.iter().map(|f| f.name.clone()).collect();
     let disposition = format!("attachment; filename=\"{}.csv\"", planner::export::file_stem(&farm.name));
     Ok(([(header::CONTENT_TYPE, "text/csv; charset=utf-8".to_owned()), (header::CONTENT_DISPOSITION, disposition)], farm::schedule_csv(schedule, &labels)).into_response())
+}
+
+#[utoipa::path(get, operation_id = "get_farm_taskdata", path = "/api/v1/farm-plans/{id}/taskdata", tag = "farms", params(("id" = String, Path)),
+    responses((status = 200, content_type = "application/zip", body = Vec<u8>, description = "ISOXML TaskData (a zip with TASKDATA/TASKDATA.XML): every planned field's partfields with their guidance, \
+        as each plan's own file has them, and a task for each stretch of a machine's day on one field, named by the machine, the day and the field, in the schedule's order"),
+              (status = 404, body = Problem), (status = 409, body = Problem, description = "the farm plan is not scheduled yet")))]
+pub async fn taskdata(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> Result<Response, ApiError> {
+    let row = find(&state, &caller, &id).await?;
+    let farm = view(&state, &caller, row).await?;
+    let Some(schedule) = &farm.schedule else {
+        return Err(not_scheduled(&farm));
+    };
+    let tasks = farm_tasks(schedule, &farm.fields);
+    let planned: Vec<(usize, String, String)> =
+        farm.fields.iter().filter(|f| f.status == Some(PlanStatus::Succeeded)).filter_map(|f| f.plan_id.clone().map(|p| (f.index, f.name.clone(), p))).collect();
+    let (db, tenant) = (state.db.clone(), caller.tenant.clone());
+    // one field's trajectory in memory at a time
+    let bytes = off_the_async_threads(move || {
+        let runtime = tokio::runtime::Handle::current();
+        let mut file = FarmTaskData::default();
+        for (index, name, plan_id) in planned {
+            let Some(source) = runtime.block_on(plans::export_source(&db, &tenant, JobKind::Plan, &plan_id))? else { continue };
+            let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {plan_id}: {e}"));
+            let trajectory: FeatureCollection = serde_json::from_str(source.trajectory.as_deref().unwrap_or_default()).map_err(|e| internal(&e))?;
+            let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
+            let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
+            let request = ExportRequest {
+                name: &name,
+                mission: MissionGeometry::of(&source.mission),
+                params: &params,
+                profiles: &profiles,
+                trajectory: &trajectory,
+                options: ExportOptions::default(),
+            };
+            file.add(index, &name, &request)?;
+        }
+        Ok::<_, ApiError>(file.finish(&tasks))
+    })
+    .await?;
+    let disposition = format!("attachment; filename=\"{}-taskdata.zip\"", planner::export::file_stem(&farm.name));
+    Ok(([(header::CONTENT_TYPE, "application/zip".to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes).into_response())
+}
+
+/// A task for each stretch of a machine's day on one field: `sprayer 1 · day 3 (2027-04-14) · 2. North field`.
+fn farm_tasks(schedule: &Schedule, fields: &[FieldState]) -> Vec<FarmTask> {
+    let mut tasks = Vec::new();
+    for machine in &schedule.machines {
+        for day in &machine.days {
+            let mut worked: Vec<usize> = day.legs.iter().filter(|l| l.kind == LegKind::Work).filter_map(|l| l.field).collect();
+            worked.dedup();
+            for (order, field) in worked.into_iter().enumerate() {
+                let designator = format!("{} · day {} ({}) · {}. {}", machine.machine, day.day, day.date, order + 1, fields[field].name);
+                tasks.push(FarmTask { designator, field });
+            }
+        }
+    }
+    tasks
+}
+
+fn not_scheduled(farm: &FarmPlan) -> ApiError {
+    ApiError::conflict(
+        "schedule_not_available",
+        format!("the farm plan is {}: {} of its {} fields are planned", json!(farm.status).as_str().unwrap_or("?"), farm.fields_done, farm.fields_total),
+    )
 }
 
 #[utoipa::path(delete, operation_id = "cancel_farm_plan", path = "/api/v1/farm-plans/{id}", tag = "farms", params(("id" = String, Path)),

@@ -65,6 +65,7 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(farms::create))
         .routes(routes!(farms::get, farms::cancel))
         .routes(routes!(farms::schedule_csv))
+        .routes(routes!(farms::taskdata))
         .routes(routes!(patrols::create))
         .routes(routes!(patrols::get, patrols::cancel))
         .routes(routes!(patrols::trajectory))

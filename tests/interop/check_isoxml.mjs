@@ -1,7 +1,8 @@
 // Reads coverplan's ISOXML TaskData exports with the isoxml library (ISO 11783-10) and checks
 // what they hold. usage: node check_isoxml.mjs DIR, where DIR/manifest.json lists the files:
 // {"files": [{"file", "format": "isoxml", "fields", "holes", "zones", "swath_width_mm", "lines",
-// "headland_passes"?, "guidance"?, "tramlines"?}]}: a ground plan's headland passes are curve
+// "headland_passes"?, "guidance"?, "tramlines"?, "tasks"? (default: one per partfield)}]}, each
+// task working a partfield of the file: a ground plan's headland passes are curve
 // patterns, its tramline swaths tram lines (line strings of type 3) of the partfield; the
 // farm's guidance line it followed ({"a": [lon, lat], "b"?: [lon, lat], "bearing_deg"?}) is an AB
 // or A+ pattern propagating to both sides, read back to 1 cm and 0.01°.
@@ -76,7 +77,13 @@ for (const spec of manifest.files.filter((f) => f.format === 'isoxml')) {
     for (const t of tramlines) {
       check(t.attributes.Point.length === 2 && t.attributes.LineStringWidth === spec.swath_width_mm, 'a tram line is a swath: two points, its width');
     }
-    check(manager.getEntitiesOfTag('TSK').length === spec.fields, 'one task per partfield');
+    const tasks = manager.getEntitiesOfTag('TSK');
+    check(tasks.length === (spec.tasks ?? spec.fields), `${tasks.length} tasks, expected ${spec.tasks ?? spec.fields}`);
+    const partfieldIds = new Set(partfields.map((p) => manager.getReferenceByEntity(p).xmlId));
+    for (const t of tasks) {
+      const field = t.attributes.PartfieldIdRef;
+      check(field && partfieldIds.has(field.xmlId), `task ${t.attributes.TaskDesignator} works no partfield of the file`);
+    }
     passed += 1;
   } catch (e) {
     failed += 1;

@@ -11,7 +11,7 @@
 use geo::{Centroid, Contains, GeodesicArea, LineString, Point};
 
 use super::xml::Xml;
-use super::{COVERAGE_ONLY, ExportJob, Exporter, Format, number};
+use super::{COVERAGE_ONLY, ExportJob, ExportRequest, Exporter, Format, number};
 use crate::archive;
 use crate::error::InputError;
 use crate::path::PieceKind;
@@ -62,6 +62,43 @@ impl Exporter for TaskData {
 type Line = [[f64; 2]; 2];
 
 fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
+    let mut x = root();
+    let mut ids = Ids::default();
+    let partfields = partfields(&mut x, job, job.name, &mut ids);
+    for (k, pfd) in partfields.iter().enumerate() {
+        x.empty("TSK", &[("A", &format!("TSK{}", k + 1)), ("B", &format!("Coverage {}", k + 1)), ("E", pfd), ("G", "1")]);
+    }
+    x.close("ISO11783_TaskData");
+    x.finish()
+}
+
+/// The document's root element, open.
+fn root() -> Xml {
+    let mut x = Xml::new();
+    x.open(
+        "ISO11783_TaskData",
+        &[
+            ("VersionMajor", "4"),
+            ("VersionMinor", "3"),
+            ("ManagementSoftwareManufacturer", "coverplan"),
+            ("ManagementSoftwareVersion", env!("CARGO_PKG_VERSION")),
+            ("DataTransferOrigin", "1"),
+        ],
+    );
+    x
+}
+
+/// The last ids given to partfields, guidance groups and patterns (each kind numbered from 1
+/// through the document).
+#[derive(Default)]
+struct Ids {
+    partfield: usize,
+    group: usize,
+    pattern: usize,
+}
+
+/// Writes the partfields of a plan's fields, named after `name`; returns their ids.
+fn partfields(x: &mut Xml, job: &ExportJob<'_>, name: &str, ids: &mut Ids) -> Vec<String> {
     let fields = &job.outlines.fields.0;
     let field_of = |p: Point| fields.iter().position(|f| f.contains(&p)).unwrap_or(0);
     // each sweep's two ends, and whether it is a tramline
@@ -81,33 +118,23 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
     let passes: Vec<Vec<[f64; 2]>> =
         job.flight.sorties.iter().flatten().filter(|p| p.kind == PieceKind::Headland).map(|p| p.points.iter().map(|q| [q[0], q[1]]).collect()).collect();
     let width_mm = (job.settings.line_spacing_m * 1000.0).round().to_string();
-    let mut x = Xml::new();
-    x.open(
-        "ISO11783_TaskData",
-        &[
-            ("VersionMajor", "4"),
-            ("VersionMinor", "3"),
-            ("ManagementSoftwareManufacturer", "coverplan"),
-            ("ManagementSoftwareVersion", env!("CARGO_PKG_VERSION")),
-            ("DataTransferOrigin", "1"),
-        ],
-    );
-    let (mut group_id, mut pattern_id) = (0, 0);
+    let mut written = Vec::new();
     for (k, field) in fields.iter().enumerate() {
-        let id = format!("PFD{}", k + 1);
+        ids.partfield += 1;
+        let id = format!("PFD{}", ids.partfield);
         let area = field.geodesic_area_unsigned().round().to_string();
-        let designator = if fields.len() == 1 { job.name.to_owned() } else { format!("{} {}", job.name, k + 1) };
+        let designator = if fields.len() == 1 { name.to_owned() } else { format!("{name} {}", k + 1) };
         x.open("PFD", &[("A", &id), ("C", &designator), ("D", &area)]);
         x.open("PLN", &[("A", PLN_PARTFIELD_BOUNDARY), ("B", "Boundary")]);
-        ring(&mut x, LSG_EXTERIOR, field.exterior());
+        ring(x, LSG_EXTERIOR, field.exterior());
         for hole in field.interiors() {
-            ring(&mut x, LSG_INTERIOR, hole);
+            ring(x, LSG_INTERIOR, hole);
         }
         x.close("PLN");
         for (z, zone) in job.outlines.no_fly_zones.0.iter().enumerate() {
             if zone.centroid().map_or(k, field_of) == k {
                 x.open("PLN", &[("A", PLN_OBSTACLE), ("B", &format!("No-fly zone {}", z + 1))]);
-                ring(&mut x, LSG_EXTERIOR, zone.exterior());
+                ring(x, LSG_EXTERIOR, zone.exterior());
                 x.close("PLN");
             }
         }
@@ -115,58 +142,98 @@ fn task_data(job: &ExportJob<'_>) -> Vec<u8> {
         for (t, line) in tramlines.iter().filter(in_field).enumerate() {
             x.open("LSG", &[("A", LSG_TRAMLINE), ("B", &format!("Tramline {}", t + 1)), ("C", &width_mm)]);
             for &p in line {
-                point(&mut x, PNT_OTHER, p);
+                point(x, PNT_OTHER, p);
             }
             x.close("LSG");
         }
         let mine: Vec<Line> = lines.iter().filter(in_field).copied().collect();
         for (bearing, swaths) in by_direction(&mine) {
-            group_id += 1;
-            x.open("GGP", &[("A", &format!("GGP{group_id}")), ("B", &format!("Sweep lines {}°", number(bearing, 1)))]);
+            ids.group += 1;
+            x.open("GGP", &[("A", &format!("GGP{}", ids.group)), ("B", &format!("Sweep lines {}°", number(bearing, 1)))]);
             // the longest swath: a terminal takes its direction from the two points
             let length = |l: &Line| ((l[1][0] - l[0][0]) * l[0][1].to_radians().cos()).hypot(l[1][1] - l[0][1]);
             let reference = *swaths.iter().max_by(|x, y| length(x).total_cmp(&length(y))).expect("a group has a swath");
             let count = (swaths.len() - 1).to_string();
-            pattern_id += 1;
+            ids.pattern += 1;
             let heading = number(bearing, 2);
             let attributes = [("C", GPN_AB), ("E", PROPAGATE_BOTH), ("G", heading.as_str()), ("N", count.as_str()), ("O", count.as_str())];
-            guidance(&mut x, pattern_id, "AB reference", &attributes, &reference, &width_mm);
+            guidance(x, ids.pattern, "AB reference", &attributes, &reference, &width_mm);
             for (s, swath) in swaths.iter().enumerate() {
-                pattern_id += 1;
-                guidance(&mut x, pattern_id, &format!("Swath {}", s + 1), &[("C", GPN_AB), ("E", PROPAGATE_NONE), ("G", heading.as_str())], swath, &width_mm);
+                ids.pattern += 1;
+                guidance(x, ids.pattern, &format!("Swath {}", s + 1), &[("C", GPN_AB), ("E", PROPAGATE_NONE), ("G", heading.as_str())], swath, &width_mm);
             }
             x.close("GGP");
         }
         if let Some(g) = job.settings.guidance {
-            group_id += 1;
-            pattern_id += 1;
-            x.open("GGP", &[("A", &format!("GGP{group_id}")), ("B", "Guidance line")]);
+            ids.group += 1;
+            ids.pattern += 1;
+            x.open("GGP", &[("A", &format!("GGP{}", ids.group)), ("B", "Guidance line")]);
             match (g.b, g.bearing_deg) {
-                (Some(b), _) => guidance(&mut x, pattern_id, "AB line", &[("C", GPN_AB), ("E", PROPAGATE_BOTH)], &[g.a, b], &width_mm),
+                (Some(b), _) => guidance(x, ids.pattern, "AB line", &[("C", GPN_AB), ("E", PROPAGATE_BOTH)], &[g.a, b], &width_mm),
                 (None, bearing) => {
                     let heading = number(bearing.unwrap_or(0.0), 6);
-                    guidance(&mut x, pattern_id, "A+ line", &[("C", GPN_A_PLUS), ("E", PROPAGATE_BOTH), ("G", heading.as_str())], &[g.a], &width_mm)
+                    guidance(x, ids.pattern, "A+ line", &[("C", GPN_A_PLUS), ("E", PROPAGATE_BOTH), ("G", heading.as_str())], &[g.a], &width_mm)
                 }
             }
             x.close("GGP");
         }
         let mine: Vec<&Vec<[f64; 2]>> = passes.iter().filter(|p| field_of(Point::new(p[0][0], p[0][1])) == k).collect();
         if !mine.is_empty() {
-            group_id += 1;
-            x.open("GGP", &[("A", &format!("GGP{group_id}")), ("B", "Headland passes")]);
+            ids.group += 1;
+            x.open("GGP", &[("A", &format!("GGP{}", ids.group)), ("B", "Headland passes")]);
             for (s, pass) in mine.iter().enumerate() {
-                pattern_id += 1;
-                guidance(&mut x, pattern_id, &format!("Headland pass {}", s + 1), &[("C", GPN_CURVE), ("E", PROPAGATE_NONE)], pass, &width_mm);
+                ids.pattern += 1;
+                guidance(x, ids.pattern, &format!("Headland pass {}", s + 1), &[("C", GPN_CURVE), ("E", PROPAGATE_NONE)], pass, &width_mm);
             }
             x.close("GGP");
         }
         x.close("PFD");
+        written.push(id);
     }
-    for k in 0..fields.len() {
-        x.empty("TSK", &[("A", &format!("TSK{}", k + 1)), ("B", &format!("Coverage {}", k + 1)), ("E", &format!("PFD{}", k + 1)), ("G", "1")]);
+    written
+}
+
+/// A whole farm's TaskData: each field's partfields as its plan's own file writes them, then a
+/// task for each stretch of a machine's day on one field, in the schedule's order, named by the
+/// machine, the day and the field.
+pub struct FarmTaskData {
+    x: Xml,
+    ids: Ids,
+    /// Each field added: its partfields.
+    partfields: Vec<(usize, Vec<String>)>,
+}
+
+/// A task of the farm's: what it is called, and the field (as added) it works.
+pub struct FarmTask {
+    pub designator: String,
+    pub field: usize,
+}
+
+impl Default for FarmTaskData {
+    fn default() -> Self {
+        FarmTaskData { x: root(), ids: Ids::default(), partfields: Vec::new() }
     }
-    x.close("ISO11783_TaskData");
-    x.finish()
+}
+
+impl FarmTaskData {
+    /// Adds field `field` (any number the tasks will name it by), as its plan `request` says.
+    pub fn add(&mut self, field: usize, name: &str, request: &ExportRequest<'_>) -> Result<(), InputError> {
+        let written = super::with_job(request, TaskData.format(), |job| partfields(&mut self.x, job, name, &mut self.ids))?;
+        self.partfields.push((field, written));
+        Ok(())
+    }
+
+    /// The zip, with a task for each of `tasks` whose field was added (on its first partfield).
+    pub fn finish(mut self, tasks: &[FarmTask]) -> Vec<u8> {
+        let mut written = 0;
+        for task in tasks {
+            let Some((_, pfds)) = self.partfields.iter().find(|(f, _)| *f == task.field) else { continue };
+            written += 1;
+            self.x.empty("TSK", &[("A", &format!("TSK{written}")), ("B", &task.designator), ("E", &pfds[0]), ("G", "1")]);
+        }
+        self.x.close("ISO11783_TaskData");
+        archive::zip(&[("TASKDATA/TASKDATA.XML".to_owned(), self.x.finish())])
+    }
 }
 
 /// The lines grouped by compass bearing modulo 180° (within half a degree), in order of first

@@ -9,6 +9,7 @@ mod flight;
 pub mod follower;
 pub mod geojson;
 mod isoxml;
+pub use isoxml::{FarmTask, FarmTaskData};
 mod kml;
 mod mission_items;
 pub use mission_items::{MissionItem, autopilot_distance_m};
@@ -315,6 +316,18 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         files.extend(write_all(&job, &format!("{stem}-drone-{}", k + 1))?);
     }
     Ok(ExportFile { file_name: format!("{stem}-{id}-fleet.zip"), media_type: "application/zip", bytes: archive::zip(&files) })
+}
+
+/// Runs `write` on the one vehicle's job of `request` as `format` would write it (not for a
+/// fleet's plan, whose files are each drone's).
+fn with_job<T>(request: &ExportRequest<'_>, format: &Format, write: impl FnOnce(&ExportJob<'_>) -> T) -> Result<T, InputError> {
+    let planned = FileParams::of(request.params, request.profiles)?;
+    if !format.plans.contains(&planned.method) || !planned.fleet.is_empty() {
+        return Err(InputError::new("format_not_applicable", "/format", format!("this plan is not written as {}", format.id)));
+    }
+    let (outlines, altitude_m) = outlines_and_altitude(request, &planned)?;
+    let job = prepare(request, format, &planned, &planned.vehicle, outlines, altitude_m, request.trajectory)?;
+    Ok(write(&job))
 }
 
 /// What the parameters say about the files: the vehicles, the altitude, the spacing, the

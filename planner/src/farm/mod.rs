@@ -52,7 +52,7 @@ pub struct Machine {
     pub road_speed_mps: Option<f64>,
     /// Working time one tank or battery lasts, s; past it the machine stops for `refill_s`
     /// (default: it never needs to).
-    #[cfg_attr(feature = "schema", schema(minimum = 60))]
+    #[cfg_attr(feature = "schema", schema(minimum = 60, maximum = 10_000_000))]
     #[serde(default)]
     pub endurance_s: Option<f64>,
     /// How long a refill takes, s (default 900).

@@ -1,19 +1,18 @@
-//! The farm's schedule: fields shared among machines, ordered, and laid out over working days.
+//! The farm's schedule: fields shared among machines, ordered, and laid out over working days
+//! (docs/methods.md, farms).
 //!
-//! 1. Each field, the longest first, goes to the machine whose estimated working time it
-//!    raises least, at the place in that machine's round where it adds the least transit
-//!    (cheapest insertion, priced from the depot and back).
-//! 2. Local search on the estimates: a field moved within its round where that shortens the
-//!    transits; a field of the machine that finishes last moved to another machine where that
-//!    brings the latest finish earlier (ties: less transit).
-//! 3. The same, judged by the days laid out (their trips home and unused ends included).
-//! 4. Each round is laid out over days: a day leaves the depot and comes back to it within the
-//!    machine's hours; a field that does not fit the rest of a day is begun if at least
-//!    [`MIN_PIECE_S`] of it fits and taken up again the next morning; a machine refills after
-//!    `endurance_s` of work.
+//! Two constructions of each machine's round (its fields in order), each improved, the one that
+//! finishes first kept:
+//! - by insertion: each field, the longest first, to the machine whose estimated working time it
+//!   raises least, at the cheapest place of its round; then local search on the estimates;
+//! - by days: the least busy machine goes out for a day to its farthest unworked field, then
+//!   works the nearest ones (on the way home) that fit the day.
 //!
-//! The lower bound: the greater of the total work over the machines and the longest field with
-//! its transits from and to the nearest depot.
+//! Both are improved on the days laid out: a day leaves the depot and comes back within the
+//! machine's hours; a field that does not fit the rest of a day is begun if at least
+//! [`MIN_PIECE_S`] of it fits and taken up again the next morning; a machine refills after
+//! `endurance_s` of work. The lower bound counts the work, the refills a day needs and each
+//! field's nearest arrival.
 
 use jiff::civil::{Date, Time};
 use serde::{Deserialize, Serialize};
@@ -28,6 +27,8 @@ pub const MIN_PIECE_S: f64 = 900.0;
 /// Most fields and machines one schedule takes.
 pub const MAX_FIELDS: usize = 2_000;
 pub const MAX_MACHINES: usize = 100;
+/// A day's next field: the weight of its distance from the depot against the drive to it.
+const TOWARDS_HOME: f64 = 0.6;
 /// Rounds of the local search (each moves one field).
 const MOST_MOVES: usize = 20_000;
 
@@ -41,8 +42,9 @@ pub struct Schedule {
     /// Working time (transits and refills included, nights left out) of the machine that
     /// finishes last, s.
     pub makespan_s: f64,
-    /// No schedule finishes earlier: the greater of the total work over the machines and the
-    /// longest field with its transits from and to the nearest depot, s.
+    /// No schedule finishes earlier: the greatest of the total work over the machines, the
+    /// longest field with its transits from and to the nearest depot, and the bound that also
+    /// counts each field's nearest arrival and the refills a day needs, s.
     pub lower_bound_s: f64,
     /// `makespan_s / lower_bound_s` (1 = no schedule can do better).
     pub makespan_over_bound: f64,
@@ -58,6 +60,8 @@ pub struct Schedule {
     /// Of the machines' working time, the share spent in transit.
     pub transit_share: f64,
     pub refills: usize,
+    /// Working hours left unused at the ends of days (a field that did not fit), s.
+    pub idle_s: f64,
     /// Fields no machine can work, with the reason.
     pub unscheduled: Vec<Unscheduled>,
     pub warnings: Vec<String>,
@@ -76,6 +80,8 @@ pub struct MachineSchedule {
     pub transit_s: f64,
     pub transit_m: f64,
     pub refills: usize,
+    /// Its working hours left unused at the ends of days, s.
+    pub idle_s: f64,
     pub days: Vec<Day>,
 }
 
@@ -202,9 +208,14 @@ pub fn schedule(fields: &[FieldWork], machines: &[Machine], window: &Window, tra
     places.extend(fields.iter().flat_map(|f| [f.entry, f.exit]));
     let places = Places { machines: machines.len(), n: places.len(), metres: transit.distances(&places) };
     let plan = Rounds { fields, workers: &workers, places: &places };
-    let (mut rounds, unscheduled) = plan.first_rounds();
-    plan.improve(&mut rounds, stop)?;
-    plan.balance_days(&mut rounds, stop)?;
+    // two constructions, each improved on the days laid out; the one that finishes first is kept
+    let (mut by_insertion, unscheduled) = plan.first_rounds();
+    plan.improve(&mut by_insertion, stop)?;
+    plan.balance_days(&mut by_insertion, stop)?;
+    let mut by_days = plan.rounds_by_days(&unscheduled);
+    plan.balance_days(&mut by_days, stop)?;
+    let finish = |rounds: &[Vec<usize>]| rounds.iter().enumerate().map(|(k, r)| plan.working_time(k, r)).fold(0.0, f64::max);
+    let rounds = if finish(&by_days) <= finish(&by_insertion) { by_days } else { by_insertion };
     if stop.requested() {
         return Err(PlanError::Cancelled);
     }
@@ -343,6 +354,70 @@ impl Rounds<'_> {
         (rounds, unscheduled)
     }
 
+    /// Rounds built a day at a time: the machine with the least working time so far goes out
+    /// for a day to the unworked field farthest from its depot among those nearer its depot than
+    /// any other (else the nearest to its depot), then works the nearest unworked fields that fit
+    /// the day, and begins one more if at least [`MIN_PIECE_S`] of it fits (taken up again its
+    /// next morning). Far fields are reached with whole days of nearby work around them.
+    fn rounds_by_days(&self, unscheduled: &[Unscheduled]) -> Vec<Vec<usize>> {
+        let (m, p) = (self.workers.len(), self.places);
+        let mut left: Vec<f64> = self.fields.iter().map(|f| f.work_s).collect();
+        for u in unscheduled {
+            left[u.field] = 0.0;
+        }
+        let mut rounds: Vec<Vec<usize>> = vec![Vec::new(); m];
+        let mut busy = vec![0.0f64; m];
+        // a field begun and not finished, per machine: its next day starts there
+        let mut carried: Vec<Option<usize>> = vec![None; m];
+        let nearest_depot = |i: usize| (0..m).map(|k| p.metres(p.depot(k), p.entry(i))).fold(f64::INFINITY, f64::min);
+        while left.iter().any(|&w| w > 0.0) {
+            let Some(k) = (0..m).filter(|&k| carried[k].is_some() || (0..left.len()).any(|i| left[i] > 0.0 && self.reachable(k, i))).min_by(|a, b| busy[*a].total_cmp(&busy[*b]))
+            else {
+                break;
+            };
+            let w = &self.workers[k];
+            let open = |i: usize, left: &[f64], carried: &[Option<usize>]| left[i] > 0.0 && self.reachable(k, i) && !carried.contains(&Some(i));
+            let first = carried[k].take().or_else(|| {
+                let from_depot = |i: usize| p.metres(p.depot(k), p.entry(i));
+                let own = (0..left.len()).filter(|&i| open(i, &left, &carried) && from_depot(i) <= nearest_depot(i) + 1.0).max_by(|a, b| from_depot(*a).total_cmp(&from_depot(*b)));
+                own.or_else(|| (0..left.len()).filter(|&i| open(i, &left, &carried)).min_by(|a, b| from_depot(*a).total_cmp(&from_depot(*b))))
+            });
+            let Some(mut next) = first else { break };
+            let (mut t, mut at, mut tank) = (0.0, p.depot(k), w.endurance_s);
+            loop {
+                let go = self.seconds(k, at, p.entry(next));
+                let back = self.seconds(k, p.exit(next), p.depot(k));
+                let (done, used, tank_after) = fitting(w, left[next], t + go + back, tank);
+                let whole = done + 1e-6 >= left[next];
+                if !(whole || done >= MIN_PIECE_S || (t == 0.0 && done > 0.0)) {
+                    break;
+                }
+                rounds[k].push(next);
+                t += go + used;
+                tank = tank_after;
+                left[next] = if whole { 0.0 } else { left[next] - done };
+                if !whole {
+                    carried[k] = Some(next);
+                    break;
+                }
+                at = p.exit(next);
+                // the nearest unworked field from here, nearer still if it is on the way home
+                let home = |i: usize| p.metres(p.exit(i), p.depot(k));
+                let score = |i: usize| p.metres(at, p.entry(i)) + TOWARDS_HOME * home(i);
+                let Some(n) = (0..left.len()).filter(|&i| open(i, &left, &carried)).min_by(|a, b| score(*a).total_cmp(&score(*b))) else {
+                    break;
+                };
+                next = n;
+            }
+            busy[k] += w.day_s;
+        }
+        // a field worked over several days is one stop of its round
+        for r in &mut rounds {
+            r.dedup();
+        }
+        rounds
+    }
+
     fn improve(&self, rounds: &mut [Vec<usize>], stop: &Stop) -> Result<(), PlanError> {
         let mut loads: Vec<f64> = rounds.iter().enumerate().map(|(k, r)| self.estimate(k, r)).collect();
         for _ in 0..MOST_MOVES {
@@ -418,6 +493,7 @@ impl Rounds<'_> {
             transit_s: days.transit_s,
             transit_m: days.transit_m,
             refills: days.refills,
+            idle_s: days.idle_s(),
             days: days.days,
         }
     }
@@ -501,15 +577,41 @@ impl Rounds<'_> {
         Ok(())
     }
 
+    /// A bound that counts what every schedule spends besides work: each field is driven to at
+    /// least once, from a depot or another field (at the fastest road speed), and a machine
+    /// refills at least `work / endurance − 1` times a day. With `a_k = 1 + R_k / H_k` and
+    /// `g_k = 1 + R_k / E_k` (refill time R, day H, endurance E; both 1 without a tank), machine
+    /// k's working time T_k satisfies `a_k T_k + R_k ≥ g_k work_k + transit_k`; summed over the
+    /// machines, the makespan T ≥ (min g · total work + Σ first arrivals − Σ R) / Σ a.
+    fn bound_with_transits_and_refills(&self, scheduled: &[usize]) -> f64 {
+        let (p, w) = (self.places, self.workers);
+        let refill = |k: usize| if w[k].endurance_s.is_finite() { w[k].refill_s } else { 0.0 };
+        let fastest = w.iter().map(|w| w.speed).fold(0.0, f64::max);
+        let arrivals: f64 = scheduled
+            .iter()
+            .map(|&i| {
+                let from_fields = scheduled.iter().filter(|&&j| j != i).map(|&j| p.metres(p.exit(j), p.entry(i)));
+                let from_depots = (0..w.len()).map(|k| p.metres(p.depot(k), p.entry(i)));
+                from_fields.chain(from_depots).fold(f64::INFINITY, f64::min) / fastest
+            })
+            .sum();
+        let work: f64 = scheduled.iter().map(|&i| self.fields[i].work_s).sum();
+        let g = (0..w.len()).map(|k| 1.0 + refill(k) / w[k].endurance_s).fold(f64::INFINITY, f64::min);
+        let a: f64 = (0..w.len()).map(|k| 1.0 + refill(k) / w[k].day_s).sum();
+        let refills: f64 = (0..w.len()).map(refill).sum();
+        ((g * work + arrivals - refills) / a).max(0.0)
+    }
+
     fn summary(&self, machines: Vec<MachineSchedule>, unscheduled: Vec<Unscheduled>, window: &Window, first_day: Date, day_start: Time) -> Schedule {
         let m = self.workers.len();
         let scheduled: Vec<usize> = (0..self.fields.len()).filter(|i| !unscheduled.iter().any(|u| u.field == *i)).collect();
-        let total: f64 = scheduled.iter().map(|&i| (0..m).map(|k| self.work(k, i)).fold(f64::INFINITY, f64::min)).sum();
+        // refills left out here (a night refills too); the third bound counts them
+        let total: f64 = scheduled.iter().map(|&i| self.fields[i].work_s).sum();
         let longest = scheduled
             .iter()
-            .map(|&i| (0..m).filter(|&k| self.reachable(k, i)).map(|k| self.work(k, i) + self.joins(k, None, i, None)).fold(f64::INFINITY, f64::min))
+            .map(|&i| (0..m).filter(|&k| self.reachable(k, i)).map(|k| self.fields[i].work_s + self.joins(k, None, i, None)).fold(f64::INFINITY, f64::min))
             .fold(0.0, f64::max);
-        let lower_bound_s = (total / m as f64).max(longest);
+        let lower_bound_s = (total / m as f64).max(longest).max(self.bound_with_transits_and_refills(&scheduled));
         let makespan_s = machines.iter().map(|s| s.working_time_s).fold(0.0, f64::max);
         let days_used = machines.iter().map(|s| s.days.last().map_or(0, |d| d.day)).max().unwrap_or(0);
         let last_home =
@@ -538,6 +640,7 @@ impl Rounds<'_> {
             transit_m: machines.iter().map(|s| s.transit_m).sum(),
             transit_share: if busy > 0.0 { transit_s / busy } else { 0.0 },
             refills: machines.iter().map(|s| s.refills).sum(),
+            idle_s: machines.iter().map(|s| s.idle_s).sum(),
             machines,
             unscheduled,
             warnings,
@@ -580,6 +683,11 @@ impl<'a> DayWriter<'a> {
             transit_s: 0.0,
             work_s: 0.0,
         }
+    }
+
+    /// The days' working time that was neither work, transit nor refill.
+    fn idle_s(&self) -> f64 {
+        (self.working_time_s() - self.work_s - self.transit_s - self.refills as f64 * self.worker.refill_s).max(0.0)
     }
 
     /// Working time from the first day's start to the last day's return, nights left out.
@@ -657,6 +765,27 @@ impl<'a> DayWriter<'a> {
         self.t = 0.0;
         self.since_refill = 0.0;
     }
+}
+
+/// Of `left` seconds of work, what a machine with `tank` seconds in its tank can do in a day
+/// already `spent` seconds in (its transits to and from the field counted): (work done, time it
+/// takes with refills, tank after).
+fn fitting(w: &Worker, left: f64, spent: f64, tank: f64) -> (f64, f64, f64) {
+    let (mut done, mut used, mut tank) = (0.0, 0.0, tank);
+    let mut room = w.day_s - spent;
+    while done < left && room > 0.0 {
+        let chunk = (left - done).min(tank).min(room);
+        done += chunk;
+        used += chunk;
+        room -= chunk;
+        tank -= chunk;
+        if tank <= 0.0 && done < left {
+            room -= w.refill_s;
+            used += w.refill_s;
+            tank = w.endurance_s;
+        }
+    }
+    (done, used, tank)
 }
 
 /// `HH:MM:SS`, `seconds` after `start` (past midnight it goes on counting: `25:10:00`).

@@ -94,7 +94,7 @@ fn check(farm: &Farm, s: &Schedule) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 60, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
 
     #[test]
     fn every_field_is_worked_once_within_the_machines_days(farm in farms(1..40, 15_000.0)) {

@@ -162,11 +162,6 @@ pub fn apply(schemas: &mut Value) {
     schemas["PatrolParams"]["properties"]["starts"]["items"] = point();
     schemas["Flown"]["properties"]["track"]["items"] = point();
     schemas["Flown"]["properties"]["photos"]["items"] = point();
-    // a farm's fields: missions, or one mission's polygons
-    schemas["FarmPlanRequest"]["oneOf"] = json!([
-        {"required": ["missions"], "properties": {"missions": {"type": "array"}, "mission_id": {"type": "null"}}},
-        {"required": ["mission_id"], "properties": {"mission_id": {"type": "string"}, "missions": {"type": "null"}}},
-    ]);
     // a route or its waypoints, one of them
     schemas["EstimateRequest"]["oneOf"] = json!([
         {"required": ["route"], "properties": {"route": {"type": "object"}, "waypoints": {"type": "null"}}},

@@ -7,6 +7,7 @@ use utoipa::OpenApi;
 use super::error;
 
 mod camera;
+mod farms;
 mod geojson;
 mod patrols;
 mod plans;
@@ -186,6 +187,7 @@ pub fn complete(doc: utoipa::openapi::OpenApi) -> Value {
     plans::apply(schemas);
     patrols::apply(schemas);
     camera::apply(schemas);
+    farms::apply(schemas);
     if let Some(items) = schemas["MissionItems"].as_object_mut()
         && let Some(forms) = items.remove("oneOf")
     {

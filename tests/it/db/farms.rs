@@ -5,6 +5,7 @@ use std::time::Duration;
 
 use serde_json::{Value, json};
 
+use super::interop;
 use crate::common::{self, TestApp};
 
 /// A `w` × `h` m rectangle whose south-west corner is `east` and `north` metres from (5.66°E,
@@ -103,6 +104,32 @@ async fn a_farm_is_planned_field_by_field_and_scheduled_over_machines_and_days()
     assert!(csv.starts_with("machine,day,date,start,end,kind,field_index,field,distance_m,finishes_field\n"), "{csv}");
     assert_eq!(csv.lines().count(), legs + 1);
     assert!(csv.contains(",work,3,field 3,"), "{csv}");
+    // the farm's TaskData, read by the isoxml library: each planned field a partfield with its
+    // swaths, a task for each stretch of a machine's day on one field
+    let r = app.client.get(app.url(&format!("/api/v1/farm-plans/{}/taskdata", farm["id"].as_str().unwrap()))).send().await.unwrap();
+    assert_eq!(r.status().as_u16(), 200);
+    let dir = interop::temp_dir();
+    std::fs::write(dir.join("farm-taskdata.zip"), r.bytes().await.unwrap()).unwrap();
+    let mut lines = 0;
+    for field in &farm["fields"].as_array().unwrap()[..9] {
+        lines += app.get(field["plan_url"].as_str().unwrap()).await.1["stats"]["sweep_lines"].as_u64().unwrap();
+    }
+    let tasks: usize = schedule["machines"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|m| m["days"].as_array().unwrap())
+        .map(|d| {
+            let mut worked: Vec<u64> = d["legs"].as_array().unwrap().iter().filter(|l| l["kind"] == "work").map(|l| l["field"].as_u64().unwrap()).collect();
+            worked.dedup();
+            worked.len()
+        })
+        .sum();
+    let manifest =
+        json!({"files": [{"file": "farm-taskdata.zip", "format": "isoxml", "fields": 9, "holes": 0, "zones": 0, "swath_width_mm": 10_000.0, "lines": lines, "tasks": tasks}]});
+    std::fs::write(dir.join("manifest.json"), manifest.to_string()).unwrap();
+    interop::run(std::process::Command::new("node").arg(interop::interop_dir().join("check_isoxml.mjs")).arg(&dir));
+    let _ = std::fs::remove_dir_all(&dir);
     app.stop().await;
 }
 

@@ -5,6 +5,7 @@
 
 mod api;
 mod corridors;
+mod deployment;
 mod farms;
 mod ground_plans;
 mod inspection;

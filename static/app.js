@@ -1,6 +1,6 @@
 // coverplan's map page: draw a mission, plan it, look at the result. ES modules, no build step:
 // api.js (the server), map.js (the map and its state), mission.js, terrain.js, plan.js, result.js,
-// resume.js, patrol.js.
+// resume.js, patrol.js, farm.js.
 
 import { $, api, status } from './js/api.js';
 import { map } from './js/map.js';
@@ -9,6 +9,7 @@ import { fillForm, restoreParams } from './js/plan.js';
 import { clearResult, showPlan } from './js/result.js';
 import './js/resume.js';
 import { clearPatrol } from './js/patrol.js';
+import { clearFarm } from './js/farm.js';
 
 // map tiles: only when the server is configured with a tile URL (works offline without)
 api('GET', '/api/v1/ui-config').then((c) => {
@@ -20,7 +21,7 @@ $('clear').onclick = () => { clearMission(); history.replaceState(null, '', '/')
 // one mission at a time: a result belongs to the mission as it was planned, so any change to the
 // mission (an edit, an undo, Clear, an import, opening another) takes its result, comparison and
 // download away
-document.addEventListener('mission-changed', () => { clearResult(); clearPatrol(); });
+document.addEventListener('mission-changed', () => { clearResult(); clearPatrol(); clearFarm(); });
 
 /** Opens a saved mission with its latest plan and that plan's parameters (a shared link). */
 async function openMission(id) {

@@ -19,6 +19,7 @@ export const state = {
   compared: null,
   planId: null,
   patrol: null, // { layer, stats }
+  farm: null, // { plan, layer, polygons }: a farm plan of the mission's fields
   guidanceLines: [], // an imported file's guidance lines: [{ name, guidance }]
 };
 

@@ -427,7 +427,7 @@ function missionBody() {
 }
 
 /** Polygons (with holes) of any GeoJSON geometry, Feature or FeatureCollection, as Leaflet rings. */
-function polygonsOf(g) {
+export function polygonsOf(g) {
   if (!g) return [];
   const toLatLngs = (poly) => poly.map((ring) => ring.slice(0, -1).map(([lng, lat]) => L.latLng(lat, lng)));
   switch (g.type) {

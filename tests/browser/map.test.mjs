@@ -674,6 +674,36 @@ try {
   assert.ok((await page.locator('#compare').boundingBox()).height >= 24, 'a finger-sized checkbox');
   await shot('phone');
 
+  // a farm of three fields: each planned, coloured by its plan's status, the schedule as
+  // machines by days; a click on a field's stretch of a day opens its plan
+  await page.setViewportSize({ width: 1280, height: 800 });
+  const square = (east) => {
+    const [lon, lat, d] = [6.06 + east, 51.5, 0.0015];
+    return [[[lon, lat], [lon + d, lat], [lon + d, lat + d], [lon, lat + d], [lon, lat]]];
+  };
+  const farmMission = await (await fetch(`${base}/api/v1/missions`, {
+    method: 'POST', headers: { 'content-type': 'application/json' },
+    body: JSON.stringify({ name: 'Farm', area: { type: 'MultiPolygon', coordinates: [square(0), square(0.004), square(0.008)] }, home: [6.059, 51.4995] }),
+  })).json();
+  await page.goto(`${base}/?mission=${farmMission.id}`);
+  await page.waitForSelector('body[data-ready=true]');
+  await page.click('#farm-box summary');
+  await page.fill('#farm-machines', '2');
+  await page.fill('#farm-hours', '8');
+  await page.click('#farm-plan');
+  await page.waitForSelector('#farm-gantt:not([hidden])', { timeout: 60000 });
+  const farmStatuses = await state(() => window.coverplan.state.farm.polygons.map((p) => p.cpStatus));
+  assert.deepEqual(farmStatuses, ['succeeded', 'succeeded', 'succeeded'], 'every field planned and coloured');
+  const bars = await page.$$eval('.gantt-work', (b) => b.map((x) => Number(x.dataset.field)));
+  assert.deepEqual([...new Set(bars)].sort(), [0, 1, 2], `each field worked in the chart: ${bars}`);
+  assert.match(await page.textContent('#farm-gantt'), /last machine home .* no schedule under [\d.]+ h/);
+  assert.equal(await page.locator('#farm-gantt tbody tr').count(), 2, 'a row per machine');
+  await page.click('.gantt-work[data-field="1"]');
+  await waitFor(async () => /: its plan$/.test(await page.textContent('#status')), 'the field\'s plan');
+  const opened = await state(() => window.coverplan.state.result.planId);
+  assert.equal(opened, (await state(() => window.coverplan.state.farm.plan.fields[1].plan_id)), 'the plan of the field clicked');
+  await shot('farm');
+
   // once the server has a key, the page asks for one, keeps it for the tab and sends it
   await page.setViewportSize({ width: 1280, height: 800 });
   const made = await new Promise((resolve, reject) => {

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use super::{Options, corridor, energy, farm, fleet, ground, inspection, oblique, patrol, queue, resume, routing, run, terrain, wind};
+use super::{Options, corridor, energy, farm, fleet, ground, inspection, oblique, patrol, queue, resume, routing, run, terrain, wind, workers};
 
 /// Time the planners on the generated fields and print a table.
 #[derive(clap::Args)]
@@ -86,6 +86,11 @@ pub struct BenchArgs {
     /// With `--farm`: the fields of the farm plan through the service (0: none).
     #[arg(long, default_value_t = 1000)]
     pub farm_fields: usize,
+    /// Instead: one server's worker pool on SQLite with each of these worker counts (`1,2,4`):
+    /// a batch of plans of the generated fields (`--repeats` multirotor plans of each, a
+    /// fixed-wing plan of each with 4 holes or more): plans per minute, speed-up, cores busy.
+    #[arg(long, value_delimiter = ',')]
+    pub workers: Vec<usize>,
     /// Instead: the shared job queue on the PostgreSQL server at this admin URL
     /// (postgres://user@host:port/postgres): plans per minute with 1, 2 and 4 replicas, and
     /// the time of one claim at 10 000 queued plans.
@@ -114,6 +119,7 @@ pub fn run_command(args: BenchArgs) -> anyhow::Result<()> {
 fn table(args: BenchArgs) -> anyhow::Result<String> {
     Ok(match args {
         BenchArgs { energy: true, repeats, seed, .. } => energy::run(repeats.max(1) * 4, seed),
+        BenchArgs { ref workers, data, repeats, .. } if !workers.is_empty() => tokio::runtime::Runtime::new()?.block_on(self::workers::run(&data, repeats.max(1), workers))?,
         BenchArgs { queue: Some(admin), .. } => tokio::runtime::Runtime::new()?.block_on(queue::run(&admin))?,
         BenchArgs { farm: true, repeats, farm_fields, .. } => farm::run(repeats.max(1), farm_fields)?,
         BenchArgs { patrol: true, .. } => patrol::run(),

@@ -1,9 +1,9 @@
 //! `coverplan bench`: planning time and plan quality per planner and per hole count, over the
 //! generated fields (`tests/fixtures/random-fields` by default), printed as a table;
 //! `--routing`, `--energy`, `--patrol`, `--fleet`, `--ground`, `--inspection`, `--terrain`,
-//! `--resume`, `--wind`, `--corridor`, `--oblique`, `--farm` and `--queue` run the routing,
-//! energy, patrolling, fleet, ground-vehicle, inspection, terrain, resume, wind, corridor,
-//! oblique, farm and shared-queue benchmarks instead.
+//! `--resume`, `--wind`, `--corridor`, `--oblique`, `--farm`, `--workers` and `--queue` run the
+//! routing, energy, patrolling, fleet, ground-vehicle, inspection, terrain, resume, wind,
+//! corridor, oblique, farm, worker-pool and shared-queue benchmarks instead.
 
 mod command;
 pub mod corridor;
@@ -19,6 +19,7 @@ pub mod queue;
 pub mod resume;
 pub mod terrain;
 pub mod wind;
+pub mod workers;
 
 pub use command::{BenchArgs, run_command};
 

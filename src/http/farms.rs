@@ -240,10 +240,12 @@ async fn fields_of(state: &AppState, caller: &Caller, request: &FarmPlanRequest)
                     format!("the mission has {} fields; a farm plan takes at most {}", polygons.len(), farm::MAX_FIELDS),
                 ));
             }
+            // each field's mission: the mission without its whole area, and the field as its area
+            let rest = missions::Mission { area: Value::Null, ..mission };
             Ok(polygons
                 .into_iter()
                 .enumerate()
-                .map(|(k, (area, name))| Field { name: name.unwrap_or_else(|| format!("{} #{}", mission.name, k + 1)), mission: missions::Mission { area, ..mission.clone() } })
+                .map(|(k, (area, name))| Field { name: name.unwrap_or_else(|| format!("{} #{}", rest.name, k + 1)), mission: missions::Mission { area, ..rest.clone() } })
                 .collect())
         }
         (Some(_), Some(_)) => Err(ApiError::invalid("fields_twice", "/mission_id", "give the fields as `missions` or as one `mission_id`, not both")),

@@ -698,20 +698,7 @@ impl<'a> DayWriter<'a> {
     /// Work (s) that fits in `room` seconds, refills included, of `left` to do.
     fn work_fitting(&self, left: f64, room: f64) -> f64 {
         let w = self.worker;
-        let mut done = 0.0;
-        let mut room = room;
-        let mut tank = w.endurance_s - self.since_refill;
-        while done < left && room > 0.0 {
-            let chunk = (left - done).min(tank).min(room);
-            done += chunk;
-            room -= chunk;
-            tank -= chunk;
-            if tank <= 0.0 && done < left {
-                room -= w.refill_s;
-                tank = w.endurance_s;
-            }
-        }
-        done
+        fitting(w, left, w.day_s - room, w.endurance_s - self.since_refill).0
     }
 
     fn push(&mut self, kind: LegKind, field: Option<usize>, seconds: f64, distance_m: Option<f64>, finishes_field: Option<bool>) {

@@ -7,7 +7,9 @@
 //! is home as early as it can be. Transits between places are priced by a [`Transit`]: in a
 //! straight line ([`StraightLine`]) or along a road network ([`RoadNetwork`]).
 
+mod days;
 mod road_network;
+mod rounds;
 mod schedule;
 mod schedule_csv;
 mod straight_line;

@@ -132,7 +132,12 @@ fn reset_peak() {
 
 /// The process's peak resident memory since [`reset_peak`], MB; `None` where `/proc` has none.
 fn peak_mb() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    peak_mb_of("self")
+}
+
+/// Process `process`'s (a pid, or `self`) peak resident memory, MB.
+fn peak_mb_of(process: &str) -> Option<f64> {
+    let status = std::fs::read_to_string(format!("/proc/{process}/status")).ok()?;
     let kb: f64 = status.lines().find(|l| l.starts_with("VmHWM:"))?.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb / 1024.0)
 }

@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 use serde_json::{Value, json};
 
+use super::peak_mb_of;
 use crate::store::keys::OPEN_TENANT;
 use crate::store::{self, missions, plans};
 
@@ -49,12 +50,6 @@ fn cpu_seconds(pid: u32) -> Option<f64> {
     let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
     let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
     Some(ticks / 100.0)
-}
-
-fn peak_mb(pid: u32) -> Option<f64> {
-    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let kb: f64 = status.lines().find(|l| l.starts_with("VmHWM:"))?.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb / 1024.0)
 }
 
 struct Row {
@@ -98,7 +93,7 @@ async fn row(exe: &Path, jobs: &[(Value, Value)], workers: usize) -> anyhow::Res
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
     let seconds = started.elapsed().as_secs_f64();
-    let (cpu, peak) = (cpu_seconds(server.id()).unwrap_or(f64::NAN), peak_mb(server.id()).unwrap_or(f64::NAN));
+    let (cpu, peak) = (cpu_seconds(server.id()).unwrap_or(f64::NAN), peak_mb_of(&server.id().to_string()).unwrap_or(f64::NAN));
     let _ = Command::new("kill").args(["-TERM", &server.id().to_string()]).status();
     let _ = server.wait();
     let plans = plans::claims(&db).await?.iter().filter(|c| c.outcome.as_deref() == Some("succeeded")).count();

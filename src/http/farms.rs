@@ -17,15 +17,13 @@ use utoipa::ToSchema;
 use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiJson, Problem, off_the_async_threads};
-use super::plans::snapshot;
-use crate::jobs;
-use crate::planner::export::{ExportOptions, ExportRequest, FarmTask, FarmTaskData};
+use super::plans::{snapshot, with_export_request};
+use crate::planner::export::{ExportOptions, FarmTask, FarmTaskData};
 use crate::planner::farm::{self, FieldWork, LegKind, Machine, RoadNetwork, Schedule, StraightLine, Unscheduled, Window};
-use crate::planner::geojson::FeatureCollection;
 use crate::planner::params::AltitudeReference;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
-use crate::planner::{self, MissionGeometry, PlanError, PlanParams, Stop};
+use crate::planner::{self, PlanError, PlanParams, Stop};
 use crate::store::farms::{self, FarmField, FarmRow, FieldJob, FieldPlan};
 use crate::store::plans::{self, JobKind, PlanStatus};
 use crate::store::{missions, terrain, vehicles};
@@ -448,19 +446,8 @@ pub async fn taskdata(State(state): State<AppState>, caller: Caller, Path(id): P
         let mut file = FarmTaskData::default();
         for (index, name, plan_id) in planned {
             let Some(source) = runtime.block_on(plans::export_source(&db, &tenant, JobKind::Plan, &plan_id))? else { continue };
-            let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {plan_id}: {e}"));
-            let trajectory: FeatureCollection = serde_json::from_str(source.trajectory.as_deref().unwrap_or_default()).map_err(|e| internal(&e))?;
-            let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
-            let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
-            let request = ExportRequest {
-                name: &name,
-                mission: MissionGeometry::of(&source.mission),
-                params: &params,
-                profiles: &profiles,
-                trajectory: &trajectory,
-                options: ExportOptions::default(),
-            };
-            file.add(index, &name, &request)?;
+            let geojson = source.trajectory.as_deref().unwrap_or_default();
+            with_export_request(&plan_id, &name, &source, geojson, ExportOptions::default(), |request| Ok(file.add(index, &name, request)?))?;
         }
         Ok::<_, ApiError>(file.finish(&tasks))
     })

@@ -172,13 +172,25 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
 
 /// Writes a stored plan in `format`.
 fn export_file(id: &str, format: &str, source: &plans::ExportSource, geojson: &str, options: ExportOptions) -> Result<ExportFile, ApiError> {
+    with_export_request(id, &source.name, source, geojson, options, |request| Ok(export::export(format, request)?))
+}
+
+/// Runs `write` on the export request of stored plan `id` (its trajectory `geojson`, named
+/// `name`): the stored parameters, the vehicles and geometry of its snapshot.
+pub(super) fn with_export_request<T>(
+    id: &str,
+    name: &str,
+    source: &plans::ExportSource,
+    geojson: &str,
+    options: ExportOptions,
+    write: impl FnOnce(&ExportRequest<'_>) -> Result<T, ApiError>,
+) -> Result<T, ApiError> {
     let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
     let trajectory: FeatureCollection = serde_json::from_str(geojson).map_err(|e| internal(&e))?;
     let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
     let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
     let mission = MissionGeometry::of(&source.mission);
-    let request = ExportRequest { name: &source.name, mission, params: &params, profiles: &profiles, trajectory: &trajectory, options };
-    Ok(export::export(format, &request)?)
+    write(&ExportRequest { name, mission, params: &params, profiles: &profiles, trajectory: &trajectory, options })
 }
 
 #[utoipa::path(delete, operation_id = "cancel_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),

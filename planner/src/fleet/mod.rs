@@ -50,6 +50,8 @@ pub struct Assignment<T> {
 
 /// Splits `region` into bands across direction `angle` (strips `spacing` wide) for `drones`, plans
 /// each with `plan_part(drone, part)`, and resizes the bands until the drones land together.
+/// Beside it, the fastest drone plans the whole region alone: where cutting costs more than
+/// sharing saves (bands strung across holes, each flown out to), it lands first and flies alone.
 /// `round_done(k)` is called after each round and may cancel by returning false.
 pub fn assign<T: Send>(
     region: &MultiPolygon,
@@ -59,6 +61,42 @@ pub fn assign<T: Send>(
     plan_part: &PlanPart<'_, T>,
     round_done: &dyn Fn(usize) -> bool,
 ) -> Result<Assignment<T>, PlanError> {
+    let fastest = (0..drones.len())
+        .min_by(|&a, &b| drones[b].cruise_speed_mps.total_cmp(&drones[a].cruise_speed_mps).then(drones[a].departure_s.total_cmp(&drones[b].departure_s)))
+        .ok_or_else(|| PlanError::Infeasible("a fleet needs a drone".into()))?;
+    let mut alone = None;
+    let shared = rayon::in_place_scope(|scope| {
+        scope.spawn(|_| alone = Some(plan_part(fastest, region)));
+        balanced(region, angle, spacing, drones, plan_part, round_done)
+    });
+    let alone = alone.expect("the scope waits for its tasks");
+    // the whole region may be refused where its parts are not (a planner's search limit)
+    let alone = match alone {
+        Ok((t, times)) => Some((t, drones[fastest].departure_s + times.duration_s)),
+        Err(PlanError::Cancelled) => return Err(PlanError::Cancelled),
+        Err(_) => None,
+    };
+    match (shared?, alone) {
+        (Some(best), Some((_, alone_s))) if best.makespan_s <= alone_s => Ok(best),
+        (Some(best), None) => Ok(best),
+        (_, Some((t, makespan_s))) => {
+            let mut parts: Vec<Option<(MultiPolygon, T)>> = (0..drones.len()).map(|_| None).collect();
+            parts[fastest] = Some((region.clone(), t));
+            Ok(Assignment { parts, makespan_s })
+        }
+        (None, None) => Err(PlanError::Infeasible("the fleet's parts could not be planned".into())),
+    }
+}
+
+/// The bands resized over [`ROUNDS`]: the assignment that lands first (`None`: no round planned).
+fn balanced<T: Send>(
+    region: &MultiPolygon,
+    angle: f64,
+    spacing: f64,
+    drones: &[Drone],
+    plan_part: &PlanPart<'_, T>,
+    round_done: &dyn Fn(usize) -> bool,
+) -> Result<Option<Assignment<T>>, PlanError> {
     let bands = Bands::new(region, angle, spacing);
     let total = region.unsigned_area();
     // bands are handed out in the order of the drones' homes across the lines
@@ -112,5 +150,5 @@ pub fn assign<T: Send>(
             best = Some(Assignment { parts, makespan_s });
         }
     }
-    best.ok_or_else(|| PlanError::Infeasible("the fleet's parts could not be planned".into()))
+    Ok(best)
 }

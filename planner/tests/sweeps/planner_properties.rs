@@ -62,12 +62,16 @@ pub(crate) fn check_covering(area: &Value, nfz: Option<&Value>, p: &PlanParams, 
     let out = try_plan(area, nfz, p)?;
     let s = &out.stats;
     // with a camera, what the photos image counts (docs/methods.md, multirotor planners §4); its
-    // swaths may differ either way: photos stop flush with a line's ends, and image the square
-    // round a bend where a swath turns in a round fan (0.97 of a small spiralled pentagon)
+    // swaths (a line spacing wide, where a photo is 3.3 spacings wide at 70 % side overlap) may
+    // differ either way: photos stop flush with a line's ends, and image the square round a bend
+    // where a swath turns in a round fan. On a field a few footprints across, a spiral's rings
+    // round a star's sharp points leave swaths short where its photos image the ground (0.952
+    // swath and 0.998 photo coverage of a seven-pointed star 2.5 km across, rings 530 m apart), so
+    // the swaths are only checked to lie over the field
     match s.photo_coverage_ratio {
         Some(photo) => {
             assert!(photo >= min_coverage - 0.01, "{name}: photo coverage {photo}");
-            assert!(s.coverage_ratio >= min_coverage - 0.03, "{name}: coverage {}", s.coverage_ratio);
+            assert!(s.coverage_ratio >= min_coverage - 0.1, "{name}: coverage {}", s.coverage_ratio);
         }
         None => assert!(s.coverage_ratio >= min_coverage, "{name}: coverage {}", s.coverage_ratio),
     }

@@ -16,17 +16,17 @@ use utoipa::ToSchema;
 
 use super::AppState;
 use super::auth::Caller;
-use super::error::{ApiError, ApiJson, Problem, off_the_async_threads};
-use super::plans::{snapshot, with_export_request};
-use crate::planner::export::{ExportOptions, FarmTask, FarmTaskData};
-use crate::planner::farm::{self, FieldWork, LegKind, Machine, RoadNetwork, Schedule, StraightLine, Unscheduled, Window};
+use super::error::{ApiError, ApiJson, ApiQuery, Problem, off_the_async_threads};
+use super::plans::{StoredExport, TrajectoryQuery, snapshot};
+use crate::planner::export::{DayStretch, ExportOptions, FarmTask, FarmTaskData};
+use crate::planner::farm::{self, FieldWork, LegKind, Machine, RoadNetwork, Schedule, StraightLine, Stretch, Unscheduled, Window};
 use crate::planner::params::AltitudeReference;
 use crate::planner::terrain::ElevationModel;
 use crate::planner::vehicle::Vehicle;
 use crate::planner::{self, PlanError, PlanParams, Stop};
 use crate::store::farms::{self, FarmField, FarmRow, FieldJob, FieldPlan};
 use crate::store::plans::{self, JobKind, PlanStatus};
-use crate::store::{missions, terrain, vehicles};
+use crate::store::{Db, missions, terrain, vehicles};
 
 /// Farm plans of one tenant's whose fields may be queued or running at once.
 pub const MOST_FARM_PLANS_AT_ONCE: i64 = 3;
@@ -445,15 +445,70 @@ pub async fn taskdata(State(state): State<AppState>, caller: Caller, Path(id): P
         let runtime = tokio::runtime::Handle::current();
         let mut file = FarmTaskData::default();
         for (index, name, plan_id) in planned {
-            let Some(source) = runtime.block_on(plans::export_source(&db, &tenant, JobKind::Plan, &plan_id))? else { continue };
-            let geojson = source.trajectory.as_deref().unwrap_or_default();
-            with_export_request(&plan_id, &name, &source, geojson, ExportOptions::default(), |request| Ok(file.add(index, &name, request)?))?;
+            let Some((source, stored)) = runtime.block_on(stored_export(&db, &tenant, &plan_id))? else { continue };
+            file.add(index, &name, &stored.request(&name, &source, ExportOptions::default()))?;
         }
         Ok::<_, ApiError>(file.finish(&tasks))
     })
     .await?;
     let disposition = format!("attachment; filename=\"{}-taskdata.zip\"", planner::export::file_stem(&farm.name));
     Ok(([(header::CONTENT_TYPE, "application/zip".to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes).into_response())
+}
+
+/// A stored plan and what it is exported from (`None`: it is gone).
+async fn stored_export(db: &Db, tenant: &str, plan_id: &str) -> Result<Option<(plans::ExportSource, StoredExport)>, ApiError> {
+    let Some(mut source) = plans::export_source(db, tenant, JobKind::Plan, plan_id).await? else { return Ok(None) };
+    let geojson = source.trajectory.take().unwrap_or_default();
+    let stored = StoredExport::read(plan_id, &source, &geojson)?;
+    Ok(Some((source, stored)))
+}
+
+#[utoipa::path(get, operation_id = "get_farm_flights", path = "/api/v1/farm-plans/{id}/flights", tag = "farms", params(("id" = String, Path), TrajectoryQuery),
+    responses((status = 200, content_type = "application/zip", body = Vec<u8>, description = "a zip of one flight plan per machine and working day in `format` (as a plan's \
+        trajectory takes it): the sorties its fields' plans fly that day, in the schedule's order, a field worked over several days flown sortie by sortie; a file per sortie in the formats \
+        that describe one flight; named `{machine}-day-{day}-{date}`"),
+              (status = 400, body = Problem, description = "unknown format or firmware"), (status = 404, body = Problem),
+              (status = 409, body = Problem, description = "the farm plan is not scheduled yet"), (status = 422, body = Problem, description = "the format cannot say these plans")))]
+pub async fn flights(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiQuery(query): ApiQuery<TrajectoryQuery>) -> Result<Response, ApiError> {
+    let (exporter, options) = query.choice()?;
+    let row = find(&state, &caller, &id).await?;
+    let farm = view(&state, &caller, row).await?;
+    let Some(schedule) = &farm.schedule else {
+        return Err(not_scheduled(&farm));
+    };
+    let plan_of: HashMap<usize, String> = farm.fields.iter().filter(|f| f.status == Some(PlanStatus::Succeeded)).filter_map(|f| f.plan_id.clone().map(|p| (f.index, p))).collect();
+    let mut days: Vec<(String, Vec<Stretch>)> = Vec::new();
+    for (k, (machine, stretches)) in schedule.machines.iter().zip(schedule.stretches()).enumerate() {
+        // machines of one name are told apart by their number
+        let named = schedule.machines.iter().filter(|m| m.machine == machine.machine).count() > 1;
+        let name = if named { format!("{} {}", machine.machine, k + 1) } else { machine.machine.clone() };
+        for (day, worked) in machine.days.iter().zip(stretches).filter(|(_, w)| !w.is_empty()) {
+            days.push((format!("{name}-day-{}-{}", day.day, day.date), worked));
+        }
+    }
+    let (db, tenant) = (state.db.clone(), caller.tenant.clone());
+    let format = exporter.format().id;
+    // one day's trajectories in memory at a time
+    let files = off_the_async_threads(move || {
+        let runtime = tokio::runtime::Handle::current();
+        let mut files = Vec::new();
+        for (stem, worked) in days {
+            let mut loaded = Vec::new();
+            for stretch in worked {
+                let Some(plan_id) = plan_of.get(&stretch.field) else { continue };
+                if let Some((source, stored)) = runtime.block_on(stored_export(&db, &tenant, plan_id))? {
+                    loaded.push((stretch, source, stored));
+                }
+            }
+            let stretches: Vec<DayStretch<'_>> =
+                loaded.iter().map(|(share, source, stored)| DayStretch { request: stored.request(&source.name, source, options), share: *share }).collect();
+            files.extend(planner::export::export_day(format, &stem, &stretches)?);
+        }
+        Ok::<_, ApiError>(files)
+    })
+    .await?;
+    let disposition = format!("attachment; filename=\"{}-flights-{format}.zip\"", planner::export::file_stem(&farm.name));
+    Ok(([(header::CONTENT_TYPE, "application/zip".to_owned()), (header::CONTENT_DISPOSITION, disposition)], planner::archive::zip(&files)).into_response())
 }
 
 /// A task for each stretch of a machine's day on one field: `sprayer 1 · day 3 (2027-04-14) · 2. North field`.

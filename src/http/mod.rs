@@ -66,6 +66,7 @@ pub fn api() -> OpenApiRouter<AppState> {
         .routes(routes!(farms::get, farms::cancel))
         .routes(routes!(farms::schedule_csv))
         .routes(routes!(farms::taskdata))
+        .routes(routes!(farms::flights))
         .routes(routes!(patrols::create))
         .routes(routes!(patrols::get, patrols::cancel))
         .routes(routes!(patrols::trajectory))

@@ -12,7 +12,7 @@ use super::AppState;
 use super::auth::Caller;
 use super::error::{ApiError, ApiJson, ApiQuery, Problem, off_the_async_threads};
 use crate::jobs;
-use crate::planner::export::{self, AltitudeFrame, ExportFile, ExportOptions, ExportRequest, Firmware};
+use crate::planner::export::{self, AltitudeFrame, ExportFile, ExportOptions, ExportRequest, Exporter, Firmware};
 use crate::planner::geojson::FeatureCollection;
 use crate::planner::params::AltitudeReference;
 use crate::planner::terrain::ElevationModel;
@@ -125,6 +125,26 @@ pub struct TrajectoryQuery {
     pub max_waypoints: Option<usize>,
 }
 
+impl TrajectoryQuery {
+    /// The exporter asked for and the options it writes with; unknown formats and firmware and
+    /// altitudes out of range are refused.
+    pub(super) fn choice(&self) -> Result<(&'static dyn Exporter, ExportOptions), ApiError> {
+        let format = self.format.as_deref().unwrap_or(export::default_format().id);
+        let exporter = export::find(format)
+            .ok_or_else(|| ApiError::bad_request("unknown_format", "/format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))))?;
+        if let Some(a) = self.altitude_m.filter(|a| !(1.0..=10_000.0).contains(a)) {
+            return Err(ApiError::invalid("parameter_out_of_range", "/altitude_m", format!("{a} m is outside the accepted range [1, 10000] m above home")));
+        }
+        let firmware = match self.firmware.as_deref() {
+            None | Some("ardupilot") => Firmware::Ardupilot,
+            Some("px4") => Firmware::Px4,
+            Some(other) => return Err(ApiError::bad_request("unknown_firmware", "/firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
+        };
+        let options = ExportOptions { firmware, altitude_m: self.altitude_m, altitude_frame: self.altitude_frame.unwrap_or_default(), max_waypoints: self.max_waypoints };
+        Ok((exporter, options))
+    }
+}
+
 #[utoipa::path(get, operation_id = "get_trajectory", path = "/api/v1/plans/{id}/trajectory", tag = "plans", params(("id" = String, Path), TrajectoryQuery),
     responses((status = 200, description = "The trajectory in the asked format, as an attachment named after the mission. GeoJSON: a FeatureCollection \
         (RFC 7946) of LineStrings in flight order, `properties.kind` = sweep | headland | turn | transit (a ground vehicle's turns with turn_type u | omega | fishtail), with length_m, duration_s, energy_j, speed_mps, sortie; \
@@ -132,17 +152,8 @@ pub struct TrajectoryQuery {
         (status = 400, body = Problem, description = "unknown format or firmware, or an unreadable query parameter"), (status = 404, body = Problem),
         (status = 409, body = Problem, description = "the plan has no trajectory (yet)"), (status = 422, body = Problem, description = "the format cannot say this plan, takes no max_waypoints, or cannot keep a line's photos within it")))]
 pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id): Path<String>, ApiQuery(query): ApiQuery<TrajectoryQuery>) -> Result<Response, ApiError> {
-    let format = query.format.as_deref().unwrap_or(export::default_format().id);
-    let exporter = export::find(format)
-        .ok_or_else(|| ApiError::bad_request("unknown_format", "/format", format!("no export format `{format}`; known: {}", export::format_ids().join(", "))))?;
-    if let Some(a) = query.altitude_m.filter(|a| !(1.0..=10_000.0).contains(a)) {
-        return Err(ApiError::invalid("parameter_out_of_range", "/altitude_m", format!("{a} m is outside the accepted range [1, 10000] m above home")));
-    }
-    let firmware = match query.firmware.as_deref() {
-        None | Some("ardupilot") => Firmware::Ardupilot,
-        Some("px4") => Firmware::Px4,
-        Some(other) => return Err(ApiError::bad_request("unknown_firmware", "/firmware", format!("no firmware `{other}`; known: ardupilot, px4"))),
-    };
+    let (exporter, options) = query.choice()?;
+    let format = exporter.format().id;
     let mut source = plans::export_source(&state.db, &caller.tenant, JobKind::Plan, &id).await?.ok_or_else(|| ApiError::not_found("plan", &id))?;
     let (PlanStatus::Succeeded, Some(geojson)) = (source.status, source.trajectory.take()) else {
         let status = json!(source.status);
@@ -154,17 +165,7 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
         ExportFile { file_name: format!("{}{}", export::file_stem(&source.name), as_stored.extension), media_type: as_stored.media_type, bytes: geojson.into_bytes() }
     } else {
         // reading and writing a large trajectory takes a while: off the async runtime
-        let format = format.to_owned();
-        off_the_async_threads(move || {
-            export_file(
-                &id,
-                &format,
-                &source,
-                &geojson,
-                ExportOptions { firmware, altitude_m: query.altitude_m, altitude_frame: query.altitude_frame.unwrap_or_default(), max_waypoints: query.max_waypoints },
-            )
-        })
-        .await?
+        off_the_async_threads(move || export_file(&id, format, &source, &geojson, options)).await?
     };
     let disposition = format!("attachment; filename=\"{}\"", file.file_name);
     Ok(([(header::CONTENT_TYPE, file.media_type.to_owned()), (header::CONTENT_DISPOSITION, disposition)], file.bytes).into_response())
@@ -172,25 +173,33 @@ pub async fn trajectory(State(state): State<AppState>, caller: Caller, Path(id):
 
 /// Writes a stored plan in `format`.
 fn export_file(id: &str, format: &str, source: &plans::ExportSource, geojson: &str, options: ExportOptions) -> Result<ExportFile, ApiError> {
-    with_export_request(id, &source.name, source, geojson, options, |request| Ok(export::export(format, request)?))
+    let stored = StoredExport::read(id, source, geojson)?;
+    Ok(export::export(format, &stored.request(&source.name, source, options))?)
 }
 
-/// Runs `write` on the export request of stored plan `id` (its trajectory `geojson`, named
-/// `name`): the stored parameters, the vehicles and geometry of its snapshot.
-pub(super) fn with_export_request<T>(
-    id: &str,
-    name: &str,
-    source: &plans::ExportSource,
-    geojson: &str,
-    options: ExportOptions,
-    write: impl FnOnce(&ExportRequest<'_>) -> Result<T, ApiError>,
-) -> Result<T, ApiError> {
-    let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
-    let trajectory: FeatureCollection = serde_json::from_str(geojson).map_err(|e| internal(&e))?;
-    let params: PlanParams = serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?;
-    let profiles = jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?;
-    let mission = MissionGeometry::of(&source.mission);
-    write(&ExportRequest { name, mission, params: &params, profiles: &profiles, trajectory: &trajectory, options })
+/// What a stored plan is exported from besides its mission: its trajectory, parameters and the
+/// vehicles of its snapshot, read once.
+pub(super) struct StoredExport {
+    trajectory: FeatureCollection,
+    params: PlanParams,
+    profiles: Vec<Vehicle>,
+}
+
+impl StoredExport {
+    /// Reads stored plan `id` (its trajectory `geojson`).
+    pub(super) fn read(id: &str, source: &plans::ExportSource, geojson: &str) -> Result<StoredExport, ApiError> {
+        let internal = |e: &dyn std::fmt::Display| ApiError::Internal(format!("plan {id}: {e}"));
+        Ok(StoredExport {
+            trajectory: serde_json::from_str(geojson).map_err(|e| internal(&e))?,
+            params: serde_json::from_value(source.params.clone()).map_err(|e| internal(&e))?,
+            profiles: jobs::snapshot_profiles(&source.mission).map_err(|e| internal(&e))?,
+        })
+    }
+
+    /// The export request of the plan, named `name`, on the geometry of its snapshot.
+    pub(super) fn request<'a>(&'a self, name: &'a str, source: &'a plans::ExportSource, options: ExportOptions) -> ExportRequest<'a> {
+        ExportRequest { name, mission: MissionGeometry::of(&source.mission), params: &self.params, profiles: &self.profiles, trajectory: &self.trajectory, options }
+    }
 }
 
 #[utoipa::path(delete, operation_id = "cancel_plan", path = "/api/v1/plans/{id}", tag = "plans", params(("id" = String, Path)),

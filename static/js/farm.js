@@ -96,7 +96,8 @@ function drawGantt(farm) {
   const figures = `<p class="figure">last machine home ${s.ends_at.replace('T', ' ')}; working time ${h(s.makespan_s)}, no schedule under ${h(s.lower_bound_s)}; `
     + `${Math.round(100 * s.transit_share)} % driving between fields; ${s.days_used} ${s.days_used === 1 ? 'day' : 'days'}${s.fits_window ? '' : ` (more than the ${farm.window.days} asked)`}`
     + `${s.unscheduled.length ? `; ${s.unscheduled.length} fields not scheduled` : ''}. <a href="${farm.schedule_csv_url}" download>Schedule as CSV</a> · `
-    + `<a href="/api/v1/farm-plans/${farm.id}/taskdata" download>ISOXML</a></p>`;
+    + `<a href="/api/v1/farm-plans/${farm.id}/taskdata" download>ISOXML</a> · `
+    + `<a id="farm-flights" href="/api/v1/farm-plans/${farm.id}/flights?format=plan" download>Flight plans by day</a></p>`;
   const box = $('farm-gantt');
   box.innerHTML = `${figures}<div class="gantt-scroll"><table class="gantt"><thead><tr><th></th>${head}</tr></thead><tbody>${rows}</tbody></table></div>`;
   box.hidden = false;

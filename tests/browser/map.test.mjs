@@ -698,6 +698,9 @@ try {
   assert.deepEqual([...new Set(bars)].sort(), [0, 1, 2], `each field worked in the chart: ${bars}`);
   assert.match(await page.textContent('#farm-gantt'), /last machine home .* no schedule under [\d.]+ h/);
   assert.equal(await page.locator('#farm-gantt tbody tr').count(), 2, 'a row per machine');
+  const flights = await page.getAttribute('#farm-flights', 'href');
+  const flightsZip = await page.evaluate(async (href) => { const r = await fetch(href); return [r.status, r.headers.get('content-type')]; }, flights);
+  assert.deepEqual(flightsZip, [200, 'application/zip'], `the day's flight plans: ${flights}`);
   await page.click('.gantt-work[data-field="1"]');
   await waitFor(async () => /: its plan$/.test(await page.textContent('#status')), 'the field\'s plan');
   const opened = await state(() => window.coverplan.state.result.planId);

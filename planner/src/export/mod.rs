@@ -5,6 +5,8 @@
 //! format means adding a file with an [`Exporter`] and a line in [`EXPORTERS`].
 //! Conventions (coordinate order, winding, altitude reference) follow docs/methods.md, interop.
 
+mod farm_day;
+pub use farm_day::{DayStretch, export_day};
 mod flight;
 pub mod follower;
 pub mod geojson;
@@ -263,9 +265,28 @@ pub fn file_stem(name: &str) -> String {
 /// one-flight formats), each written for that drone's vehicle and home; its GeoJSON stays the
 /// one trajectory, each feature with its `vehicle`.
 pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, InputError> {
+    let Written { mut files, media_type, bundle } = written(format, request, &file_stem(request.name))?;
+    if files.len() == 1 && bundle.is_none() {
+        let (file_name, bytes) = files.pop().expect("one file");
+        return Ok(ExportFile { file_name, media_type, bytes });
+    }
+    let file_name = bundle.unwrap_or_else(|| format!("{}-{format}-parts.zip", file_stem(request.name)));
+    Ok(ExportFile { file_name, media_type: "application/zip", bytes: archive::zip(&files) })
+}
+
+/// The files of one export, named from a stem: one, or several to be zipped (sorties, parts,
+/// a fleet's drones) under `bundle` when it says so.
+struct Written {
+    files: Vec<(String, Vec<u8>)>,
+    media_type: &'static str,
+    /// The zip's name where the files are always zipped (a fleet's).
+    bundle: Option<String>,
+}
+
+/// Writes a plan in `format` as files named from `stem`.
+fn written(format: &str, request: &ExportRequest<'_>, stem: &str) -> Result<Written, InputError> {
     let exporter = find(format).ok_or_else(|| InputError::new("unknown_format", "/format", format!("no export format `{format}`; known: {}", format_ids().join(", "))))?;
     let planned = FileParams::of(request.params, request.profiles)?;
-    let stem = file_stem(request.name);
     let Format { id, media_type, extension, one_flight_per_file, verbatim, .. } = *exporter.format();
     if !exporter.format().plans.contains(&planned.method) {
         let able: Vec<&str> = EXPORTERS.iter().map(|e| e.format()).filter(|f| f.plans.contains(&planned.method)).map(|f| f.id).collect();
@@ -295,13 +316,9 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
     let (outlines, altitude_m) = outlines_and_altitude(request, &planned)?;
     if planned.fleet.is_empty() || verbatim {
         let job = prepare(request, exporter.format(), &planned, &planned.vehicle, outlines, altitude_m, request.trajectory)?;
-        let mut files = write_all(&job, &stem)?;
-        if files.len() == 1 {
-            let (file_name, bytes) = files.pop().expect("one file");
-            return Ok(ExportFile { file_name, media_type, bytes });
-        }
-        let what = if job.flight.sorties.len() > 1 && one_flight_per_file { "sorties" } else { "parts" };
-        return Ok(ExportFile { file_name: format!("{stem}-{id}-{what}.zip"), media_type: "application/zip", bytes: archive::zip(&files) });
+        let files = write_all(&job, stem)?;
+        let bundle = (job.flight.sorties.len() > 1 && one_flight_per_file && files.len() > 1).then(|| format!("{stem}-{id}-sorties.zip"));
+        return Ok(Written { files, media_type, bundle });
     }
     let mut files = Vec::new();
     for (k, drone) in planned.fleet.iter().enumerate() {
@@ -315,7 +332,7 @@ pub fn export(format: &str, request: &ExportRequest<'_>) -> Result<ExportFile, I
         let job = prepare(request, exporter.format(), &planned, &drone.vehicle, own_home, altitude_m, &trajectory)?;
         files.extend(write_all(&job, &format!("{stem}-drone-{}", k + 1))?);
     }
-    Ok(ExportFile { file_name: format!("{stem}-{id}-fleet.zip"), media_type: "application/zip", bytes: archive::zip(&files) })
+    Ok(Written { files, media_type, bundle: Some(format!("{stem}-{id}-fleet.zip")) })
 }
 
 /// Runs `write` on the one vehicle's job of `request` as `format` would write it (not for a

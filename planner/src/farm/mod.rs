@@ -15,7 +15,7 @@ mod schedule_csv;
 mod straight_line;
 
 pub use road_network::{MAX_ROAD_POINTS, RoadNetwork};
-pub use schedule::{Day, Leg, LegKind, MAX_FIELDS, MAX_MACHINES, MIN_PIECE_S, MachineSchedule, Schedule, Unscheduled, check_setup, schedule};
+pub use schedule::{Day, Leg, LegKind, MAX_FIELDS, MAX_MACHINES, MIN_PIECE_S, MachineSchedule, Schedule, Stretch, Unscheduled, check_setup, schedule};
 pub use schedule_csv::schedule_csv;
 pub use straight_line::StraightLine;
 

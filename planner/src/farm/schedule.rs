@@ -157,6 +157,57 @@ impl Schedule {
 
 const UNSCHEDULED_WARNING: &str = " are not in the schedule (see `unscheduled`)";
 
+/// A stretch of a machine's day on one field: the share of the field's work done in it, from
+/// `from` to `to` (0 to 1; a field worked in one go is 0 to 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stretch {
+    pub field: usize,
+    pub from: f64,
+    pub to: f64,
+}
+
+impl Schedule {
+    /// Each machine's days (as `machines[k].days`) as the stretches of work on each field, in
+    /// order: a field's work legs of one day, refills between them, make one stretch.
+    pub fn stretches(&self) -> Vec<Vec<Vec<Stretch>>> {
+        let work = |leg: &&Leg| leg.kind == LegKind::Work && leg.field.is_some();
+        let mut total: std::collections::HashMap<usize, f64> = std::collections::HashMap::new();
+        for leg in self.machines.iter().flat_map(|m| &m.days).flat_map(|d| &d.legs).filter(work) {
+            *total.entry(leg.field.expect("worked field")).or_default() += leg.end_s - leg.start_s;
+        }
+        let mut done: std::collections::HashMap<usize, f64> = std::collections::HashMap::new();
+        let mut share = |field: usize, seconds: f64| {
+            let whole = total[&field];
+            let so_far = done.entry(field).or_default();
+            let from = if whole > 0.0 { *so_far / whole } else { 0.0 };
+            *so_far += seconds;
+            // the last stretch ends at 1 exactly, whatever the sum's rounding
+            let to = if whole > 0.0 && *so_far / whole < 1.0 - 1e-9 { *so_far / whole } else { 1.0 };
+            (from, to)
+        };
+        self.machines
+            .iter()
+            .map(|m| {
+                m.days
+                    .iter()
+                    .map(|day| {
+                        let mut stretches: Vec<Stretch> = Vec::new();
+                        for leg in day.legs.iter().filter(work) {
+                            let field = leg.field.expect("worked field");
+                            let (from, to) = share(field, leg.end_s - leg.start_s);
+                            match stretches.last_mut() {
+                                Some(last) if last.field == field => last.to = to,
+                                _ => stretches.push(Stretch { field, from, to }),
+                            }
+                        }
+                        stretches
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}
+
 /// Schedules `fields` over `machines` within `window`, with transits priced by `transit`.
 pub fn schedule(fields: &[FieldWork], machines: &[Machine], window: &Window, transit: &dyn Transit, stop: &Stop) -> Result<Schedule, PlanError> {
     let (first_day, day_start) = check_window(window)?;

@@ -77,12 +77,13 @@ fn geometry(value: &GeometryValue, properties: &JsonObject, pointer: &str, defau
     let label = label(properties);
     let kind = if default == Kind::Field { kind_of_label(&label).unwrap_or(Kind::Field) } else { default };
     let height = properties.get("height_m").and_then(Value::as_f64);
+    let name = properties.get("name").and_then(Value::as_str);
     match value {
-        GeometryValue::Polygon { coordinates } => out.add(kind, polygon(coordinates, pointer)?, height, pointer),
+        GeometryValue::Polygon { coordinates } => out.add(kind, polygon(coordinates, pointer)?, height, name, pointer),
         GeometryValue::MultiPolygon { coordinates } => {
             for (i, p) in coordinates.iter().enumerate() {
                 let at = format!("{pointer}/coordinates/{i}");
-                out.add(kind, polygon(p, &at)?, height, &at);
+                out.add(kind, polygon(p, &at)?, height, name, &at);
             }
         }
         GeometryValue::GeometryCollection { geometries } => {

@@ -212,9 +212,9 @@ fn close_polygon(p: OpenPolygon, partfield: &str, at: &str, out: &mut Collected,
             if out.name.is_none() && !partfield.is_empty() {
                 out.name = Some(partfield.to_owned());
             }
-            out.add(Kind::Field, Polygon::new(exterior, interiors), None, at);
+            out.add(Kind::Field, Polygon::new(exterior, interiors), None, Some(partfield), at);
         }
-        "6" => out.add(Kind::NoFlyZone, Polygon::new(exterior, interiors), None, at),
+        "6" => out.add(Kind::NoFlyZone, Polygon::new(exterior, interiors), None, None, at),
         "3" | "4" => holes.push(exterior),
         other => out.warnings.push(format!("{at}: polygon `{}` of type {other} was dropped (boundaries, obstacles, water and buildings are read)", p.designator)),
     }

@@ -85,7 +85,7 @@ fn visit(node: &Doc<f64>, part: &str, walk: &mut Walk) -> Result<(), InputError>
         Doc::Placemark(p) => placemark(p, part, walk),
         Doc::Polygon(p) => {
             let polygon = polygon(p, part)?;
-            walk.out.add(Kind::Field, polygon, None, part);
+            walk.out.add(Kind::Field, polygon, None, None, part);
             Ok(())
         }
         _ => Ok(()),
@@ -117,7 +117,7 @@ fn placemark(p: &Placemark<f64>, part: &str, walk: &mut Walk) -> Result<(), Inpu
     let mut geometries = vec![geometry];
     while let Some(g) = geometries.pop() {
         match g {
-            Geometry::Polygon(poly) => walk.out.add(kind, polygon(poly, &at)?, height, &at),
+            Geometry::Polygon(poly) => walk.out.add(kind, polygon(poly, &at)?, height, Some(name.as_str()), &at),
             Geometry::MultiGeometry(m) => geometries.extend(m.geometries.iter().rev()),
             Geometry::Point(pt) if name.to_ascii_lowercase().contains("home") => walk.out.home = Some([pt.coord.x, pt.coord.y]),
             Geometry::Point(_) => walk.dropped_points += 1,

@@ -27,6 +27,9 @@ use super::params::guidance::Guidance;
 pub struct Collected {
     pub name: Option<String>,
     pub fields: Vec<Polygon>,
+    /// Each field's name in the file (its feature's, placemark's, partfield's or record's), in
+    /// the order of `fields`.
+    pub field_names: Vec<Option<String>>,
     pub no_fly_zones: Vec<Polygon>,
     /// Footprints with their height above ground, metres.
     pub obstacles: Vec<(Polygon, f64)>,
@@ -48,7 +51,9 @@ pub struct ImportedGuidance {
 #[derive(Debug, Clone, Serialize)]
 pub struct ImportedMission {
     pub name: Option<String>,
-    /// A GeoJSON MultiPolygon, exteriors counter-clockwise.
+    /// The fields, exteriors counter-clockwise: a GeoJSON MultiPolygon, or where the file names
+    /// its fields a FeatureCollection of Polygons, each with its `name` (a farm plan's fields
+    /// keep those names).
     pub area: Value,
     pub no_fly_zones: Option<Value>,
     pub obstacles: Option<Value>,
@@ -126,6 +131,7 @@ pub fn import(format: Option<&str>, bytes: &[u8]) -> Result<ImportedMission, Inp
         return Err(InputError::new("empty_geometry", "/", format!("the file holds no field polygon{}", reasons(&collected.warnings))));
     }
     let polygons = |ps: &[Polygon]| json!({"type": "MultiPolygon", "coordinates": ps.iter().map(polygon_coordinates).collect::<Vec<_>>()});
+    let area = if collected.field_names.iter().any(Option::is_some) { named_polygons(&collected.fields, &collected.field_names) } else { polygons(&collected.fields) };
     let obstacles = (!collected.obstacles.is_empty()).then(|| {
         let features: Vec<Value> = collected
             .obstacles
@@ -136,7 +142,7 @@ pub fn import(format: Option<&str>, bytes: &[u8]) -> Result<ImportedMission, Inp
     });
     Ok(ImportedMission {
         name: collected.name,
-        area: polygons(&collected.fields),
+        area,
         no_fly_zones: (!collected.no_fly_zones.is_empty()).then(|| polygons(&collected.no_fly_zones)),
         obstacles,
         home: collected.home,
@@ -147,6 +153,19 @@ pub fn import(format: Option<&str>, bytes: &[u8]) -> Result<ImportedMission, Inp
 
 fn reasons(warnings: &[String]) -> String {
     if warnings.is_empty() { String::new() } else { format!(" ({})", warnings.join("; ")) }
+}
+
+/// A FeatureCollection of the fields as Polygon features, each with its name where it has one.
+fn named_polygons(fields: &[Polygon], names: &[Option<String>]) -> Value {
+    let features: Vec<Value> = fields
+        .iter()
+        .zip(names)
+        .map(|(p, name)| {
+            let properties = name.as_ref().map_or_else(|| json!({}), |n| json!({"name": n}));
+            json!({"type": "Feature", "properties": properties, "geometry": {"type": "Polygon", "coordinates": polygon_coordinates(p)}})
+        })
+        .collect();
+    json!({"type": "FeatureCollection", "features": features})
 }
 
 /// GeoJSON rings of a polygon by the right-hand rule.
@@ -204,11 +223,14 @@ pub(crate) enum Kind {
 }
 
 impl Collected {
-    /// Adds a polygon as `kind`; obstacles without a height become no-fly zones (a height is
-    /// what lets a plan climb over them).
-    pub(crate) fn add(&mut self, kind: Kind, polygon: Polygon, height_m: Option<f64>, part: &str) {
+    /// Adds a polygon as `kind` (a field with the file's `name` for it); obstacles without a
+    /// height become no-fly zones (a height is what lets a plan climb over them).
+    pub(crate) fn add(&mut self, kind: Kind, polygon: Polygon, height_m: Option<f64>, name: Option<&str>, part: &str) {
         match (kind, height_m) {
-            (Kind::Field, _) => self.fields.push(polygon),
+            (Kind::Field, _) => {
+                self.fields.push(polygon);
+                self.field_names.push(name.map(str::trim).filter(|n| !n.is_empty()).map(str::to_owned));
+            }
             (Kind::NoFlyZone, _) => self.no_fly_zones.push(polygon),
             (Kind::Obstacle, Some(h)) if h.is_finite() && h > 0.0 => self.obstacles.push((polygon, h)),
             (Kind::Obstacle, _) => {

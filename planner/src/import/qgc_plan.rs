@@ -43,7 +43,7 @@ impl Importer for QgcPlan {
             match (item.get("type").and_then(Value::as_str), item.get("complexItemType").and_then(Value::as_str)) {
                 (Some("ComplexItem"), Some("survey")) => {
                     let pointer = format!("/mission/items/{i}/polygon");
-                    out.add(Kind::Field, lat_lon_ring(item.get("polygon").unwrap_or(&Value::Null), &pointer)?, None, &pointer);
+                    out.add(Kind::Field, lat_lon_ring(item.get("polygon").unwrap_or(&Value::Null), &pointer)?, None, None, &pointer);
                 }
                 (Some("ComplexItem"), other) => out.warnings.push(format!("/mission/items/{i}: a {} item was dropped", other.unwrap_or("complex"))),
                 _ => simple += 1,
@@ -58,8 +58,8 @@ impl Importer for QgcPlan {
             let pointer = format!("/geoFence/polygons/{i}/polygon");
             let polygon = lat_lon_ring(fence.get("polygon").unwrap_or(&Value::Null), &pointer)?;
             match (fence.get("inclusion").and_then(Value::as_bool).unwrap_or(true), surveyed) {
-                (false, _) => out.add(Kind::NoFlyZone, polygon, None, &pointer),
-                (true, false) => out.add(Kind::Field, polygon, None, &pointer),
+                (false, _) => out.add(Kind::NoFlyZone, polygon, None, None, &pointer),
+                (true, false) => out.add(Kind::Field, polygon, None, None, &pointer),
                 (true, true) => out.warnings.push(format!("{pointer}: an inclusion fence was dropped (the survey polygons are the fields)")),
             }
         }

@@ -81,8 +81,9 @@ fn read_layer(layer: &str, shp: &[u8], shx: &[u8], dbf: &[u8], projection: &Proj
         let label: Vec<String> = ["kind", "KIND", "type", "TYPE", "class", "CLASS", "name", "NAME", "Name"].iter().filter_map(|k| text(k)).collect();
         let kind = kind_of_label(&label.join(" ")).unwrap_or(Kind::Field);
         let height = ["height_m", "HEIGHT_M", "height", "HEIGHT"].iter().find_map(|k| number(k));
+        let name = ["name", "NAME", "Name"].iter().find_map(|k| text(k));
         for polygon in polygons(rings, projection, &at)? {
-            out.add(kind, polygon, height, &at);
+            out.add(kind, polygon, height, name.as_deref(), &at);
         }
     }
     Ok(())

@@ -91,6 +91,21 @@ fn check(farm: &Farm, s: &Schedule) {
         assert!((worked[i] - expected).abs() < 1e-3, "field {i}: {} s worked of {expected} s", worked[i]);
     }
     assert!(s.makespan_s >= s.lower_bound_s - 1e-6, "makespan {} below its lower bound {}", s.makespan_s, s.lower_bound_s);
+    // the days' stretches share out each scheduled field's work from 0 to 1, in order
+    let stretches = s.stretches();
+    let mut reached: Vec<Option<f64>> = vec![None; farm.fields.len()];
+    for (m, days) in s.machines.iter().zip(&stretches) {
+        assert_eq!(m.days.len(), days.len());
+        for stretch in days.iter().flatten() {
+            assert_eq!(stretch.from, reached[stretch.field].unwrap_or(0.0), "field {}: a stretch does not begin where the last ended", stretch.field);
+            assert!(stretch.to > stretch.from || stretch.to == 1.0);
+            reached[stretch.field] = Some(stretch.to);
+        }
+    }
+    for (i, r) in reached.iter().enumerate() {
+        let unscheduled = s.unscheduled.iter().any(|u| u.field == i);
+        assert_eq!(*r, (!unscheduled).then_some(1.0), "field {i}: its stretches end at {r:?}");
+    }
 }
 
 proptest! {

@@ -129,6 +129,66 @@ async fn a_farm_is_planned_field_by_field_and_scheduled_over_machines_and_days()
         json!({"files": [{"file": "farm-taskdata.zip", "format": "isoxml", "fields": 9, "holes": 0, "zones": 0, "swath_width_mm": 10_000.0, "lines": lines, "tasks": tasks}]});
     std::fs::write(dir.join("manifest.json"), manifest.to_string()).unwrap();
     interop::run(std::process::Command::new("node").arg(interop::interop_dir().join("check_isoxml.mjs")).arg(&dir));
+    // a flight plan per machine and day: every sweep of every field's plan flown on one day
+    let farm_id = farm["id"].as_str().unwrap();
+    let mut sweeps_planned = 0;
+    for field in &farm["fields"].as_array().unwrap()[..9] {
+        let (_, trajectory) = app.get(&format!("{}/trajectory", field["plan_url"].as_str().unwrap())).await;
+        sweeps_planned += trajectory["features"].as_array().unwrap().iter().filter(|f| f["properties"]["kind"] == "sweep").count();
+    }
+    let days_worked: Vec<String> = schedule["machines"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|m| {
+            let machine = m["machine"].as_str().unwrap().to_owned();
+            m["days"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|d| d["legs"].as_array().unwrap().iter().any(|l| l["kind"] == "work"))
+                .map(move |d| format!("{machine}-day-{}-{}", d["day"], d["date"].as_str().unwrap()))
+        })
+        .collect();
+    let r = app.client.get(app.url(&format!("/api/v1/farm-plans/{farm_id}/flights?format=geojson"))).send().await.unwrap();
+    assert_eq!(r.status().as_u16(), 200);
+    let files = coverplan::planner::archive::unzip(&r.bytes().await.unwrap()).unwrap();
+    let mut names: Vec<String> = files.iter().map(|(name, _)| name.trim_end_matches(".geojson").to_owned()).collect();
+    names.sort();
+    let mut expected = days_worked.clone();
+    expected.sort();
+    assert_eq!(names, expected);
+    let mut sweeps_flown = 0;
+    for (name, bytes) in &files {
+        let day: Value = serde_json::from_slice(bytes).unwrap();
+        let features = day["features"].as_array().unwrap();
+        sweeps_flown += features.iter().filter(|f| f["properties"]["kind"] == "sweep").count();
+        let sorties: Vec<u64> = features.iter().filter_map(|f| f["properties"]["sortie"].as_u64()).collect();
+        assert!(sorties.first() == Some(&1) && sorties.windows(2).all(|w| w[1] == w[0] || w[1] == w[0] + 1), "{name}: sorties {sorties:?}");
+    }
+    assert_eq!(sweeps_flown, sweeps_planned);
+    // in a format of one flight a file, each sortie is a file QGroundControl loads
+    let r = app.client.get(app.url(&format!("/api/v1/farm-plans/{farm_id}/flights?format=plan&firmware=px4"))).send().await.unwrap();
+    assert_eq!(r.status().as_u16(), 200);
+    for (name, bytes) in coverplan::planner::archive::unzip(&r.bytes().await.unwrap()).unwrap() {
+        let plan: Value = serde_json::from_slice(&bytes).unwrap();
+        assert!(name.ends_with(".plan") && plan["fileType"] == "Plan" && !plan["mission"]["items"].as_array().unwrap().is_empty(), "{name}");
+    }
+    let (status, problem) = app.get(&format!("/api/v1/farm-plans/{farm_id}/flights?format=nope")).await;
+    assert_eq!((status, problem["code"].as_str()), (400, Some("unknown_format")));
+    // imported back, the TaskData is a farm whose fields keep their partfields' names
+    let bytes = std::fs::read(dir.join("farm-taskdata.zip")).unwrap();
+    let r = app.client.post(app.url("/api/v1/missions/import?format=isoxml")).body(bytes).send().await.unwrap();
+    assert_eq!(r.status().as_u16(), 201);
+    let imported: Value = r.json().await.unwrap();
+    let again = json!({"mission_id": imported["id"], "machines": machines(), "window": {"start_date": "2027-04-12", "days": 3}, "params": drone()});
+    let (status, farm) = app.post("/api/v1/farm-plans", &again).await;
+    assert_eq!(status, 202, "{farm}");
+    let mut names: Vec<&str> = farm["fields"].as_array().unwrap().iter().map(|f| f["name"].as_str().unwrap()).collect();
+    names.sort_unstable();
+    assert_eq!(names, (0..9).map(|k| format!("field {k}")).collect::<Vec<_>>(), "{farm}");
+    let r = app.client.delete(app.url(&format!("/api/v1/farm-plans/{}", farm["id"].as_str().unwrap()))).send().await.unwrap();
+    assert_eq!(r.status().as_u16(), 200);
     let _ = std::fs::remove_dir_all(&dir);
     app.stop().await;
 }

@@ -60,9 +60,15 @@ fn canonical(mission: &Value) -> import::ImportedMission {
 type Ring = Vec<[f64; 2]>;
 
 /// Polygons of a GeoJSON MultiPolygon, each as rings without the closing point.
+/// The polygons of a MultiPolygon, or of a FeatureCollection of Polygons (an import that names
+/// its fields).
 fn polygons(value: Option<&Value>) -> Vec<Vec<Ring>> {
     let Some(v) = value.filter(|v| !v.is_null()) else { return vec![] };
-    serde_json::from_value::<Vec<Vec<Vec<[f64; 2]>>>>(v["coordinates"].clone())
+    let coordinates = match v["type"].as_str() {
+        Some("FeatureCollection") => v["features"].as_array().unwrap().iter().map(|f| f["geometry"]["coordinates"].clone()).collect(),
+        _ => v["coordinates"].clone(),
+    };
+    serde_json::from_value::<Vec<Vec<Vec<[f64; 2]>>>>(coordinates)
         .unwrap()
         .into_iter()
         .map(|p| {

@@ -135,6 +135,10 @@ impl TrajectoryQuery {
         if let Some(a) = self.altitude_m.filter(|a| !(1.0..=10_000.0).contains(a)) {
             return Err(ApiError::invalid("parameter_out_of_range", "/altitude_m", format!("{a} m is outside the accepted range [1, 10000] m above home")));
         }
+        let (least, most) = export::MAX_WAYPOINTS_RANGE;
+        if let Some(n) = self.max_waypoints.filter(|n| !(least..=most).contains(n)) {
+            return Err(ApiError::invalid("parameter_out_of_range", "/max_waypoints", format!("{n} waypoints is outside the accepted range [{least}, {most}]")));
+        }
         let firmware = match self.firmware.as_deref() {
             None | Some("ardupilot") => Firmware::Ardupilot,
             Some("px4") => Firmware::Px4,

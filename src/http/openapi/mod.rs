@@ -138,6 +138,8 @@ pub fn complete(doc: utoipa::openapi::OpenApi) -> Value {
         ("/api/v1/missions/import", "format", crate::planner::import::format_ids().to_vec()),
         ("/api/v1/plans/{id}/trajectory", "format", crate::planner::export::format_ids()),
         ("/api/v1/plans/{id}/trajectory", "firmware", vec!["ardupilot", "px4"]),
+        ("/api/v1/farm-plans/{id}/flights", "format", crate::planner::export::format_ids()),
+        ("/api/v1/farm-plans/{id}/flights", "firmware", vec!["ardupilot", "px4"]),
     ];
     for (path, name, values) in choices {
         for operation in paths[path].as_object_mut().expect("a path item").values_mut() {
@@ -242,6 +244,7 @@ fn refusals() -> Vec<Refusals> {
         refusals("/api/v1/patrols/next-moves", "post", of(&[RELATIONS]), vec![]),
         refusals("/api/v1/plans/{id}/resume", "post", of(&[RESUMED]), vec![]),
         refusals("/api/v1/plans/{id}/trajectory", "get", of(&[EXPORT]), vec![]),
+        refusals("/api/v1/farm-plans/{id}/flights", "get", of(&[EXPORT]), vec![]),
         refusals("/api/v1/estimates", "post", of(&[ROUTE, WIND]), of(&[PROFILE])),
         refusals("/api/v1/vehicles", "post", of(&[RELATIONS]), vec![]),
         refusals("/api/v1/vehicles/{id}", "put", of(&[RELATIONS]), vec![]),

@@ -7,6 +7,7 @@
 
 use std::collections::BTreeMap;
 
+use geo::{Distance, Euclidean, Line, Point};
 use geojson::{Feature, FeatureCollection, GeometryValue};
 use serde_json::{Value, json};
 
@@ -69,6 +70,7 @@ impl Merged {
     /// `None` when no sortie of the run is flown that day.
     fn of(run: &[DayStretch<'_>]) -> Option<Merged> {
         let (mut areas, mut zones, mut features) = (Vec::new(), Vec::new(), Vec::new());
+        let mut sorties_before = 0;
         for stretch in run {
             let trajectory = stretch.request.trajectory;
             let lengths = sortie_lengths(trajectory);
@@ -78,7 +80,6 @@ impl Merged {
             }
             areas.extend(as_features(stretch.request.mission.area));
             zones.extend(stretch.request.mission.no_fly_zones.map(as_features).unwrap_or_default());
-            let first_new = features.iter().filter_map(|f: &Feature| sortie_of(f)).max().unwrap_or(0);
             let whole = chosen.len() == lengths.len();
             let mut sweeps = Vec::new();
             for feature in &trajectory.features {
@@ -87,7 +88,7 @@ impl Merged {
                     (Some(_), Some(sortie)) if chosen.contains(&sortie) => {
                         let mut f = feature.clone();
                         let rank = chosen.iter().position(|&s| s == sortie).expect("chosen") as u64;
-                        f.set_property("sortie", first_new + rank + 1);
+                        f.set_property("sortie", sorties_before + rank + 1);
                         f.remove_property("vehicle");
                         if kind_of(&f) == Some("sweep") {
                             sweeps.push(f.clone());
@@ -101,6 +102,7 @@ impl Merged {
             for feature in trajectory.features.iter().filter(|f| kind_of(f) == Some("photos")) {
                 features.push(if whole { feature.clone() } else { photos_on(feature, &sweeps) });
             }
+            sorties_before += chosen.len() as u64;
         }
         if features.is_empty() {
             return None;
@@ -168,30 +170,22 @@ fn photos_on(photos: &Feature, sweeps: &[Feature]) -> Feature {
     let Some(origin) = coordinates.first() else { return kept };
     let frame = LocalFrame::new(origin[0], origin[1]);
     let local = |p: &geojson::Position| frame.to_local(p[0], p[1]);
-    let segments: Vec<(geo::Coord, geo::Coord)> = sweeps
+    let segments: Vec<Line> = sweeps
         .iter()
         .filter_map(|s| match s.geometry.as_ref().map(|g| &g.value) {
-            Some(GeometryValue::LineString { coordinates }) => Some(coordinates.windows(2).map(|w| (local(&w[0]), local(&w[1]))).collect::<Vec<_>>()),
+            Some(GeometryValue::LineString { coordinates }) => Some(coordinates.windows(2).map(|w| Line::new(local(&w[0]), local(&w[1]))).collect::<Vec<_>>()),
             _ => None,
         })
         .flatten()
         .collect();
     let on_a_sweep = |p: &geojson::Position| {
-        let q = local(p);
-        segments.iter().any(|&(a, b)| distance_to_segment(q, a, b) < 1.0)
+        let q = Point::from(local(p));
+        segments.iter().any(|segment| Euclidean.distance(&q, segment) < 1.0)
     };
     let taken: Vec<geojson::Position> = coordinates.iter().filter(|p| on_a_sweep(p)).cloned().collect();
     kept.set_property("count", taken.len());
     kept.geometry = Some(geojson::Geometry::new(GeometryValue::MultiPoint { coordinates: taken }));
     kept
-}
-
-fn distance_to_segment(p: geo::Coord, a: geo::Coord, b: geo::Coord) -> f64 {
-    let ab = b - a;
-    let length2 = ab.x * ab.x + ab.y * ab.y;
-    let t = if length2 > 0.0 { (((p - a).x * ab.x + (p - a).y * ab.y) / length2).clamp(0.0, 1.0) } else { 0.0 };
-    let closest = a + ab * t;
-    (p - closest).x.hypot((p - closest).y)
 }
 
 #[cfg(test)]
@@ -212,9 +206,16 @@ mod tests {
 
     #[test]
     fn a_photo_is_on_a_sweep_within_a_metre() {
-        let a = geo::Coord { x: 0.0, y: 0.0 };
-        let b = geo::Coord { x: 10.0, y: 0.0 };
-        assert!(distance_to_segment(geo::Coord { x: 5.0, y: 0.5 }, a, b) < 1.0);
-        assert!((distance_to_segment(geo::Coord { x: 13.0, y: 4.0 }, a, b) - 5.0).abs() < 1e-9);
+        // a sweep 10 m east from (5°E, 52°N); photos 0.5 m and 5 m north of its middle
+        let frame = LocalFrame::new(5.0, 52.0);
+        let at = |x: f64, y: f64| {
+            let p = frame.to_wgs84(geo::Coord { x, y });
+            geojson::Position::from(vec![p[0], p[1]])
+        };
+        let sweep = Feature::from(geojson::Geometry::new(GeometryValue::LineString { coordinates: vec![at(0.0, 0.0), at(10.0, 0.0)] }));
+        let photos = Feature::from(geojson::Geometry::new(GeometryValue::MultiPoint { coordinates: vec![at(5.0, 0.5), at(5.0, 5.0)] }));
+        let kept = photos_on(&photos, &[sweep]);
+        let Some(GeometryValue::MultiPoint { coordinates }) = kept.geometry.map(|g| g.value) else { panic!("photos are a MultiPoint") };
+        assert_eq!(coordinates, vec![at(5.0, 0.5)]);
     }
 }

@@ -206,7 +206,7 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
         }
         Ok(())
     };
-    let headland = || resolved.headland.map(|spec| ground_setup(spec, &resolved.vehicle, &field, &region)).transpose();
+    let headland = || resolved.headland.clone().map(|spec| ground_setup(spec, &resolved.vehicle, &field, &region)).transpose();
     let (lines_checked, ground) = rayon::join(too_many_lines, headland);
     lines_checked?;
     let local = |p: [f64; 2], pointer: &str| -> Result<Coord, InputError> {
@@ -333,6 +333,20 @@ fn ground_setup(spec: params::HeadlandSpec, vehicle: &vehicle::Vehicle, field: &
                 spec.width_m
             ),
         ));
+    }
+    if let Some(payload) = &spec.payload {
+        use geo::{Distance, Euclidean};
+        let reach = params::payload::REFILL_POINT_REACH_M;
+        for (k, p) in payload.refill_points.iter().enumerate() {
+            let off = Euclidean.distance(&geo::Point(field.frame.to_local(p[0], p[1])), region);
+            if off > reach {
+                return Err(InputError::new(
+                    "refill_point_far",
+                    format!("/payload/refill_points/{k}"),
+                    format!("refill point {k} lies {off:.0} m from the field: give points on its boundary or at its entrances, at most {reach:.0} m from it"),
+                ));
+            }
+        }
     }
     Ok(planners::headland::GroundSetup { spec, headland, frame: field.frame })
 }
@@ -593,6 +607,13 @@ fn prepare_resume(
 ) -> Result<(Prepared, resume::Remainder), InputError> {
     if params.planner.as_deref() == Some(INSPECTION) {
         return Err(InputError::new("not_resumable", "/at", "an inspection is not resumed: plan it again with the viewpoints left as its targets"));
+    }
+    if params.payload.is_some() {
+        return Err(InputError::new(
+            "not_resumable",
+            "/at",
+            "a plan with a payload is not resumed yet: the tank's level where it stopped is not carried; plan the field again with the worked part as a hole",
+        ));
     }
     let prepared = prepare(mission, params, profiles, limits)?;
     let resolved = &prepared.resolved;

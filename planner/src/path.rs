@@ -32,6 +32,8 @@ pub struct Piece {
     pub shape: Option<TurnShape>,
     /// A ground vehicle's swath left as a tramline (controlled traffic).
     pub tramline: bool,
+    /// A ground vehicle's tank is refilled (or unloaded) where this piece ends (`payload`).
+    pub refill: bool,
     /// The camera's pose on a pass of an oblique plan; `None`: pointed down, facing the way
     /// the vehicle flies.
     pub look: Option<Look>,
@@ -113,7 +115,7 @@ impl FlightPath {
         if let Some(last) = self.pieces.last() {
             debug_assert_eq!(last.end(), points[0], "pieces must join exactly");
         }
-        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false, look: None });
+        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false, refill: false, look: None });
     }
 
     /// Appends a ground vehicle's turn of `shape`.

@@ -5,7 +5,8 @@
 //! with 3 passes forward, reversing, with slow steering and both: path length (and from the
 //! first swath to the last: Fields2Cover's route drives no headland passes), turns and their shapes,
 //! turns leaving the field or crossing a hole, mainland and headland coverage, planning time
-//! (median of the runs) and peak memory.
+//! (median of the runs) and peak memory; then the sprayer's refill trips against the operator's
+//! rule.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -150,5 +151,45 @@ pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result
             row(&mut out, &format!("{name}, {label}"), plan(&mission, &params, repeats), None);
         }
     }
+    let _ = writeln!(
+        out,
+        "\nThe 2-pass sprayer with a 3 000 l tank, refilled at the first corner of the field's edge: its trips (inside a swath or pass), their non-working metres and legs across the mainland, beside the operator's rule (back only at a swath's end, when what is left cannot finish the next)\n"
+    );
+    out.push_str(TRIPS_HEADER);
+    let names = F2C.iter().map(|f| (f.0.to_string(), real_dir.clone())).chain((0..16).map(|holes| (format!("h{holes:02}_00"), random_dir.to_path_buf())));
+    for (name, dir) in names.filter(|(n, _)| wanted(n)) {
+        let mission = read(&dir.join(format!("{name}.json")))?;
+        let corner = mission["area"]["coordinates"][0].get(0).filter(|c| c[0].is_number()).or_else(|| mission["area"]["coordinates"][0][0].get(0)).cloned().context("a corner")?;
+        for rate in [200.0, 1000.0] {
+            let tank = params(6.0, 7.0, json!({"headland_passes": 2, "payload": {"capacity": 3000, "rate_per_ha": rate, "refill_points": [corner]}}))?;
+            trips_row(&mut out, &name, rate, plan(&mission, &tank, repeats));
+        }
+    }
     Ok(out)
+}
+
+const TRIPS_HEADER: &str = "| field | l/ha | applied l | trips (inside) | non-working m | crossings | rule's trips | rule's m | rule's crossings | saving | ms |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+
+fn trips_row(out: &mut String, name: &str, rate: f64, result: Result<(PlanOutput, f64, f64), String>) {
+    let (o, ms, _) = match result {
+        Ok(r) => r,
+        Err(e) => {
+            let _ = writeln!(out, "| {name} | {rate:.0} | refused: {e} |");
+            return;
+        }
+    };
+    let p = o.stats.ground.and_then(|g| g.payload).unwrap_or_default();
+    let _ = writeln!(
+        out,
+        "| {name} | {rate:.0} | {:.0} | {} ({}) | {:.0} | {} | {} | {:.0} | {} | {:.1} % | {ms:.0} |",
+        p.amount,
+        p.trips,
+        p.trips_inside_pieces,
+        p.trip_distance_m,
+        p.trip_crossings,
+        p.rule_trips,
+        p.rule_trip_distance_m,
+        p.rule_trip_crossings,
+        100.0 * p.saving
+    );
 }

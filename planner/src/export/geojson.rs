@@ -207,6 +207,9 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
                 props["airspeed_mps"] = json!(round(w.airspeed_mps, 2));
                 props["crab_deg"] = json!(round(w.crab_deg, 1));
             }
+            if piece.refill {
+                props["refill"] = json!(true);
+            }
             if piece.tramline {
                 props["tramline"] = json!(true);
             }

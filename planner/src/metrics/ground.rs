@@ -32,6 +32,9 @@ pub struct GroundStats {
     pub turns_crossing_holes: usize,
     /// Swaths left as tramlines (`tramline_every`).
     pub tramlines: usize,
+    /// The refill (or unloading) trips of a vehicle with a `payload`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub payload: Option<crate::route::refill::PayloadStats>,
 }
 
 /// The ground figures of `path`, worked as `swept`, with the headland `spec` over its
@@ -78,5 +81,6 @@ pub fn ground_stats(
         turns_leaving_field: turns.iter().filter(|p| inside_length(&outer, p) < p.length() - 0.01).count(),
         turns_crossing_holes: turns.iter().filter(|p| inside_length(&holes, p) > 0.01).count(),
         tramlines: pieces.iter().filter(|p| p.tramline).count(),
+        payload: None,
     }
 }

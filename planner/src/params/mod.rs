@@ -2,6 +2,7 @@
 
 pub mod guidance;
 pub mod inspection;
+pub mod payload;
 pub mod resume;
 
 use serde::{Deserialize, Serialize};
@@ -62,7 +63,7 @@ pub const COVERAGE_ONLY_MEMBERS: [&str; 17] = [
 ];
 
 /// Members only a ground vehicle's plan reads.
-pub const GROUND_ONLY_MEMBERS: [&str; 6] = ["headland_passes", "headland_width_m", "headland_order", "overlap", "guidance", "tramline_every"];
+pub const GROUND_ONLY_MEMBERS: [&str; 7] = ["headland_passes", "headland_width_m", "headland_order", "overlap", "guidance", "tramline_every", "payload"];
 
 /// Members of plans over terrain (`altitude_reference` `terrain`).
 pub const TERRAIN_MEMBERS: [&str; 3] = ["terrain_tolerance_m", "max_climb_mps", "max_descent_mps"];
@@ -250,6 +251,10 @@ pub struct PlanParams {
     /// swaths driven at their bearing below 180° (`stats.sweep_heading_deg`).
     #[cfg_attr(feature = "schema", schema(minimum = 2, maximum = 100))]
     pub tramline_every: Option<u32>,
+    /// Ground vehicle: a tank that runs empty (a sprayer, a spreader) or full (a harvester),
+    /// and where it is refilled or unloaded: the route breaks off where the trips there and
+    /// back cost the least non-working distance, and drives them along the headland.
+    pub payload: Option<payload::Payload>,
     /// Inspection: what to look at (default: the walls and roof of every structure).
     pub targets: Option<Vec<Target>>,
     /// Inspection: the flight's limit, in metres, seconds or joules.
@@ -316,7 +321,7 @@ pub enum HeadlandOrder {
 }
 
 /// A ground vehicle's headland, validated.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct HeadlandSpec {
     pub width_m: f64,
     pub passes: usize,
@@ -328,6 +333,8 @@ pub struct HeadlandSpec {
     pub guidance: Option<guidance::GuidanceLine>,
     /// Every this many swaths one is a tramline.
     pub tramline_every: Option<usize>,
+    /// The tank and its refill points.
+    pub payload: Option<payload::Payload>,
 }
 
 /// One drone of a fleet: the fields of `vehicle`, and `home`.
@@ -446,7 +453,7 @@ pub fn checked_position(p: &Option<PoseParam>, name: &str) -> Result<Option<[f64
 }
 
 /// A `[lon, lat]` member at `pointer` within the globe's ranges.
-fn check_lon_lat([lon, lat]: [f64; 2], pointer: &str) -> Result<(), InputError> {
+pub(crate) fn check_lon_lat([lon, lat]: [f64; 2], pointer: &str) -> Result<(), InputError> {
     check_range(lon, -180.0, 180.0, &format!("{pointer}/0"), "°")?;
     check_range(lat, -90.0, 90.0, &format!("{pointer}/1"), "°")
 }
@@ -505,7 +512,7 @@ impl PlanParams {
         // a ground vehicle's swaths are ended by its headland spec; an aircraft's lines run
         // full width unless asked
         let aircraft_ends = if headland.is_some() { SwathEnds::FullWidth } else { self.swath_ends.unwrap_or(SwathEnds::FullWidth) };
-        let line_spacing_m = match (headland, self.line_spacing_m, &camera) {
+        let line_spacing_m = match (&headland, self.line_spacing_m, &camera) {
             (Some(h), _, _) => h.working_width_m * (1.0 - self.overlap.unwrap_or(0.0)),
             (None, Some(s), _) => s,
             (None, None, Some(c)) => c.line_spacing_m,
@@ -776,11 +783,14 @@ impl PlanParams {
                 self.overlap.is_some(),
                 self.guidance.is_some(),
                 self.tramline_every.is_some(),
+                self.payload.is_some(),
             ];
             return match first_given(&GROUND_ONLY_MEMBERS, &given) {
-                Some(pointer) => {
-                    Err(InputError::new("not_a_ground_vehicle", pointer, "headlands, swath overlap, guidance lines and tramlines are for ground vehicles (vehicle kind ground)"))
-                }
+                Some(pointer) => Err(InputError::new(
+                    "not_a_ground_vehicle",
+                    pointer,
+                    "headlands, swath overlap, guidance lines, tramlines and payloads are for ground vehicles (vehicle kind ground)",
+                )),
                 None => Ok(None),
             };
         };
@@ -792,6 +802,9 @@ impl PlanParams {
         let guidance = self.guidance.map(|g| g.validate()).transpose()?;
         if let Some(n) = self.tramline_every {
             check_range(n as f64, 2.0, 100.0, "/tramline_every", "swaths")?;
+        }
+        if let Some(p) = &self.payload {
+            p.validate()?;
         }
         let step = ground.working_width_m * (1.0 - overlap);
         if let Some(p) = self.headland_passes
@@ -821,6 +834,7 @@ impl PlanParams {
             working_width_m: ground.working_width_m,
             guidance,
             tramline_every: self.tramline_every.map(|n| n as usize),
+            payload: self.payload.clone(),
         }))
     }
 

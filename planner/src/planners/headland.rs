@@ -14,6 +14,7 @@ use crate::params::{HeadlandOrder, HeadlandSpec};
 use crate::path::{FlightPath, PieceKind};
 use crate::route::headland_route::{HeadlandRoutes, SwathLinks, Way, connect_anywhere, order, ring_pose};
 use crate::route::line_tour::{Line, entry, exit};
+use crate::route::refill::{Tank, plan_trips};
 use crate::sweep::ends::SwathEnds;
 use crate::sweep::{fewest_lines_direction, from_sweep_frame, sweep};
 use crate::turn::dubins::Pose;
@@ -130,7 +131,18 @@ impl Planner for HeadlandPlanner {
         if let Some(end) = problem.end {
             drive.go_to(Pose::at(end, problem.end_heading.unwrap_or_else(|| drive.at.map_or(angle, |p| p.theta))));
         }
-        Ok(PlannedPath { swept: Some(swept), ..PlannedPath::new(drive.path, angle, 1) })
+        let (path, payload) = match &setup.spec.payload {
+            Some(payload) => {
+                let tank =
+                    Tank { capacity: payload.capacity, per_m2: payload.per_m2(), stations: payload.refill_points.iter().map(|p| setup.frame.to_local(p[0], p[1])).collect() };
+                let (path, stats) = plan_trips(&drive.path, &tank, &routes).ok_or_else(|| {
+                    PlanError::Infeasible("no way inside the field leads from the swaths to a refill point: give refill points on the field's boundary or at its entrances".into())
+                })?;
+                (path, Some(stats))
+            }
+            None => (drive.path, None),
+        };
+        Ok(PlannedPath { swept: Some(swept), payload, ..PlannedPath::new(path, angle, 1) })
     }
 }
 

@@ -83,11 +83,13 @@ pub struct PlannedPath {
     /// Pieces a sortie may end before instead of where the battery runs out (a resumed plan's:
     /// its original's sortie ends); the split that flies shorter is kept.
     pub sortie_breaks: Vec<usize>,
+    /// A ground vehicle's refill trips (`payload`): what they cost.
+    pub payload: Option<crate::route::refill::PayloadStats>,
 }
 
 impl PlannedPath {
     pub fn new(path: FlightPath, sweep_angle: f64, cells: usize) -> Self {
-        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new(), optimality: None, swept: None, sortie_breaks: Vec::new() }
+        PlannedPath { path, sweep_angle, cells, planner: None, alternatives: Vec::new(), optimality: None, swept: None, sortie_breaks: Vec::new(), payload: None }
     }
 }
 

@@ -380,7 +380,7 @@ fn nearest_vehicle(pieces: &[Stored], track: &[Coord]) -> Option<usize> {
 }
 
 fn piece(kind: PieceKind, points: Vec<Coord>) -> Piece {
-    Piece { kind, points, half_swath_m: 0.0, z: Vec::new(), shape: None, tramline: false, look: None }
+    Piece { kind, points, half_swath_m: 0.0, z: Vec::new(), shape: None, tramline: false, refill: false, look: None }
 }
 
 /// The stored piece `p` as a piece of the route left, along `points` (all or part of its own).

@@ -213,6 +213,35 @@ impl HeadlandRoutes {
         })
     }
 
+    /// `pose` with its ramps onto the roads (`leaving`: the vehicle sets off from it) or off
+    /// them (it arrives at it), inside the headland and inside the field.
+    pub fn reach(&self, pose: Pose, leaving: bool) -> Reach {
+        let [headland, field] = <[Vec<Ramp>; 2]>::try_from(self.ramps_within(pose, leaving, &[Bounds::Headland, Bounds::Field])).expect("one list per bounds");
+        Reach { pose, headland, field }
+    }
+
+    /// From `from` to `to` (each a [`Self::reach`]) keeping off the mainland: a manoeuvre in the
+    /// headland, else along a headland pass; where neither joins them, across the field
+    /// (`true`).
+    pub fn drive(&self, from: &Reach, to: &Reach) -> Option<(Way, bool)> {
+        let manoeuvres = self.steering.manoeuvres(from.pose, to.pose);
+        let direct = |bounds: Bounds| manoeuvres.iter().find_map(|m| self.cleared(m, bounds).map(|points| Way { points, length: m.length, shape: None }));
+        let on_headland = direct(Bounds::Headland).or_else(|| self.by_road(&from.headland, &to.headland));
+        on_headland.map(|w| (w, false)).or_else(|| direct(Bounds::Field).or_else(|| self.by_road(&from.field, &to.field)).map(|w| (w, true)))
+    }
+
+    /// The two poses, one each way along it, of the road vertex nearest `at`.
+    pub fn nearest_road_poses(&self, at: Coord) -> Option<[Pose; 2]> {
+        let (_, road, vertex) = self
+            .roads
+            .iter()
+            .enumerate()
+            .flat_map(|(k, r)| r.points[..r.points.len() - 1].iter().enumerate().map(move |(i, &p)| (distance(p, at), k, i)))
+            .min_by(|a, b| a.0.total_cmp(&b.0))?;
+        let ring = &self.roads[road].points;
+        Some([ring_pose(ring, vertex, true), ring_pose(ring, vertex, false)])
+    }
+
     /// The shortest way onto a road by one of `on`, along it, and off by one of `off`.
     pub fn by_road(&self, on: &[Ramp], off: &[Ramp]) -> Option<Way> {
         self.best_road(on, off).map(|r| self.draw(&r))
@@ -293,6 +322,13 @@ impl HeadlandRoutes {
         }
         out
     }
+}
+
+/// A pose and its ramps onto the roads or off them ([`HeadlandRoutes::reach`]).
+pub struct Reach {
+    pub pose: Pose,
+    headland: Vec<Ramp>,
+    field: Vec<Ramp>,
 }
 
 /// A way along a road chosen by [`HeadlandRoutes::best_road`]: its points are drawn only for

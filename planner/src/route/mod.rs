@@ -11,6 +11,7 @@ pub mod gtsp;
 pub mod headland_route;
 pub mod line_tour;
 pub mod nearest_cell;
+pub mod refill;
 pub mod visibility;
 
 use geo::Coord;

@@ -411,6 +411,7 @@ mod tests {
                 z: vec![],
                 shape: None,
                 tramline: false,
+                refill: false,
                 look: None,
             }],
         };

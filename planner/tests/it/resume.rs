@@ -42,6 +42,7 @@ fn sweeps(pieces: impl IntoIterator<Item = (PieceKind, Vec<Coord>)>, half: f64) 
         z: Vec::new(),
         shape: None,
         tramline: false,
+        refill: false,
         look: None,
     });
     FlightPath { pieces: pieces.collect() }

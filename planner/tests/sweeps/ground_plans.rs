@@ -12,26 +12,26 @@ use serde_json::{Value, json};
 use crate::fixtures::fixture;
 use crate::planner_properties::{collect_positions, star_field, to_local_mp};
 
-fn ground(width: f64, radius: f64, extra: Value) -> PlanParams {
+pub(crate) fn ground(width: f64, radius: f64, extra: Value) -> PlanParams {
     let mut p = json!({"vehicle": {"kind": "ground", "working_width_m": width, "turn_radius_m": radius}});
     p.as_object_mut().unwrap().extend(extra.as_object().unwrap().clone());
     serde_json::from_value(p).unwrap()
 }
 
-fn run(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Result<PlanOutput, PlanError> {
+pub(crate) fn run(area: &Value, nfz: Option<&Value>, params: &PlanParams) -> Result<PlanOutput, PlanError> {
     let mission = MissionGeometry { no_fly_zones: nfz, ..MissionGeometry::area(area) };
     planner::plan(&mission, params, &builtin_profiles(), &FieldLimits::default(), &|_| true, &Stop::never())
 }
 
 /// The local frame the planner uses for `area`.
-fn frame_of(area: &Value) -> LocalFrame {
+pub(crate) fn frame_of(area: &Value) -> LocalFrame {
     let mut positions = Vec::new();
     collect_positions(area, &mut positions);
     LocalFrame::centred_on(positions.iter().copied())
 }
 
 /// The flown pieces in the local frame of the field, with their kind and turn type.
-fn pieces(out: &PlanOutput, frame: &LocalFrame) -> Vec<(String, Option<String>, Vec<Coord>)> {
+pub(crate) fn pieces(out: &PlanOutput, frame: &LocalFrame) -> Vec<(String, Option<String>, Vec<Coord>)> {
     out.trajectory
         .features
         .iter()
@@ -87,7 +87,7 @@ fn rounding_slack(r: f64) -> f64 {
 /// Checks a plan of `area` (ponds and zones in `holes`): nothing leaves the field or enters a
 /// hole, no turn is tighter than `radius`, the mainland (at least `mainland_min`) and the
 /// headland are worked.
-fn check(area: &Value, holes: &MultiPolygon, out: &PlanOutput, radius: f64, mainland_min: f64, name: &str) -> Result<(), TestCaseError> {
+pub(crate) fn check(area: &Value, holes: &MultiPolygon, out: &PlanOutput, radius: f64, mainland_min: f64, name: &str) -> Result<(), TestCaseError> {
     let frame = frame_of(area);
     let field = to_local_mp(&frame, area);
     // a centimetre of slack for the round trip through WGS84

@@ -7,3 +7,4 @@ mod fixtures;
 mod fleets;
 mod ground_plans;
 mod planner_properties;
+mod refill_trips;

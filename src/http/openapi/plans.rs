@@ -91,11 +91,13 @@ pub fn apply(schemas: &mut Value) {
     if let Some(members) = schemas["PlanParams"]["properties"].as_object_mut() {
         members.remove("guidance");
     }
-    // a landing site is `[lon, lat]`: the derive writes a fixed-length array inside a list
+    // a landing site and a refill point are `[lon, lat]`: the derive writes a fixed-length array inside a list
     // without its length (CI's fuzz sent `[]`)
     let site = &mut schemas["PlanParams"]["properties"]["landing_sites"]["items"];
     site["minItems"] = json!(2);
     site["maxItems"] = json!(2);
+    let lon_lat = [json!({"type": "number", "minimum": -180.0, "maximum": 180.0}), json!({"type": "number", "minimum": -90.0, "maximum": 90.0})];
+    schemas["Payload"]["properties"]["refill_points"]["items"] = json!({"type": "array", "minItems": 2, "maxItems": 2, "prefixItems": lon_lat});
     // a planner of the registry (CI's fuzz sent a name no planner has)
     let planner = &mut schemas["PlanParams"]["properties"]["planner"];
     let ids: Vec<&str> = crate::planner::planners::registry().iter().map(|p| p.id()).chain([INSPECTION]).collect();

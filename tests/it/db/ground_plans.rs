@@ -130,3 +130,52 @@ async fn guidance_lines_round_trip_through_the_tractor_terminal() {
     }
     app.stop().await;
 }
+
+/// The sprayer with a 3 000 l tank: its route breaks off where the tank runs dry and
+/// drives to the refill point at the field's corner; a refill point far from the field and a
+/// payload on a drone are refused with the member to change.
+#[tokio::test]
+async fn a_sprayer_with_a_3000_l_tank_plans_its_refill_trips() {
+    let app = TestApp::spawn().await;
+    let mission = common::mission_body("real-fields/nl-parcel-b.json");
+    let corner = mission["area"]["coordinates"][0][0].clone();
+    let id = app.create_mission(&mission).await;
+    let sprayer = |refill: Value| {
+        json!({"vehicle": {"profile": "tractor_sprayer", "working_width_m": 6, "min_turn_radius_m": 7}, "headland_passes": 2,
+            "payload": {"capacity": 3000, "rate_per_ha": 1500, "refill_points": [refill]}})
+    };
+    let (status, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &sprayer(corner.clone())).await;
+    assert_eq!(status, 202, "{plan}");
+    let plan_id = plan["id"].as_str().unwrap().to_owned();
+    let done = app.wait_finished(&plan_id).await;
+    assert_eq!(done["status"], "succeeded", "{done}");
+    let payload = &done["stats"]["ground"]["payload"];
+    let (amount, trips) = (payload["amount"].as_f64().unwrap(), payload["trips"].as_u64().unwrap());
+    assert!(trips as f64 >= (amount / 3000.0).ceil() - 1.0 && trips >= 1, "{payload}");
+    assert!(payload["trip_distance_m"].as_f64().unwrap() <= payload["rule_trip_distance_m"].as_f64().unwrap() + 1e-6, "{payload}");
+    // every trip ends at the corner
+    let r = app.client.get(app.url(&format!("/api/v1/plans/{plan_id}/trajectory"))).send().await.unwrap();
+    let trajectory: Value = r.json().await.unwrap();
+    let ends: Vec<Value> = trajectory["features"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["properties"]["refill"] == true)
+        .map(|f| f["geometry"]["coordinates"].as_array().unwrap().last().unwrap().clone())
+        .collect();
+    assert_eq!(ends.len() as u64, trips);
+    let (frame, _) = outer_ring_in_local_frame(&mission["area"]);
+    let at = |p: &Value| frame.to_local(p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+    assert!(ends.iter().all(|e| { (at(e) - at(&corner)).x.hypot((at(e) - at(&corner)).y) < 0.05 }), "{ends:?}");
+    // resuming it is refused in words (the tank's level at the cut is not carried)
+    let (status, problem) = app.post(&format!("/api/v1/plans/{plan_id}/resume"), &json!({"at": {"seq": 3, "fraction": 0.5}})).await;
+    assert_eq!((status, problem["code"].as_str()), (422, Some("not_resumable")), "{problem}");
+    // a kilometre east of the corner: too far
+    let far = frame.to_wgs84(at(&corner) + Coord { x: 1000.0, y: 0.0 });
+    let (status, problem) = app.post(&format!("/api/v1/missions/{id}/plans"), &sprayer(json!(far))).await;
+    assert_eq!((status, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("refill_point_far"), Some("/payload/refill_points/0")), "{problem}");
+    let drone = json!({"line_spacing_m": 20, "payload": {"capacity": 10, "rate_per_ha": 10, "refill_points": [corner]}});
+    let (status, problem) = app.post(&format!("/api/v1/missions/{id}/plans"), &drone).await;
+    assert_eq!((status, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("not_a_ground_vehicle"), Some("/payload")), "{problem}");
+    app.stop().await;
+}

@@ -1,0 +1,108 @@
+//! Refill trips (`payload`) over generated fields with ponds: the tank never runs dry, every
+//! trip reaches a refill point, the field is still worked inside its edges and round its
+//! ponds, and the chosen breaks cost no more than the operator's rule.
+
+use geo::{Coord, MultiPolygon};
+use proptest::prelude::*;
+use serde_json::{Value, json};
+
+use crate::ground_plans::{check, frame_of, ground, run};
+use crate::planner_properties::{star_field, to_local_mp};
+use coverplan_planner::PlanOutput;
+use coverplan_planner::frame::LocalFrame;
+
+/// Each piece of the trajectory: its kind, whether the tank is refilled where it ends, its
+/// points in `frame`.
+fn trajectory(out: &PlanOutput, frame: &LocalFrame) -> Vec<(String, bool, Vec<Coord>)> {
+    let lines = out.trajectory.features.iter().filter_map(|f| {
+        let p = f.properties.as_ref()?;
+        let geojson::GeometryValue::LineString { coordinates } = &f.geometry.as_ref()?.value else { return None };
+        let refill = p.get("refill").and_then(Value::as_bool).unwrap_or(false);
+        Some((p.get("kind")?.as_str()?.to_owned(), refill, coordinates.iter().map(|c| frame.to_local(c[0], c[1])).collect()))
+    });
+    lines.collect()
+}
+
+fn length(points: &[Coord]) -> f64 {
+    points.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+
+    /// Star-shaped fields of 2 to 30 ha with up to three ponds, a sprayer of 3 to 12 m with
+    /// one or two passes, a tank holding a sixth to two thirds of what the field takes, and one
+    /// or two refill points at corners of the field's edge.
+    #[test]
+    fn the_tank_never_runs_dry_and_every_trip_reaches_a_refill_point(
+        lon in -179.0..179.0f64,
+        lat in -60.0..60.0f64,
+        radius in 80.0..300.0f64,
+        shape in prop::collection::vec((0.7..1.0f64, -1.0..1.0f64), 5..10),
+        ponds in 0usize..4,
+        width in 3.0..12.0f64,
+        turn_radius in 2.0..8.0f64,
+        passes in 1u32..3,
+        reverse in any::<bool>(),
+        share in 0.15..0.7f64,
+        corners in prop::collection::vec(0usize..10, 1..3),
+        harvest in any::<bool>(),
+    ) {
+        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
+        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
+        let ring = area["coordinates"][0].as_array().expect("a ring").clone();
+        let points: Vec<Value> = corners.iter().map(|&c| ring[c % (ring.len() - 1)].clone()).collect();
+        let headland = (passes as f64 * width).max(turn_radius + 1.0);
+        let rate = 200.0;
+        // the field's area, roughly: what the tank's share is of
+        let frame = frame_of(&area);
+        let field = to_local_mp(&frame, &area);
+        let amount = geo::Area::unsigned_area(&field) / 10_000.0 * rate;
+        let capacity = (share * amount).max(1.0);
+        let mut params = ground(width, turn_radius, json!({
+            "headland_width_m": headland,
+            "payload": {"capacity": capacity, "rate_per_ha": rate, "harvest": harvest, "refill_points": points},
+        }));
+        params.vehicle.reverse_allowed = Some(reverse);
+        let name = format!("star at {lon},{lat} r={radius}, {ponds} ponds, {width:.1} m, radius {turn_radius:.1}, reverse {reverse}, tank {capacity:.0} of {amount:.0}");
+        let out = match run(&area, None, &params) {
+            Ok(out) => out,
+            Err(coverplan_planner::PlanError::Input(e)) if e.code == "field_too_narrow" => return Ok(()),
+            Err(e) => return Err(TestCaseError::fail(format!("{name}: {e}"))),
+        };
+        let holes = to_local_mp(&frame, &nfz);
+        check(&area, &if holes.0.is_empty() { MultiPolygon(vec![]) } else { holes }, &out, turn_radius, 0.99, &name)?;
+        let stations: Vec<Coord> = points.iter().map(|p| frame.to_local(p[0].as_f64().unwrap(), p[1].as_f64().unwrap())).collect();
+        // the tank, measured from the trajectory alone
+        let per_m2 = rate / 10_000.0;
+        let mut left = capacity;
+        let (mut worked, mut trips) = (0.0, 0);
+        // positions are written to 1e-7° (about a centimetre): each piece's length within 2 cm
+        let (mut slack, rounding) = (0.0, 0.02 * width * per_m2);
+        for (kind, refill, points) in trajectory(&out, &frame) {
+            if kind == "sweep" || kind == "headland" {
+                let used = length(&points) * width * per_m2;
+                left -= used;
+                worked += used;
+                slack += rounding;
+                prop_assert!(left >= -slack, "{}: the tank runs dry ({} left)", name, left);
+            }
+            if refill {
+                let end = *points.last().unwrap();
+                let near = stations.iter().map(|s| (end - *s).x.hypot((end - *s).y)).fold(f64::INFINITY, f64::min);
+                prop_assert!(near < 0.05, "{}: a trip ends {} m from the nearest refill point", name, near);
+                left = capacity;
+                slack = 0.0;
+                trips += 1;
+            }
+        }
+        let figures = out.stats.ground.as_ref().and_then(|g| g.payload.as_ref()).expect("payload figures");
+        prop_assert_eq!(figures.trips, trips, "{}", name);
+        prop_assert!((figures.amount - worked).abs() <= 1e-3 * worked, "{}: {} reported, {} worked", name, figures.amount, worked);
+        prop_assert!(trips as f64 >= (worked / capacity).ceil() - 1.0, "{}: {} trips for {} worked from a tank of {}", name, trips, worked, capacity);
+        // fewer crossings of the crop first, then shorter
+        let ours = (figures.trip_crossings, figures.trip_distance_m);
+        let rule = (figures.rule_trip_crossings, figures.rule_trip_distance_m);
+        prop_assert!(ours.0 < rule.0 || (ours.0 == rule.0 && ours.1 <= rule.1 + 1e-6), "{}: {:?} against the rule's {:?}", name, ours, rule);
+    }
+}

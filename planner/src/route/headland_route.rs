@@ -230,16 +230,11 @@ impl HeadlandRoutes {
         on_headland.map(|w| (w, false)).or_else(|| direct(Bounds::Field).or_else(|| self.by_road(&from.field, &to.field)).map(|w| (w, true)))
     }
 
-    /// The two poses, one each way along it, of the road vertex nearest `at`.
-    pub fn nearest_road_poses(&self, at: Coord) -> Option<[Pose; 2]> {
-        let (_, road, vertex) = self
-            .roads
-            .iter()
-            .enumerate()
-            .flat_map(|(k, r)| r.points[..r.points.len() - 1].iter().enumerate().map(move |(i, &p)| (distance(p, at), k, i)))
-            .min_by(|a, b| a.0.total_cmp(&b.0))?;
-        let ring = &self.roads[road].points;
-        Some([ring_pose(ring, vertex, true), ring_pose(ring, vertex, false)])
+    /// The poses, each way along its road, of the `n` ramp stops nearest `at`.
+    pub fn stops_near(&self, at: Coord, n: usize) -> Vec<Pose> {
+        let mut near: Vec<(f64, usize, usize)> = self.stops.iter().map(|&(road, vertex, p)| (distance(p, at), road, vertex)).collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        near.into_iter().take(n).flat_map(|(_, road, vertex)| [true, false].map(|forward| ring_pose(&self.roads[road].points, vertex, forward))).collect()
     }
 
     /// The shortest way onto a road by one of `on`, along it, and off by one of `off`.

@@ -53,6 +53,9 @@ pub struct PayloadStats {
 /// What a leg that crosses the mainland costs the search on top of its length, metres: more
 /// than any trip saves, so that the fewest crossings come first.
 const CROSSING_PENALTY_M: f64 = 1.0e6;
+/// Headland stops a refill point is reached from, the nearest: at a sharp corner of the
+/// headland no ramp reaches the nearest one.
+const STOPS_PER_POINT: usize = 4;
 /// Shortest stretch of a piece a break inside it leaves on either side, metres: a break nearer
 /// an end is one at that end.
 const SHORTEST_STRETCH_M: f64 = 0.5;
@@ -116,8 +119,9 @@ impl Leg {
 }
 
 /// The legs between each working piece and each refill point: from its exit (`out`) and to its
-/// entry (`back`), per point; the point is reached from the nearest headland road, either way
-/// along it, by a straight stretch (where the vehicle turns round off the field).
+/// entry (`back`), per point; the point is reached from one of the headland stops nearest it,
+/// either way along its road, by a straight stretch (where the vehicle turns round off the
+/// field).
 struct Legs {
     out: Vec<Vec<Option<Leg>>>,
     back: Vec<Vec<Option<Leg>>>,
@@ -126,9 +130,11 @@ struct Legs {
 impl Legs {
     fn new(work: &Work<'_>, routes: &HeadlandRoutes, stations: &[Coord]) -> Self {
         let at_station: Vec<Vec<(Reach, Reach)>> =
-            stations.iter().map(|&s| routes.nearest_road_poses(s).into_iter().flatten().map(|pose| (routes.reach(pose, false), routes.reach(pose, true))).collect()).collect();
-        let best = |ways: Vec<Option<(Way, bool)>>| {
-            ways.into_iter().flatten().map(|(w, crossing)| Leg { length: w.length, points: w.points, crossing }).min_by(|a, b| a.cost().total_cmp(&b.cost()))
+            stations.iter().map(|&s| routes.stops_near(s, STOPS_PER_POINT).into_iter().map(|pose| (routes.reach(pose, false), routes.reach(pose, true))).collect()).collect();
+        // the shortest of `ways`, each with its stretch to or from the refill point `at`
+        let best = |ways: Vec<Option<(Way, bool)>>, at: Coord, leaving: bool| {
+            let legs = ways.into_iter().flatten().map(|(w, crossing)| with_stub(Leg { length: w.length, points: w.points, crossing }, at, leaving));
+            legs.min_by(|a, b| a.cost().total_cmp(&b.cost()))
         };
         let (out, back) = work
             .at
@@ -142,7 +148,7 @@ impl Legs {
                         .zip(&at_station)
                         .map(|(&s, poses)| {
                             let ways = poses.iter().map(|(arrive, depart)| if leaving { routes.drive(&from, arrive) } else { routes.drive(depart, &to) }).collect();
-                            best(ways).map(|leg| with_stub(leg, s, leaving))
+                            best(ways, s, leaving)
                         })
                         .collect()
                 };
@@ -206,7 +212,7 @@ impl Costs {
 /// The breaks of least total cost that keep the tank from running dry: a shortest path over
 /// the places the tank is full again, in the order they are worked. `start[k]`: what is worked
 /// before piece `k`.
-fn cheapest_breaks(work: &Work<'_>, costs: &Costs, (initial, capacity): (f64, f64)) -> Option<Vec<Break>> {
+fn cheapest_breaks(work: &Work<'_>, costs: &Costs, capacity: f64) -> Option<Vec<Break>> {
     use std::collections::BTreeMap;
     let n = work.at.len();
     let start: Vec<f64> = std::iter::once(0.0)
@@ -230,7 +236,7 @@ fn cheapest_breaks(work: &Work<'_>, costs: &Costs, (initial, capacity): (f64, f6
     while let Some((here, full)) = open.pop_first() {
         done.insert(here, full);
         let (piece, into) = (here.0, f64::from_bits(here.1));
-        let reach = start[piece] + into + if full.came.is_some() { capacity } else { initial } + eps;
+        let reach = start[piece] + into + capacity + eps;
         let mut relax = |to: (usize, u64), b: Break| {
             let Some((_, c)) = costs.of(b) else { return };
             let cost = full.cost + c;
@@ -270,21 +276,27 @@ fn cheapest_breaks(work: &Work<'_>, costs: &Costs, (initial, capacity): (f64, f6
 }
 
 /// The operator's rule: back only at a swath's end, when what is left cannot finish the next
-/// piece; inside a piece only where a full tank cannot finish it.
-fn rule_breaks(work: &Work<'_>, (initial, capacity): (f64, f64)) -> Vec<Break> {
-    let mut left = initial;
+/// piece (from the latest end since the last trip that a trip leaves from: `priced`); inside a
+/// piece only where a full tank cannot finish it.
+fn rule_breaks(work: &Work<'_>, capacity: f64, priced: impl Fn(usize) -> bool) -> Vec<Break> {
+    let mut left = capacity;
+    // the last piece a trip left before or inside
+    let mut last = 0;
     let mut out = Vec::new();
     for k in 0..work.at.len() {
         let need = work.amount[k];
         if need > left + 1e-9 && k > 0 && left < capacity {
-            out.push(Break::Before(k));
-            left = capacity;
+            let j = (last + 1..=k).rev().find(|&j| priced(j)).unwrap_or(k);
+            out.push(Break::Before(j));
+            left = capacity - work.amount[j..k].iter().sum::<f64>();
+            last = j;
         }
         let mut worked = 0.0;
         while need - worked > left + 1e-9 {
             worked += left;
             out.push(Break::Inside(k, worked / need * work.length[k]));
             left = capacity;
+            last = k;
         }
         left -= need - worked;
     }
@@ -327,21 +339,19 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
     let work = Work::new(path, tank.per_m2);
     let amount: f64 = work.amount.iter().sum();
     let mut stats = PayloadStats { capacity: tank.capacity, amount, ..PayloadStats::default() };
-    // full at the start
-    let tank_at = (tank.capacity, tank.capacity);
     if amount <= tank.capacity || work.at.is_empty() {
         return Some((path.clone(), stats));
     }
     let legs = Legs::new(&work, routes, &tank.stations);
     let costs = Costs::new(&work, &legs);
-    let breaks = cheapest_breaks(&work, &costs, tank_at)?;
+    let breaks = cheapest_breaks(&work, &costs, tank.capacity)?;
     // the non-working metres of `breaks`, and their legs across the mainland
     let measure = |breaks: &[Break]| -> (f64, usize) {
         let crossings: usize = breaks.iter().filter_map(|&b| costs.of(b).map(|(s, _)| crossings(&legs, b, s))).sum();
         let cost: f64 = breaks.iter().map(|&b| costs.of(b).map_or(f64::INFINITY, |(_, c)| c)).sum();
         (cost - crossings as f64 * CROSSING_PENALTY_M, crossings)
     };
-    let rule = rule_breaks(&work, tank_at);
+    let rule = rule_breaks(&work, tank.capacity, |k| costs.before[k].is_some());
     stats.trips = breaks.len();
     stats.trips_inside_pieces = breaks.iter().filter(|b| matches!(b, Break::Inside(..))).count();
     (stats.trip_distance_m, stats.trip_crossings) = measure(&breaks);
@@ -457,12 +467,12 @@ mod tests {
         let path = route(&[100.0, 100.0, 100.0, 100.0]);
         let work = Work::new(&path, 1.0);
         let c = costs(&[f64::NAN, 10.0, 100.0, 100.0], &[500.0; 4]);
-        assert_eq!(cheapest_breaks(&work, &c, (250.0, 250.0)).expect("reachable"), vec![Break::Before(2)]);
+        assert_eq!(cheapest_breaks(&work, &c, 250.0).expect("reachable"), vec![Break::Before(2)]);
         // with a trip before the 4th at 20, two cheap trips beat one dear one
         let c = costs(&[f64::NAN, 10.0, 100.0, 20.0], &[500.0; 4]);
-        assert_eq!(cheapest_breaks(&work, &c, (250.0, 250.0)).expect("reachable"), vec![Break::Before(1), Break::Before(3)]);
+        assert_eq!(cheapest_breaks(&work, &c, 250.0).expect("reachable"), vec![Break::Before(1), Break::Before(3)]);
         // the rule goes back before the 3rd (the tank holds 50 after two swaths)
-        assert_eq!(rule_breaks(&work, (250.0, 250.0)), vec![Break::Before(2)]);
+        assert_eq!(rule_breaks(&work, 250.0, |_| true), vec![Break::Before(2)]);
     }
 
     #[test]
@@ -471,34 +481,38 @@ mod tests {
         let path = route(&[100.0, 100.0]);
         let work = Work::new(&path, 1.0);
         let c = costs(&[f64::NAN, 80.0], &[500.0, 30.0]);
-        let breaks = cheapest_breaks(&work, &c, (150.0, 150.0)).expect("reachable");
+        let breaks = cheapest_breaks(&work, &c, 150.0).expect("reachable");
         assert_eq!(breaks.len(), 1);
         let Break::Inside(1, at) = breaks[0] else { panic!("{breaks:?}") };
         assert!((at - 50.0).abs() < 1e-6, "{at}");
         // a swath longer than the tank is broken inside by the rule too
-        assert_eq!(rule_breaks(&Work::new(&route(&[400.0]), 1.0), (150.0, 150.0)), vec![Break::Inside(0, 150.0), Break::Inside(0, 300.0)]);
+        assert_eq!(rule_breaks(&Work::new(&route(&[400.0]), 1.0), 150.0, |_| true), vec![Break::Inside(0, 150.0), Break::Inside(0, 300.0)]);
     }
 
     #[test]
     fn no_tank_runs_dry_and_the_cheapest_breaks_cost_no_more_than_the_rule() {
         use proptest::prelude::*;
         let mut runner = proptest::test_runner::TestRunner::default();
-        let case = (proptest::collection::vec(5.0f64..200.0, 1..30), proptest::collection::vec(0.0f64..300.0, 60), 50.0f64..400.0, 0.05f64..1.0);
+        let case = (proptest::collection::vec(5.0f64..200.0, 1..30), proptest::collection::vec(0.0f64..300.0, 60), 50.0f64..400.0);
         runner
-            .run(&case, |(lengths, prices, capacity, share)| {
-                // a route that starts with the tank part full, as a resumed one may
-                let tank = (capacity * share, capacity);
+            .run(&case, |(lengths, prices, capacity)| {
                 let path = route(&lengths);
                 let work = Work::new(&path, 1.0);
                 let n = lengths.len();
-                let c = costs(&prices[..n], &prices[30..30 + n]);
-                let breaks = cheapest_breaks(&work, &c, tank).expect("every break is priced");
-                let rule = rule_breaks(&work, tank);
-                let total = |b: &[Break]| b.iter().map(|&b| c.of(b).expect("priced").1).sum::<f64>();
+                // a sixth of the breaks have no trip (no way from there to a refill point)
+                let priced = |p: &[f64]| p.iter().map(|&c| (c < 250.0).then_some((0, c))).collect();
+                let c = Costs { before: priced(&prices[..n]), inside: priced(&prices[30..30 + n]) };
+                let rule = rule_breaks(&work, capacity, |k| c.before[k].is_some());
+                let total = |b: &[Break]| b.iter().map(|&b| c.of(b).map_or(f64::INFINITY, |(_, x)| x)).sum::<f64>();
+                let Some(breaks) = cheapest_breaks(&work, &c, capacity) else {
+                    // only where the rule finds no trips either
+                    prop_assert!(total(&rule).is_infinite(), "{:?}", rule);
+                    return Ok(());
+                };
                 prop_assert!(total(&breaks) <= total(&rule) + 1e-6, "{:?} {:?}", breaks, rule);
                 for b in [&breaks, &rule] {
                     let tanks = worked_per_tank(&work, b);
-                    prop_assert!(tanks[0] <= tank.0 + 1e-6 && tanks.iter().all(|&t| t <= capacity + 1e-6), "{:?}: {:?}", b, tanks);
+                    prop_assert!(tanks.iter().all(|&t| t <= capacity + 1e-6), "{:?}: {:?}", b, tanks);
                     prop_assert!((tanks.iter().sum::<f64>() - lengths.iter().sum::<f64>()).abs() < 1e-6);
                 }
                 Ok(())

@@ -392,9 +392,83 @@ impl Stages<'_> {
                 p.map(|(_, flight)| flight)
             })
             .collect();
-        Ok((flights, FleetPlan { departures, layers, areas, altitude_m: resolved.altitude_m }))
+        Ok((flights, FleetPlan { departures, layers, areas, altitude_m: resolved.altitude_m, conflict_m: fleet::timeline::CONFLICT_DISTANCE_M }))
+    }
+
+    /// Plans several ground machines in one field (docs/methods.md, ground vehicles §6): the
+    /// swaths laid once and shared out in bands ([`headland::share_out`]), each band (and the
+    /// first machine's headland passes) routed for the machine's own turns; each machine sets
+    /// off once it meets no other closer than the working width at the same time.
+    pub fn fly_ground_fleet(&self, progress: &dyn Progress) -> Result<(Vec<Option<Flight>>, FleetPlan), PlanError> {
+        use planners::headland::{self, Swaths};
+        use rayon::prelude::*;
+        let Prepared { resolved, region, fleet_homes: homes, ground, start, end, .. } = self.prepared;
+        let setup = ground.as_ref().expect("a ground plan has its headland");
+        let machines = &resolved.fleet;
+        let speeds: Vec<f64> = machines.iter().map(|m| m.vehicle.cruise_speed_mps).collect();
+        let ends = |k: usize| Ends::new(homes[k].or(*start), homes[k].or(*end), homes[k]);
+        // the first machine lays the swaths and shares them out
+        let shared: std::sync::OnceLock<(f64, Vec<headland::Share>)> = std::sync::OnceLock::new();
+        let first = self.fly_route(&machines[0].vehicle, ends(0), region, None, &|problem| {
+            let laid = Swaths::lay(problem, setup);
+            let passes_m: f64 = setup.rings().iter().map(|r| crate::geom::polyline_length(r)).sum();
+            let r = problem.vehicle.planning_radius_m();
+            let shares = headland::share_out(&laid, passes_m, std::f64::consts::PI * r + 2.0 * r, &speeds);
+            let flown = headland::work(problem, setup, &laid, &shares[0], &|_| true);
+            let _ = shared.set((laid.angle, shares));
+            flown
+        })?;
+        if !progress.report(0.4) {
+            return Err(PlanError::Cancelled);
+        }
+        let (angle, shares) = shared.get().expect("set by the first machine's plan");
+        let others: Vec<Option<Flight>> = (1..machines.len())
+            .into_par_iter()
+            .map(|k| {
+                if !shares[k].from.is_finite() && shares[k].from > 0.0 {
+                    return Ok(None);
+                }
+                let route = |problem: &Problem<'_>| {
+                    let laid = Swaths::lay(&Problem { sweep_angle: Some(*angle), ..*problem }, setup);
+                    headland::work(problem, setup, &laid, &shares[k], &|_| true)
+                };
+                self.fly_route(&machines[k].vehicle, ends(k), region, None, &route).map(Some)
+            })
+            .collect::<Result<_, PlanError>>()?;
+        let flights: Vec<Option<Flight>> = std::iter::once(Some(first)).chain(others).collect();
+        let width = setup.spec.working_width_m;
+        let departures = ground_departures(&flights, width);
+        let areas =
+            flights.iter().map(|f| f.as_ref().map_or(0.0, |f| f.planned.path.pieces.iter().filter(|p| p.kind.works()).map(|p| p.length() * 2.0 * p.half_swath_m).sum())).collect();
+        Ok((flights, FleetPlan { departures, layers: vec![None; machines.len()], areas, altitude_m: None, conflict_m: width }))
     }
 }
+
+/// When each ground machine sets off: in turn, each as soon as it meets none of those before it
+/// closer than `width_m` at the same time.
+fn ground_departures(flights: &[Option<Flight>], width_m: f64) -> Vec<f64> {
+    use fleet::timeline::{Track, encounters};
+    let mut departures = vec![0.0; flights.len()];
+    let mut tracks: Vec<Track> = Vec::new();
+    for (k, f) in flights.iter().enumerate() {
+        let Some(f) = f else { continue };
+        // no encounter is left once the others are done
+        let others_end = tracks.iter().map(Track::end_s).fold(0.0, f64::max);
+        tracks.push(Track::new(&f.sorties, &f.estimates, 0.0, 0.0));
+        let me = tracks.len() - 1;
+        while let Some(e) = encounters(&tracks, width_m).into_iter().find(|e| e.vehicles.contains(&me)) {
+            if tracks[me].departure_s > others_end {
+                break;
+            }
+            tracks[me].departure_s += (e.to_s - e.from_s).max(GROUND_STAGGER_S);
+        }
+        departures[k] = tracks[me].departure_s;
+    }
+    departures
+}
+
+/// The least a ground machine's departure is put back by at a time, seconds.
+const GROUND_STAGGER_S: f64 = 10.0;
 
 /// Keeps a candidate flight; one that cannot be flown is no candidate (its error is kept in
 /// `failed` if it is the first), but a cancellation ends the search.
@@ -546,6 +620,8 @@ pub(crate) struct FleetPlan {
     layers: Vec<Option<f64>>,
     areas: Vec<f64>,
     altitude_m: Option<f64>,
+    /// Two vehicles closer than this at the same time (and at the same altitude) conflict.
+    conflict_m: f64,
 }
 
 impl FleetPlan {
@@ -585,7 +661,7 @@ impl FleetPlan {
             }
             stats.vehicles.push(totals);
         }
-        let conflicts: Vec<metrics::Conflict> = fleet::timeline::encounters(&tracks)
+        let conflicts: Vec<metrics::Conflict> = fleet::timeline::encounters(&tracks, self.conflict_m)
             .into_iter()
             .map(|e| metrics::Conflict { vehicles: e.vehicles.map(|i| flying[i]), from_s: e.from_s, to_s: e.to_s, closest_m: e.closest_m, position: frame.to_wgs84(e.at) })
             .collect();
@@ -593,7 +669,7 @@ impl FleetPlan {
             stats.warnings.push(format!(
                 "{} times two drones come within {} m of each other at the same altitude (stats.conflicts): give altitude_separation_m, separate homes, or fewer drones",
                 conflicts.len(),
-                fleet::timeline::CONFLICT_DISTANCE_M
+                self.conflict_m
             ));
         }
         stats.conflicts = Some(conflicts);

@@ -131,7 +131,7 @@ fn prepare(mission: &MissionGeometry<'_>, params: &PlanParams, profiles: &[vehic
         let why = if resolved.headland.is_some() { "a ground vehicle is planned with planner headland" } else { "this planner plans ground vehicles: give vehicle kind ground" };
         return Err(InputError::new("planner_vehicle_mismatch", "/planner", why));
     }
-    if !resolved.fleet.is_empty() && !planner.plans_fleet_parts() {
+    if !resolved.fleet.is_empty() && resolved.headland.is_none() && !planner.plans_fleet_parts() {
         let fleet_planners: Vec<&str> = planners::registry().iter().filter(|p| p.plans_fleet_parts()).map(|p| p.id()).collect();
         return Err(InputError::new(
             "planner_not_for_fleets",
@@ -516,7 +516,7 @@ fn plan_until(
             let flight = stages.fly(&resolved.vehicle, Ends::new(prepared.start, prepared.end, field.home), region, None, progress)?;
             (vec![Some(flight)], None)
         } else {
-            let (flights, fleet) = stages.fly_fleet(progress)?;
+            let (flights, fleet) = if prepared.ground.is_some() { stages.fly_ground_fleet(progress)? } else { stages.fly_fleet(progress)? };
             (flights, Some(fleet))
         };
         report::finish(&prepared, &flights, fleet, stages.terrain.is_some())
@@ -651,13 +651,20 @@ pub fn method_id(params: &PlanParams, profiles: &[vehicle::Vehicle]) -> Option<&
     chosen_planner(params, resolved.vehicle.kind).ok().map(|p| p.id())
 }
 
-/// The vehicles a request flies (its fleet's, or its one vehicle), resolved from `profiles`.
+/// The vehicles a request flies (its fleet's, first to last, or its one vehicle), resolved
+/// from `profiles`: the profiles a queued job keeps.
 pub fn vehicles_flown(params: &PlanParams, profiles: &[vehicle::Vehicle]) -> Result<Vec<vehicle::Vehicle>, InputError> {
     if params.planner.as_deref() == Some(INSPECTION) {
         return Ok(vec![params.resolve_inspection(profiles)?.0]);
     }
     let resolved = params.resolve(profiles)?;
-    Ok(if resolved.fleet.is_empty() { vec![resolved.vehicle] } else { resolved.fleet.into_iter().map(|d| d.vehicle).collect() })
+    if resolved.fleet.is_empty() {
+        return Ok(vec![resolved.vehicle]);
+    }
+    // with the vehicle a fleet's request leaves out (the default profile), which resolving
+    // the request again looks up
+    let left_out = params.vehicle.resolve(profiles, "/vehicle")?;
+    Ok(resolved.fleet.into_iter().map(|d| d.vehicle).chain([left_out]).collect())
 }
 
 fn unknown_planner(id: &str) -> InputError {

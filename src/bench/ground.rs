@@ -6,7 +6,7 @@
 //! first swath to the last: Fields2Cover's route drives no headland passes), turns and their shapes,
 //! turns leaving the field or crossing a hole, mainland and headland coverage, planning time
 //! (median of the runs) and peak memory; then the sprayer's refill trips against the operator's
-//! rule.
+//! rule, and two or three sprayers sharing a field.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -163,6 +163,35 @@ pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result
         for rate in [200.0, 1000.0] {
             let tank = params(6.0, 7.0, json!({"headland_passes": 2, "payload": {"capacity": 3000, "rate_per_ha": rate, "refill_points": [corner]}}))?;
             trips_row(&mut out, &name, rate, plan(&mission, &tank, repeats));
+        }
+    }
+    let _ = writeln!(out, "\nThe 2-pass sprayer alone and as 2 and 3 machines sharing the field: when the last is done, against one alone, and the longest wait to set off\n");
+    out.push_str("| field | machines | done s | of one alone | longest wait s | mainland cov | conflicts | ms |\n|---|---|---|---|---|---|---|---|\n");
+    for (name, dir) in F2C
+        .iter()
+        .map(|f| (f.0.to_string(), real_dir.clone()))
+        .chain((0..16).step_by(3).map(|holes| (format!("h{holes:02}_00"), random_dir.to_path_buf())))
+        .filter(|(n, _)| wanted(n))
+    {
+        let mission = read(&dir.join(format!("{name}.json")))?;
+        let mut alone_s = None;
+        for machines in [1u32, 2, 3] {
+            let mut fleet = params(6.0, 7.0, json!({"headland_passes": 2}))?;
+            fleet.vehicles = (machines > 1).then_some(machines);
+            match plan(&mission, &fleet, repeats) {
+                Ok((o, ms, _)) => {
+                    let s = &o.stats;
+                    let done = s.makespan_s.unwrap_or(s.duration_s);
+                    let alone = *alone_s.get_or_insert(done);
+                    let wait = s.vehicles.iter().map(|v| v.departure_s).fold(0.0, f64::max);
+                    let cov = s.ground.as_ref().map_or(0.0, |g| g.mainland_coverage);
+                    let conflicts = s.conflicts.as_ref().map_or(0, Vec::len);
+                    let _ = writeln!(out, "| {name} | {machines} | {done:.0} | {:.3} | {wait:.0} | {cov:.3} | {conflicts} | {ms:.0} |", done / alone);
+                }
+                Err(e) => {
+                    let _ = writeln!(out, "| {name} | {machines} | refused: {e} |");
+                }
+            }
         }
     }
     Ok(out)

@@ -53,6 +53,7 @@ pub const ERROR_CODES: &[&str] = &[
     "field_twice",
     "fields_missing",
     "fields_twice",
+    "fleet_mixed",
     "fleet_size",
     "fleet_twice",
     "format_not_applicable",
@@ -227,7 +228,6 @@ pub mod beyond_schema {
         "invalid_polygon",
         "mission_too_wide",
         "overlapping_fields",
-        "refill_point_far",
         "ring_not_closed",
         "rings_intersect",
         "self_intersection",
@@ -283,6 +283,7 @@ pub mod beyond_schema {
     /// items of a list.
     pub const RELATIONS: &[&str] = &[
         "cell_outside_grid",
+        "fleet_mixed",
         "cell_size_out_of_range",
         "curvature_rate_too_low",
         "grid_too_large",
@@ -322,6 +323,7 @@ pub mod beyond_schema {
         "nothing_to_inspect",
         "plan_too_long",
         "point_in_no_fly_zone",
+        "refill_point_far",
         "server_time_limit",
         "start_missing",
         "start_outside_area",

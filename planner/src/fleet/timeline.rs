@@ -120,9 +120,10 @@ fn closest_approach(a0: Coord, a1: Coord, b0: Coord, b1: Coord) -> (f64, f64) {
     ((r.x * r.x + r.y * r.y).sqrt(), f)
 }
 
-/// Every stretch of time in which two drones are within [`CONFLICT_DISTANCE_M`] horizontally and
-/// [`CONFLICT_HEIGHT_M`] vertically.
-pub fn encounters(tracks: &[Track]) -> Vec<Encounter> {
+/// Every stretch of time in which two vehicles are within `distance_m` horizontally (drones:
+/// [`CONFLICT_DISTANCE_M`]; ground machines: their implements' width) and [`CONFLICT_HEIGHT_M`]
+/// vertically.
+pub fn encounters(tracks: &[Track], distance_m: f64) -> Vec<Encounter> {
     let steps = tracks.iter().map(|t| (t.end_s() / STEP_S).round() as usize + 1).max().unwrap_or(0);
     let mut out = Vec::new();
     for i in 0..tracks.len() {
@@ -135,7 +136,7 @@ pub fn encounters(tracks: &[Track]) -> Vec<Encounter> {
                         let ((a1, _), (b1, _)) = next.unwrap_or(((a0, za), (b0, zb)));
                         let (d, f) = closest_approach(a0, a1, b0, b1);
                         let at = (a0 + (a1 - a0) * f + b0 + (b1 - b0) * f) / 2.0;
-                        (d < CONFLICT_DISTANCE_M && (za - zb).abs() < CONFLICT_HEIGHT_M).then_some((d, at, (k as f64 + f) * STEP_S))
+                        (d < distance_m && (za - zb).abs() < CONFLICT_HEIGHT_M).then_some((d, at, (k as f64 + f) * STEP_S))
                     }
                     _ => None,
                 };
@@ -177,15 +178,15 @@ mod tests {
         let (p, e) = straight(c(0.0, 0.0), c(100.0, 0.0), 100.0 / 15.0);
         let (q, f) = straight(c(50.0, -50.0), c(50.0, 50.0), 100.0 / 15.0);
         let together = [Track::new(std::slice::from_ref(&p), std::slice::from_ref(&e), 0.0, 30.0), Track::new(std::slice::from_ref(&q), std::slice::from_ref(&f), 0.0, 30.0)];
-        let found = encounters(&together);
+        let found = encounters(&together, CONFLICT_DISTANCE_M);
         assert_eq!(found.len(), 1, "{found:?}");
         assert!(found[0].closest_m < 1.0 && distance(found[0].at, c(50.0, 0.0)) < 1.0, "{found:?}");
         // the second one leaves 20 s later: they never meet
         let apart = [Track::new(std::slice::from_ref(&p), std::slice::from_ref(&e), 0.0, 30.0), Track::new(std::slice::from_ref(&q), std::slice::from_ref(&f), 20.0, 30.0)];
-        assert!(encounters(&apart).is_empty());
+        assert!(encounters(&apart, CONFLICT_DISTANCE_M).is_empty());
         // the same timing, 10 m apart vertically
         let layered = [Track::new(&[p], &[e], 0.0, 30.0), Track::new(&[q], &[f], 0.0, 40.0)];
-        assert!(encounters(&layered).is_empty());
+        assert!(encounters(&layered, CONFLICT_DISTANCE_M).is_empty());
     }
 
     #[test]

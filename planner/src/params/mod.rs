@@ -481,6 +481,22 @@ impl PlanParams {
         }
         let vehicle = self.vehicle.resolve(profiles, "/vehicle")?;
         let fleet = self.resolve_fleet(&vehicle, profiles)?;
+        // a fleet of ground machines works one field with one implement width: the first
+        // machine stands for them where the plan needs one vehicle (the headland, the swaths)
+        let vehicle = match fleet.first() {
+            Some(first) if fleet.iter().any(|m| m.vehicle.kind == VehicleKind::Ground) => {
+                let width = |m: &FleetVehicle| m.vehicle.ground.map(|g| g.working_width_m);
+                if let Some(k) = fleet.iter().position(|m| m.vehicle.kind != VehicleKind::Ground || width(m) != width(first)) {
+                    return Err(InputError::new(
+                        "fleet_mixed",
+                        format!("/fleet/{k}"),
+                        "the machines sharing a field are ground vehicles with the same working width (the swaths are laid once for all of them)",
+                    ));
+                }
+                first.vehicle.clone()
+            }
+            _ => vehicle,
+        };
         let altitude_separation_m = match self.altitude_separation_m {
             Some(_) if fleet.is_empty() => {
                 return Err(InputError::new("not_a_fleet", "/altitude_separation_m", "altitude layers separate the drones of a fleet: give fleet or vehicles"));
@@ -504,9 +520,6 @@ impl PlanParams {
             let refuse = |pointer: &str, why: &str| Err(InputError::new("not_for_ground_vehicles", pointer, why));
             if self.line_spacing_m.is_some() || camera.is_some() {
                 return refuse(if camera.is_some() { "/camera" } else { "/line_spacing_m" }, "a ground vehicle's swaths are its working width apart (less the overlap)");
-            }
-            if !fleet.is_empty() {
-                return refuse("/fleet", "fleets are of drones");
             }
         }
         // a ground vehicle's swaths are ended by its headland spec; an aircraft's lines run

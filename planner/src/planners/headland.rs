@@ -70,80 +70,184 @@ impl Planner for HeadlandPlanner {
 
     fn plan(&self, problem: &Problem<'_>, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
         let setup = problem.ground.ok_or_else(|| PlanError::Infeasible("planner headland plans ground vehicles: give vehicle kind ground".into()))?;
-        let vehicle = problem.vehicle;
-        let headland = &setup.headland;
-        // the passes' rings: roads for the turns, and ground the passes cover
-        let rings = setup.rings();
-        let routes = setup.routes(problem.region, vehicle);
-        let lines_at = |angle: f64, phase: Option<f64>| -> Vec<Line> {
-            swaths(&headland.mainland, problem.region, (angle, phase), problem.layout.spacing, setup.spec.swath_ends, setup.spec.width_m)
-                .into_iter()
-                .filter_map(|l| routes.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l }))
-                .collect()
-        };
+        let laid = Swaths::lay(problem, setup);
+        work(problem, setup, &laid, &Share::whole(), progress)
+    }
+}
+
+/// The swaths of a ground plan: their direction, where they lie across it (the guidance line's
+/// offset), the swaths themselves and which are tramlines.
+pub struct Swaths {
+    pub angle: f64,
+    phase: Option<f64>,
+    lines: Vec<Line>,
+    tramlines: Vec<bool>,
+}
+
+impl Swaths {
+    /// The swaths `problem.vehicle` works: along the guidance line, at the direction asked, or
+    /// at the best direction for it ([`best_direction`]).
+    pub fn lay(problem: &Problem<'_>, setup: &GroundSetup) -> Swaths {
+        let routes = setup.routes(problem.region, problem.vehicle);
+        let lines_at = |angle: f64, phase: Option<f64>| lines_for(problem, setup, &routes, (angle, phase));
         // a guidance line sets the swaths' direction and where they lie across it
         let guidance = setup.spec.guidance.map(|g| g.in_frame(&setup.frame));
         let angle = guidance
             .map(|g| g.1)
             .or(problem.sweep_angle)
-            .unwrap_or_else(|| best_direction(&headland.mainland, problem.layout, (&routes, setup.spec.width_m), &|a| lines_at(a, None)));
+            .unwrap_or_else(|| best_direction(&setup.headland.mainland, problem.layout, (&routes, setup.spec.width_m), &|a| lines_at(a, None)));
         let phase = guidance.map(|(a, _)| crate::sweep::to_sweep_frame(angle, a).y);
         let lines = lines_at(angle, phase);
         let tramlines = setup.spec.tramline_every.map(|n| tramlines(&lines, (angle, phase), problem.layout.spacing, n)).unwrap_or_default();
-        if !progress.report(0.3) {
-            return Err(PlanError::Cancelled);
-        }
-        let half = setup.spec.working_width_m / 2.0;
-        let spacing = setup.spec.width_m / headland.passes.len().max(1) as f64;
-        let mut drive = Drive { path: FlightPath::default(), at: problem.start.map(|p| Pose::at(p, problem.start_heading.unwrap_or(angle))), routes: &routes, frame: &setup.frame };
-        if setup.spec.order == HeadlandOrder::First {
-            drive.passes(headland, false, half, spacing);
-        }
-        let links = SwathLinks::new(&lines, &routes);
-        // the ground the swaths and passes cover does not depend on their order: measured
-        // while the order is searched
-        let swaths: Vec<(Coord, Coord)> = lines.iter().map(|l| (l.a, l.b)).collect();
-        let end = problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle)));
-        let (seq, swept) = order(&links, drive.at, end, &problem.connector.stop(), || metrics::ground_swept(&swaths, &rings, half));
-        if !progress.report(0.8) {
-            return Err(PlanError::Cancelled);
-        }
-        let mut previous: Option<usize> = None;
-        for &v in &seq {
-            let (a, b) = (entry(&lines, v), exit(&lines, v));
-            match previous {
-                Some(u) => {
-                    let (way, _) = links.link(u, v).ok_or_else(|| drive.no_turn(exit(&lines, u).coord()))?;
-                    drive.follow(way, a);
-                }
-                None => drive.go_to(a),
-            }
-            drive.path.push(PieceKind::Sweep, vec![a.coord(), b.coord()], half);
-            if tramlines.get(v / 2) == Some(&true) {
-                drive.path.pieces.last_mut().expect("just pushed").tramline = true;
-            }
-            drive.at = Some(b);
-            previous = Some(v);
-        }
-        if setup.spec.order == HeadlandOrder::Last {
-            drive.passes(headland, true, half, spacing);
-        }
-        if let Some(end) = problem.end {
-            drive.go_to(Pose::at(end, problem.end_heading.unwrap_or_else(|| drive.at.map_or(angle, |p| p.theta))));
-        }
-        let (path, payload) = match &setup.spec.payload {
-            Some(payload) => {
-                let tank =
-                    Tank { capacity: payload.capacity, per_m2: payload.per_m2(), stations: payload.refill_points.iter().map(|p| setup.frame.to_local(p[0], p[1])).collect() };
-                let (path, stats) = plan_trips(&drive.path, &tank, &routes).ok_or_else(|| {
-                    PlanError::Infeasible("no way inside the field leads from the swaths to a refill point: give refill points on the field's boundary or at its entrances".into())
-                })?;
-                (path, Some(stats))
-            }
-            None => (drive.path, None),
-        };
-        Ok(PlannedPath { swept: Some(swept), payload, ..PlannedPath::new(path, angle, 1) })
+        Swaths { angle, phase, lines, tramlines }
     }
+
+    /// Each swath's offset across the direction.
+    fn offsets(&self) -> Vec<f64> {
+        self.lines.iter().map(|l| crate::sweep::to_sweep_frame(self.angle, (l.a + l.b) * 0.5).y).collect()
+    }
+}
+
+/// The swaths of `problem.region` at `(angle, phase)` whose ends `routes`' vehicle can turn at.
+fn lines_for(problem: &Problem<'_>, setup: &GroundSetup, routes: &HeadlandRoutes, at: (f64, Option<f64>)) -> Vec<Line> {
+    swaths(&setup.headland.mainland, problem.region, at, problem.layout.spacing, setup.spec.swath_ends, setup.spec.width_m)
+        .into_iter()
+        .filter_map(|l| routes.turnable(l.a, l.b).map(|(a, b)| Line { a, b, ..l }))
+        .collect()
+}
+
+/// What one machine of several works in a field: the swaths whose offsets across the direction
+/// lie in `[from, to)`, and the headland passes or not.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Share {
+    pub from: f64,
+    pub to: f64,
+    pub passes: bool,
+}
+
+impl Share {
+    /// The whole field, one machine.
+    pub fn whole() -> Share {
+        Share { from: f64::NEG_INFINITY, to: f64::INFINITY, passes: true }
+    }
+}
+
+/// The field shared among machines working at `speeds` (m/s): each a band of neighbouring
+/// swaths, the first the headland passes as well, the bands balanced so that the last machine
+/// finishes soonest (each swath counted as its length and a U turn of `turn_m`).
+pub fn share_out(laid: &Swaths, passes_m: f64, turn_m: f64, speeds: &[f64]) -> Vec<Share> {
+    let mut across: Vec<(f64, f64)> = laid.offsets().into_iter().zip(laid.lines.iter().map(|l| l.length() + turn_m)).collect();
+    across.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // whether every swath fits when each machine works for at most `t` seconds, and where
+    // each band begins
+    let fill = |t: f64| -> Option<Vec<usize>> {
+        let mut begins = vec![0];
+        let mut k = 0;
+        let mut load = passes_m;
+        for (i, &(_, m)) in across.iter().enumerate() {
+            while (load + m) / speeds[k] > t && load > 0.0 {
+                k += 1;
+                if k == speeds.len() {
+                    return None;
+                }
+                begins.push(i);
+                load = 0.0;
+            }
+            load += m;
+        }
+        Some(begins)
+    };
+    let total: f64 = passes_m + across.iter().map(|a| a.1).sum::<f64>();
+    let slowest = speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    let (mut lo, mut hi) = (0.0, total / slowest + 1.0);
+    for _ in 0..60 {
+        let mid = (lo + hi) / 2.0;
+        if fill(mid).is_some() { hi = mid } else { lo = mid }
+    }
+    let begins = fill(hi).expect("the whole field fits one machine's time");
+    // a band's edge half-way between its first swath and the last before it
+    let edge = |i: usize| if i == 0 { f64::NEG_INFINITY } else { (across[i - 1].0 + across[i].0) / 2.0 };
+    (0..speeds.len())
+        .map(|k| match begins.get(k) {
+            Some(&i) => Share { from: edge(i), to: begins.get(k + 1).map_or(f64::INFINITY, |&j| edge(j)), passes: k == 0 },
+            // a machine not needed works nothing
+            None => Share { from: f64::INFINITY, to: f64::INFINITY, passes: false },
+        })
+        .collect()
+}
+
+/// The route of `share` of the swaths `laid` (with `problem.vehicle`'s turns) and, where the
+/// share says so, the headland passes; with a payload, its refill trips.
+pub fn work(problem: &Problem<'_>, setup: &GroundSetup, laid: &Swaths, share: &Share, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
+    let vehicle = problem.vehicle;
+    let headland = &setup.headland;
+    // the passes' rings: roads for the turns, and ground the passes cover
+    let rings = if share.passes { setup.rings() } else { Vec::new() };
+    let routes = setup.routes(problem.region, vehicle);
+    let angle = laid.angle;
+    let (lines, tramlines) = if *share == Share::whole() {
+        (laid.lines.clone(), laid.tramlines.clone())
+    } else {
+        // one machine of several: its band, laid again for its own turns at the same
+        // direction and phase, the tramlines where they were laid
+        let offset_of = |l: &Line| crate::sweep::to_sweep_frame(angle, (l.a + l.b) * 0.5).y;
+        let own: Vec<Line> = lines_for(problem, setup, &routes, (angle, laid.phase)).into_iter().filter(|l| (share.from..share.to).contains(&offset_of(l))).collect();
+        let tramline_offsets: Vec<f64> = laid.offsets().into_iter().zip(&laid.tramlines).filter(|(_, t)| **t).map(|(o, _)| o).collect();
+        let tramlines = own.iter().map(|l| tramline_offsets.iter().any(|t| (t - offset_of(l)).abs() < problem.layout.spacing / 4.0)).collect();
+        (own, tramlines)
+    };
+    if !progress.report(0.3) {
+        return Err(PlanError::Cancelled);
+    }
+    let half = setup.spec.working_width_m / 2.0;
+    let spacing = setup.spec.width_m / headland.passes.len().max(1) as f64;
+    let mut drive = Drive { path: FlightPath::default(), at: problem.start.map(|p| Pose::at(p, problem.start_heading.unwrap_or(angle))), routes: &routes, frame: &setup.frame };
+    if share.passes && setup.spec.order == HeadlandOrder::First {
+        drive.passes(headland, false, half, spacing);
+    }
+    let links = SwathLinks::new(&lines, &routes);
+    // the ground the swaths and passes cover does not depend on their order: measured
+    // while the order is searched
+    let swaths: Vec<(Coord, Coord)> = lines.iter().map(|l| (l.a, l.b)).collect();
+    let end = problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle)));
+    let (seq, swept) = order(&links, drive.at, end, &problem.connector.stop(), || metrics::ground_swept(&swaths, &rings, half));
+    if !progress.report(0.8) {
+        return Err(PlanError::Cancelled);
+    }
+    let mut previous: Option<usize> = None;
+    for &v in &seq {
+        let (a, b) = (entry(&lines, v), exit(&lines, v));
+        match previous {
+            Some(u) => {
+                let (way, _) = links.link(u, v).ok_or_else(|| drive.no_turn(exit(&lines, u).coord()))?;
+                drive.follow(way, a);
+            }
+            None => drive.go_to(a),
+        }
+        drive.path.push(PieceKind::Sweep, vec![a.coord(), b.coord()], half);
+        if tramlines.get(v / 2) == Some(&true) {
+            drive.path.pieces.last_mut().expect("just pushed").tramline = true;
+        }
+        drive.at = Some(b);
+        previous = Some(v);
+    }
+    if share.passes && setup.spec.order == HeadlandOrder::Last {
+        drive.passes(headland, true, half, spacing);
+    }
+    if let Some(end) = problem.end {
+        drive.go_to(Pose::at(end, problem.end_heading.unwrap_or_else(|| drive.at.map_or(angle, |p| p.theta))));
+    }
+    let (path, payload) = match &setup.spec.payload {
+        Some(payload) => {
+            let tank = Tank { capacity: payload.capacity, per_m2: payload.per_m2(), stations: payload.refill_points.iter().map(|p| setup.frame.to_local(p[0], p[1])).collect() };
+            let (path, stats) = plan_trips(&drive.path, &tank, &routes).ok_or_else(|| {
+                PlanError::Infeasible("no way inside the field leads from the swaths to a refill point: give refill points on the field's boundary or at its entrances".into())
+            })?;
+            (path, Some(stats))
+        }
+        None => (drive.path, None),
+    };
+    Ok(PlannedPath { swept: Some(swept), payload, ..PlannedPath::new(path, angle, 1) })
 }
 
 /// Directions whose swaths are measured for real: the best by the estimate.

@@ -6,5 +6,5 @@ mod fixed_wing;
 mod fixtures;
 mod fleets;
 mod ground_plans;
+mod ground_work;
 mod planner_properties;
-mod refill_trips;

@@ -179,3 +179,34 @@ async fn a_sprayer_with_a_3000_l_tank_plans_its_refill_trips() {
     assert_eq!((status, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("not_a_ground_vehicle"), Some("/payload")), "{problem}");
     app.stop().await;
 }
+
+/// Two tractors share a field: each works a band of it (the first the headland passes too), the
+/// whole field is worked, they never come within the working width of each other at the same
+/// time, and the last is done well before one tractor alone; a tractor and a drone do not share
+/// a field.
+#[tokio::test]
+async fn two_tractors_share_a_field() {
+    let app = TestApp::spawn().await;
+    let mission = common::mission_body("real-fields/nl-parcel-17ha.json");
+    let id = app.create_mission(&mission).await;
+    let tractor = json!({"profile": "tractor_sprayer", "working_width_m": 6, "min_turn_radius_m": 7});
+    let mut done = Vec::new();
+    for params in [json!({"vehicle": tractor, "headland_passes": 2}), json!({"fleet": [tractor, tractor], "headland_passes": 2})] {
+        let (status, plan) = app.post(&format!("/api/v1/missions/{id}/plans"), &params).await;
+        assert_eq!(status, 202, "{plan}");
+        let finished = app.wait_finished(plan["id"].as_str().unwrap()).await;
+        assert_eq!(finished["status"], "succeeded", "{finished}");
+        done.push(finished["stats"].clone());
+    }
+    let (alone, shared) = (&done[0], &done[1]);
+    assert_eq!(shared["vehicles"].as_array().unwrap().len(), 2, "{shared}");
+    assert!(shared["vehicles"].as_array().unwrap().iter().all(|v| v["length_m"].as_f64().unwrap() > 0.0), "{shared}");
+    assert_eq!(shared["conflicts"].as_array().map(Vec::len), Some(0), "{shared}");
+    assert!(shared["ground"]["mainland_coverage"].as_f64().unwrap() >= 0.99, "{shared}");
+    let makespan = shared["makespan_s"].as_f64().unwrap();
+    assert!(makespan < 0.65 * alone["duration_s"].as_f64().unwrap(), "two tractors done at {makespan} s, one alone at {}", alone["duration_s"]);
+    let mixed = json!({"fleet": [tractor, {"profile": "iris"}]});
+    let (status, problem) = app.post(&format!("/api/v1/missions/{id}/plans"), &mixed).await;
+    assert_eq!((status, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("fleet_mixed"), Some("/fleet/1")), "{problem}");
+    app.stop().await;
+}

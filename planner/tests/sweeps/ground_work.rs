@@ -1,6 +1,7 @@
-//! Refill trips (`payload`) over generated fields with ponds: the tank never runs dry, every
-//! trip reaches a refill point, the field is still worked inside its edges and round its
-//! ponds, and the chosen breaks cost no more than the operator's rule.
+//! Ground work over generated fields with ponds: refill trips (`payload`: the tank never runs
+//! dry, every trip reaches a refill point, the breaks cost no more than the operator's rule)
+//! and machines sharing a field (`vehicles`, `fleet`), each still worked inside its edges and
+//! round its ponds.
 
 use geo::{Coord, MultiPolygon};
 use proptest::prelude::*;
@@ -104,5 +105,50 @@ proptest! {
         let ours = (figures.trip_crossings, figures.trip_distance_m);
         let rule = (figures.rule_trip_crossings, figures.rule_trip_distance_m);
         prop_assert!(ours.0 < rule.0 || (ours.0 == rule.0 && ours.1 <= rule.1 + 1e-6), "{}: {:?} against the rule's {:?}", name, ours, rule);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// Two or three machines share a generated field with ponds: the field is still worked
+    /// inside its edges and round its ponds, no two machines come within the working width at
+    /// the same time, and the last one finishes sooner than one machine alone.
+    #[test]
+    fn machines_sharing_a_field_finish_sooner_and_never_meet(
+        lon in -179.0..179.0f64,
+        lat in -60.0..60.0f64,
+        radius in 120.0..300.0f64,
+        shape in prop::collection::vec((0.7..1.0f64, -1.0..1.0f64), 5..10),
+        ponds in 0usize..4,
+        width in 3.0..12.0f64,
+        turn_radius in 2.0..8.0f64,
+        machines in 2u32..4,
+        reverse in any::<bool>(),
+    ) {
+        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
+        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
+        let frame = frame_of(&area);
+        let headland = (2.0 * width).max(turn_radius + 1.0);
+        let mut alone = ground(width, turn_radius, json!({"headland_width_m": headland}));
+        alone.vehicle.reverse_allowed = Some(reverse);
+        let mut fleet = alone.clone();
+        fleet.vehicles = Some(machines);
+        let name = format!("star at {lon},{lat} r={radius}, {ponds} ponds, {width:.1} m, radius {turn_radius:.1}, reverse {reverse}, {machines} machines");
+        let (one, shared) = match (run(&area, None, &alone), run(&area, None, &fleet)) {
+            (Ok(one), Ok(shared)) => (one, shared),
+            (Err(coverplan_planner::PlanError::Input(e)), _) if e.code == "field_too_narrow" => return Ok(()),
+            (a, b) => return Err(TestCaseError::fail(format!("{name}: {:?} {:?}", a.err(), b.err()))),
+        };
+        let holes = to_local_mp(&frame, &nfz);
+        let holes = if holes.0.is_empty() { MultiPolygon(vec![]) } else { holes };
+        check(&area, &holes, &one, turn_radius, 0.99, &format!("{name}, one alone"))?;
+        check(&area, &holes, &shared, turn_radius, 0.99, &name)?;
+        let s = &shared.stats;
+        prop_assert_eq!(s.conflicts.as_ref().map(Vec::len), Some(0), "{}", name);
+        let working: Vec<_> = s.vehicles.iter().filter(|v| v.length_m > 0.0).collect();
+        prop_assert!(working.len() >= 2, "{}: {} machines work", name, working.len());
+        let makespan = s.makespan_s.expect("a fleet's makespan");
+        prop_assert!(makespan < one.stats.duration_s, "{}: the last machine finishes at {} s, one alone at {} s", name, makespan, one.stats.duration_s);
     }
 }

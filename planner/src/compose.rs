@@ -398,18 +398,51 @@ impl Stages<'_> {
     /// Plans several ground machines in one field (docs/methods.md, ground vehicles §6): the
     /// swaths laid once and shared out in bands ([`headland::share_out`]), each band (and the
     /// first machine's headland passes) routed for the machine's own turns; each machine sets
-    /// off once it meets no other closer than the working width at the same time.
+    /// off once it meets no other closer than the working width at the same time. Where the
+    /// fastest machine alone is done no later, it works the field alone.
     pub fn fly_ground_fleet(&self, progress: &dyn Progress) -> Result<(Vec<Option<Flight>>, FleetPlan), PlanError> {
+        let Prepared { resolved, region, ground, .. } = self.prepared;
+        let machines = &resolved.fleet;
+        let width = ground.as_ref().expect("a ground plan has its headland").spec.working_width_m;
+        let fastest = (0..machines.len()).max_by(|&a, &b| machines[a].vehicle.cruise_speed_mps.total_cmp(&machines[b].vehicle.cruise_speed_mps).then(b.cmp(&a))).expect("a fleet");
+        let (shared, alone) = rayon::join(|| self.share_field(), || self.fly(&machines[fastest].vehicle, self.ground_ends(fastest), region, None, &|_| true));
+        let (mut flights, mut departures) = shared?;
+        if !progress.report(0.9) {
+            return Err(PlanError::Cancelled);
+        }
+        let done = |flights: &[Option<Flight>], departures: &[f64]| flights.iter().zip(departures).filter_map(|(f, d)| f.as_ref().map(|f| d + f.duration_s())).fold(0.0, f64::max);
+        match alone {
+            Ok(alone) if alone.duration_s() <= done(&flights, &departures) => {
+                flights = (0..machines.len()).map(|_| None).collect();
+                flights[fastest] = Some(alone);
+                departures = vec![0.0; machines.len()];
+            }
+            Err(PlanError::Cancelled) => return Err(PlanError::Cancelled),
+            _ => {}
+        }
+        let areas =
+            flights.iter().map(|f| f.as_ref().map_or(0.0, |f| f.planned.path.pieces.iter().filter(|p| p.kind.works()).map(|p| p.length() * 2.0 * p.half_swath_m).sum())).collect();
+        Ok((flights, FleetPlan { departures, layers: vec![None; machines.len()], areas, altitude_m: None, conflict_m: width }))
+    }
+
+    /// Where ground machine `k` of a fleet starts and ends: its home, else the plan's start and end.
+    fn ground_ends(&self, k: usize) -> Ends {
+        let Prepared { fleet_homes: homes, start, end, .. } = self.prepared;
+        Ends::new(homes[k].or(*start), homes[k].or(*end), homes[k])
+    }
+
+    /// [`Self::fly_ground_fleet`]'s shared plan: each machine's flight (none for a machine not
+    /// needed) and when it sets off.
+    fn share_field(&self) -> Result<(Vec<Option<Flight>>, Vec<f64>), PlanError> {
         use planners::headland::{self, Swaths};
         use rayon::prelude::*;
-        let Prepared { resolved, region, fleet_homes: homes, ground, start, end, .. } = self.prepared;
+        let Prepared { resolved, region, ground, .. } = self.prepared;
         let setup = ground.as_ref().expect("a ground plan has its headland");
         let machines = &resolved.fleet;
         let speeds: Vec<f64> = machines.iter().map(|m| m.vehicle.cruise_speed_mps).collect();
-        let ends = |k: usize| Ends::new(homes[k].or(*start), homes[k].or(*end), homes[k]);
         // the first machine lays the swaths and shares them out
         let shared: std::sync::OnceLock<(f64, Vec<headland::Share>)> = std::sync::OnceLock::new();
-        let first = self.fly_route(&machines[0].vehicle, ends(0), region, None, &|problem| {
+        let first = self.fly_route(&machines[0].vehicle, self.ground_ends(0), region, None, &|problem| {
             let laid = Swaths::lay(problem, setup);
             let passes_m: f64 = setup.rings().iter().map(|r| crate::geom::polyline_length(r)).sum();
             let r = problem.vehicle.planning_radius_m();
@@ -418,29 +451,26 @@ impl Stages<'_> {
             let _ = shared.set((laid.angle, shares));
             flown
         })?;
-        if !progress.report(0.4) {
+        if self.stop.requested() {
             return Err(PlanError::Cancelled);
         }
         let (angle, shares) = shared.get().expect("set by the first machine's plan");
         let others: Vec<Option<Flight>> = (1..machines.len())
             .into_par_iter()
             .map(|k| {
-                if !shares[k].from.is_finite() && shares[k].from > 0.0 {
+                if shares[k].from == f64::INFINITY {
                     return Ok(None);
                 }
                 let route = |problem: &Problem<'_>| {
                     let laid = Swaths::lay(&Problem { sweep_angle: Some(*angle), ..*problem }, setup);
                     headland::work(problem, setup, &laid, &shares[k], &|_| true)
                 };
-                self.fly_route(&machines[k].vehicle, ends(k), region, None, &route).map(Some)
+                self.fly_route(&machines[k].vehicle, self.ground_ends(k), region, None, &route).map(Some)
             })
             .collect::<Result<_, PlanError>>()?;
         let flights: Vec<Option<Flight>> = std::iter::once(Some(first)).chain(others).collect();
-        let width = setup.spec.working_width_m;
-        let departures = ground_departures(&flights, width);
-        let areas =
-            flights.iter().map(|f| f.as_ref().map_or(0.0, |f| f.planned.path.pieces.iter().filter(|p| p.kind.works()).map(|p| p.length() * 2.0 * p.half_swath_m).sum())).collect();
-        Ok((flights, FleetPlan { departures, layers: vec![None; machines.len()], areas, altitude_m: None, conflict_m: width }))
+        let departures = ground_departures(&flights, setup.spec.working_width_m);
+        Ok((flights, departures))
     }
 }
 

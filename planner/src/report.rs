@@ -53,7 +53,8 @@ pub(crate) fn finish(prepared: &Prepared, flights: &[Option<Flight>], fleet: Opt
     };
     let ((mut stats, uncovered), ground_stats) =
         rayon::join(|| rayon::join(|| metrics::measure(&input), || metrics::uncovered(&swept, &field.area.difference(&field.no_fly_zones))), ground_stats);
-    stats.ground = ground_stats.map(|g| metrics::GroundStats { payload: main.planned.payload.clone(), ..g });
+    stats.ground =
+        ground_stats.map(|g| metrics::GroundStats { payload: crate::route::refill::PayloadStats::together(flown.iter().filter_map(|f| f.planned.payload.as_ref())), ..g });
     if fleet.is_none() {
         stats.begins_at = path.pieces.first().map(|p| field.frame.to_wgs84(p.start()));
         stats.ends_at = path.end().map(|c| field.frame.to_wgs84(c));

@@ -50,6 +50,30 @@ pub struct PayloadStats {
     pub saving: f64,
 }
 
+impl PayloadStats {
+    /// The figures of several machines' trips together (machines sharing a field).
+    pub fn together<'a>(parts: impl IntoIterator<Item = &'a PayloadStats>) -> Option<PayloadStats> {
+        let mut all: Option<PayloadStats> = None;
+        for p in parts {
+            let t = all.get_or_insert_with(|| PayloadStats { capacity: p.capacity, ..PayloadStats::default() });
+            t.amount += p.amount;
+            t.trips += p.trips;
+            t.trips_inside_pieces += p.trips_inside_pieces;
+            t.trip_distance_m += p.trip_distance_m;
+            t.trip_crossings += p.trip_crossings;
+            t.rule_trips += p.rule_trips;
+            t.rule_trip_distance_m += p.rule_trip_distance_m;
+            t.rule_trip_crossings += p.rule_trip_crossings;
+        }
+        all.map(|t| PayloadStats { saving: saving(t.trip_distance_m, t.rule_trip_distance_m), ..t })
+    }
+}
+
+/// What `ours` saves on `rule` (a share; 0 where the rule makes no trips).
+fn saving(ours: f64, rule: f64) -> f64 {
+    if rule.is_finite() && rule > 0.0 { 1.0 - ours / rule } else { 0.0 }
+}
+
 /// What a leg that crosses the mainland costs the search on top of its length, metres: more
 /// than any trip saves, so that the fewest crossings come first.
 const CROSSING_PENALTY_M: f64 = 1.0e6;
@@ -357,7 +381,7 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
     (stats.trip_distance_m, stats.trip_crossings) = measure(&breaks);
     stats.rule_trips = rule.len();
     (stats.rule_trip_distance_m, stats.rule_trip_crossings) = measure(&rule);
-    stats.saving = if stats.rule_trip_distance_m.is_finite() && stats.rule_trip_distance_m > 0.0 { 1.0 - stats.trip_distance_m / stats.rule_trip_distance_m } else { 0.0 };
+    stats.saving = saving(stats.trip_distance_m, stats.rule_trip_distance_m);
     let mut pieces: Vec<Piece> = path.pieces[..work.at[0]].to_vec();
     for k in 0..work.at.len() {
         if k > 0 {

@@ -270,8 +270,19 @@ async fn a_cancelled_farm_cancels_its_fields_and_a_single_plan_is_not_held_up_by
     let done = app.wait_finished(plan["id"].as_str().unwrap()).await;
     assert_eq!(done["status"], "succeeded");
     let id = farm["id"].as_str().unwrap();
+    // no field's job started while the single plan waited (its created and started times are
+    // what the store says; a farm done before the single plan was queued held nothing up)
     let (_, now) = app.get(&format!("/api/v1/farm-plans/{id}")).await;
-    assert!(now["fields_done"].as_u64().unwrap() < 16, "the single plan waited for the whole farm: {now}");
+    let waited = (done["created_at"].as_str().unwrap(), done["started_at"].as_str().unwrap());
+    let fields = now["fields"].as_array().unwrap();
+    assert_eq!(fields.iter().filter(|f| f["plan_id"].is_string()).count(), 16, "{now}");
+    for field in fields {
+        let Some(plan_id) = field["plan_id"].as_str() else { continue };
+        let (_, job) = app.get(&format!("/api/v1/plans/{plan_id}")).await;
+        if let Some(started) = job["started_at"].as_str() {
+            assert!(!(waited.0 < started && started < waited.1), "field {} started at {started} while the single plan waited ({waited:?})", field["index"]);
+        }
+    }
     let r = app.client.delete(app.url(&format!("/api/v1/farm-plans/{id}"))).send().await.unwrap();
     assert_eq!(r.status().as_u16(), 200);
     let cancelled: Value = r.json().await.unwrap();

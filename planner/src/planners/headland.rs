@@ -502,6 +502,34 @@ mod tests {
     use crate::sweep::ends::CENTRE_LINE_PAST_M;
     use geo::polygon;
 
+    /// Ten swaths 100 m long, 6 m apart, at 0°.
+    fn ten_swaths() -> Swaths {
+        let lines = (0..10).map(|k| Line { a: Coord { x: 0.0, y: 6.0 * k as f64 }, b: Coord { x: 100.0, y: 6.0 * k as f64 }, region: 0 }).collect();
+        Swaths { angle: 0.0, phase: None, lines, tramlines: Vec::new() }
+    }
+
+    /// How many of `laid`'s swaths each share holds.
+    fn counts(laid: &Swaths, shares: &[Share]) -> Vec<usize> {
+        shares.iter().map(|s| laid.offsets().iter().filter(|o| (s.from..s.to).contains(*o)).count()).collect()
+    }
+
+    #[test]
+    fn shares_balance_the_machines_time_with_the_passes_on_the_first() {
+        let laid = ten_swaths();
+        // equal machines: five swaths each; every swath in exactly one share
+        let even = share_out(&laid, 0.0, 0.0, &[1.0, 1.0]);
+        assert_eq!(counts(&laid, &even), vec![5, 5]);
+        assert!(even[0].passes && !even[1].passes);
+        // passes as long as two swaths: the first machine takes four, the other six
+        assert_eq!(counts(&laid, &share_out(&laid, 200.0, 0.0, &[1.0, 1.0])), vec![4, 6]);
+        // a machine twice as fast takes about twice as many
+        assert_eq!(counts(&laid, &share_out(&laid, 0.0, 0.0, &[1.0, 2.0])), vec![3, 7]);
+        // a machine not needed works nothing: one swath, three machines
+        let one = Swaths { lines: laid.lines[..1].to_vec(), ..ten_swaths() };
+        let shares = share_out(&one, 0.0, 0.0, &[1.0, 1.0, 1.0]);
+        assert_eq!(counts(&one, &shares).iter().sum::<usize>(), 1);
+    }
+
     #[test]
     fn swaths_fill_the_mainland_and_are_tagged_with_their_field() {
         let field = MultiPolygon(vec![polygon![(x: 0.0, y: 0.0), (x: 100.0, y: 0.0), (x: 100.0, y: 60.0), (x: 0.0, y: 60.0)]]);

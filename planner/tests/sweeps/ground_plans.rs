@@ -127,6 +127,31 @@ pub(crate) fn check(area: &Value, holes: &MultiPolygon, out: &PlanOutput, radius
     Ok(())
 }
 
+/// A star-shaped field with up to three square ponds ([`star_field`]), `radius` metres round
+/// its middle, and a name for messages.
+#[derive(Debug, Clone)]
+pub(crate) struct PondField {
+    pub area: Value,
+    pub ponds: Value,
+    pub name: String,
+}
+
+prop_compose! {
+    /// [`PondField`]s anywhere on the globe between 60° S and 60° N, at least `min_radius` metres
+    /// round (up to 300 m: 2 to 30 ha).
+    pub(crate) fn pond_field(min_radius: f64)(
+        lon in -179.0..179.0f64,
+        lat in -60.0..60.0f64,
+        radius in min_radius..300.0f64,
+        shape in prop::collection::vec((0.7..1.0f64, -1.0..1.0f64), 5..10),
+        ponds in 0usize..4,
+    ) -> PondField {
+        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
+        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
+        PondField { area, ponds: nfz, name: format!("star at {lon},{lat} r={radius}, {ponds} ponds") }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
 
@@ -135,11 +160,7 @@ proptest! {
     /// words), steering instant or slow (continuous-curvature turns).
     #[test]
     fn generated_fields_are_worked_inside_the_field_and_around_the_ponds(
-        lon in -179.0..179.0f64,
-        lat in -60.0..60.0f64,
-        radius in 80.0..300.0f64,
-        shape in prop::collection::vec((0.7..1.0f64, -1.0..1.0f64), 5..10),
-        ponds in 0usize..4,
+        field in pond_field(80.0),
         width in 3.0..12.0f64,
         turn_radius in 2.0..8.0f64,
         passes in 1u32..4,
@@ -148,8 +169,7 @@ proptest! {
         heading in prop::option::of(0.0..180.0f64),
         first in any::<bool>(),
     ) {
-        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
-        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
+        let PondField { area, ponds: nfz, name } = field;
         // slow steering: the curvature reaches 1/r over `clothoid` metres (at most a quarter
         // turn's π r / 2, the slowest steering accepted), and turns need as much more room
         let clothoid = lock.map(|f| f * std::f64::consts::FRAC_PI_2 * turn_radius);
@@ -162,7 +182,7 @@ proptest! {
         let mut params = ground(width, turn_radius, extra);
         params.vehicle.reverse_allowed = Some(reverse);
         params.vehicle.max_curvature_rate = curvature_rate;
-        let name = format!("star at {lon},{lat} r={radius}, {ponds} ponds, {width:.1} m wide, radius {turn_radius:.1}, reverse {reverse}, σ {curvature_rate:?}, headland {headland:.1}");
+        let name = format!("{name}, {width:.1} m wide, radius {turn_radius:.1}, reverse {reverse}, σ {curvature_rate:?}, headland {headland:.1}");
         match run(&area, None, &params) {
             Ok(out) => {
                 let ponds = to_local_mp(&frame_of(&area), &nfz);

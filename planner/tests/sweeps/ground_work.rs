@@ -7,8 +7,8 @@ use geo::{Coord, MultiPolygon};
 use proptest::prelude::*;
 use serde_json::{Value, json};
 
-use crate::ground_plans::{check, frame_of, ground, run};
-use crate::planner_properties::{star_field, to_local_mp};
+use crate::ground_plans::{PondField, check, frame_of, ground, pond_field, run};
+use crate::planner_properties::to_local_mp;
 use coverplan_planner::PlanOutput;
 use coverplan_planner::frame::LocalFrame;
 
@@ -66,11 +66,7 @@ proptest! {
     /// or two refill points at corners of the field's edge.
     #[test]
     fn the_tank_never_runs_dry_and_every_trip_reaches_a_refill_point(
-        lon in -179.0..179.0f64,
-        lat in -60.0..60.0f64,
-        radius in 80.0..300.0f64,
-        shape in prop::collection::vec((0.7..1.0f64, -1.0..1.0f64), 5..10),
-        ponds in 0usize..4,
+        field in pond_field(80.0),
         width in 3.0..12.0f64,
         turn_radius in 2.0..8.0f64,
         passes in 1u32..3,
@@ -79,8 +75,7 @@ proptest! {
         corners in prop::collection::vec(0usize..10, 1..3),
         harvest in any::<bool>(),
     ) {
-        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
-        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
+        let PondField { area, ponds: nfz, name } = field;
         let ring = area["coordinates"][0].as_array().expect("a ring").clone();
         let points: Vec<Value> = corners.iter().map(|&c| ring[c % (ring.len() - 1)].clone()).collect();
         let headland = (passes as f64 * width).max(turn_radius + 1.0);
@@ -95,7 +90,7 @@ proptest! {
             "payload": {"capacity": capacity, "rate_per_ha": rate, "harvest": harvest, "refill_points": points},
         }));
         params.vehicle.reverse_allowed = Some(reverse);
-        let name = format!("star at {lon},{lat} r={radius}, {ponds} ponds, {width:.1} m, radius {turn_radius:.1}, reverse {reverse}, tank {capacity:.0} of {amount:.0}");
+        let name = format!("{name}, {width:.1} m, radius {turn_radius:.1}, reverse {reverse}, tank {capacity:.0} of {amount:.0}");
         let out = match run(&area, None, &params) {
             Ok(out) => out,
             Err(coverplan_planner::PlanError::Input(e)) if e.code == "field_too_narrow" => return Ok(()),
@@ -126,19 +121,14 @@ proptest! {
     /// later than one machine alone.
     #[test]
     fn machines_sharing_a_field_are_done_no_later_and_never_meet(
-        lon in -179.0..179.0f64,
-        lat in -60.0..60.0f64,
-        radius in 120.0..300.0f64,
-        shape in prop::collection::vec((0.7..1.0f64, -1.0..1.0f64), 5..10),
-        ponds in 0usize..4,
+        field in pond_field(120.0),
         width in 3.0..12.0f64,
         turn_radius in 2.0..8.0f64,
         machines in 2u32..4,
         reverse in any::<bool>(),
         tank in any::<bool>(),
     ) {
-        let (radii, jitter): (Vec<f64>, Vec<f64>) = shape.into_iter().unzip();
-        let (area, nfz) = star_field(lon, lat, radius, &radii, &jitter, ponds);
+        let PondField { area, ponds: nfz, name } = field;
         let frame = frame_of(&area);
         let headland = (2.0 * width).max(turn_radius + 1.0);
         let mut alone = ground(width, turn_radius, json!({"headland_width_m": headland}));
@@ -151,7 +141,7 @@ proptest! {
         }
         let mut fleet = alone.clone();
         fleet.vehicles = Some(machines);
-        let name = format!("star at {lon},{lat} r={radius}, {ponds} ponds, {width:.1} m, radius {turn_radius:.1}, reverse {reverse}, {machines} machines");
+        let name = format!("{name}, {width:.1} m, radius {turn_radius:.1}, reverse {reverse}, {machines} machines");
         let (one, shared) = match (run(&area, None, &alone), run(&area, None, &fleet)) {
             (Ok(one), Ok(shared)) => (one, shared),
             (Err(coverplan_planner::PlanError::Input(e)), _) if e.code == "field_too_narrow" => return Ok(()),

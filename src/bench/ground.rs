@@ -210,14 +210,14 @@ fn trips_row(out: &mut String, name: &str, rate: f64, result: Result<(PlanOutput
     let p = o.stats.ground.and_then(|g| g.payload).unwrap_or_default();
     let _ = writeln!(
         out,
-        "| {name} | {rate:.0} | {:.0} | {} ({}) | {:.0} | {} | {} | {:.0} | {} | {:.1} % | {ms:.0} |",
+        "| {name} | {rate:.0} | {:.0} | {} ({}) | {:.0} | {} | {} | {} | {} | {:.1} % | {ms:.0} |",
         p.amount,
         p.trips,
         p.trips_inside_pieces,
         p.trip_distance_m,
         p.trip_crossings,
         p.rule_trips,
-        p.rule_trip_distance_m,
+        p.rule_trip_distance_m.map_or_else(|| "no way".to_string(), |m| format!("{m:.0}")),
         p.rule_trip_crossings,
         100.0 * p.saving
     );

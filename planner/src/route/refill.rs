@@ -45,7 +45,8 @@ pub struct PayloadStats {
     /// The operator's rule (back only at a swath's end, when what is left cannot finish the
     /// next one): its trips and their non-working distance, and what ours save on it (a share).
     pub rule_trips: usize,
-    pub rule_trip_distance_m: f64,
+    /// `None` where the rule goes back from a place no trip leaves from.
+    pub rule_trip_distance_m: Option<f64>,
     pub rule_trip_crossings: usize,
     pub saving: f64,
 }
@@ -55,23 +56,26 @@ impl PayloadStats {
     pub fn together<'a>(parts: impl IntoIterator<Item = &'a PayloadStats>) -> Option<PayloadStats> {
         let mut all: Option<PayloadStats> = None;
         for p in parts {
-            let t = all.get_or_insert_with(|| PayloadStats { capacity: p.capacity, ..PayloadStats::default() });
+            let t = all.get_or_insert_with(|| PayloadStats { capacity: p.capacity, rule_trip_distance_m: Some(0.0), ..PayloadStats::default() });
             t.amount += p.amount;
             t.trips += p.trips;
             t.trips_inside_pieces += p.trips_inside_pieces;
             t.trip_distance_m += p.trip_distance_m;
             t.trip_crossings += p.trip_crossings;
             t.rule_trips += p.rule_trips;
-            t.rule_trip_distance_m += p.rule_trip_distance_m;
+            t.rule_trip_distance_m = t.rule_trip_distance_m.zip(p.rule_trip_distance_m).map(|(a, b)| a + b);
             t.rule_trip_crossings += p.rule_trip_crossings;
         }
         all.map(|t| PayloadStats { saving: saving(t.trip_distance_m, t.rule_trip_distance_m), ..t })
     }
 }
 
-/// What `ours` saves on `rule` (a share; 0 where the rule makes no trips).
-fn saving(ours: f64, rule: f64) -> f64 {
-    if rule.is_finite() && rule > 0.0 { 1.0 - ours / rule } else { 0.0 }
+/// What `ours` saves on `rule` (a share; 0 where the rule makes no trips or cannot be driven).
+fn saving(ours: f64, rule: Option<f64>) -> f64 {
+    match rule {
+        Some(rule) if rule > 0.0 => 1.0 - ours / rule,
+        _ => 0.0,
+    }
 }
 
 /// What a leg that crosses the mainland costs the search on top of its length, metres: more
@@ -362,7 +366,7 @@ fn push_trip(pieces: &mut Vec<Piece>, out: &Leg, back: &Leg) {
 pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Option<(FlightPath, PayloadStats)> {
     let work = Work::new(path, tank.per_m2);
     let amount: f64 = work.amount.iter().sum();
-    let mut stats = PayloadStats { capacity: tank.capacity, amount, ..PayloadStats::default() };
+    let mut stats = PayloadStats { capacity: tank.capacity, amount, rule_trip_distance_m: Some(0.0), ..PayloadStats::default() };
     if amount <= tank.capacity || work.at.is_empty() {
         return Some((path.clone(), stats));
     }
@@ -380,7 +384,8 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
     stats.trips_inside_pieces = breaks.iter().filter(|b| matches!(b, Break::Inside(..))).count();
     (stats.trip_distance_m, stats.trip_crossings) = measure(&breaks);
     stats.rule_trips = rule.len();
-    (stats.rule_trip_distance_m, stats.rule_trip_crossings) = measure(&rule);
+    let (rule_m, rule_crossings) = measure(&rule);
+    (stats.rule_trip_distance_m, stats.rule_trip_crossings) = (rule_m.is_finite().then_some(rule_m), rule_crossings);
     stats.saving = saving(stats.trip_distance_m, stats.rule_trip_distance_m);
     let mut pieces: Vec<Piece> = path.pieces[..work.at[0]].to_vec();
     for k in 0..work.at.len() {

@@ -440,31 +440,29 @@ impl Stages<'_> {
         let setup = ground.as_ref().expect("a ground plan has its headland");
         let machines = &resolved.fleet;
         let speeds: Vec<f64> = machines.iter().map(|m| m.vehicle.cruise_speed_mps).collect();
-        // the first machine lays the swaths and shares them out
-        let shared: std::sync::OnceLock<(f64, Vec<headland::Share>)> = std::sync::OnceLock::new();
+        // the first machine lays the swaths and shares them out; the others lay their bands
+        // again at the same direction and phase for their own turns
+        let shared: std::sync::OnceLock<(Swaths, Vec<headland::Share>)> = std::sync::OnceLock::new();
         let first = self.fly_route(&machines[0].vehicle, self.ground_ends(0), region, None, &|problem| {
             let laid = Swaths::lay(problem, setup);
             let passes_m: f64 = setup.rings().iter().map(|r| crate::geom::polyline_length(r)).sum();
             let r = problem.vehicle.planning_radius_m();
             let shares = headland::share_out(&laid, passes_m, std::f64::consts::PI * r + 2.0 * r, &speeds);
             let flown = headland::work(problem, setup, &laid, &shares[0], &|_| true);
-            let _ = shared.set((laid.angle, shares));
+            let _ = shared.set((laid, shares));
             flown
         })?;
         if self.stop.requested() {
             return Err(PlanError::Cancelled);
         }
-        let (angle, shares) = shared.get().expect("set by the first machine's plan");
+        let (laid, shares) = shared.get().expect("set by the first machine's plan");
         let others: Vec<Option<Flight>> = (1..machines.len())
             .into_par_iter()
             .map(|k| {
                 if shares[k].from == f64::INFINITY {
                     return Ok(None);
                 }
-                let route = |problem: &Problem<'_>| {
-                    let laid = Swaths::lay(&Problem { sweep_angle: Some(*angle), ..*problem }, setup);
-                    headland::work(problem, setup, &laid, &shares[k], &|_| true)
-                };
+                let route = |problem: &Problem<'_>| headland::work(problem, setup, laid, &shares[k], &|_| true);
                 self.fly_route(&machines[k].vehicle, self.ground_ends(k), region, None, &route).map(Some)
             })
             .collect::<Result<_, PlanError>>()?;

@@ -121,16 +121,7 @@ pub fn estimate_route(req: &EstimateRequest, profiles: &[Vehicle]) -> Result<Rou
             return Err(InputError::new("leg_too_long", at.clone(), "a leg is longer than 1000 km"));
         }
         // a zero-length leg (a pure climb) is kept as such: FlightPath drops it, so push by hand
-        path.pieces.push(super::path::Piece {
-            kind: PieceKind::Transit,
-            points: vec![a, b],
-            half_swath_m: 0.0,
-            z: vec![w[0].1, w[1].1],
-            shape: None,
-            tramline: false,
-            refill: false,
-            look: None,
-        });
+        path.pieces.push(super::path::Piece { z: vec![w[0].1, w[1].1], ..super::path::Piece::new(PieceKind::Transit, vec![a, b], 0.0) });
     }
     let wind = match &req.wind {
         Some(w) => {

@@ -99,6 +99,14 @@ impl Piece {
     }
 }
 
+impl Piece {
+    /// A piece of `kind` along `points`, covering `half_swath_m` each side (0 for connections),
+    /// at the plan's altitude, with nothing else said of it.
+    pub fn new(kind: PieceKind, points: Vec<Coord>, half_swath_m: f64) -> Piece {
+        Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false, refill: false, look: None }
+    }
+}
+
 /// A path in flight order. Consecutive pieces share their end points exactly.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FlightPath {
@@ -115,7 +123,7 @@ impl FlightPath {
         if let Some(last) = self.pieces.last() {
             debug_assert_eq!(last.end(), points[0], "pieces must join exactly");
         }
-        self.pieces.push(Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false, refill: false, look: None });
+        self.pieces.push(Piece::new(kind, points, half_swath_m));
     }
 
     /// Appends a ground vehicle's turn of `shape`.

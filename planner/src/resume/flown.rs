@@ -141,12 +141,7 @@ pub fn cut_from_log(pieces: &[Stored], frame: &LocalFrame, flown: &Flown, sampli
         let within = |k: &usize| track_at.get(*k).is_none_or(|at| at - track_at.get(floor).copied().unwrap_or(0.0) <= reach_m);
         grid.near(p, cell).filter(|&k| k >= floor).filter(within).filter(beside).min()
     };
-    let path = FlightPath {
-        pieces: pieces
-            .iter()
-            .map(|p| Piece { kind: p.kind, points: p.points.clone(), half_swath_m: 0.0, z: Vec::new(), shape: None, tramline: false, refill: false, look: None })
-            .collect(),
-    };
+    let path = FlightPath { pieces: pieces.iter().map(|p| Piece::new(p.kind, p.points.clone(), 0.0)).collect() };
     // the samples of every sweep, and whether each is done: matched in flight order, so that
     // the way to the first line or home over lines not yet flown is not taken for their work
     let mut floor = 0;

@@ -273,7 +273,7 @@ impl Remainder {
         // flies the original's way there, its camera off
         let as_flown = |path: &mut FlightPath, pieces: &[Stored]| {
             for p in pieces.iter().filter(|p| p.points.len() >= 2) {
-                path.pieces.push(piece(if p.kind.works() { PieceKind::Transit } else { p.kind }, p.points.clone()));
+                path.pieces.push(Piece::new(if p.kind.works() { PieceKind::Transit } else { p.kind }, p.points.clone(), 0.0));
             }
         };
         let first = &left[0];
@@ -379,13 +379,9 @@ fn nearest_vehicle(pieces: &[Stored], track: &[Coord]) -> Option<usize> {
     (0..=drones).min_by(|&a, &b| mean_to(a).total_cmp(&mean_to(b)))
 }
 
-fn piece(kind: PieceKind, points: Vec<Coord>) -> Piece {
-    Piece { kind, points, half_swath_m: 0.0, z: Vec::new(), shape: None, tramline: false, refill: false, look: None }
-}
-
 /// The stored piece `p` as a piece of the route left, along `points` (all or part of its own).
 fn piece_of(p: &Stored, points: Vec<Coord>) -> Piece {
-    Piece { tramline: p.tramline, ..piece(p.kind, points) }
+    Piece { tramline: p.tramline, ..Piece::new(p.kind, points, 0.0) }
 }
 
 /// The flown pieces of a coverage plan's trajectory, in flight order.

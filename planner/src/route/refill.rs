@@ -349,16 +349,18 @@ fn split(points: &[Coord], at: f64) -> (Vec<Coord>, Vec<Coord>) {
     (points.to_vec(), vec![*points.last().expect("a piece has points"); 2])
 }
 
-fn transit(points: Vec<Coord>) -> Piece {
-    let mut path = FlightPath::default();
-    path.push(PieceKind::Transit, points, 0.0);
-    path.pieces.pop().expect("just pushed")
+/// Appends a drive along `points` where it has a length (as [`FlightPath::push`] drops a
+/// connection of none); `refill`: the tank is refilled where it ends.
+fn push_transit(pieces: &mut Vec<Piece>, points: Vec<Coord>, refill: bool) {
+    if crate::geom::polyline_length(&points) > 0.0 {
+        pieces.push(Piece { refill, ..Piece::new(PieceKind::Transit, points, 0.0) });
+    }
 }
 
 /// Appends the trip from `out` to `back` (the refill point's legs).
 fn push_trip(pieces: &mut Vec<Piece>, out: &Leg, back: &Leg) {
-    pieces.push(Piece { refill: true, ..transit(out.points.clone()) });
-    pieces.push(transit(back.points.clone()));
+    push_transit(pieces, out.points.clone(), true);
+    push_transit(pieces, back.points.clone(), false);
 }
 
 /// `path` with its refill trips: the breaks of least non-working distance, and what they cost
@@ -414,9 +416,9 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
             let (_, track) = split(&piece.points, 0.0);
             let (to_here, _) = split(&track, at);
             pieces.push(Piece { points: worked, ..piece.clone() });
-            pieces.push(transit(ahead.clone()));
+            push_transit(&mut pieces, ahead.clone(), false);
             push_trip(&mut pieces, out, back);
-            pieces.push(transit(to_here));
+            push_transit(&mut pieces, to_here, false);
             rest = ahead;
             done_m = at;
         }
@@ -440,21 +442,15 @@ fn crossings(legs: &Legs, b: Break, s: usize) -> usize {
 mod tests {
     use super::*;
 
-    fn straight(points: Vec<Coord>, kind: PieceKind, half: f64) -> Piece {
-        let mut path = FlightPath::default();
-        path.push(kind, points, half);
-        path.pieces.pop().expect("pushed")
-    }
-
     /// Swaths of `lengths` metres, 1 m wide (half 0.5), one after another with 10 m gaps.
     fn route(lengths: &[f64]) -> FlightPath {
         let mut pieces = Vec::new();
         for (k, &l) in lengths.iter().enumerate() {
             let y = k as f64 * 10.0;
             if k > 0 {
-                pieces.push(straight(vec![Coord { x: 0.0, y: y - 10.0 }, Coord { x: 0.0, y }], PieceKind::Transit, 0.0));
+                pieces.push(Piece::new(PieceKind::Transit, vec![Coord { x: 0.0, y: y - 10.0 }, Coord { x: 0.0, y }], 0.0));
             }
-            pieces.push(straight(vec![Coord { x: 0.0, y }, Coord { x: l, y }], PieceKind::Sweep, 0.5));
+            pieces.push(Piece::new(PieceKind::Sweep, vec![Coord { x: 0.0, y }, Coord { x: l, y }], 0.5));
         }
         FlightPath { pieces }
     }

@@ -403,18 +403,7 @@ mod tests {
             assert_eq!(a.points, b.points);
             assert!(a.z.iter().all(|z| (z - 310.0).abs() < 1e-6), "{:?}", a.z);
         }
-        let outside = FlightPath {
-            pieces: vec![Piece {
-                kind: PieceKind::Transit,
-                points: vec![Coord { x: 0.0, y: 0.0 }, Coord { x: -900.0, y: 0.0 }],
-                half_swath_m: 0.0,
-                z: vec![],
-                shape: None,
-                tramline: false,
-                refill: false,
-                look: None,
-            }],
-        };
+        let outside = FlightPath { pieces: vec![Piece::new(PieceKind::Transit, vec![Coord { x: 0.0, y: 0.0 }, Coord { x: -900.0, y: 0.0 }], 0.0)] };
         assert_eq!(lay(&outside, &ground, &Settings { height_m: 60.0, tolerance_m: 5.0, climb: 0.5, descent: 0.5 }).err().unwrap().code, "terrain_not_covering");
     }
 }

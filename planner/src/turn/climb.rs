@@ -136,7 +136,7 @@ impl Obstacles {
                 let (points, heights) = simplify(&samples[start..=end], &z[start..=end]);
                 let part = if raised {
                     lost += crate::geom::polyline_length(&points);
-                    Piece { kind: PieceKind::Transit, points, half_swath_m: 0.0, z: heights, shape: None, tramline: false, refill: false, look: None }
+                    Piece { z: heights, ..Piece::new(PieceKind::Transit, points, 0.0) }
                 } else {
                     Piece { points, z: heights, ..piece.clone() }
                 };

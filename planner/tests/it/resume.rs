@@ -35,16 +35,7 @@ fn pieces(trajectory: &FeatureCollection, frame: &LocalFrame) -> Vec<(PieceKind,
 
 /// A path of the sweeps among `pieces`, each covering `half` either side.
 fn sweeps(pieces: impl IntoIterator<Item = (PieceKind, Vec<Coord>)>, half: f64) -> FlightPath {
-    let pieces = pieces.into_iter().filter(|(k, p)| *k == PieceKind::Sweep && p.len() >= 2).map(|(kind, points)| Piece {
-        kind,
-        points,
-        half_swath_m: half,
-        z: Vec::new(),
-        shape: None,
-        tramline: false,
-        refill: false,
-        look: None,
-    });
+    let pieces = pieces.into_iter().filter(|(k, p)| *k == PieceKind::Sweep && p.len() >= 2).map(|(kind, points)| Piece::new(kind, points, half));
     FlightPath { pieces: pieces.collect() }
 }
 

@@ -43,7 +43,7 @@ fn path_of(trajectory: &FeatureCollection, frame: &LocalFrame) -> FlightPath {
         let kind = PieceKind::deserialize(props.get("kind")?).ok()?;
         let GeometryValue::LineString { coordinates } = &f.geometry.as_ref()?.value else { return None };
         let points = coordinates.iter().map(|p| frame.to_local(p[0], p[1])).collect();
-        Some(Piece { kind, points, half_swath_m: 15.0, z: Vec::new(), shape: None, tramline: false, refill: false, look: None })
+        Some(Piece::new(kind, points, 15.0))
     });
     FlightPath { pieces: pieces.collect() }
 }

@@ -86,13 +86,14 @@ fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), Stri
     };
     let _ = writeln!(
         out,
-        "| {name} | {:.0} | {without:.0} | {theirs} | {ratio} | {} ({} U, {} Ω, {} fishtail) + {} along a pass + {} across | {their_turns} | {} | {} | {:.3} | {:.3} | {ms:.0} | {speedup} | {mb:.0} |",
+        "| {name} | {:.0} | {without:.0} | {theirs} | {ratio} | {} ({} U, {} Ω, {} fishtail) + {} along a pass + {} along a track + {} across | {their_turns} | {} | {} | {:.3} | {:.3} | {ms:.0} | {speedup} | {mb:.0} |",
         s.length_m,
         s.turns,
         g.u_turns,
         g.omega_turns,
         g.fishtail_turns,
         g.headland_drives,
+        g.track_crossings,
         g.mainland_crossings,
         g.turns_leaving_field,
         g.turns_crossing_holes,
@@ -101,7 +102,7 @@ fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), Stri
     );
 }
 
-const HEADER: &str = "| field | length m | first to last swath m | F2C m | ratio | swath to swath: turns, drives along a pass, mainland crossings | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+const HEADER: &str = "| field | length m | first to last swath m | F2C m | ratio | swath to swath: turns, drives along a pass, crossings along a swath's track, across the crop | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
 /// `only`: the fields (real or generated) to plan, all when empty.
 pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result<String> {

@@ -1,11 +1,14 @@
 //! A ground plan's figures: the headland, the mainland and the turns.
 
-use geo::{Area, BooleanOps, Euclidean, Length, LineString, MultiLineString, MultiPolygon, Polygon};
+use geo::{Area, BooleanOps, Distance, Euclidean, Length, Line, LineString, MultiLineString, MultiPolygon, Point, Polygon};
 use serde::{Deserialize, Serialize};
 
 use super::coverage::under;
 use crate::params::HeadlandSpec;
 use crate::path::{FlightPath, Piece, PieceKind, TurnShape};
+
+/// How near a swath's track a leg of a crossing lies to be in its wheel marks.
+const ON_TRACK_M: f64 = 0.05;
 
 /// A ground plan's figures: how much of the mainland and of the headland is worked, and how
 /// the vehicle turns.
@@ -23,9 +26,12 @@ pub struct GroundStats {
     pub u_turns: usize,
     pub omega_turns: usize,
     pub fishtail_turns: usize,
-    /// Connections between two swaths driven along a headland pass (where no turn fits), and
-    /// those that cross the mainland (where nothing in the headland joins the swaths).
+    /// Connections between two swaths driven along a headland pass (where no turn fits), those
+    /// that cross the mainland in a swath's wheel marks (where nothing in the headland joins
+    /// the swaths), and those that cross it off every swath's and pass's track, across the crop.
     pub headland_drives: usize,
+    #[serde(default)]
+    pub track_crossings: usize,
     pub mainland_crossings: usize,
     /// Turns that leave the field or enter a hole or no-fly zone: 0 unless the planner is wrong.
     pub turns_leaving_field: usize,
@@ -55,15 +61,33 @@ pub fn ground_stats(
         (1..pieces.len().saturating_sub(1)).filter(|&i| pieces[i].kind == PieceKind::Transit && pieces[i - 1].kind == PieceKind::Sweep && pieces[i + 1].kind == PieceKind::Sweep);
     let outer = MultiPolygon(field.iter().map(|p| Polygon::new(p.exterior().clone(), vec![])).collect());
     let holes = MultiPolygon(field.iter().flat_map(|p| p.interiors().iter().map(|r| Polygon::new(r.clone(), vec![]))).chain(keep_out.iter().cloned()).collect());
-    let inside_length = |zones: &MultiPolygon, p: &Piece| {
-        let line = MultiLineString(vec![LineString::from(p.points.clone())]);
-        zones.clip(&line, false).0.iter().map(|l| Euclidean.length(l)).sum::<f64>()
+    let inside = |zones: &MultiPolygon, p: &Piece| zones.clip(&MultiLineString(vec![LineString::from(p.points.clone())]), false);
+    let inside_length = |zones: &MultiPolygon, p: &Piece| inside(zones, p).0.iter().map(|l| Euclidean.length(l)).sum::<f64>();
+    // the wheel marks of the swaths and of the headland passes (a pass rounds a corner sharper
+    // than the turning circle over the mainland's tip)
+    let marks = |kind: PieceKind| -> Vec<Line> { pieces.iter().filter(|p| p.kind == kind).flat_map(|p| p.points.windows(2).map(|w| Line::new(w[0], w[1]))).collect() };
+    let (swath_marks, pass_marks) = (marks(PieceKind::Sweep), marks(PieceKind::Headland));
+    // a piece's metres in the mainland: in a swath's wheel marks, and off every swath's and
+    // pass's (legs not on one track from end to end)
+    let over_mainland = |p: &Piece| {
+        let on =
+            |marks: &[Line], l: &Line| marks.iter().any(|t| Euclidean.distance(&Point::from(l.start), t) < ON_TRACK_M && Euclidean.distance(&Point::from(l.end), t) < ON_TRACK_M);
+        let legs: Vec<Line> = inside(mainland, p).0.into_iter().flat_map(|l| l.lines().collect::<Vec<_>>()).collect();
+        let length = |keep: &dyn Fn(&Line) -> bool| legs.iter().filter(|l| keep(l)).map(|l| Euclidean.length(l)).sum::<f64>();
+        (length(&|l| on(&swath_marks, l)), length(&|l| !on(&swath_marks, l) && !on(&pass_marks, l)))
     };
     let share = |part: &MultiPolygon| {
         let area = part.unsigned_area();
         if area > 0.0 { (under(swept, part).0 / area).min(1.0) } else { 1.0 }
     };
-    let crossings = between_swaths.clone().filter(|&i| inside_length(mainland, &pieces[i]) > 1.0).count();
+    let (mut along_tracks, mut crossings) = (0, 0);
+    for i in between_swaths.clone().filter(|&i| inside_length(mainland, &pieces[i]) > 1.0) {
+        match over_mainland(&pieces[i]) {
+            (_, off) if off > 1.0 => crossings += 1,
+            (on_swaths, _) if on_swaths > 1.0 => along_tracks += 1,
+            _ => {}
+        }
+    }
     GroundStats {
         headland_width_m: spec.width_m,
         headland_passes: spec.passes,
@@ -76,7 +100,8 @@ pub fn ground_stats(
         omega_turns: shaped(TurnShape::Omega),
         fishtail_turns: shaped(TurnShape::Fishtail),
         mainland_crossings: crossings,
-        headland_drives: between_swaths.count() - crossings,
+        track_crossings: along_tracks,
+        headland_drives: between_swaths.count() - along_tracks - crossings,
         // a centimetre of slack: the turns' arcs are sampled
         turns_leaving_field: turns.iter().filter(|p| inside_length(&outer, p) < p.length() - 0.01).count(),
         turns_crossing_holes: turns.iter().filter(|p| inside_length(&holes, p) > 0.01).count(),

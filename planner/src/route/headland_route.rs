@@ -2,14 +2,19 @@
 //! vehicle turns in the headland: the shortest manoeuvre (Dubins word, or fishtail when it may
 //! reverse) that crosses neither the field's edge, a hole, nor the mainland; where none fits,
 //! it drives onto a headland pass, along it, and off again (the headland ring as a road).
-//! Transits (from the start, between headland rings, to the end) may cross the mainland but
-//! never leave the field. Swaths of different fields are joined by the road outside, a Dubins
-//! path nothing constrains.
+//! Transits (from the start, between headland rings, to the end) keep off the mainland where
+//! the headland joins their ends, and never leave the field. Where no way in the headland joins
+//! two swaths, the vehicle crosses in a swath's wheel marks. Swaths of different fields are
+//! joined by the road outside, a Dubins path nothing constrains.
 //!
 //! The order of the swaths is a generalised TSP over their two directions
 //! ([`super::gtsp`]), priced lazily: a connection's floor is its length in open ground.
 
+mod switch;
+
 use std::cell::OnceCell;
+use std::collections::HashMap;
+use std::sync::{OnceLock, RwLock};
 
 use geo::{Coord, MultiPolygon};
 use rayon::prelude::*;
@@ -22,6 +27,7 @@ use crate::stop::Stop;
 use crate::turn::dubins::Pose;
 use crate::turn::ground::{Manoeuvre, Steering};
 use crate::turn::turnable_stretch;
+use switch::{Lane, Switch, Switches};
 
 /// A headland pass as a road: a closed ring with its arc lengths.
 pub struct Road {
@@ -109,11 +115,18 @@ pub struct HeadlandRoutes {
     steering: Steering,
     /// How far from a pose ramps onto a road are looked for.
     reach: f64,
+    /// Where the vehicle turns round or changes pass: found when a way first needs one.
+    switches: OnceLock<Switches>,
 }
 
-/// What crossing the mainland between two swaths costs on top of its length, in metres: the
-/// route takes it only where no way through the headland joins them.
-const MAINLAND_CROSSING_M: f64 = 1000.0;
+/// What crossing the mainland along a swath's track costs on top of its length, in metres: the
+/// route takes it only where no way through the headland joins two swaths (one pond's headland
+/// to another's, or to the field's edge).
+const TRACK_CROSSING_M: f64 = 1000.0;
+/// The same for a crossing off every track, across the crop: only where no track leads.
+const MAINLAND_CROSSING_M: f64 = 5000.0;
+/// Swaths whose tracks are tried for a crossing: the shortest as the crow flies.
+const TRACKS_TRIED: usize = 4;
 
 /// Stops tried per road and direction of travel for ramps from or to a pose: the nearest.
 const RAMP_STOPS: usize = 12;
@@ -128,6 +141,20 @@ pub struct Ramp {
     forward: bool,
     points: Vec<Coord>,
     length: f64,
+}
+
+impl Ramp {
+    fn lane(&self) -> Lane {
+        (self.road, self.forward)
+    }
+}
+
+/// The lanes `ramps` join, each once.
+fn lanes_of(ramps: &[Ramp]) -> Vec<Lane> {
+    let mut lanes: Vec<Lane> = ramps.iter().map(Ramp::lane).collect();
+    lanes.sort_unstable();
+    lanes.dedup();
+    lanes
 }
 
 /// What a connection may not cross: the field's edges, and for a turn the mainland's.
@@ -147,7 +174,8 @@ impl HeadlandRoutes {
         let spacing = (radius / 2.0).max(1.0);
         let roads: Vec<Road> = roads.iter().filter(|r| r.len() >= 4).map(|r| Road::new(r, spacing)).collect();
         let stops = roads.iter().enumerate().flat_map(|(k, road)| road.stops(spacing).into_iter().map(move |i| (k, i, road.points[i]))).collect();
-        HeadlandRoutes { field: EdgeIndex::new(region), mainland: EdgeIndex::new(mainland), roads, stops, steering, reach: 4.0 * radius + 2.0 * headland_m }
+        let (field, mainland) = (EdgeIndex::new(region), EdgeIndex::new(mainland));
+        HeadlandRoutes { field, mainland, roads, stops, steering, reach: 4.0 * radius + 2.0 * headland_m, switches: OnceLock::new() }
     }
 
     /// The radius of the circle every turn keeps within.
@@ -203,14 +231,14 @@ impl HeadlandRoutes {
         Way { length: polyline_length(&points), points, shape: None }
     }
 
-    /// Anywhere inside the field: the shortest manoeuvre that stays in it, or else along a
-    /// headland pass.
+    /// Anywhere inside the field, off the mainland where the headland joins the two poses: the
+    /// shortest manoeuvre that stays in the headland, or else along the headland passes; else
+    /// the same across the mainland.
     pub fn transit(&self, from: Pose, to: Pose) -> Option<Way> {
-        let direct = self.steering.manoeuvres(from, to).into_iter().find_map(|m| self.cleared(&m, Bounds::Field).map(|points| Way { points, length: m.length, shape: None }));
-        direct.or_else(|| {
-            let (on, off) = (self.ramps(from, true, Bounds::Field), self.ramps(to, false, Bounds::Field));
-            self.by_road(&on, &off)
-        })
+        let manoeuvres = self.steering.manoeuvres(from, to);
+        let direct = |bounds: Bounds| manoeuvres.iter().find_map(|m| self.cleared(m, bounds).map(|points| Way { points, length: m.length, shape: None }));
+        let by_road = |bounds: Bounds| self.by_road(&self.ramps(from, true, bounds), &self.ramps(to, false, bounds));
+        direct(Bounds::Headland).or_else(|| by_road(Bounds::Headland)).or_else(|| direct(Bounds::Field)).or_else(|| by_road(Bounds::Field))
     }
 
     /// `pose` with its ramps onto the roads (`leaving`: the vehicle sets off from it) or off
@@ -242,25 +270,43 @@ impl HeadlandRoutes {
         self.best_road(on, off).map(|r| self.draw(&r))
     }
 
-    /// [`Self::by_road`]'s choice, not yet drawn.
-    fn best_road<'r>(&self, on: &'r [Ramp], off: &'r [Ramp]) -> Option<RoadWay<'r>> {
-        let mut best: Option<RoadWay<'r>> = None;
-        for a in on {
-            for b in off.iter().filter(|b| b.road == a.road && b.forward == a.forward) {
-                let length = a.length + self.roads[a.road].along(a.vertex, b.vertex, a.forward) + b.length;
-                if best.as_ref().is_none_or(|x| length < x.length) {
-                    best = Some(RoadWay { length, on: a, off: b });
-                }
-            }
+    /// [`Self::by_road`]'s choice, not yet drawn: along one lane; where no lane joins the ramps,
+    /// onto another by a switch (the vehicle turns round, or changes pass).
+    fn best_road<'r>(&'r self, on: &'r [Ramp], off: &'r [Ramp]) -> Option<RoadWay<'r>> {
+        let shortest = |ways: &mut dyn Iterator<Item = RoadWay<'r>>| ways.min_by(|x, y| x.length.total_cmp(&y.length));
+        let along = on.iter().flat_map(|a| off.iter().filter(move |b| b.lane() == a.lane()).map(move |b| (a, b)));
+        let direct = shortest(&mut along.map(|(a, b)| RoadWay { length: a.length + self.roads[a.road].along(a.vertex, b.vertex, a.forward) + b.length, on: a, off: b, via: None }));
+        let (from_lanes, to_lanes) = (lanes_of(on), lanes_of(off));
+        if direct.is_some() || from_lanes.is_empty() || to_lanes.is_empty() {
+            return direct;
         }
-        best
+        let switches = self.switches.get_or_init(|| self.find_switches());
+        let lane_pairs = from_lanes.iter().flat_map(|&from| to_lanes.iter().map(move |&to| (from, to)));
+        let via = lane_pairs.flat_map(|(from, to)| switches.get(&(from, to)).into_iter().flatten().map(move |s| (from, to, s)));
+        shortest(&mut via.filter_map(|(from, to, s)| {
+            // the best ramp onto the switch's start and off its end, each on its own
+            let onto =
+                on.iter().filter(|a| a.lane() == from).map(|a| (a.length + self.roads[from.0].along(a.vertex, s.from_vertex, from.1), a)).min_by(|x, y| x.0.total_cmp(&y.0))?;
+            let off_it = off.iter().filter(|b| b.lane() == to).map(|b| (self.roads[to.0].along(s.to_vertex, b.vertex, to.1) + b.length, b)).min_by(|x, y| x.0.total_cmp(&y.0))?;
+            Some(RoadWay { length: onto.0 + s.length + off_it.0, on: onto.1, off: off_it.1, via: Some(s) })
+        }))
     }
 
     fn draw(&self, r: &RoadWay<'_>) -> Way {
         let (a, b) = (r.on, r.off);
         let mut points = a.points.clone();
-        if a.vertex != b.vertex {
-            points.extend(self.roads[a.road].stretch(a.vertex, b.vertex, a.forward).into_iter().skip(1));
+        let drive = |road: usize, i: usize, j: usize, forward: bool, points: &mut Vec<Coord>| {
+            if i != j {
+                points.extend(self.roads[road].stretch(i, j, forward).into_iter().skip(1));
+            }
+        };
+        match r.via {
+            None => drive(a.road, a.vertex, b.vertex, a.forward, &mut points),
+            Some(s) => {
+                drive(a.road, a.vertex, s.from_vertex, a.forward, &mut points);
+                points.extend(s.points.iter().skip(1));
+                drive(b.road, s.to_vertex, b.vertex, b.forward, &mut points);
+            }
         }
         points.extend(b.points.iter().skip(1));
         Way { points, length: r.length, shape: None }
@@ -332,22 +378,27 @@ struct RoadWay<'r> {
     length: f64,
     on: &'r Ramp,
     off: &'r Ramp,
+    /// Where the way turns round or changes pass.
+    via: Option<&'r Switch>,
 }
 
 /// A connection between two swaths as found: a turn already drawn (its points were needed to
-/// clear it), or a way along a road still to draw (`true`: for the twin nodes, to reverse).
+/// clear it), a way along a road still to draw (`true`: for the twin nodes, to reverse), or a
+/// crossing along a swath's track (node `x`: from its entry to its exit) between two of these.
 enum Link<'r> {
     Drawn(Way),
     Road(RoadWay<'r>, bool),
+    Track(Box<Link<'r>>, usize, Box<Link<'r>>),
 }
 
-impl Link<'_> {
-    fn length(&self) -> f64 {
-        match self {
-            Link::Drawn(w) => w.length,
-            Link::Road(r, _) => r.length,
-        }
-    }
+/// How a connection between two swaths crosses the mainland, if it does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Crossing {
+    No,
+    /// Along a swath's track, in its wheel marks.
+    Track,
+    /// Off every track, across the crop.
+    Crop,
 }
 
 /// The connections between swaths, with each swath end's ramps onto the roads, found once.
@@ -360,6 +411,10 @@ pub struct SwathLinks<'a> {
     /// The same inside the field, for crossings of the mainland.
     across_from_exit: Vec<Vec<Ramp>>,
     across_to_entry: Vec<Vec<Ramp>>,
+    /// Per node, the lanes its entry and its exit reach: found for the first crossing.
+    lanes: OnceLock<Vec<(Vec<Lane>, Vec<Lane>)>>,
+    /// Lengths of the ways inside the headland asked for by crossings.
+    inside: RwLock<HashMap<(usize, usize), Option<f64>>>,
 }
 
 impl<'a> SwathLinks<'a> {
@@ -379,34 +434,61 @@ impl<'a> SwathLinks<'a> {
                 .unzip()
         };
         let ((from_exit, across_from_exit), (to_entry, across_to_entry)) = rayon::join(|| ramps(true), || ramps(false));
-        SwathLinks { lines, routes, from_exit, to_entry, across_from_exit, across_to_entry }
+        SwathLinks { lines, routes, from_exit, to_entry, across_from_exit, across_to_entry, lanes: OnceLock::new(), inside: RwLock::default() }
     }
 
     /// From the exit of node `u` to the entry of node `v`: a turn in the headland; else along
     /// a headland pass (either way round: the twin's ramps may fit where these do not); else,
-    /// within a field, a transit across the mainland (`crossing` true); between fields, the
-    /// road outside.
-    pub fn link(&self, u: usize, v: usize) -> Option<(Way, bool)> {
-        self.find(u, v).map(|(link, crossing)| {
-            let way = match link {
-                Link::Drawn(w) => w,
-                Link::Road(r, twin) => {
-                    let mut w = self.routes.draw(&r);
-                    if twin {
-                        w.points.reverse();
-                    }
-                    w
-                }
-            };
-            (way, crossing)
-        })
+    /// within a field, a crossing of the mainland along a swath's track, or off the tracks
+    /// where none leads; between fields, the road outside.
+    pub fn link(&self, u: usize, v: usize) -> Option<(Way, Crossing)> {
+        self.find(u, v).map(|(link, crossing)| (self.draw(link), crossing))
     }
 
-    fn find(&self, u: usize, v: usize) -> Option<(Link<'_>, bool)> {
+    fn draw(&self, link: Link<'_>) -> Way {
+        match link {
+            Link::Drawn(w) => w,
+            Link::Road(r, twin) => {
+                let mut w = self.routes.draw(&r);
+                if twin {
+                    w.points.reverse();
+                }
+                w
+            }
+            Link::Track(to, x, from) => {
+                let (to, from) = (self.draw(*to), self.draw(*from));
+                let mut points = to.points;
+                points.extend([entry(self.lines, x).coord(), exit(self.lines, x).coord()]);
+                points.extend(from.points.into_iter().skip(1));
+                points.dedup();
+                Way { length: to.length + self.lines[x / 2].length() + from.length, points, shape: None }
+            }
+        }
+    }
+
+    fn find(&self, u: usize, v: usize) -> Option<(Link<'_>, Crossing)> {
         let (from, to) = (exit(self.lines, u), entry(self.lines, v));
         if self.lines[u / 2].region != self.lines[v / 2].region {
-            return Some((Link::Drawn(self.routes.outside(from, to)), false));
+            return Some((Link::Drawn(self.routes.outside(from, to)), Crossing::No));
         }
+        let (inside, over_mainland) = self.in_headland(u, v);
+        if let Some(link) = inside {
+            return Some((link, Crossing::No));
+        }
+        if let Some(link) = self.along_track(u, v) {
+            return Some((link, Crossing::Track));
+        }
+        // the first clear of the field's edges, else by the roads across the mainland
+        let routes = self.routes;
+        let first_clear = over_mainland.into_iter().find_map(|m| routes.cleared(&m, Bounds::Field).map(|points| Way { points, length: m.length, shape: None }));
+        let across = first_clear.map(Link::Drawn).or_else(|| routes.best_road(&self.across_from_exit[u], &self.across_to_entry[v]).map(|r| Link::Road(r, false)));
+        across.map(|link| (link, Crossing::Crop))
+    }
+
+    /// A way from `u`'s exit to `v`'s entry inside the headland, and the manoeuvres between them
+    /// that cross the mainland.
+    fn in_headland(&self, u: usize, v: usize) -> (Option<Link<'_>>, Vec<Manoeuvre>) {
+        let (from, to) = (exit(self.lines, u), entry(self.lines, v));
         // each manoeuvre tried on the mainland first: between far swath ends most cross it,
         // many by their straight leg alone (found before their arcs are drawn), and only the
         // crossing needs the field's edges
@@ -421,26 +503,108 @@ impl<'a> SwathLinks<'a> {
             if routes.mainland.crossed(&points) {
                 over_mainland.push(m);
             } else if !routes.field.crossed(&points) {
-                return Some((Link::Drawn(Way { points, length: m.length, shape: Some(m.shape) }), false));
+                return (Some(Link::Drawn(Way { points, length: m.length, shape: Some(m.shape) })), over_mainland);
             }
         }
         let (on, off) = (&self.from_exit, &self.to_entry);
         let road = routes.best_road(&on[u], &off[v]).map(|r| Link::Road(r, false)).or_else(|| routes.best_road(&on[v ^ 1], &off[u ^ 1]).map(|r| Link::Road(r, true)));
-        if let Some(link) = road {
-            return Some((link, false));
-        }
-        // the first clear of the field's edges, else by the roads across the mainland
-        let first_clear = over_mainland.into_iter().find_map(|m| routes.cleared(&m, Bounds::Field).map(|points| Way { points, length: m.length, shape: None }));
-        let across = first_clear.map(Link::Drawn).or_else(|| routes.best_road(&self.across_from_exit[u], &self.across_to_entry[v]).map(|r| Link::Road(r, false)));
-        across.map(|link| (link, true))
+        (road, over_mainland)
     }
 
-    /// The cost the route search sees: the length, plus [`MAINLAND_CROSSING_M`] for a crossing.
+    /// [`Self::in_headland`]'s length, kept.
+    fn in_headland_length(&self, u: usize, v: usize) -> Option<f64> {
+        let known = self.inside.read().unwrap_or_else(std::sync::PoisonError::into_inner).get(&(u, v)).copied();
+        known.unwrap_or_else(|| {
+            let length = self.in_headland(u, v).0.map(|l| self.draw(l).length);
+            self.inside.write().unwrap_or_else(std::sync::PoisonError::into_inner).insert((u, v), length);
+            length
+        })
+    }
+
+    /// From `u`'s exit to `v`'s entry across the mainland in swaths' wheel marks: inside the
+    /// headland to the entry of a swath `x` (driven, not worked), along it, and inside the
+    /// headland from its exit on; where no one swath leads, two. Of the swaths whose entry a
+    /// turn from `u` may reach (near it, or on a lane `u`'s ramps join, or one a switch leads
+    /// to) and whose exit leads likewise to `v`, the [`TRACKS_TRIED`] shortest as the crow
+    /// flies are tried.
+    fn along_track(&self, u: usize, v: usize) -> Option<Link<'_>> {
+        let lanes = self.lanes.get_or_init(|| self.lanes_reached());
+        let switches = self.routes.switches.get_or_init(|| self.routes.find_switches());
+        // the lanes `u`'s exit leads to, and those that lead to `v`'s entry, by at most a switch
+        let id = |(road, forward): Lane| 2 * road + usize::from(forward);
+        let mut after_u = vec![false; 2 * self.routes.roads.len()];
+        let mut before_v = after_u.clone();
+        for a in &lanes[u].1 {
+            after_u[id(*a)] = true;
+        }
+        for b in &lanes[v].0 {
+            before_v[id(*b)] = true;
+        }
+        for (a, b) in switches.keys() {
+            after_u[id(*b)] |= lanes[u].1.contains(a);
+            before_v[id(*a)] |= lanes[v].0.contains(b);
+        }
+        let (from, to) = (exit(self.lines, u).coord(), entry(self.lines, v).coord());
+        let near = 4.0 * self.routes.bounding_radius();
+        let from_u = |x: usize| distance(from, entry(self.lines, x).coord()) <= near || lanes[x].0.iter().any(|&l| after_u[id(l)]);
+        let to_v = |x: usize| distance(exit(self.lines, x).coord(), to) <= near || lanes[x].1.iter().any(|&l| before_v[id(l)]);
+        let tracks = |keep: &dyn Fn(usize) -> bool, crow: &dyn Fn(usize) -> f64| {
+            let mut tracks: Vec<(f64, usize)> = (0..2 * self.lines.len())
+                .filter(|&x| x / 2 != u / 2 && x / 2 != v / 2 && self.lines[x / 2].region == self.lines[u / 2].region && keep(x))
+                .map(|x| (crow(x), x))
+                .collect();
+            tracks.sort_by(|a, b| a.0.total_cmp(&b.0));
+            tracks.truncate(TRACKS_TRIED);
+            tracks.into_iter().map(|(_, x)| x).collect::<Vec<usize>>()
+        };
+        let length = |x: usize| self.lines[x / 2].length();
+        let (to_track, from_track) = (|x: usize| distance(from, entry(self.lines, x).coord()), |x: usize| distance(exit(self.lines, x).coord(), to));
+        // one track; else two, the first from `u`'s side of the field, the second to `v`'s (a
+        // vehicle that can turn round nowhere on the headland crosses and comes back)
+        let one = tracks(&|x| from_u(x) && to_v(x), &|x| to_track(x) + length(x) + from_track(x));
+        let best = one.into_iter().filter_map(|x| Some((self.in_headland_length(u, x)? + length(x) + self.in_headland_length(x, v)?, vec![x]))).min_by(|a, b| a.0.total_cmp(&b.0));
+        let best = best.or_else(|| {
+            let firsts: Vec<(f64, usize)> =
+                tracks(&from_u, &|x| to_track(x) + length(x)).into_iter().filter_map(|x| Some((self.in_headland_length(u, x)? + length(x), x))).collect();
+            let lasts: Vec<(f64, usize)> =
+                tracks(&to_v, &|y| length(y) + from_track(y)).into_iter().filter_map(|y| Some((length(y) + self.in_headland_length(y, v)?, y))).collect();
+            let pairs = firsts.iter().flat_map(|&(a, x)| lasts.iter().filter(move |&&(_, y)| y / 2 != x / 2).map(move |&(b, y)| (a, x, b, y)));
+            pairs.filter_map(|(a, x, b, y)| Some((a + self.in_headland_length(x, y)? + b, vec![x, y]))).min_by(|p, q| p.0.total_cmp(&q.0))
+        })?;
+        // the links inside the headland between `u`, the tracks and `v`
+        let stops: Vec<usize> = std::iter::once(u).chain(best.1.iter().copied()).chain([v]).collect();
+        let mut legs = stops.windows(2).rev().map(|w| self.in_headland(w[0], w[1]).0);
+        let mut link = legs.next()??;
+        for (leg, &x) in legs.zip(best.1.iter().rev()) {
+            link = Link::Track(Box::new(leg?), x, Box::new(link));
+        }
+        Some(link)
+    }
+
+    /// Per node, the lanes its entry's ramps come off and its exit's go onto.
+    fn lanes_reached(&self) -> Vec<(Vec<Lane>, Vec<Lane>)> {
+        (0..2 * self.lines.len()).map(|x| (lanes_of(&self.to_entry[x]), lanes_of(&self.from_exit[x]))).collect()
+    }
+
+    /// The cost the route search sees: the length, plus [`TRACK_CROSSING_M`] or
+    /// [`MAINLAND_CROSSING_M`] for a crossing.
     fn cost(&self, u: usize, v: usize) -> f64 {
         if u / 2 == v / 2 {
             return NO_WAY;
         }
-        self.find(u, v).map_or(NO_WAY, |(link, crossing)| link.length() + if crossing { MAINLAND_CROSSING_M } else { 0.0 })
+        self.find(u, v).map_or(NO_WAY, |(link, crossing)| {
+            let length = match &link {
+                Link::Drawn(w) => w.length,
+                Link::Road(r, _) => r.length,
+                Link::Track(..) => self.draw(link).length,
+            };
+            length
+                + match crossing {
+                    Crossing::No => 0.0,
+                    Crossing::Track => TRACK_CROSSING_M,
+                    Crossing::Crop => MAINLAND_CROSSING_M,
+                }
+        })
     }
 }
 

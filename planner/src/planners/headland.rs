@@ -401,7 +401,8 @@ impl Drive<'_> {
 
     /// Where to enter `ring` (closed) and which way round to drive it: of the [`RING_ENTRIES`]
     /// vertices nearest the vehicle, each way round, the first a transit inside the field
-    /// reaches. From a ring just driven, the vehicle may also drive on along it first (a pond's
+    /// reaches without a detour (a transit keeps to the headland, where a ring driven the wrong
+    /// way round may lead far off), else the one it reaches by the shortest. From a ring just driven, the vehicle may also drive on along it first (a pond's
     /// own ring leads round the pond); `lap` is that ring from the vehicle's position, and the
     /// answer's last figure is how many of its vertices to drive on. Else the nearest vertex.
     fn ring_entry(&self, ring: &[Coord], lap: Option<&[Coord]>) -> (usize, bool, usize) {
@@ -418,13 +419,18 @@ impl Drive<'_> {
         for (d, from) in departures {
             let near = nearest(from.coord());
             let step = (n / RING_ENTRIES).max(1);
-            let found = near
-                .iter()
-                .take(RING_ENTRIES * step)
-                .step_by(step)
-                .flat_map(|&(_, i)| [(i, true), (i, false)])
-                .find(|&(i, forward)| self.routes.transit(from, ring_pose(ring, i, forward)).is_some());
-            if let Some((i, forward)) = found {
+            // the first entry reached without a detour, else the one reached by the shortest
+            let mut best: Option<(usize, bool, f64)> = None;
+            for (i, forward) in near.iter().take(RING_ENTRIES * step).step_by(step).flat_map(|&(_, i)| [(i, true), (i, false)]) {
+                let Some(way) = self.routes.transit(from, ring_pose(ring, i, forward)) else { continue };
+                if best.is_none_or(|b| way.length < b.2) {
+                    best = Some((i, forward, way.length));
+                }
+                if !self.routes.is_detour(way.length, from.coord(), ring[i]) {
+                    break;
+                }
+            }
+            if let Some((i, forward, _)) = best {
                 return (i, forward, d);
             }
         }

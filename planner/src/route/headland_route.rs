@@ -270,26 +270,36 @@ impl HeadlandRoutes {
         self.best_road(on, off).map(|r| self.draw(&r))
     }
 
-    /// [`Self::by_road`]'s choice, not yet drawn: along one lane; where no lane joins the ramps,
-    /// onto another by a switch (the vehicle turns round, or changes pass).
+    /// [`Self::by_road`]'s choice, not yet drawn: along one lane; where no lane joins the ramps
+    /// or its way is a detour ([`Self::is_detour`]), the shortest of that and the ways onto
+    /// another lane by a switch (the vehicle turns round, or changes pass).
     fn best_road<'r>(&'r self, on: &'r [Ramp], off: &'r [Ramp]) -> Option<RoadWay<'r>> {
         let shortest = |ways: &mut dyn Iterator<Item = RoadWay<'r>>| ways.min_by(|x, y| x.length.total_cmp(&y.length));
         let along = on.iter().flat_map(|a| off.iter().filter(move |b| b.lane() == a.lane()).map(move |b| (a, b)));
         let direct = shortest(&mut along.map(|(a, b)| RoadWay { length: a.length + self.roads[a.road].along(a.vertex, b.vertex, a.forward) + b.length, on: a, off: b, via: None }));
         let (from_lanes, to_lanes) = (lanes_of(on), lanes_of(off));
-        if direct.is_some() || from_lanes.is_empty() || to_lanes.is_empty() {
+        let ends = on.first().zip(off.first()).map(|(a, b)| (a.points[0], *b.points.last().expect("a ramp has points")));
+        let detour = |way: &RoadWay<'_>| ends.is_some_and(|(a, b)| self.is_detour(way.length, a, b));
+        if direct.as_ref().is_some_and(|w| !detour(w)) || from_lanes.is_empty() || to_lanes.is_empty() {
             return direct;
         }
         let switches = self.switches.get_or_init(|| self.find_switches());
         let lane_pairs = from_lanes.iter().flat_map(|&from| to_lanes.iter().map(move |&to| (from, to)));
         let via = lane_pairs.flat_map(|(from, to)| switches.get(&(from, to)).into_iter().flatten().map(move |s| (from, to, s)));
-        shortest(&mut via.filter_map(|(from, to, s)| {
+        shortest(&mut direct.into_iter().chain(via.filter_map(|(from, to, s)| {
             // the best ramp onto the switch's start and off its end, each on its own
             let onto =
                 on.iter().filter(|a| a.lane() == from).map(|a| (a.length + self.roads[from.0].along(a.vertex, s.from_vertex, from.1), a)).min_by(|x, y| x.0.total_cmp(&y.0))?;
             let off_it = off.iter().filter(|b| b.lane() == to).map(|b| (self.roads[to.0].along(s.to_vertex, b.vertex, to.1) + b.length, b)).min_by(|x, y| x.0.total_cmp(&y.0))?;
             Some(RoadWay { length: onto.0 + s.length + off_it.0, on: onto.1, off: off_it.1, via: Some(s) })
-        }))
+        })))
+    }
+
+    /// Whether a way of `length` between `a` and `b` is a detour: longer than twice the crow's
+    /// distance and 10 turning radii more (room for a loop and its ramps), as a ring driven the
+    /// wrong way round.
+    pub fn is_detour(&self, length: f64, a: Coord, b: Coord) -> bool {
+        length > 2.0 * distance(a, b) + 10.0 * self.steering.bounding_radius()
     }
 
     fn draw(&self, r: &RoadWay<'_>) -> Way {

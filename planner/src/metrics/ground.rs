@@ -67,24 +67,25 @@ pub fn ground_stats(
     // than the turning circle over the mainland's tip)
     let marks = |kind: PieceKind| -> Vec<Line> { pieces.iter().filter(|p| p.kind == kind).flat_map(|p| p.points.windows(2).map(|w| Line::new(w[0], w[1]))).collect() };
     let (swath_marks, pass_marks) = (marks(PieceKind::Sweep), marks(PieceKind::Headland));
-    // a piece's metres in the mainland: in a swath's wheel marks, and off every swath's and
+    // a piece's metres in the mainland: all, in a swath's wheel marks, and off every swath's and
     // pass's (legs not on one track from end to end)
     let over_mainland = |p: &Piece| {
         let on =
             |marks: &[Line], l: &Line| marks.iter().any(|t| Euclidean.distance(&Point::from(l.start), t) < ON_TRACK_M && Euclidean.distance(&Point::from(l.end), t) < ON_TRACK_M);
         let legs: Vec<Line> = inside(mainland, p).0.into_iter().flat_map(|l| l.lines().collect::<Vec<_>>()).collect();
         let length = |keep: &dyn Fn(&Line) -> bool| legs.iter().filter(|l| keep(l)).map(|l| Euclidean.length(l)).sum::<f64>();
-        (length(&|l| on(&swath_marks, l)), length(&|l| !on(&swath_marks, l) && !on(&pass_marks, l)))
+        (length(&|_| true), length(&|l| on(&swath_marks, l)), length(&|l| !on(&swath_marks, l) && !on(&pass_marks, l)))
     };
     let share = |part: &MultiPolygon| {
         let area = part.unsigned_area();
         if area > 0.0 { (under(swept, part).0 / area).min(1.0) } else { 1.0 }
     };
     let (mut along_tracks, mut crossings) = (0, 0);
-    for i in between_swaths.clone().filter(|&i| inside_length(mainland, &pieces[i]) > 1.0) {
+    for i in between_swaths.clone() {
         match over_mainland(&pieces[i]) {
-            (_, off) if off > 1.0 => crossings += 1,
-            (on_swaths, _) if on_swaths > 1.0 => along_tracks += 1,
+            (all, ..) if all <= 1.0 => {}
+            (_, _, off) if off > 1.0 => crossings += 1,
+            (_, on_swaths, _) if on_swaths > 1.0 => along_tracks += 1,
             _ => {}
         }
     }

@@ -402,9 +402,10 @@ impl Drive<'_> {
     /// Where to enter `ring` (closed) and which way round to drive it: of the [`RING_ENTRIES`]
     /// vertices nearest the vehicle, each way round, the first a transit inside the field
     /// reaches without a detour (a transit keeps to the headland, where a ring driven the wrong
-    /// way round may lead far off), else the one it reaches by the shortest. From a ring just driven, the vehicle may also drive on along it first (a pond's
-    /// own ring leads round the pond); `lap` is that ring from the vehicle's position, and the
-    /// answer's last figure is how many of its vertices to drive on. Else the nearest vertex.
+    /// way round may lead far off), else the one it reaches by the shortest. From a ring just
+    /// driven, the vehicle may also drive on along it first (a pond's own ring leads round the
+    /// pond); `lap` is that ring from the vehicle's position, and the answer's last figure is
+    /// how many of its vertices to drive on. Else the nearest vertex.
     fn ring_entry(&self, ring: &[Coord], lap: Option<&[Coord]>) -> (usize, bool, usize) {
         let Some(here) = self.at else { return (0, true, 0) };
         let n = ring.len() - 1;

@@ -283,7 +283,7 @@ impl HeadlandRoutes {
         if direct.as_ref().is_some_and(|w| !detour(w)) || from_lanes.is_empty() || to_lanes.is_empty() {
             return direct;
         }
-        let switches = self.switches.get_or_init(|| self.find_switches());
+        let switches = self.switches();
         let lane_pairs = from_lanes.iter().flat_map(|&from| to_lanes.iter().map(move |&to| (from, to)));
         let via = lane_pairs.flat_map(|(from, to)| switches.get(&(from, to)).into_iter().flatten().map(move |s| (from, to, s)));
         shortest(&mut direct.into_iter().chain(via.filter_map(|(from, to, s)| {
@@ -293,6 +293,11 @@ impl HeadlandRoutes {
             let off_it = off.iter().filter(|b| b.lane() == to).map(|b| (self.roads[to.0].along(s.to_vertex, b.vertex, to.1) + b.length, b)).min_by(|x, y| x.0.total_cmp(&y.0))?;
             Some(RoadWay { length: onto.0 + s.length + off_it.0, on: onto.1, off: off_it.1, via: Some(s) })
         })))
+    }
+
+    /// The switches, found on first use.
+    fn switches(&self) -> &Switches {
+        self.switches.get_or_init(|| self.find_switches())
     }
 
     /// Whether a way of `length` between `a` and `b` is a detour: longer than twice the crow's
@@ -476,6 +481,15 @@ impl<'a> SwathLinks<'a> {
         }
     }
 
+    /// `link`'s length, without drawing it.
+    fn length(&self, link: &Link<'_>) -> f64 {
+        match link {
+            Link::Drawn(w) => w.length,
+            Link::Road(r, _) => r.length,
+            Link::Track(to, x, from) => self.length(to) + self.lines[x / 2].length() + self.length(from),
+        }
+    }
+
     fn find(&self, u: usize, v: usize) -> Option<(Link<'_>, Crossing)> {
         let (from, to) = (exit(self.lines, u), entry(self.lines, v));
         if self.lines[u / 2].region != self.lines[v / 2].region {
@@ -525,7 +539,7 @@ impl<'a> SwathLinks<'a> {
     fn in_headland_length(&self, u: usize, v: usize) -> Option<f64> {
         let known = self.inside.read().unwrap_or_else(std::sync::PoisonError::into_inner).get(&(u, v)).copied();
         known.unwrap_or_else(|| {
-            let length = self.in_headland(u, v).0.map(|l| self.draw(l).length);
+            let length = self.in_headland(u, v).0.map(|l| self.length(&l));
             self.inside.write().unwrap_or_else(std::sync::PoisonError::into_inner).insert((u, v), length);
             length
         })
@@ -539,7 +553,7 @@ impl<'a> SwathLinks<'a> {
     /// flies are tried.
     fn along_track(&self, u: usize, v: usize) -> Option<Link<'_>> {
         let lanes = self.lanes.get_or_init(|| self.lanes_reached());
-        let switches = self.routes.switches.get_or_init(|| self.routes.find_switches());
+        let switches = self.routes.switches();
         // the lanes `u`'s exit leads to, and those that lead to `v`'s entry, by at most a switch
         let id = |(road, forward): Lane| 2 * road + usize::from(forward);
         let mut after_u = vec![false; 2 * self.routes.roads.len()];
@@ -603,12 +617,7 @@ impl<'a> SwathLinks<'a> {
             return NO_WAY;
         }
         self.find(u, v).map_or(NO_WAY, |(link, crossing)| {
-            let length = match &link {
-                Link::Drawn(w) => w.length,
-                Link::Road(r, _) => r.length,
-                Link::Track(..) => self.draw(link).length,
-            };
-            length
+            self.length(&link)
                 + match crossing {
                     Crossing::No => 0.0,
                     Crossing::Track => TRACK_CROSSING_M,

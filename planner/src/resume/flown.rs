@@ -6,6 +6,8 @@
 //! log than the last sample's), so that the way out over lines not yet flown is not their work.
 //! The cut is the last sample done in flight order; before it, the runs of samples not done
 //! that leave ground unimaged (with a track only: runs of two samples or more) are flown again.
+//! A track's heading is judged over a step's neighbours too (a receiver's noise on a short
+//! step), and slivers shorter than half a trigger distance are not matched against a track.
 
 use std::collections::HashMap;
 
@@ -133,9 +135,18 @@ pub fn cut_from_log(pieces: &[Stored], frame: &LocalFrame, flown: &Flown, sampli
             }
             Marks::Track(segments) => {
                 let (a, b) = segments[*k];
-                let d = b - a;
-                let len = d.x.hypot(d.y);
-                len > 0.0 && (d.x * u.x + d.y * u.y) / len >= cos_along && point_to_segment(p, a, b) <= tolerance
+                let heads_along = |d: Coord| {
+                    let len = d.x.hypot(d.y);
+                    len > 0.0 && (d.x * u.x + d.y * u.y) / len >= cos_along
+                };
+                // a short step's own heading is mostly the receiver's noise: the chord over
+                // its neighbours in the log says where the vehicle was going
+                let chord = || {
+                    let before = k.checked_sub(1).map(|j| segments[j]).filter(|s| s.1 == a).map_or(a, |s| s.0);
+                    let after = segments.get(k + 1).filter(|s| s.0 == b).map_or(b, |s| s.1);
+                    after - before
+                };
+                point_to_segment(p, a, b) <= tolerance && (heads_along(b - a) || heads_along(chord()))
             }
         };
         let within = |k: &usize| track_at.get(*k).is_none_or(|at| at - track_at.get(floor).copied().unwrap_or(0.0) <= reach_m);
@@ -165,6 +176,13 @@ pub fn cut_from_log(pieces: &[Stored], frame: &LocalFrame, flown: &Flown, sampli
                     }
                 }
             }
+            walked += len;
+            continue;
+        }
+        if matches!(marks, Marks::Track(_)) && len < sampling.trigger_m / 2.0 {
+            // a sliver at a field's tip, shorter than its track's noise tells a heading by: not
+            // worth a flight again, and a later pass beside it must not move the floor past the
+            // lines that follow it
             walked += len;
             continue;
         }

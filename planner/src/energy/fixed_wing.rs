@@ -14,6 +14,14 @@ use crate::path::FlightPath;
 
 const G: f64 = 9.81;
 
+/// Seconds an autopilot following waypoints takes beyond the arc for each radian it turns: it
+/// rolls in and out at each of the arc's corners (a roll time constant of about half a second)
+/// and L1 guidance closes on each new leg gradually, so it flies the turn wider than the arc.
+/// Measured with the follower (`export::follower`, ArduPlane's L1 defaults) over speeds of
+/// 12-25 m/s and radii of 50-120 m: 0.41-0.59 s a radian, 0.39 on the random fields at 15 m/s
+/// (docs/flight-files.md).
+pub const WAYPOINT_TURN_LAG_S_PER_RAD: f64 = 0.45;
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "schema", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
@@ -132,12 +140,13 @@ impl EnergyModel for FixedWing<'_> {
             let radius = if turned > 1e-9 { (horizontal / turned).max(self.turn_radius_m) } else { f64::INFINITY };
             let t = horizontal.hypot(dz) / v;
             let power = self.airframe.power_w(v, Airframe::load_factor(v, radius), dz / t);
+            let wider = WAYPOINT_TURN_LAG_S_PER_RAD * turned;
             let e = &mut pieces[i];
             e.speed_mps = v;
             e.v_in_mps = v;
             e.v_out_mps = v;
-            e.duration_s += t;
-            e.energy_j += power * t;
+            e.duration_s += t + wider;
+            e.energy_j += power * (t + wider);
         }
         pieces
     }
@@ -194,6 +203,11 @@ mod tests {
         let (wide, tight) = (arc(200.0), arc(40.0));
         let straight = a.power_w(15.0, 1.0, 0.0) / 15.0;
         assert!(straight < wide && wide < tight, "{straight} {wide} {tight}");
-        assert!((tight - a.power_w(15.0, Airframe::load_factor(15.0, 40.0), 0.0) / 15.0).abs() / tight < 0.01);
+        // a quarter circle at the turn's power, flown for its length and the allowance of a
+        // turn flown wider by an autopilot following waypoints
+        let length = 40.0 * std::f64::consts::FRAC_PI_2;
+        let seconds = length / 15.0 + WAYPOINT_TURN_LAG_S_PER_RAD * std::f64::consts::FRAC_PI_2;
+        let expected = a.power_w(15.0, Airframe::load_factor(15.0, 40.0), 0.0) * seconds / length;
+        assert!((tight - expected).abs() / tight < 0.01, "{tight} {expected}");
     }
 }

@@ -342,12 +342,12 @@ fn the_random_fields_fly_as_planned() {
                 assert!((f.total_duration_ratio - 1.0).abs() < 0.08, "{what}");
             } else {
                 // what a fixed wing that follows waypoints does on fields with holes: lines cut
-                // short by the zones lose their lead-ins and are flown unsettled, turns take
-                // longer than their arcs (docs/flight-files.md gives the figures)
+                // short by the zones lose their lead-ins and are flown unsettled, turns are flown
+                // wider than their arcs (the plan's time allows for it; docs/flight-files.md)
                 assert!(f.path_off_p95_m < 15.0, "{what}");
                 // taken where it flies: a line flown off may lend photos to its neighbour
                 assert!(f.photos.0.abs_diff(f.photos.1) <= f.line_start_off_m.len() + f.lines_without_lead_in, "{what}");
-                assert!((f.total_duration_ratio - 1.0).abs() < 0.08, "{what}");
+                assert!((f.total_duration_ratio - 1.0).abs() < 0.05, "{what}");
                 assert_eq!(f.zone_intrusions, 0, "{what}: the follower flew into a no-fly zone");
             }
             flights += f.duration_ratio.len();

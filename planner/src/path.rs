@@ -32,8 +32,9 @@ pub struct Piece {
     pub shape: Option<TurnShape>,
     /// A ground vehicle's swath left as a tramline (controlled traffic).
     pub tramline: bool,
-    /// A ground vehicle's tank is refilled (or unloaded) where this piece ends (`payload`).
-    pub refill: bool,
+    /// A ground vehicle's tank is refilled (or unloaded) where this piece ends (`payload`),
+    /// standing there this many seconds.
+    pub refill_s: Option<f64>,
     /// The camera's pose on a pass of an oblique plan; `None`: pointed down, facing the way
     /// the vehicle flies.
     pub look: Option<Look>,
@@ -103,7 +104,7 @@ impl Piece {
     /// A piece of `kind` along `points`, covering `half_swath_m` each side (0 for connections),
     /// at the plan's altitude, with nothing else said of it.
     pub fn new(kind: PieceKind, points: Vec<Coord>, half_swath_m: f64) -> Piece {
-        Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false, refill: false, look: None }
+        Piece { kind, points, half_swath_m, z: Vec::new(), shape: None, tramline: false, refill_s: None, look: None }
     }
 }
 

@@ -154,7 +154,7 @@ pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result
     }
     let _ = writeln!(
         out,
-        "\nThe 2-pass sprayer with a 3 000 l tank, refilled at the first corner of the field's edge: its trips (inside a swath or pass), their non-working metres and legs across the mainland, beside the operator's rule (back only at a swath's end, when what is left cannot finish the next)\n"
+        "\nThe 2-pass sprayer with a 3 000 l tank, refilled at the first corner of the field's edge, standing there 900 s a trip (the default, weighed as 1 350 m on the headland when the trips are chosen): its trips (inside a swath or pass), their non-working metres (stands left out) and legs across the mainland, beside the operator's rule (back only at a swath's end, when what is left cannot finish the next)\n"
     );
     out.push_str(TRIPS_HEADER);
     let names = F2C.iter().map(|f| (f.0.to_string(), real_dir.clone())).chain((0..16).map(|holes| (format!("h{holes:02}_00"), random_dir.to_path_buf())));

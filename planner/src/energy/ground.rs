@@ -46,8 +46,11 @@ impl EnergyModel for Ground<'_> {
             .map(|p| {
                 let (speed, power) = if p.kind.works() { (self.working_speed_mps, self.power.working_power_w) } else { (self.headland_speed_mps, self.power.travel_power_w) };
                 let reversals = if p.shape == Some(TurnShape::Fishtail) { 2.0 } else { 0.0 };
-                let duration_s = p.length() / speed + reversals * self.reversal_s;
-                PieceEstimate { speed_mps: speed, duration_s, energy_j: duration_s * power, v_in_mps: speed, v_out_mps: speed, wind: None }
+                let moving_s = p.length() / speed + reversals * self.reversal_s;
+                // standing at a refill point: time, and no fuel counted for it (the engine idles
+                // or is off; the implement's pump or auger is not modelled)
+                let duration_s = moving_s + p.refill_s.unwrap_or(0.0);
+                PieceEstimate { speed_mps: speed, duration_s, energy_j: moving_s * power, v_in_mps: speed, v_out_mps: speed, wind: None }
             })
             .collect()
     }
@@ -77,5 +80,9 @@ mod tests {
         assert!((e[1].duration_s - 12.0).abs() < 1e-9 && (e[1].energy_j - 12.0 * 30_000.0).abs() < 1e-3);
         // 40 MJ per hectare worked: 100 m × 6 m is 0.06 ha
         assert!((e[0].energy_j / 0.06 - 40e6).abs() < 1.0);
+        // a drive to a refill point: its 30 m, then 900 s standing there, without fuel
+        path.pieces.push(crate::path::Piece { refill_s: Some(900.0), ..crate::path::Piece::new(PieceKind::Transit, vec![c(100.0, 6.0), c(130.0, 6.0)], 0.0) });
+        let e = model.pieces(&path);
+        assert!((e[2].duration_s - 920.0).abs() < 1e-9 && (e[2].energy_j - 20.0 * 30_000.0).abs() < 1e-3);
     }
 }

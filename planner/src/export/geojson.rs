@@ -207,7 +207,8 @@ fn flight_features(frame: &LocalFrame, flight: &VehicleFlight<'_>, altitude_m: O
                 props["airspeed_mps"] = json!(round(w.airspeed_mps, 2));
                 props["crab_deg"] = json!(round(w.crab_deg, 1));
             }
-            if piece.refill {
+            if let Some(stop) = piece.refill_s {
+                props["refill_s"] = json!(stop);
                 props["refill"] = json!(true);
             }
             if piece.tramline {

@@ -26,7 +26,14 @@ pub struct Payload {
     /// boundary or its entrances, at most 100 m from the field; 1 to 20 points.
     #[cfg_attr(feature = "schema", schema(min_items = 1, max_items = 20))]
     pub refill_points: Vec<[f64; 2]>,
+    /// Seconds the vehicle stands at a refill point to refill or unload, 0 to 7 200 (default
+    /// 900, as a farm plan's machines): counted in the plan's duration.
+    #[cfg_attr(feature = "schema", schema(minimum = 0.0, maximum = 7200.0))]
+    pub refill_s: Option<f64>,
 }
+
+/// Seconds a refill or an unloading takes unless the payload says.
+pub const DEFAULT_REFILL_S: f64 = 900.0;
 
 /// Most refill points.
 const MAX_REFILL_POINTS: usize = 20;
@@ -39,6 +46,9 @@ impl Payload {
     pub fn validate(&self) -> Result<(), InputError> {
         check_range(self.capacity, 1.0, 100_000.0, "/payload/capacity", "")?;
         check_range(self.rate_per_ha, 0.01, 100_000.0, "/payload/rate_per_ha", "per ha")?;
+        if let Some(s) = self.refill_s {
+            check_range(s, 0.0, 7_200.0, "/payload/refill_s", "s")?;
+        }
         let n = self.refill_points.len();
         if !(1..=MAX_REFILL_POINTS).contains(&n) {
             return Err(InputError::new("parameter_out_of_range", "/payload/refill_points", format!("give 1 to {MAX_REFILL_POINTS} refill points, not {n}")));
@@ -52,5 +62,10 @@ impl Payload {
     /// What a square metre worked takes from the tank or adds to it.
     pub fn per_m2(&self) -> f64 {
         self.rate_per_ha / 10_000.0
+    }
+
+    /// Seconds stood at a refill point.
+    pub fn refill_s(&self) -> f64 {
+        self.refill_s.unwrap_or(DEFAULT_REFILL_S)
     }
 }

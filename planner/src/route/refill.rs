@@ -25,6 +25,11 @@ pub struct Tank {
     /// What a square metre worked takes from the tank (or adds to it).
     pub per_m2: f64,
     pub stations: Vec<Coord>,
+    /// Seconds stood at a station.
+    pub stop_s: f64,
+    /// That stand as the metres driven on the headland in its time: what a trip more costs
+    /// besides its legs, when the breaks are chosen.
+    pub stop_m: f64,
 }
 
 /// What the trips cost (`stats.ground.payload`).
@@ -42,6 +47,9 @@ pub struct PayloadStats {
     pub trip_distance_m: f64,
     /// Trip legs that cross the mainland (where no way along the headland reaches the point).
     pub trip_crossings: usize,
+    /// Seconds stood at refill points, in the plan's duration (`payload.refill_s` a trip).
+    #[serde(default)]
+    pub refill_stops_s: f64,
     /// The operator's rule (back only at a swath's end, when what is left cannot finish the
     /// next one): its trips and their non-working distance, and what ours save on it (a share).
     pub rule_trips: usize,
@@ -62,6 +70,7 @@ impl PayloadStats {
             t.trips_inside_pieces += p.trips_inside_pieces;
             t.trip_distance_m += p.trip_distance_m;
             t.trip_crossings += p.trip_crossings;
+            t.refill_stops_s += p.refill_stops_s;
             t.rule_trips += p.rule_trips;
             t.rule_trip_distance_m = t.rule_trip_distance_m.zip(p.rule_trip_distance_m).map(|(a, b)| a + b);
             t.rule_trip_crossings += p.rule_trip_crossings;
@@ -213,6 +222,8 @@ fn with_stub(mut leg: Leg, at: Coord, leaving: bool) -> Leg {
 /// What each break costs the search (non-working metres, crossings priced), and the best
 /// refill point for it.
 struct Costs {
+    /// A trip's stand at the refill point, in metres.
+    stand_m: f64,
     /// Per working piece `k` ≥ 1: a trip before it, less the gap it replaces.
     before: Vec<Option<(usize, f64)>>,
     /// Per working piece: a trip from inside it (its length driven along its track, plus the
@@ -221,19 +232,21 @@ struct Costs {
 }
 
 impl Costs {
-    fn new(work: &Work<'_>, legs: &Legs) -> Self {
+    fn new(work: &Work<'_>, legs: &Legs, stand_m: f64) -> Self {
         let n = work.at.len();
         let gap = |k: usize| work.gap(k).iter().map(Piece::length).sum::<f64>();
         let before = (0..n).map(|k| if k == 0 { None } else { legs.trip(k - 1, k).map(|(s, c)| (s, c - gap(k))) }).collect();
         let inside = (0..n).map(|k| legs.trip(k, k).map(|(s, c)| (s, c + work.length[k]))).collect();
-        Costs { before, inside }
+        Costs { stand_m, before, inside }
     }
 
+    /// Break `b`'s refill point and its cost: its legs less what they replace, and the stand.
     fn of(&self, b: Break) -> Option<(usize, f64)> {
-        match b {
+        let trip = match b {
             Break::Before(k) => self.before[k],
             Break::Inside(k, _) => self.inside[k],
-        }
+        };
+        trip.map(|(s, c)| (s, c + self.stand_m))
     }
 }
 
@@ -350,17 +363,17 @@ fn split(points: &[Coord], at: f64) -> (Vec<Coord>, Vec<Coord>) {
 }
 
 /// Appends a drive along `points` where it has a length (as [`FlightPath::push`] drops a
-/// connection of none); `refill`: the tank is refilled where it ends.
-fn push_transit(pieces: &mut Vec<Piece>, points: Vec<Coord>, refill: bool) {
+/// connection of none); `refill_s`: the tank is refilled where it ends, standing so long.
+fn push_transit(pieces: &mut Vec<Piece>, points: Vec<Coord>, refill_s: Option<f64>) {
     if crate::geom::polyline_length(&points) > 0.0 {
-        pieces.push(Piece { refill, ..Piece::new(PieceKind::Transit, points, 0.0) });
+        pieces.push(Piece { refill_s, ..Piece::new(PieceKind::Transit, points, 0.0) });
     }
 }
 
-/// Appends the trip from `out` to `back` (the refill point's legs).
-fn push_trip(pieces: &mut Vec<Piece>, out: &Leg, back: &Leg) {
-    push_transit(pieces, out.points.clone(), true);
-    push_transit(pieces, back.points.clone(), false);
+/// Appends the trip from `out` to `back` (the refill point's legs), standing `stop_s` there.
+fn push_trip(pieces: &mut Vec<Piece>, out: &Leg, back: &Leg, stop_s: f64) {
+    push_transit(pieces, out.points.clone(), Some(stop_s));
+    push_transit(pieces, back.points.clone(), None);
 }
 
 /// `path` with its refill trips: the breaks of least non-working distance, and what they cost
@@ -373,16 +386,17 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
         return Some((path.clone(), stats));
     }
     let legs = Legs::new(&work, routes, &tank.stations);
-    let costs = Costs::new(&work, &legs);
+    let costs = Costs::new(&work, &legs, tank.stop_m);
     let breaks = cheapest_breaks(&work, &costs, tank.capacity)?;
     // the non-working metres of `breaks`, and their legs across the mainland
     let measure = |breaks: &[Break]| -> (f64, usize) {
         let crossings: usize = breaks.iter().filter_map(|&b| costs.of(b).map(|(s, _)| crossings(&legs, b, s))).sum();
         let cost: f64 = breaks.iter().map(|&b| costs.of(b).map_or(f64::INFINITY, |(_, c)| c)).sum();
-        (cost - crossings as f64 * CROSSING_PENALTY_M, crossings)
+        (cost - crossings as f64 * CROSSING_PENALTY_M - breaks.len() as f64 * tank.stop_m, crossings)
     };
     let rule = rule_breaks(&work, tank.capacity, |k| costs.before[k].is_some());
     stats.trips = breaks.len();
+    stats.refill_stops_s = breaks.len() as f64 * tank.stop_s;
     stats.trips_inside_pieces = breaks.iter().filter(|b| matches!(b, Break::Inside(..))).count();
     (stats.trip_distance_m, stats.trip_crossings) = measure(&breaks);
     stats.rule_trips = rule.len();
@@ -396,7 +410,7 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
                 Some(&b) => {
                     let (s, _) = costs.of(b).expect("a chosen break has a cost");
                     let (out, back) = (legs.out[k - 1][s].as_ref().expect("priced"), legs.back[k][s].as_ref().expect("priced"));
-                    push_trip(&mut pieces, out, back);
+                    push_trip(&mut pieces, out, back, tank.stop_s);
                 }
                 None => pieces.extend_from_slice(work.gap(k)),
             }
@@ -416,9 +430,9 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
             let (_, track) = split(&piece.points, 0.0);
             let (to_here, _) = split(&track, at);
             pieces.push(Piece { points: worked, ..piece.clone() });
-            push_transit(&mut pieces, ahead.clone(), false);
-            push_trip(&mut pieces, out, back);
-            push_transit(&mut pieces, to_here, false);
+            push_transit(&mut pieces, ahead.clone(), None);
+            push_trip(&mut pieces, out, back, tank.stop_s);
+            push_transit(&mut pieces, to_here, None);
             rest = ahead;
             done_m = at;
         }
@@ -455,9 +469,14 @@ mod tests {
         FlightPath { pieces }
     }
 
-    /// Break costs: `before[k]` for each piece boundary, `inside[k]` for a break in piece `k`.
+    /// Break costs: `before[k]` for each piece boundary, `inside[k]` for a break in piece `k`,
+    /// each trip standing `stand_m` at the refill point.
+    fn costs_standing(before: &[f64], inside: &[f64], stand_m: f64) -> Costs {
+        Costs { stand_m, before: before.iter().map(|&c| Some((0, c))).collect(), inside: inside.iter().map(|&c| Some((0, c))).collect() }
+    }
+
     fn costs(before: &[f64], inside: &[f64]) -> Costs {
-        Costs { before: before.iter().map(|&c| Some((0, c))).collect(), inside: inside.iter().map(|&c| Some((0, c))).collect() }
+        costs_standing(before, inside, 0.0)
     }
 
     /// What is worked between one full tank and the next along `breaks`.
@@ -496,6 +515,9 @@ mod tests {
         // with a trip before the 4th at 20, two cheap trips beat one dear one
         let c = costs(&[f64::NAN, 10.0, 100.0, 20.0], &[500.0; 4]);
         assert_eq!(cheapest_breaks(&work, &c, 250.0).expect("reachable"), vec![Break::Before(1), Break::Before(3)]);
+        // ... unless each trip stands longer than the 70 m they save: then one trip
+        let c = costs_standing(&[f64::NAN, 10.0, 100.0, 20.0], &[500.0; 4], 80.0);
+        assert_eq!(cheapest_breaks(&work, &c, 250.0).expect("reachable"), vec![Break::Before(2)]);
         // the rule goes back before the 3rd (the tank holds 50 after two swaths)
         assert_eq!(rule_breaks(&work, 250.0, |_| true), vec![Break::Before(2)]);
     }
@@ -526,7 +548,7 @@ mod tests {
                 let n = lengths.len();
                 // a sixth of the breaks have no trip (no way from there to a refill point)
                 let priced = |p: &[f64]| p.iter().map(|&c| (c < 250.0).then_some((0, c))).collect();
-                let c = Costs { before: priced(&prices[..n]), inside: priced(&prices[30..30 + n]) };
+                let c = Costs { stand_m: 0.0, before: priced(&prices[..n]), inside: priced(&prices[30..30 + n]) };
                 let rule = rule_breaks(&work, capacity, |k| c.before[k].is_some());
                 let total = |b: &[Break]| b.iter().map(|&b| c.of(b).map_or(f64::INFINITY, |(_, x)| x)).sum::<f64>();
                 let Some(breaks) = cheapest_breaks(&work, &c, capacity) else {

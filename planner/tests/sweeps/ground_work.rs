@@ -74,6 +74,7 @@ proptest! {
         share in 0.15..0.7f64,
         corners in prop::collection::vec(0usize..10, 1..3),
         harvest in any::<bool>(),
+        refill_s in prop_oneof![Just(0.0), 60.0..3600.0f64],
     ) {
         let PondField { area, ponds: nfz, name } = field;
         let ring = area["coordinates"][0].as_array().expect("a ring").clone();
@@ -87,10 +88,11 @@ proptest! {
         let capacity = (share * amount).max(1.0);
         let mut params = ground(width, turn_radius, json!({
             "headland_width_m": headland,
-            "payload": {"capacity": capacity, "rate_per_ha": rate, "harvest": harvest, "refill_points": points},
+            "payload": {"capacity": capacity, "rate_per_ha": rate, "harvest": harvest, "refill_points": points, "refill_s": refill_s},
         }));
         params.vehicle.reverse_allowed = Some(reverse);
-        let name = format!("{name}, {width:.1} m, radius {turn_radius:.1}, reverse {reverse}, tank {capacity:.0} of {amount:.0}");
+        params.vehicle.headland_speed_mps = Some(1.5);
+        let name = format!("{name}, {width:.1} m, radius {turn_radius:.1}, reverse {reverse}, tank {capacity:.0} of {amount:.0}, stands {refill_s:.0} s");
         let out = match run(&area, None, &params) {
             Ok(out) => out,
             Err(coverplan_planner::PlanError::Input(e)) if e.code == "field_too_narrow" => return Ok(()),
@@ -103,11 +105,22 @@ proptest! {
         let (worked, trips) = tanks(&out, &frame, &stations, (capacity, per_m2, width), &name)?;
         let figures = out.stats.ground.as_ref().and_then(|g| g.payload.as_ref()).expect("payload figures");
         prop_assert_eq!(figures.trips, trips, "{}", name);
+        // each trip stands its refill time, counted in the plan's duration
+        prop_assert!((figures.refill_stops_s - trips as f64 * refill_s).abs() < 1e-6, "{}: {} s standing for {} trips", name, figures.refill_stops_s, trips);
+        let pieces: Vec<&serde_json::Map<String, Value>> = out.trajectory.features.iter().filter_map(|f| f.properties.as_ref()).filter(|p| p.contains_key("duration_s")).collect();
+        let seconds = |p: &serde_json::Map<String, Value>| p["duration_s"].as_f64().unwrap_or(0.0);
+        for p in pieces.iter().filter(|p| p.get("refill") == Some(&json!(true))) {
+            prop_assert!(seconds(p) >= refill_s - 0.01, "{}: a trip to a refill point of {} s", name, seconds(p));
+        }
+        let total: f64 = pieces.iter().map(|p| seconds(p)).sum();
+        prop_assert!((out.stats.duration_s - total).abs() <= 0.01 * pieces.len() as f64, "{}: the plan's {} s, its pieces' {} s", name, out.stats.duration_s, total);
         prop_assert!((figures.amount - worked).abs() <= 1e-3 * worked, "{}: {} reported, {} worked", name, figures.amount, worked);
         prop_assert!(trips as f64 >= (worked / capacity).ceil() - 1.0, "{}: {} trips for {} worked from a tank of {}", name, trips, worked, capacity);
-        // fewer crossings of the crop first, then shorter
-        let ours = (figures.trip_crossings, figures.trip_distance_m);
-        let rule = (figures.rule_trip_crossings, figures.rule_trip_distance_m.unwrap_or(f64::INFINITY));
+        // fewer crossings of the crop first, then shorter, each stand counted as the metres
+        // driven on the headland in its time
+        let stand_m = refill_s * 1.5;
+        let ours = (figures.trip_crossings, figures.trip_distance_m + figures.trips as f64 * stand_m);
+        let rule = (figures.rule_trip_crossings, figures.rule_trip_distance_m.unwrap_or(f64::INFINITY) + figures.rule_trips as f64 * stand_m);
         prop_assert!(ours.0 < rule.0 || (ours.0 == rule.0 && ours.1 <= rule.1 + 1e-6), "{}: {:?} against the rule's {:?}", name, ours, rule);
     }
 }

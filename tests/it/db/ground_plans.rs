@@ -153,6 +153,8 @@ async fn a_sprayer_with_a_3000_l_tank_plans_its_refill_trips() {
     let (amount, trips) = (payload["amount"].as_f64().unwrap(), payload["trips"].as_u64().unwrap());
     assert!(trips as f64 >= (amount / 3000.0).ceil() - 1.0 && trips >= 1, "{payload}");
     assert!(payload["trip_distance_m"].as_f64().unwrap() <= payload["rule_trip_distance_m"].as_f64().unwrap_or(f64::INFINITY) + 1e-6, "{payload}");
+    // each trip stands a quarter of an hour at the point unless the payload says
+    assert!((payload["refill_stops_s"].as_f64().unwrap() - 900.0 * trips as f64).abs() < 1e-6, "{payload}");
     // every trip ends at the corner
     let r = app.client.get(app.url(&format!("/api/v1/plans/{plan_id}/trajectory"))).send().await.unwrap();
     let trajectory: Value = r.json().await.unwrap();
@@ -174,6 +176,10 @@ async fn a_sprayer_with_a_3000_l_tank_plans_its_refill_trips() {
     let far = frame.to_wgs84(at(&corner) + Coord { x: 1000.0, y: 0.0 });
     let (status, problem) = app.post(&format!("/api/v1/missions/{id}/plans"), &sprayer(json!(far))).await;
     assert_eq!((status, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("refill_point_far"), Some("/payload/refill_points/0")), "{problem}");
+    let mut too_long = sprayer(corner.clone());
+    too_long["payload"]["refill_s"] = json!(86_400);
+    let (status, problem) = app.post(&format!("/api/v1/missions/{id}/plans"), &too_long).await;
+    assert_eq!((status, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("parameter_out_of_range"), Some("/payload/refill_s")), "{problem}");
     let drone = json!({"line_spacing_m": 20, "payload": {"capacity": 10, "rate_per_ha": 10, "refill_points": [corner]}});
     let (status, problem) = app.post(&format!("/api/v1/missions/{id}/plans"), &drone).await;
     assert_eq!((status, problem["code"].as_str(), problem["pointer"].as_str()), (422, Some("not_a_ground_vehicle"), Some("/payload")), "{problem}");

@@ -18,8 +18,8 @@ const G: f64 = 9.81;
 /// rolls in and out at each of the arc's corners (a roll time constant of about half a second)
 /// and L1 guidance closes on each new leg gradually, so it flies the turn wider than the arc.
 /// Measured with the follower (`export::follower`, ArduPlane's L1 defaults) over speeds of
-/// 12-25 m/s and radii of 50-120 m: 0.41-0.59 s a radian, 0.39 on the random fields at 15 m/s
-/// (docs/flight-files.md).
+/// 12-25 m/s and radii of 50-120 m: 0.41-0.59 s a radian (0.79 at 12 m/s and 120 m), 0.39 on
+/// the random fields at 15 m/s (docs/flight-files.md).
 pub const WAYPOINT_TURN_LAG_S_PER_RAD: f64 = 0.45;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -26,10 +26,10 @@ pub struct Tank {
     pub per_m2: f64,
     pub stations: Vec<Coord>,
     /// Seconds stood at a station.
-    pub stop_s: f64,
+    pub stand_s: f64,
     /// That stand as the metres driven on the headland in its time: what a trip more costs
     /// besides its legs, when the breaks are chosen.
-    pub stop_m: f64,
+    pub stand_m: f64,
 }
 
 /// What the trips cost (`stats.ground.payload`).
@@ -370,9 +370,9 @@ fn push_transit(pieces: &mut Vec<Piece>, points: Vec<Coord>, refill_s: Option<f6
     }
 }
 
-/// Appends the trip from `out` to `back` (the refill point's legs), standing `stop_s` there.
-fn push_trip(pieces: &mut Vec<Piece>, out: &Leg, back: &Leg, stop_s: f64) {
-    push_transit(pieces, out.points.clone(), Some(stop_s));
+/// Appends the trip from `out` to `back` (the refill point's legs), standing `stand_s` there.
+fn push_trip(pieces: &mut Vec<Piece>, out: &Leg, back: &Leg, stand_s: f64) {
+    push_transit(pieces, out.points.clone(), Some(stand_s));
     push_transit(pieces, back.points.clone(), None);
 }
 
@@ -386,17 +386,17 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
         return Some((path.clone(), stats));
     }
     let legs = Legs::new(&work, routes, &tank.stations);
-    let costs = Costs::new(&work, &legs, tank.stop_m);
+    let costs = Costs::new(&work, &legs, tank.stand_m);
     let breaks = cheapest_breaks(&work, &costs, tank.capacity)?;
     // the non-working metres of `breaks`, and their legs across the mainland
     let measure = |breaks: &[Break]| -> (f64, usize) {
         let crossings: usize = breaks.iter().filter_map(|&b| costs.of(b).map(|(s, _)| crossings(&legs, b, s))).sum();
         let cost: f64 = breaks.iter().map(|&b| costs.of(b).map_or(f64::INFINITY, |(_, c)| c)).sum();
-        (cost - crossings as f64 * CROSSING_PENALTY_M - breaks.len() as f64 * tank.stop_m, crossings)
+        (cost - crossings as f64 * CROSSING_PENALTY_M - breaks.len() as f64 * tank.stand_m, crossings)
     };
     let rule = rule_breaks(&work, tank.capacity, |k| costs.before[k].is_some());
     stats.trips = breaks.len();
-    stats.refill_stops_s = breaks.len() as f64 * tank.stop_s;
+    stats.refill_stops_s = breaks.len() as f64 * tank.stand_s;
     stats.trips_inside_pieces = breaks.iter().filter(|b| matches!(b, Break::Inside(..))).count();
     (stats.trip_distance_m, stats.trip_crossings) = measure(&breaks);
     stats.rule_trips = rule.len();
@@ -410,7 +410,7 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
                 Some(&b) => {
                     let (s, _) = costs.of(b).expect("a chosen break has a cost");
                     let (out, back) = (legs.out[k - 1][s].as_ref().expect("priced"), legs.back[k][s].as_ref().expect("priced"));
-                    push_trip(&mut pieces, out, back, tank.stop_s);
+                    push_trip(&mut pieces, out, back, tank.stand_s);
                 }
                 None => pieces.extend_from_slice(work.gap(k)),
             }
@@ -431,7 +431,7 @@ pub fn plan_trips(path: &FlightPath, tank: &Tank, routes: &HeadlandRoutes) -> Op
             let (to_here, _) = split(&track, at);
             pieces.push(Piece { points: worked, ..piece.clone() });
             push_transit(&mut pieces, ahead.clone(), None);
-            push_trip(&mut pieces, out, back, tank.stop_s);
+            push_trip(&mut pieces, out, back, tank.stand_s);
             push_transit(&mut pieces, to_here, None);
             rest = ahead;
             done_m = at;

@@ -54,6 +54,8 @@ pool), so a second adds 5 %. The counts that matter (4 to 16 workers on 16 cores
 measured: no 16-core machine was lent to this work.
 
 POOL
+  section "Inspection" --inspection --repeats 3
+  section "Patrolling" --patrol
   section "Fleets" --fleet
   section "Over terrain" --terrain --repeats 3
   section "Resuming a plan" --resume

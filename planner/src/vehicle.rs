@@ -373,10 +373,15 @@ impl Vehicle {
         Steering::new(self.turn_radius_m, g.is_some_and(|g| g.reverse_allowed), g.and_then(|g| g.max_curvature_rate))
     }
 
+    /// A ground vehicle's speed in turns and transits (any other's cruise speed).
+    pub fn headland_speed_mps(&self) -> f64 {
+        self.ground.map_or(self.cruise_speed_mps, |g| g.headland_speed_mps)
+    }
+
     /// The energy model of this vehicle: its profile's model, flown at its speed and turns
     /// (a multirotor stops at corners, decelerating and accelerating at `acceleration_mps2`).
     pub fn energy_model(&self) -> Box<dyn EnergyModel + '_> {
-        let headland_speed_mps = self.ground.map_or(self.cruise_speed_mps, |g| g.headland_speed_mps);
+        let headland_speed_mps = self.headland_speed_mps();
         let corner_stop_s = match self.kind {
             VehicleKind::Multirotor => self.cruise_speed_mps / self.acceleration_mps2,
             VehicleKind::FixedWing => 0.0,

@@ -244,7 +244,7 @@ pub fn work(problem: &Problem<'_>, setup: &GroundSetup, laid: &Swaths, share: &S
                 per_m2: payload.per_m2(),
                 stations: payload.refill_points.iter().map(|p| setup.frame.to_local(p[0], p[1])).collect(),
                 stand_s: payload.refill_s(),
-                stand_m: payload.refill_s() * vehicle.ground.map_or(vehicle.cruise_speed_mps, |g| g.headland_speed_mps),
+                stand_m: payload.refill_s() * vehicle.headland_speed_mps(),
             };
             let (path, stats) = plan_trips(&drive.path, &tank, &routes).ok_or_else(|| {
                 PlanError::Infeasible("no way inside the field leads from the swaths to a refill point: give refill points on the field's boundary or at its entrances".into())

@@ -54,6 +54,18 @@ pool), so a second adds 5 %. The counts that matter (4 to 16 workers on 16 cores
 measured: no 16-core machine was lent to this work.
 
 POOL
+  # the shared queue runs on a throwaway PostgreSQL server (Debian's `postgresql`)
+  eval "$(bash tests/postgres.sh start)"
+  trap 'bash tests/postgres.sh stop "$COVERPLAN_TEST_PGDATA"' EXIT
+  section "Shared queue on PostgreSQL" --queue "$COVERPLAN_TEST_POSTGRES"
+  bash tests/postgres.sh stop "$COVERPLAN_TEST_PGDATA"
+  trap - EXIT
+  cat <<'QUEUE'
+Two replicas use both cores; four share the same two, so they add little here. A claim stays
+under a millisecond with a deep queue: the queue's index is in the claim's order (while it was
+not, one claim took 16 ms on PostgreSQL and 3.5 ms on SQLite at this depth).
+
+QUEUE
   section "Inspection" --inspection --repeats 3
   section "Patrolling" --patrol
   section "Fleets" --fleet

@@ -108,7 +108,13 @@ pub fn run_command(args: BenchArgs) -> anyhow::Result<()> {
     let markdown = args.markdown;
     let table = table(args)?;
     if markdown {
-        let command: Vec<String> = std::env::args().skip(1).filter(|a| a != "--markdown").collect();
+        // a server's address is this machine's own: the section names what to pass instead
+        let mut command: Vec<String> = std::env::args().skip(1).filter(|a| a != "--markdown").collect();
+        for k in 1..command.len() {
+            if command[k - 1] == "--queue" {
+                command[k] = "ADMIN_URL".into();
+            }
+        }
         print!("```sh\ncargo run --release --features bench -- {} --markdown\n```\n\n{table}", command.join(" "));
     } else {
         print!("{table}");

@@ -72,7 +72,7 @@ pub fn run(repeats: usize, service_fields: usize) -> anyhow::Result<String> {
         out,
         "Generated farms: fields of 2 to 60 ha within {} km of three depots, worked at {HECTARES_PER_HOUR} ha/h (entry and exit 300 m apart), 10-hour days, \
          machines at the depots in turn with a 3-hour tank and 20-minute refills, 30 km/h between fields in a straight line; {repeats} seeds a class. \
-         Bound: the greatest of the total work over the machines, the longest field with its transits, and the bound that counts each field's nearest arrival and the refills a day needs (docs/methods.md, farms §4). Idle: day ends left unused.\n",
+         Bound: the greatest of the total work over the machines, the longest field with its transits, and the bound that counts each field's nearest arrival, each day's drive home and the refills a day needs (docs/methods.md, farms §4). Idle: day ends left unused.\n",
         FIELD_RADIUS_M / 1000.0
     )?;
     writeln!(out, "| fields | machines | makespan / bound, median | max | transit share, median | idle share, median | days used, median | schedule ms, median | max |")?;

@@ -123,13 +123,14 @@ pub async fn run(admin: &str) -> anyhow::Result<String> {
     anyhow::ensure!(store::is_postgres(admin), "--queue takes a PostgreSQL admin URL (postgres://user@host:port/postgres)");
     let exe = std::env::current_exe()?;
     let mut out = format!(
-        "Shared queue on PostgreSQL: {PLANS} plans of a 200 m × 150 m field at 20 m spacing, replicas of one worker each on this machine\n\n| replicas | plans/min | plans per replica |\n|---:|---:|:---|\n"
+        "`ADMIN_URL`: a PostgreSQL server's admin URL (`eval \"$(bash tests/postgres.sh start)\"` starts a throwaway one, fsync off, and sets `$COVERPLAN_TEST_POSTGRES` to it). {PLANS} plans of a 200 m × 150 m field at 20 m spacing, taken by `coverplan serve` replicas of one worker each on this machine, from the first claim to the last finish.\n\n| replicas | plans/min | plans per replica |\n|---:|---:|:---|\n"
     );
     for replicas in [1, 2, 4] {
         let (rate, per_replica) = throughput(admin, &exe, replicas).await?;
-        let _ = writeln!(out, "| {replicas} | {rate:.0} | {per_replica:?} |");
+        let shares: Vec<String> = per_replica.iter().map(usize::to_string).collect();
+        let _ = writeln!(out, "| {replicas} | {rate:.0} | {} |", shares.join(", "));
     }
-    out.push_str(&format!("\nOne claim with {DEEP_QUEUE} plans queued ({CLAIMS_TIMED} claims)\n\n| database | median ms | p95 ms |\n|:---|---:|---:|\n"));
+    out.push_str(&format!("\nOne claim with {DEEP_QUEUE} plans queued ({CLAIMS_TIMED} claims).\n\n| database | median ms | p95 ms |\n|:---|---:|---:|\n"));
     let scratch = Scratch::new(admin).await?;
     let (median, p95) = claim_latency(&scratch.url).await?;
     scratch.drop().await?;

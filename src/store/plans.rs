@@ -269,31 +269,34 @@ const CLOSE_CLAIM: Statement = Statement {
     postgres: concat!("UPDATE plan_claims SET ended_at = ", crate::postgres_epoch!(), ", outcome = $1 WHERE plan_id = $2 AND replica = $3 AND ended_at IS NULL"),
 };
 
+/// The claim of [`claim_next`], the same on both: PostgreSQL locks the row it takes and skips
+/// those others hold. The queue's index (`plans_queue`) is in its order, so a claim reads one
+/// entry however many plans are queued.
+pub const CLAIM_NEXT: Statement = Statement {
+    sqlite: concat!(
+        "UPDATE plans SET status = 'running', progress = 0, started_at = ",
+        crate::sqlite_now!(),
+        ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
+        crate::sqlite_epoch!(),
+        " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY farm_plan_id IS NOT NULL, created_at, rowid LIMIT 1) RETURNING id, tenant, kind, params, mission, mission_id"
+    ),
+    postgres: concat!(
+        "UPDATE plans SET status = 'running', progress = 0, started_at = ",
+        crate::postgres_now!(),
+        ", attempts = attempts + 1, claimed_by = $1, lease_until = ",
+        crate::postgres_epoch!(),
+        " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY farm_plan_id IS NOT NULL, created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, kind, params, mission, mission_id"
+    ),
+};
+
 /// Atomically takes the oldest queued plan for `replica` (a farm plan's fields after every other
 /// plan, so that one farm's hundreds of fields do not hold up a single plan), marks it running under a lease of
 /// `lease_s` seconds and records the claim. On PostgreSQL the row is locked with `SKIP LOCKED`,
 /// so replicas claiming at once take different plans without waiting for each other.
 pub async fn claim_next(db: &Db, replica: &str, lease_s: f64) -> Result<Option<Job>, sqlx::Error> {
-    // the same claim on both; PostgreSQL locks the row it takes and skips those others hold
-    const CLAIM: Statement = Statement {
-        sqlite: concat!(
-            "UPDATE plans SET status = 'running', progress = 0, started_at = ",
-            crate::sqlite_now!(),
-            ", attempts = attempts + 1, claimed_by = ?, lease_until = ",
-            crate::sqlite_epoch!(),
-            " + ? WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY farm_plan_id IS NOT NULL, created_at, rowid LIMIT 1) RETURNING id, tenant, kind, params, mission, mission_id"
-        ),
-        postgres: concat!(
-            "UPDATE plans SET status = 'running', progress = 0, started_at = ",
-            crate::postgres_now!(),
-            ", attempts = attempts + 1, claimed_by = $1, lease_until = ",
-            crate::postgres_epoch!(),
-            " + $2 WHERE id = (SELECT id FROM plans WHERE status = 'queued' ORDER BY farm_plan_id IS NOT NULL, created_at, seq LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING id, tenant, kind, params, mission, mission_id"
-        ),
-    };
     on_db!(db, |pool, sql| {
         let mut tx = pool.begin_write().await?;
-        let job: Option<Job> = sqlx::query_as(sql(CLAIM)).bind(replica).bind(lease_s).fetch_optional(&mut *tx).await?;
+        let job: Option<Job> = sqlx::query_as(sql(CLAIM_NEXT)).bind(replica).bind(lease_s).fetch_optional(&mut *tx).await?;
         if let Some(job) = &job {
             sqlx::query(sql(Statement {
                 sqlite: concat!("INSERT INTO plan_claims (plan_id, replica, claimed_at) VALUES (?, ?, ", crate::sqlite_epoch!(), ")"),

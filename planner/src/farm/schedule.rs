@@ -42,7 +42,7 @@ pub struct Schedule {
     pub makespan_s: f64,
     /// No schedule finishes earlier: the greatest of the total work over the machines, the
     /// longest field with its transits from and to the nearest depot, and the bound that also
-    /// counts each field's nearest arrival and the refills a day needs, s.
+    /// counts each field's nearest arrival, each day's drive home and the refills a day needs, s.
     pub lower_bound_s: f64,
     /// `makespan_s / lower_bound_s` (1 = no schedule can do better).
     pub makespan_over_bound: f64,
@@ -275,11 +275,13 @@ fn workers(machines: &[Machine], window: &Window) -> Result<Vec<Worker>, InputEr
 
 impl Rounds<'_> {
     /// A bound that counts what every schedule spends besides work: each field is driven to at
-    /// least once, from a depot or another field (at the fastest road speed), and a machine
-    /// refills at least `work / endurance − 1` times a day. With `a_k = 1 + R_k / H_k` and
-    /// `g_k = 1 + R_k / E_k` (refill time R, day H, endurance E; both 1 without a tank), machine
-    /// k's working time T_k satisfies `a_k T_k + R_k ≥ g_k work_k + transit_k`; summed over the
-    /// machines, the makespan T ≥ (min g · total work + Σ first arrivals − Σ R) / Σ a.
+    /// least once, from a depot or another field (at the fastest road speed), each working day
+    /// ends with the drive home from some field's exit (at least `b_k`, the nearest one), and a
+    /// machine refills at least `work / endurance − 1` times a day. With `a_k = 1 + R_k / H_k`
+    /// and `g_k = 1 + R_k / E_k` (refill time R, day H, endurance E; both 1 without a tank),
+    /// machine k's working time T_k over its n_k ≥ T_k / H_k days satisfies
+    /// `a_k T_k + R_k ≥ g_k work_k + arrivals_k + n_k b_k`; summed over the machines, the
+    /// makespan T ≥ (min g · total work + Σ first arrivals − Σ R) / Σ max(0, a_k − b_k / H_k).
     fn bound_with_transits_and_refills(&self, scheduled: &[usize]) -> f64 {
         let (p, w) = (self.places, self.workers);
         let refill = |k: usize| if w[k].endurance_s.is_finite() { w[k].refill_s } else { 0.0 };
@@ -294,7 +296,12 @@ impl Rounds<'_> {
             .sum();
         let work: f64 = scheduled.iter().map(|&i| self.fields[i].work_s).sum();
         let g = (0..w.len()).map(|k| 1.0 + refill(k) / w[k].endurance_s).fold(f64::INFINITY, f64::min);
-        let a: f64 = (0..w.len()).map(|k| 1.0 + refill(k) / w[k].day_s).sum();
+        let home = |k: usize| scheduled.iter().map(|&i| self.seconds(k, p.exit(i), p.depot(k))).fold(f64::INFINITY, f64::min);
+        let a: f64 = (0..w.len()).map(|k| (1.0 + (refill(k) - home(k)) / w[k].day_s).max(0.0)).sum();
+        if a <= 0.0 {
+            // no machine has a working day (nothing scheduled)
+            return 0.0;
+        }
         let refills: f64 = (0..w.len()).map(refill).sum();
         ((g * work + arrivals - refills) / a).max(0.0)
     }

@@ -204,3 +204,28 @@ async fn cancelling_a_running_plan_frees_its_worker_at_once() {
     assert_eq!(plans::get(&db, OPEN_TENANT, plans::JobKind::Plan, &long.id).await.unwrap().unwrap().status, plans::PlanStatus::Cancelled);
     queue.shutdown(handles, Duration::from_secs(1)).await;
 }
+
+/// A claim reads the queue's index in the claim's own order, however deep the queue: no sort of
+/// the queued plans (while it sorted them, one claim took 16 ms with 10 000 plans queued on
+/// PostgreSQL and 3.5 ms on SQLite, against 0.7 and 0.2 ms; `coverplan bench --queue`).
+#[tokio::test]
+async fn a_claim_reads_the_queue_in_its_order_without_sorting() {
+    let (db, mission, snapshot) = fresh_mission().await;
+    for _ in 0..2000 {
+        plans::create(&db, OPEN_TENANT, &plans::NewJob::new(plans::JobKind::Plan, &mission.id, &json!({}), &snapshot), i64::MAX).await.unwrap().unwrap();
+    }
+    let plan: Vec<String> = match &db {
+        store::Db::Sqlite(pool) => {
+            let rows: Vec<(i64, i64, i64, String)> =
+                sqlx::query_as(sqlx::AssertSqlSafe(format!("EXPLAIN QUERY PLAN {}", plans::CLAIM_NEXT.sqlite))).bind("r").bind(30.0).fetch_all(pool).await.unwrap();
+            rows.into_iter().map(|r| r.3).collect()
+        }
+        store::Db::Postgres(pool) => {
+            sqlx::query("ANALYZE plans").execute(pool).await.unwrap();
+            let rows: Vec<(String,)> = sqlx::query_as(sqlx::AssertSqlSafe(format!("EXPLAIN {}", plans::CLAIM_NEXT.postgres))).bind("r").bind(30.0).fetch_all(pool).await.unwrap();
+            rows.into_iter().map(|r| r.0).collect()
+        }
+    };
+    assert!(plan.iter().any(|line| line.contains("plans_queue")), "the claim does not read the queue's index: {plan:#?}");
+    assert!(!plan.iter().any(|line| line.contains("TEMP B-TREE") || line.trim_start_matches([' ', '-', '>']).starts_with("Sort")), "the claim sorts the queue: {plan:#?}");
+}

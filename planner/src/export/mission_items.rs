@@ -147,6 +147,13 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[Plan
     // airspeed for fixed wings, ground speed for multirotors
     let speed_type = if fixed_wing { 0.0 } else { 1.0 };
     let mut speed: Option<f64> = None;
+    // a piece's speed, written where it changes
+    let change_speed = |items: &mut Vec<MissionItem>, speed: &mut Option<f64>, mps: f64| {
+        if mps > 0.0 && speed.is_none_or(|s| (mps - s).abs() > 0.05) {
+            *speed = Some(mps);
+            items.push(MissionItem::command(DO_CHANGE_SPEED, [speed_type, mps, -1.0, 0.0]));
+        }
+    };
     // landing `auto` with a home, or at another landing site: the last waypoint is where the
     // vehicle lands
     let lands = (settings.landing == Landing::Auto || bases.lands_at.is_some()) && home.is_some();
@@ -167,10 +174,7 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[Plan
             items.push(MissionItem::command(DO_LAND_START, [0.0; 4]));
             land_start_written = true;
         }
-        if piece.speed_mps > 0.0 && speed.is_none_or(|s| (piece.speed_mps - s).abs() > 0.05) {
-            speed = Some(piece.speed_mps);
-            items.push(MissionItem::command(DO_CHANGE_SPEED, [speed_type, piece.speed_mps, -1.0, 0.0]));
-        }
+        change_speed(&mut items, &mut speed, piece.speed_mps);
         let on_sweep = piece.kind == PieceKind::Sweep;
         let sweep_end = on_sweep && w.index + 1 == piece.points.len();
         let mut stopped = false;
@@ -226,6 +230,8 @@ pub fn mission_items(pieces: &[FlownPiece], views: &[ViewAction], photos: &[Plan
             if fixed_wing && !land_start_written {
                 items.push(MissionItem::command(DO_LAND_START, [0.0; 4]));
             }
+            // the way to the landing point at its own speed, not the last piece's
+            change_speed(&mut items, &mut speed, pieces[at.piece].speed_mps);
             let ground = Waypoint { position: [at.position[0], at.position[1], at.ground_m.unwrap_or(0.0)], ..at };
             items.push(place(NAV_LAND, [Some(0.0), Some(0.0), Some(0.0), keep_yaw], &ground));
         }
@@ -598,6 +604,24 @@ mod tests {
         assert!(ahead >= climb_out && ahead < climb_out + 50.0, "the first waypoint {ahead:.0} m ahead; the climb-out takes {climb_out:.0} m");
         let copter = mission_items(&[transit, sweep], &[], &[], &FlightSettings { altitude_m: 80.0, ..settings(None) }, Bases::home(Some([at(0.0)[0], at(0.0)[1]])));
         assert_eq!(copter.iter().filter(|i| i.command == NAV_WAYPOINT).count(), 13, "a multirotor flies every point");
+    }
+
+    /// The way to the landing point is flown at its own piece's speed: a slow last piece (a
+    /// short line between holes) no longer sets the speed of the whole way home.
+    #[test]
+    fn the_way_to_the_landing_point_is_flown_at_its_own_speed() {
+        let pieces = [
+            piece(PieceKind::Transit, &[[0.0, 0.0], [0.001, 0.0]], 8.0),
+            piece(PieceKind::Sweep, &[[0.001, 0.0], [0.00101, 0.0]], 1.5),
+            piece(PieceKind::Transit, &[[0.00101, 0.0], [0.0, 0.0]], 7.5),
+        ];
+        let landing = FlightSettings { landing: Landing::Auto, ..settings(None) };
+        let items = mission_items(&pieces, &[], &[], &landing, Bases::home(Some([0.0, 0.0])));
+        assert_eq!(items.last().unwrap().command, NAV_LAND);
+        let speeds: Vec<f64> = items.iter().filter(|i| i.command == DO_CHANGE_SPEED).filter_map(|i| i.params[1]).collect();
+        assert_eq!(speeds.last(), Some(&7.5), "{speeds:?}");
+        let before_land = &items[items.len() - 2];
+        assert_eq!((before_land.command, before_land.params[1]), (DO_CHANGE_SPEED, Some(7.5)));
     }
 
     #[test]

@@ -95,6 +95,27 @@ fn case(k: usize, fixed_wing: bool) -> Option<Case> {
     Some(Case { mission_area: field["area"].clone(), zones: field["no_fly_zones"].clone(), home, params })
 }
 
+/// The sortie of the piece numbered `seq`.
+fn sortie_of(trajectory: &FeatureCollection, seq: usize) -> usize {
+    let props = trajectory.features.iter().filter_map(|f| f.properties.as_ref());
+    props.filter(|p| p.get("seq").and_then(|s| s.as_u64()) == Some(seq as u64)).find_map(|p| p.get("sortie").and_then(|s| s.as_u64())).unwrap_or(1) as usize
+}
+
+/// The longest way out and home of any one sortie: its first and last transits.
+fn sortie_ends_m(trajectory: &FeatureCollection) -> f64 {
+    let mut ends: std::collections::BTreeMap<u64, Vec<f64>> = Default::default();
+    for p in trajectory.features.iter().filter_map(|f| f.properties.as_ref()) {
+        if let (Some(sortie), Some(length), true) =
+            (p.get("sortie").and_then(|s| s.as_u64()), p.get("length_m").and_then(|l| l.as_f64()), p.get("kind").is_some_and(|k| k == "transit" || k == "sweep" || k == "turn"))
+        {
+            ends.entry(sortie).or_default().push(if p["kind"] == "transit" { length } else { f64::NAN });
+        }
+    }
+    ends.values()
+        .map(|lengths| lengths.first().copied().filter(|l| !l.is_nan()).unwrap_or(0.0) + lengths.last().copied().filter(|l| !l.is_nan()).unwrap_or(0.0))
+        .fold(0.0, f64::max)
+}
+
 fn check_resume(k: usize, fixed_wing: bool, cut_at: f64, fraction: f64, photos_back: u32) -> Result<(), TestCaseError> {
     let Some(c) = case(k, fixed_wing) else { return Err(TestCaseError::reject("no plan flies from this home")) };
     let mission = MissionGeometry { home: Some(c.home), no_fly_zones: Some(&c.zones), ..MissionGeometry::area(&c.mission_area) };
@@ -131,10 +152,16 @@ fn check_resume(k: usize, fixed_wing: bool, cut_at: f64, fraction: f64, photos_b
     let original_cover = metrics::covered_area(&sweeps(flown.iter().map(|p| (p.0, p.1.clone())), half), &region, None);
     let both = metrics::covered_area(&sweeps(done.chain(left.iter().map(|p| (p.0, p.1.clone()))), half), &region, None);
     prop_assert!(both >= original_cover - 0.001 * geo::Area::unsigned_area(&region), "{what}: {both:.0} m² against the original's {original_cover:.0} m²");
-    // length: what the original had left, the way to the first line and the stretch again
+    // length: what the original had left, the way to the first line and the stretch again,
+    // and a way home and out for each sortie more than the original had left (the way to the
+    // first line can leave the first sortie too little for the rest of the cut one)
     let to_first_line: f64 = left.iter().take_while(|p| p.0 != PieceKind::Sweep).map(|p| p.1.windows(2).map(|w| (w[1] - w[0]).x.hypot((w[1] - w[0]).y)).sum::<f64>()).sum();
+    let cut_sortie = sortie_of(&original.trajectory, flown[cut].2);
+    let sorties_left = original.stats.sorties.saturating_sub(cut_sortie) + 1;
+    let more_sorties = resumed.stats.sorties.saturating_sub(sorties_left) as f64;
+    let costliest_break = sortie_ends_m(&resumed.trajectory);
     prop_assert!(
-        resumed.stats.length_m <= stats.original_left_m + to_first_line + stats.overlap_m + 1.0,
+        resumed.stats.length_m <= stats.original_left_m + to_first_line + stats.overlap_m + more_sorties * costliest_break + 1.0,
         "{what}: {:.0} m in {} sorties against {:.0} m left (of {} sorties), {to_first_line:.0} m to the first line and {:.0} m again",
         resumed.stats.length_m,
         resumed.stats.sorties,

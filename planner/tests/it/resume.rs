@@ -101,19 +101,18 @@ fn sortie_of(trajectory: &FeatureCollection, seq: usize) -> usize {
     props.filter(|p| p.get("seq").and_then(|s| s.as_u64()) == Some(seq as u64)).find_map(|p| p.get("sortie").and_then(|s| s.as_u64())).unwrap_or(1) as usize
 }
 
-/// The longest way out and home of any one sortie: its first and last transits.
+/// The longest way out and home of any one sortie: its first and last pieces where they are
+/// transits.
 fn sortie_ends_m(trajectory: &FeatureCollection) -> f64 {
-    let mut ends: std::collections::BTreeMap<u64, Vec<f64>> = Default::default();
+    let mut pieces: std::collections::BTreeMap<u64, Vec<Option<f64>>> = Default::default();
     for p in trajectory.features.iter().filter_map(|f| f.properties.as_ref()) {
-        if let (Some(sortie), Some(length), true) =
-            (p.get("sortie").and_then(|s| s.as_u64()), p.get("length_m").and_then(|l| l.as_f64()), p.get("kind").is_some_and(|k| k == "transit" || k == "sweep" || k == "turn"))
-        {
-            ends.entry(sortie).or_default().push(if p["kind"] == "transit" { length } else { f64::NAN });
+        let flown = p.get("kind").and_then(|k| k.as_str()).filter(|k| ["transit", "sweep", "turn"].contains(k));
+        if let (Some(sortie), Some(length), Some(kind)) = (p.get("sortie").and_then(|s| s.as_u64()), p.get("length_m").and_then(|l| l.as_f64()), flown) {
+            pieces.entry(sortie).or_default().push((kind == "transit").then_some(length));
         }
     }
-    ends.values()
-        .map(|lengths| lengths.first().copied().filter(|l| !l.is_nan()).unwrap_or(0.0) + lengths.last().copied().filter(|l| !l.is_nan()).unwrap_or(0.0))
-        .fold(0.0, f64::max)
+    let end = |piece: Option<&Option<f64>>| piece.copied().flatten().unwrap_or(0.0);
+    pieces.values().map(|lengths| end(lengths.first()) + end(lengths.last())).fold(0.0, f64::max)
 }
 
 fn check_resume(k: usize, fixed_wing: bool, cut_at: f64, fraction: f64, photos_back: u32) -> Result<(), TestCaseError> {

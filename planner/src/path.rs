@@ -73,6 +73,9 @@ pub enum TurnShape {
     /// Any turn with a part driven in reverse: the three-point turn or a Reeds–Shepp word with
     /// cusps.
     Fishtail,
+    /// A headland pass's corner worked by a vehicle that may reverse: driven into, then
+    /// backed out of to the next edge (without working).
+    Corner,
 }
 
 impl PieceKind {

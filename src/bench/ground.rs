@@ -86,9 +86,10 @@ fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), Stri
     };
     let _ = writeln!(
         out,
-        "| {name} | {:.0} | {without:.0} | {theirs} | {ratio} | {} ({} U, {} Ω, {} fishtail) + {} along a pass + {} along a track + {} across | {their_turns} | {} | {} | {:.3} | {:.3} | {ms:.0} | {speedup} | {mb:.0} |",
+        "| {name} | {:.0} | {without:.0} | {theirs} | {ratio} | {} ({} U, {} Ω, {} fishtail) + {} along a pass + {} along a track + {} across | {their_turns} | {} | {} | {:.3} | {:.3} | {} | {:.3} | {ms:.0} | {speedup} | {mb:.0} |",
         s.length_m,
-        s.turns,
+        // the corners' manoeuvres have a column of their own
+        s.turns - g.corner_manoeuvres,
         g.u_turns,
         g.omega_turns,
         g.fishtail_turns,
@@ -98,11 +99,13 @@ fn row(out: &mut String, name: &str, result: Result<(PlanOutput, f64, f64), Stri
         g.turns_leaving_field,
         g.turns_crossing_holes,
         g.mainland_coverage,
-        g.headland_coverage
+        g.headland_coverage,
+        g.corner_manoeuvres,
+        s.coverage_ratio
     );
 }
 
-const HEADER: &str = "| field | length m | first to last swath m | F2C m | ratio | swath to swath: turns, drives along a pass, crossings along a swath's track, across the crop | F2C turns | leaving field | crossing holes | mainland cov | headland cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+const HEADER: &str = "| field | length m | first to last swath m | F2C m | ratio | swath to swath: turns, drives along a pass, crossings along a swath's track, across the crop | F2C turns | leaving field | crossing holes | mainland cov | headland cov | corners worked | field cov | ms | vs F2C | peak MB |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
 /// `only`: the fields (real or generated) to plan, all when empty.
 pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result<String> {
@@ -128,13 +131,24 @@ pub fn run(random_dir: &Path, repeats: usize, only: &[String]) -> anyhow::Result
     let _ = writeln!(out, "\nA 6 m sprayer turning on 7 m, 2 headland passes (12 m), forward only; generated fields: the `_00` of each hole count\n");
     out.push_str(HEADER);
     let sprayer = params(6.0, 7.0, json!({"headland_passes": 2}))?;
-    for (name, ..) in F2C.into_iter().filter(|f| wanted(f.0)) {
-        let mission = read(&real_dir.join(format!("{name}.json")))?;
-        row(&mut out, name, plan(&mission, &sprayer, repeats), None);
-    }
-    for name in (0..16).map(|holes| format!("h{holes:02}_00")).filter(|n| wanted(n)) {
-        let mission = read(&random_dir.join(format!("{name}.json")))?;
+    // the real fields, then the generated ones
+    let fields = || -> anyhow::Result<Vec<(String, Value)>> {
+        let real = F2C.into_iter().filter(|f| wanted(f.0)).map(|(name, ..)| Ok((name.to_owned(), read(&real_dir.join(format!("{name}.json")))?)));
+        let generated = (0..16).map(|holes| format!("h{holes:02}_00")).filter(|n| wanted(n)).map(|name| Ok((name.clone(), read(&random_dir.join(format!("{name}.json")))?)));
+        real.chain(generated).collect()
+    };
+    for (name, mission) in fields()? {
         row(&mut out, &name, plan(&mission, &sprayer, repeats), None);
+    }
+    let _ = writeln!(
+        out,
+        "\nThe same sprayer allowed to reverse: turns may be Reeds–Shepp words and fishtails, and a corner sharper than it turns is worked by driving into it and backing out to the next edge (`corners worked`)\n"
+    );
+    out.push_str(HEADER);
+    let mut reversing = sprayer.clone();
+    reversing.vehicle.reverse_allowed = Some(true);
+    for (name, mission) in fields()? {
+        row(&mut out, &name, plan(&mission, &reversing, repeats), None);
     }
     let _ = writeln!(
         out,

@@ -183,7 +183,7 @@ const figureRows = [
   ['mainland worked', (s) => (s.ground ? `${(100 * s.ground.mainland_coverage).toFixed(1)} %` : '')],
   ['headland worked', (s) => (s.ground ? `${(100 * s.ground.headland_coverage).toFixed(1)} % (${s.ground.headland_passes} passes, ${s.ground.headland_width_m.toFixed(1)} m)` : '')],
   ['tramlines', (s) => (s.ground && s.ground.tramlines ? s.ground.tramlines : '')],
-  ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail, ${s.ground.headland_drives} along a pass` : '')],
+  ['turn shapes', (s) => (s.ground ? `${s.ground.u_turns} U, ${s.ground.omega_turns} Ω, ${s.ground.fishtail_turns} fishtail, ${s.ground.headland_drives} along a pass${s.ground.corner_manoeuvres ? `, ${s.ground.corner_manoeuvres} corners worked` : ''}` : '')],
   ['turns leaving the field', (s) => (s.ground ? s.ground.turns_leaving_field + s.ground.turns_crossing_holes : '')],
 ];
 

@@ -12,6 +12,9 @@ use rayon::prelude::*;
 
 use crate::geom::EdgeIndex;
 
+/// Steps by which a pond too small to round is grown, up to the turning radius, until a
+/// rounded ring fits round it.
+const POND_STEPS: usize = 8;
 /// Parts of inset areas smaller than this are slivers, not room to work.
 const SLIVER_M2: f64 = 1.0;
 /// A piece the rounding cuts off a pass's ring larger than this many squared turning radii is
@@ -63,17 +66,28 @@ pub fn headland(region: &MultiPolygon, width_m: f64, passes: usize, turn_radius_
 /// The rings a vehicle turning no tighter than `r` drives along `ring` (a boundary of the area
 /// inset by `offset`): the ring's shape opened and closed by `r` (convex corners rounded
 /// inwards, concave ones outwards), each ring on its own so that a narrow neck between a hole
-/// and the edge does not merge their passes. A hole too small to round is driven round at `r`
-/// from it; a strip too narrow to round, or a rounded ring that would leave `region`, is driven
-/// as it is, corners and all.
+/// and the edge does not merge their passes. A hole too small to round is driven round by the
+/// closest rounded ring clear of it (at most `r` from it); a strip too narrow to round, or a
+/// rounded ring that would leave `region`, is driven as it is, corners and all.
 fn drivable(ring: &LineString, around_hole: bool, region: &MultiPolygon, edges: &EdgeIndex, r: f64, offset: f64) -> Vec<Vec<Coord>> {
     let shape = MultiPolygon(vec![Polygon::new(ring.clone(), vec![])]);
-    let opened_core = inset(&shape, r).simplify_vw_preserve(DETAIL_M2);
-    let mut rounded = without_slivers(inset(&opened_core.buffer(2.0 * r), r));
-    if rounded.0.is_empty() {
+    let round = |shape: &MultiPolygon| without_slivers(inset(&inset(shape, r).simplify_vw_preserve(DETAIL_M2).buffer(2.0 * r), r));
+    let mut rounded = round(&shape);
+    if rounded.0.is_empty() && around_hole {
+        // a pond too small to round at this offset is driven round as close as a ring rounded
+        // on the turning radius keeps clear of it: the pond grown a little further each time,
+        // at most to the radius (where one circle of it fits round any pond)
+        let clear = |ring: &MultiPolygon| ring.iter().all(|p| !edges.crossed(&p.exterior().0));
+        let further = (r - offset).max(0.0);
+        rounded = (1..=POND_STEPS)
+            .map(|k| shape.buffer(further * k as f64 / POND_STEPS as f64))
+            .map(|grown| round(&grown))
+            .find(|ring| !ring.0.is_empty() && clear(ring))
+            .unwrap_or_else(|| shape.buffer(further));
+    } else if rounded.0.is_empty() {
         // a strip narrower than the turning circle (between the edge and a pond's passes) is
         // driven round as it is: it is left unworked otherwise
-        rounded = if around_hole { shape.buffer((r - offset).max(0.0)) } else { shape };
+        rounded = shape;
     } else {
         // so is such a strip where it joins a wider part, which the rounding cuts off (a pass
         // between ponds close to the edge: a quarter of a small field's headland was left)

@@ -45,7 +45,11 @@ impl EnergyModel for Ground<'_> {
             .iter()
             .map(|p| {
                 let (speed, power) = if p.kind.works() { (self.working_speed_mps, self.power.working_power_w) } else { (self.headland_speed_mps, self.power.travel_power_w) };
-                let reversals = if p.shape == Some(TurnShape::Fishtail) { 2.0 } else { 0.0 };
+                let reversals = match p.shape {
+                    Some(TurnShape::Fishtail) => 2.0,
+                    Some(TurnShape::Corner) => cusps(&p.points) as f64,
+                    _ => 0.0,
+                };
                 let moving_s = p.length() / speed + reversals * self.reversal_s;
                 // standing at a refill point: time, and no fuel counted for it (the engine idles
                 // or is off; the implement's pump or auger is not modelled)
@@ -58,6 +62,11 @@ impl EnergyModel for Ground<'_> {
     fn takeoff_landing(&self, _up_m: f64, _down_m: f64) -> (f64, f64) {
         (0.0, 0.0)
     }
+}
+
+/// Where a manoeuvre's points turn back on themselves: its changes of direction.
+fn cusps(points: &[geo::Coord]) -> usize {
+    points.windows(3).filter(|w| (w[1] - w[0]).x * (w[2] - w[1]).x + (w[1] - w[0]).y * (w[2] - w[1]).y < 0.0).count()
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! A ground plan's figures: the headland, the mainland and the turns.
 
-use geo::{Area, BooleanOps, Distance, Euclidean, Length, Line, LineString, MultiLineString, MultiPolygon, Point, Polygon};
+use geo::{Area, BooleanOps, Buffer, Distance, Euclidean, Length, Line, LineString, MultiLineString, MultiPolygon, Point, Polygon};
 use serde::{Deserialize, Serialize};
 
 use super::coverage::under;
@@ -9,6 +9,9 @@ use crate::path::{FlightPath, Piece, PieceKind, TurnShape};
 
 /// How near a swath's track a leg of a crossing lies to be in its wheel marks.
 const ON_TRACK_M: f64 = 0.05;
+/// How far into the mainland a connection must run to cross the crop: its edge is smoothed
+/// (the rings and swath ends round it to centimetres), and a wheel on it is on the headland.
+const INTO_CROP_M: f64 = 0.5;
 
 /// A ground plan's figures: how much of the mainland and of the headland is worked, and how
 /// the vehicle turns.
@@ -26,6 +29,10 @@ pub struct GroundStats {
     pub u_turns: usize,
     pub omega_turns: usize,
     pub fishtail_turns: usize,
+    /// Corners of the headland passes worked by a manoeuvre into them (a vehicle that may
+    /// reverse): turns of their own, beside the U, Ω and fishtail turns between swaths.
+    #[serde(default)]
+    pub corner_manoeuvres: usize,
     /// Connections between two swaths driven along a headland pass (where no turn fits), those
     /// that cross the mainland in a swath's wheel marks (where nothing in the headland joins
     /// the swaths), and those that cross it off every swath's and pass's track, across the crop.
@@ -55,6 +62,7 @@ pub fn ground_stats(
     keep_out: &MultiPolygon,
 ) -> GroundStats {
     let turns: Vec<&Piece> = path.pieces.iter().filter(|p| p.kind == PieceKind::Turn).collect();
+    let crop = mainland.buffer(-INTO_CROP_M);
     let shaped = |shape: TurnShape| turns.iter().filter(|p| p.shape == Some(shape)).count();
     let pieces = &path.pieces;
     let between_swaths =
@@ -72,7 +80,7 @@ pub fn ground_stats(
     let over_mainland = |p: &Piece| {
         let on =
             |marks: &[Line], l: &Line| marks.iter().any(|t| Euclidean.distance(&Point::from(l.start), t) < ON_TRACK_M && Euclidean.distance(&Point::from(l.end), t) < ON_TRACK_M);
-        let legs: Vec<Line> = inside(mainland, p).0.into_iter().flat_map(|l| l.lines().collect::<Vec<_>>()).collect();
+        let legs: Vec<Line> = inside(&crop, p).0.into_iter().flat_map(|l| l.lines().collect::<Vec<_>>()).collect();
         let length = |keep: &dyn Fn(&Line) -> bool| legs.iter().filter(|l| keep(l)).map(|l| Euclidean.length(l)).sum::<f64>();
         (length(&|_| true), length(&|l| on(&swath_marks, l)), length(&|l| !on(&swath_marks, l) && !on(&pass_marks, l)))
     };
@@ -100,6 +108,7 @@ pub fn ground_stats(
         u_turns: shaped(TurnShape::U),
         omega_turns: shaped(TurnShape::Omega),
         fishtail_turns: shaped(TurnShape::Fishtail),
+        corner_manoeuvres: shaped(TurnShape::Corner),
         mainland_crossings: crossings,
         track_crossings: along_tracks,
         headland_drives: between_swaths.count() - along_tracks - crossings,

@@ -45,7 +45,8 @@ pub struct Stats {
     /// over the area of their union, minus 1 (0 = no overlap between lines).
     pub overlap_ratio: f64,
     pub area_to_cover_m2: f64,
-    /// Number of turns between sweep lines.
+    /// Number of turns between sweep lines, and a ground vehicle's corner manoeuvres
+    /// (`ground.corner_manoeuvres`).
     pub turns: usize,
     /// Metres of the path inside a no-fly zone (must be 0).
     pub nfz_intrusion_m: f64,

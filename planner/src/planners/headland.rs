@@ -11,7 +11,8 @@ use crate::frame::LocalFrame;
 use crate::geom::distance;
 use crate::metrics;
 use crate::params::{HeadlandOrder, HeadlandSpec};
-use crate::path::{FlightPath, PieceKind};
+use crate::path::{FlightPath, PieceKind, TurnShape};
+use crate::route::headland_corners::{PassRing, work_corners};
 use crate::route::headland_route::{HeadlandRoutes, SwathLinks, Way, connect_anywhere, order, ring_pose};
 use crate::route::line_tour::{Line, entry, exit};
 use crate::route::refill::{Tank, plan_trips};
@@ -19,6 +20,7 @@ use crate::sweep::ends::SwathEnds;
 use crate::sweep::{fewest_lines_direction, from_sweep_frame, sweep};
 use crate::turn::dubins::Pose;
 use crate::vehicle::{Vehicle, VehicleKind};
+use rayon::prelude::*;
 
 /// A ground plan's headland, computed and checked when the request is.
 pub struct GroundSetup {
@@ -181,9 +183,16 @@ pub fn share_out(laid: &Swaths, passes_m: f64, turn_m: f64, speeds: &[f64]) -> V
 pub fn work(problem: &Problem<'_>, setup: &GroundSetup, laid: &Swaths, share: &Share, progress: &dyn Progress) -> Result<PlannedPath, PlanError> {
     let vehicle = problem.vehicle;
     let headland = &setup.headland;
-    // the passes' rings: roads for the turns, and ground the passes cover
-    let rings = if share.passes { setup.rings() } else { Vec::new() };
     let routes = setup.routes(problem.region, vehicle);
+    let half = setup.spec.working_width_m / 2.0;
+    // the passes as driven, their corners worked where the vehicle can; the ground they cover
+    let passes: Vec<Vec<PassRing>> = if share.passes {
+        let radius = vehicle.planning_radius_m();
+        headland.passes.par_iter().map(|rings| rings.par_iter().map(|ring| work_corners(ring, &routes, radius, half)).collect()).collect()
+    } else {
+        Vec::new()
+    };
+    let worked: Vec<Vec<Coord>> = passes.iter().flatten().flat_map(PassRing::worked).collect();
     let angle = laid.angle;
     let (lines, tramlines) = if *share == Share::whole() {
         (laid.lines.clone(), laid.tramlines.clone())
@@ -199,18 +208,17 @@ pub fn work(problem: &Problem<'_>, setup: &GroundSetup, laid: &Swaths, share: &S
     if !progress.report(0.3) {
         return Err(PlanError::Cancelled);
     }
-    let half = setup.spec.working_width_m / 2.0;
     let spacing = setup.spec.width_m / headland.passes.len().max(1) as f64;
     let mut drive = Drive { path: FlightPath::default(), at: problem.start.map(|p| Pose::at(p, problem.start_heading.unwrap_or(angle))), routes: &routes, frame: &setup.frame };
     if share.passes && setup.spec.order == HeadlandOrder::First {
-        drive.passes(headland, false, half, spacing);
+        drive.passes(&passes, false, half, spacing);
     }
     let links = SwathLinks::new(&lines, &routes);
     // the ground the swaths and passes cover does not depend on their order: measured
     // while the order is searched
     let swaths: Vec<(Coord, Coord)> = lines.iter().map(|l| (l.a, l.b)).collect();
     let end = problem.end.map(|p| Pose::at(p, problem.end_heading.unwrap_or(angle)));
-    let (seq, swept) = order(&links, drive.at, end, &problem.connector.stop(), || metrics::ground_swept(&swaths, &rings, half));
+    let (seq, swept) = order(&links, drive.at, end, &problem.connector.stop(), || metrics::ground_swept(&swaths, &worked, half));
     if !progress.report(0.8) {
         return Err(PlanError::Cancelled);
     }
@@ -232,7 +240,7 @@ pub fn work(problem: &Problem<'_>, setup: &GroundSetup, laid: &Swaths, share: &S
         previous = Some(v);
     }
     if share.passes && setup.spec.order == HeadlandOrder::Last {
-        drive.passes(headland, true, half, spacing);
+        drive.passes(&passes, true, half, spacing);
     }
     if let Some(end) = problem.end {
         drive.go_to(Pose::at(end, problem.end_heading.unwrap_or_else(|| drive.at.map_or(angle, |p| p.theta))));
@@ -412,11 +420,13 @@ impl Drive<'_> {
     /// driven, the vehicle may also drive on along it first (a pond's own ring leads round the
     /// pond); `lap` is that ring from the vehicle's position, and the answer's last figure is
     /// how many of its vertices to drive on. Else the nearest vertex.
-    fn ring_entry(&self, ring: &[Coord], lap: Option<&[Coord]>) -> (usize, bool, usize) {
+    fn ring_entry(&self, pass: &PassRing, lap: Option<&[Coord]>) -> (usize, bool, usize) {
+        let ring = &pass.points;
         let Some(here) = self.at else { return (0, true, 0) };
         let n = ring.len() - 1;
+        // never in the middle of a corner's manoeuvre
         let nearest = |from: Coord| {
-            let mut near: Vec<(f64, usize)> = (0..n).map(|i| (distance(from, ring[i]), i)).collect();
+            let mut near: Vec<(f64, usize)> = (0..n).filter(|&i| pass.may_enter_at(i)).map(|i| (distance(from, ring[i]), i)).collect();
             near.sort_by(|a, b| a.0.total_cmp(&b.0));
             near
         };
@@ -448,10 +458,10 @@ impl Drive<'_> {
     /// shorter of two orders: pass by pass, or each ring as soon as the rings of the passes
     /// before it that lie near it are driven (one pond's passes in order, without going round
     /// every other pond's first). `spacing`: the distance between passes.
-    fn passes(&mut self, headland: &Headland, outwards: bool, half: f64, spacing: f64) {
+    fn passes(&mut self, passes: &[Vec<PassRing>], outwards: bool, half: f64, spacing: f64) {
         let drive_in = |local: bool| {
             let mut drive = Drive { path: self.path.clone(), ..*self };
-            drive.rings(headland, outwards, half, spacing, local);
+            drive.rings(passes, outwards, half, spacing, local);
             drive
         };
         let (by_pass, local) = rayon::join(|| drive_in(false), || drive_in(true));
@@ -460,10 +470,10 @@ impl Drive<'_> {
 
     /// The rings of every pass in the order [`Drive::passes`] describes (`local`: as soon as
     /// the near ones before are driven), the nearest ready ring next.
-    fn rings(&mut self, headland: &Headland, outwards: bool, half: f64, spacing: f64, local: bool) {
+    fn rings(&mut self, passes: &[Vec<PassRing>], outwards: bool, half: f64, spacing: f64, local: bool) {
         use geo::{Distance, Euclidean};
-        let rings: Vec<(usize, &Vec<Coord>)> = headland.passes.iter().enumerate().flat_map(|(k, rings)| rings.iter().map(move |r| (k, r))).collect();
-        let lines: Vec<LineString> = rings.iter().map(|(_, r)| LineString::from(r.to_vec())).collect();
+        let rings: Vec<(usize, &PassRing)> = passes.iter().enumerate().flat_map(|(k, rings)| rings.iter().map(move |r| (k, r))).collect();
+        let lines: Vec<LineString> = rings.iter().map(|(_, r)| LineString::from(r.points.to_vec())).collect();
         let first = |a: usize, b: usize| if outwards { a > b } else { a < b };
         let waits_for: Vec<Vec<usize>> = (0..rings.len())
             .map(|j| {
@@ -479,21 +489,36 @@ impl Drive<'_> {
         let mut lap: Option<Vec<Coord>> = None;
         loop {
             let here = self.at.map(|p| p.coord());
-            let gap = |ring: &Vec<Coord>| here.map_or(0.0, |h| ring.iter().map(|&p| distance(h, p)).fold(f64::INFINITY, f64::min));
+            let gap = |ring: &PassRing| here.map_or(0.0, |h| ring.points.iter().map(|&p| distance(h, p)).fold(f64::INFINITY, f64::min));
             let ready = (0..rings.len()).filter(|&j| !driven[j] && waits_for[j].iter().all(|&i| driven[i]));
             let Some(k) = ready.min_by(|&a, &b| gap(rings[a].1).total_cmp(&gap(rings[b].1)).then(a.cmp(&b))) else { break };
             driven[k] = true;
-            let ring = rings[k].1;
-            let (i, forward, drive_on) = self.ring_entry(ring, lap.as_deref());
+            let pass = rings[k].1;
+            let ring = &pass.points;
+            let (i, forward, drive_on) = self.ring_entry(pass, lap.as_deref());
             if let Some(lap) = lap.as_ref().filter(|_| drive_on > 0) {
                 self.path.push(PieceKind::Transit, lap[..=drive_on].to_vec(), 0.0);
                 self.at = Some(ring_pose(lap, drive_on, true));
             }
             let n = ring.len() - 1;
-            let points: Vec<Coord> = (0..=n).map(|j| if forward { ring[(i + j) % n] } else { ring[(i + n - j) % n] }).collect();
+            let order: Vec<usize> = (0..=n).map(|j| if forward { (i + j) % n } else { (i + n - j) % n }).collect();
+            let points: Vec<Coord> = order.iter().map(|&j| ring[j]).collect();
             self.go_to(ring_pose(ring, i, forward));
             let last = points[n - 1];
-            self.path.push(PieceKind::Headland, points.clone(), half);
+            // worked stretches, and the corners' manoeuvres between them driven idle
+            let mut start = 0;
+            for end in 1..=n {
+                let idle = pass.is_idle(order[end - 1], order[end]);
+                if end == n || pass.is_idle(order[end], order[end + 1]) != idle {
+                    let stretch = points[start..=end].to_vec();
+                    if idle {
+                        self.path.push_turn(TurnShape::Corner, stretch)
+                    } else {
+                        self.path.push(PieceKind::Headland, stretch, half)
+                    }
+                    start = end;
+                }
+            }
             self.at = Some(Pose::at(ring[i], (ring[i].y - last.y).atan2(ring[i].x - last.x)));
             lap = Some(points);
         }

@@ -207,6 +207,17 @@ impl HeadlandRoutes {
         self.clear(&points, bounds).then_some(points)
     }
 
+    /// Whether `points` keep to the headland: they cross neither the field's edges nor the
+    /// mainland's.
+    pub fn keeps_to_headland(&self, points: &[Coord]) -> bool {
+        self.clear(points, Bounds::Headland)
+    }
+
+    /// The shortest manoeuvre from `from` to `to` that keeps to the headland (a pass's corner).
+    pub fn corner_way(&self, from: Pose, to: Pose) -> Option<Vec<Coord>> {
+        self.steering.manoeuvres(from, to).iter().find_map(|m| self.cleared(m, Bounds::Headland))
+    }
+
     /// The stretch of the swath `a → b` whose ends the vehicle can turn at: each end pulled
     /// back (in steps of an eighth of the radius) until a half turn to the left or the right
     /// from it stays in the field; `None` when nothing is left (a swath in an acute corner,

@@ -8,6 +8,7 @@
 pub mod cell_tour;
 pub mod connect;
 pub mod gtsp;
+pub mod headland_corners;
 pub mod headland_route;
 pub mod line_tour;
 pub mod nearest_cell;

@@ -506,18 +506,16 @@ impl Drive<'_> {
             self.go_to(ring_pose(ring, i, forward));
             let last = points[n - 1];
             // worked stretches, and the corners' manoeuvres between them driven idle
+            let idle: Vec<bool> = order.windows(2).map(|leg| pass.is_idle(leg[0], leg[1])).collect();
             let mut start = 0;
-            for end in 1..=n {
-                let idle = pass.is_idle(order[end - 1], order[end]);
-                if end == n || pass.is_idle(order[end], order[end + 1]) != idle {
-                    let stretch = points[start..=end].to_vec();
-                    if idle {
-                        self.path.push_turn(TurnShape::Corner, stretch)
-                    } else {
-                        self.path.push(PieceKind::Headland, stretch, half)
-                    }
-                    start = end;
+            for run in idle.chunk_by(|a, b| a == b) {
+                let stretch = points[start..=start + run.len()].to_vec();
+                if run[0] {
+                    self.path.push_turn(TurnShape::Corner, stretch)
+                } else {
+                    self.path.push(PieceKind::Headland, stretch, half)
                 }
+                start += run.len();
             }
             self.at = Some(Pose::at(ring[i], (ring[i].y - last.y).atan2(ring[i].x - last.x)));
             lap = Some(points);
